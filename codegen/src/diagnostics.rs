@@ -1,0 +1,132 @@
+//! Problems found in a description, each with file, line, column, YAML path and a hint,
+//! rendered the way compilers render errors.
+
+use crate::positions::Position;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// One problem in a drive or protocol file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Diagnostic {
+    /// The file, as given to the generator.
+    pub file: PathBuf,
+    /// Where in the file.
+    pub position: Position,
+    /// YAML path of the offending node (`registers[12].range.max`).
+    pub path: String,
+    /// What is wrong.
+    pub message: String,
+    /// How to fix it.
+    pub hint: Option<String>,
+    /// The offending source line, when the file could be read.
+    pub source_line: Option<String>,
+}
+
+impl Diagnostic {
+    /// A diagnostic without a source line (filled in by [`Diagnostics::attach_sources`]).
+    pub fn new(file: &Path, position: Position, path: impl Into<String>, message: impl Into<String>) -> Self {
+        Diagnostic {
+            file: file.to_owned(),
+            position,
+            path: path.into(),
+            message: message.into(),
+            hint: None,
+            source_line: None,
+        }
+    }
+
+    /// Adds a hint.
+    pub fn hint(mut self, hint: impl Into<String>) -> Self {
+        self.hint = Some(hint.into());
+        self
+    }
+
+    /// `file:line:column`.
+    pub fn location(&self) -> String {
+        format!("{}:{}:{}", self.file.display(), self.position.line, self.position.column)
+    }
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "error: {}", self.message)?;
+        writeln!(f, "  --> {}", self.location())?;
+        if let Some(line) = &self.source_line {
+            let number = self.position.line.to_string();
+            let pad = " ".repeat(number.len());
+            let (shown, caret_at) = excerpt(line, self.position.column);
+            writeln!(f, "{pad} |")?;
+            writeln!(f, "{number} | {shown}")?;
+            writeln!(f, "{pad} | {}^", " ".repeat(caret_at))?;
+        }
+        if !self.path.is_empty() {
+            writeln!(f, "  = at: {}", self.path)?;
+        }
+        if let Some(hint) = &self.hint {
+            writeln!(f, "  = hint: {hint}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Cuts long lines (flow-style YAML rows) to a window around the column, returning the
+/// text and the caret's offset in characters.
+fn excerpt(line: &str, column: usize) -> (String, usize) {
+    let chars: Vec<char> = line.chars().collect();
+    let column = column.saturating_sub(1).min(chars.len());
+    let start = column.saturating_sub(40);
+    let end = (column + 60).min(chars.len());
+    let mut shown: String = chars[start..end].iter().collect();
+    let mut caret = column - start;
+    if start > 0 {
+        shown.insert_str(0, "...");
+        caret += 3;
+    }
+    if end < chars.len() {
+        shown.push_str("...");
+    }
+    (shown, caret)
+}
+
+/// All problems found in one run, in file and line order.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Diagnostics {
+    /// The problems.
+    pub items: Vec<Diagnostic>,
+}
+
+impl Diagnostics {
+    /// Adds one.
+    pub fn push(&mut self, diagnostic: Diagnostic) {
+        self.items.push(diagnostic);
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// Fills in source lines from the files named, and sorts by file and position.
+    pub fn attach_sources(&mut self, read: impl Fn(&Path) -> Option<String>) {
+        for item in &mut self.items {
+            if let Some(text) = read(&item.file) {
+                item.source_line = text.lines().nth(item.position.line.saturating_sub(1)).map(str::to_owned);
+            }
+        }
+        self.items.sort_by(|a, b| {
+            (&a.file, a.position.line, a.position.column).cmp(&(&b.file, b.position.line, b.position.column))
+        });
+        self.items.dedup();
+    }
+}
+
+impl fmt::Display for Diagnostics {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for item in &self.items {
+            writeln!(f, "{item}")?;
+        }
+        write!(f, "{} problem{} found", self.items.len(), if self.items.len() == 1 { "" } else { "s" })
+    }
+}
+
+impl std::error::Error for Diagnostics {}

@@ -1,0 +1,195 @@
+//! Stage 4c: emits golden-frame tests from a drive's examples, one `#[test]` per example,
+//! calling the checks in the workspace test crate (`vfd_tests::golden`).
+
+use crate::emit_rust::value_type;
+use crate::ir::{DriveIr, ExampleIr, ExpectIr, FrameIr, ValueKind};
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::{format_ident, quote};
+
+/// Golden tests for every example, bit-field example and value example of `drive`.
+/// `drive_path` is the path of the generated drive module, e.g. `vfd_drives::yd1000`.
+pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
+    let root: syn::Path = syn::parse_str(drive_path).unwrap_or_else(|_| syn::parse_quote!(vfd_drives));
+    let module = Ident::new(&drive.module, Span::call_site());
+    let mut tests = Vec::new();
+    for example in &drive.examples {
+        tests.push(example_test(&root, example));
+    }
+    for bitfield in &drive.bitfields {
+        let ty = Ident::new(&bitfield.type_name, Span::call_site());
+        for (index, example) in bitfield.examples.iter().enumerate() {
+            let name = format_ident!("bits_{}_example_{}", bitfield.id, index + 1);
+            let value = example.value;
+            let setters = example.set.iter().map(|id| format_ident!("with_{}", id));
+            let getters = example.set.iter().map(|id| Ident::new(&crate::naming::method_name(id), Span::call_site()));
+            let doc = format!(" {} (manual section {}).", example.description, example.source);
+            tests.push(quote! {
+                #[doc = #doc]
+                #[test]
+                fn #name() {
+                    let built = #root::bits::#ty::new()#(.#setters(true))*;
+                    assert_eq!(built.bits(), #value, "builder gives {:04X}h", built.bits());
+                    let read = #root::bits::#ty(#value);
+                    #(assert!(read.#getters(), "{} should be set in {:04X}h", stringify!(#getters), #value);)*
+                    assert!(!read.has_reserved_bits());
+                }
+            });
+        }
+    }
+    for (index, example) in drive.value_examples.iter().enumerate() {
+        let name = format_ident!("value_{}_example_{}", example.register_code.to_ascii_lowercase(), index + 1);
+        let register = Ident::new(&example.register_type, Span::call_site());
+        let value_ty = value_type(&example.value_kind).to_string().replace("super :: ", "");
+        let value_ty: TokenStream = value_ty.parse().unwrap_or_else(|_| quote!(f64));
+        let construct = construct_value(&example.value_kind, example.value, &value_ty);
+        let raw = example.raw;
+        let doc = format!(" {} (manual section {}).", example.description, example.source);
+        tests.push(quote! {
+            #[doc = #doc]
+            #[test]
+            fn #name() {
+                use ::vfd_runtime::{Register, RegisterValue};
+                type R = #root::registers::#register;
+                let value = #construct;
+                assert_eq!(value.to_raw(R::INFO).unwrap(), #raw);
+                assert_eq!(<R as Register>::Value::from_raw(#raw, R::INFO).unwrap(), value);
+            }
+        });
+    }
+    let _ = module;
+    quote! {
+        #(#tests)*
+    }
+}
+
+fn construct_value(kind: &ValueKind, value: f64, ty: &TokenStream) -> TokenStream {
+    let float = Literal::f64_unsuffixed(value);
+    match kind {
+        ValueKind::Quantity(_) => quote!(#ty(#float)),
+        ValueKind::Scaled => quote!(#float),
+        ValueKind::Raw => {
+            let v = Literal::u16_unsuffixed(value as u16);
+            quote!(#v)
+        }
+        ValueKind::RawSigned => {
+            let v = Literal::i16_unsuffixed(value as i16);
+            quote!(#v)
+        }
+        ValueKind::CodeTable(_) | ValueKind::Bitfield(_) => {
+            let v = Literal::u16_unsuffixed(value as u16);
+            quote!(<#ty as ::vfd_runtime::RegisterValue>::from_raw(#v, R::INFO).unwrap())
+        }
+    }
+}
+
+fn expect_tokens(expect: &ExpectIr) -> TokenStream {
+    let option_u8 = |v: Option<u8>| match v {
+        Some(v) => quote!(Some(#v)),
+        None => quote!(None),
+    };
+    let option_u16 = |v: Option<u32>| match v {
+        Some(v) => {
+            let v = v as u16;
+            quote!(Some(#v))
+        }
+        None => quote!(None),
+    };
+    let address = option_u8(expect.address);
+    let command = option_u8(expect.command.as_ref().and_then(|c| c.bytes().next()));
+    let register = option_u16(expect.register);
+    let data = option_u16(expect.data);
+    let error_code = option_u16(expect.error_code);
+    let tripped = expect.tripped;
+    quote! {
+        ::vfd_tests::golden::Expect { address: #address, command: #command, register: #register, data: #data, error_code: #error_code, tripped: #tripped }
+    }
+}
+
+fn bytes_tokens(bytes: &[u8]) -> TokenStream {
+    let bytes = bytes.iter().map(|b| Literal::u8_unsuffixed(*b));
+    quote!(&[#(#bytes),*])
+}
+
+fn frame_checks(protocol: &TokenStream, frame: &FrameIr, request: bool) -> TokenStream {
+    let bytes = bytes_tokens(&frame.bytes);
+    let expect = expect_tokens(&frame.expect);
+    let check = if request {
+        quote!(::vfd_tests::golden::request_round_trips(#protocol, #bytes, #expect);)
+    } else {
+        quote!(::vfd_tests::golden::reply_round_trips(#protocol, #bytes, #expect);)
+    };
+    let printed = frame.printed.as_ref().map(|printed| {
+        let bytes = bytes_tokens(&printed.bytes);
+        let reason = &printed.rejected_as;
+        let direction = if request { quote!(Request) } else { quote!(Reply) };
+        let command = frame.expect.command.as_ref().and_then(|c| c.bytes().next());
+        let command = match command {
+            Some(c) => quote!(Some(#c)),
+            None => quote!(None),
+        };
+        quote! {
+            ::vfd_tests::golden::printed_is_rejected(#protocol, ::vfd_tests::golden::Direction::#direction, #command, #bytes, #reason);
+        }
+    });
+    quote! { #check #printed }
+}
+
+fn example_test(root: &syn::Path, example: &ExampleIr) -> TokenStream {
+    let name = format_ident!("example_{}", example.id);
+    let protocol_name = Ident::new(&example.protocol_const, Span::call_site());
+    let protocol = quote!(&#root::protocols::#protocol_name);
+    let mut body = Vec::new();
+    if let Some(frame) = &example.request {
+        body.push(frame_checks(&protocol, frame, true));
+    }
+    if let Some(frame) = &example.reply {
+        body.push(frame_checks(&protocol, frame, false));
+    }
+    if let (Some(value), Some(register), Some(kind)) = (example.value, &example.register_type, &example.value_kind) {
+        let register = Ident::new(register, Span::call_site());
+        let ty: TokenStream = value_type(kind).to_string().replace("super :: ", "").parse().unwrap_or_else(|_| quote!(f64));
+        let ty = if matches!(kind, ValueKind::CodeTable(_) | ValueKind::Bitfield(_)) {
+            let text = ty.to_string();
+            let qualified = format!("{} :: {}", quote!(#root), text);
+            qualified.parse().unwrap_or(ty)
+        } else {
+            ty
+        };
+        let construct = construct_value(kind, value, &ty);
+        let data = example.reply.as_ref().or(example.request.as_ref()).and_then(|f| f.expect.data).unwrap_or(0) as u16;
+        body.push(quote! {
+            {
+                use ::vfd_runtime::{Register, RegisterValue};
+                type R = #root::registers::#register;
+                let value = #construct;
+                assert_eq!(<R as Register>::Value::from_raw(#data, R::INFO).unwrap(), value, "decoded value");
+            }
+        });
+        if let Some(request) = &example.request {
+            let bytes = bytes_tokens(&request.bytes);
+            let build = match request.expect.command_kind.as_deref() {
+                Some("write_ram") if example.register_writable => Some(quote!(#root::registers::#register::write_ram(value))),
+                Some("write_persistent") if example.register_persistable => Some(quote!(#root::registers::#register::write_persistent(value))),
+                Some("read") => Some(quote!(Ok::<_, ::vfd_runtime::ValueError>(#root::registers::#register::read()))),
+                _ => None,
+            };
+            if let Some(build) = build {
+                body.push(quote! {
+                    {
+                        let value = #construct;
+                        let request = #build.expect("the manual's value is within range");
+                        ::vfd_tests::golden::typed_request_encodes(#protocol, &request, #bytes);
+                    }
+                });
+            }
+        }
+    }
+    let doc = format!(" {} ({}); manual section {}.", example.description, example.description_zh, example.source);
+    quote! {
+        #[doc = #doc]
+        #[test]
+        fn #name() {
+            #(#body)*
+        }
+    }
+}

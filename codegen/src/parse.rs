@@ -1,0 +1,84 @@
+//! Stage 1: reads YAML files into the [`crate::model`] types, turning syntax and type
+//! errors into diagnostics with file, line, column and YAML path.
+
+use crate::diagnostics::Diagnostic;
+use crate::positions::{Position, PositionIndex};
+use serde::de::DeserializeOwned;
+use std::path::{Path, PathBuf};
+
+/// A file's text and the positions of its nodes.
+#[derive(Debug, Clone)]
+pub struct SourceFile {
+    /// The path as given.
+    pub path: PathBuf,
+    /// The text.
+    pub text: String,
+    /// Path-to-position index.
+    pub index: PositionIndex,
+}
+
+impl SourceFile {
+    /// Reads a file.
+    pub fn read(path: &Path) -> Result<SourceFile, Diagnostic> {
+        let text = std::fs::read_to_string(path).map_err(|error| {
+            Diagnostic::new(path, Position { line: 1, column: 1 }, "", format!("cannot read the file: {error}"))
+                .hint("check the path; drive files live in drives/, protocol files in drives/protocols/")
+        })?;
+        Ok(SourceFile::from_text(path, text))
+    }
+
+    /// Wraps text already in memory (used by tests and the proc-macro).
+    pub fn from_text(path: &Path, text: String) -> SourceFile {
+        let index = PositionIndex::build(&text);
+        SourceFile { path: path.to_owned(), text, index }
+    }
+
+    /// A diagnostic at the node `path` of this file.
+    pub fn error(&self, path: &str, message: impl Into<String>) -> Diagnostic {
+        Diagnostic::new(&self.path, self.index.find(path), path, message)
+    }
+
+    /// Deserialises the whole file as `T`.
+    pub fn deserialize<T: DeserializeOwned>(&self) -> Result<T, Diagnostic> {
+        let deserializer = serde_yaml::Deserializer::from_str(&self.text);
+        serde_path_to_error::deserialize(deserializer).map_err(|error| {
+            let path = match error.path().to_string() {
+                dot if dot == "." => String::new(),
+                path => path,
+            };
+            let inner = error.inner();
+            let position = match inner.location() {
+                Some(location) => Position { line: location.line(), column: location.column() },
+                None => self.index.find(&path),
+            };
+            let mut message = inner.to_string();
+            if let Some(cut) = message.find(" at line ") {
+                message.truncate(cut);
+            }
+            let hint = hint_for(&message);
+            let mut diagnostic = Diagnostic::new(&self.path, position, path, message);
+            if let Some(hint) = hint {
+                diagnostic = diagnostic.hint(hint);
+            }
+            diagnostic
+        })
+    }
+}
+
+fn hint_for(message: &str) -> Option<&'static str> {
+    if message.contains("unknown field") {
+        Some("remove the key or fix its spelling; drives/README.md lists every key")
+    } else if message.contains("missing field") {
+        Some("add the key; drives/README.md says what it holds")
+    } else if message.contains("untagged enum BoundModel") {
+        Some("a range bound is a number in the register's unit, or the code of another register (\"FH\")")
+    } else if message.contains("untagged enum PartRefModel") {
+        Some("a layout entry is the name of a part under `parts:`, or a part written in place")
+    } else if message.contains("untagged enum OptionalModel") {
+        Some("`optional` is true, `if_format_matches`, or `{ if_byte_at_most: 0x3F }`")
+    } else if message.contains("invalid type") {
+        Some("check the value's type against drives/README.md (numbers may be decimal or 0x-hex)")
+    } else {
+        None
+    }
+}

@@ -1,0 +1,135 @@
+//! Maps YAML paths (`registers[3].address`) to line and column, so that problems found
+//! after deserialisation can still point at the right place in the file.
+
+use std::collections::HashMap;
+use yaml_rust2::parser::{Event, MarkedEventReceiver, Parser};
+use yaml_rust2::scanner::Marker;
+
+/// A 1-based line and column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Position {
+    /// Line, from 1.
+    pub line: usize,
+    /// Column, from 1.
+    pub column: usize,
+}
+
+/// Positions of every node of one YAML document, by path.
+#[derive(Debug, Clone, Default)]
+pub struct PositionIndex {
+    values: HashMap<String, Position>,
+}
+
+impl PositionIndex {
+    /// Indexes `text`. Syntax errors leave the index partial; serde reports them.
+    pub fn build(text: &str) -> PositionIndex {
+        let mut builder = IndexBuilder::default();
+        let mut parser = Parser::new_from_str(text);
+        let _ = parser.load(&mut builder, false);
+        PositionIndex { values: builder.values }
+    }
+
+    /// The position of the node at `path`, or of its nearest indexed ancestor.
+    pub fn find(&self, path: &str) -> Position {
+        let mut path = path.to_owned();
+        loop {
+            if let Some(position) = self.values.get(&path) {
+                return *position;
+            }
+            match path.rfind(['.', '[']) {
+                Some(cut) => path.truncate(cut),
+                None => return self.values.get("").copied().unwrap_or(Position { line: 1, column: 1 }),
+            }
+        }
+    }
+}
+
+enum Frame {
+    Mapping { path: String, key: Option<String> },
+    Sequence { path: String, index: usize },
+}
+
+#[derive(Default)]
+struct IndexBuilder {
+    stack: Vec<Frame>,
+    values: HashMap<String, Position>,
+}
+
+impl IndexBuilder {
+    /// Path of the node now starting, or `None` when it is a mapping key.
+    fn next_path(&mut self) -> Option<String> {
+        match self.stack.last_mut() {
+            None => Some(String::new()),
+            Some(Frame::Mapping { path, key }) => key.take().map(|key| join(path, &key)),
+            Some(Frame::Sequence { path, index }) => {
+                let here = format!("{path}[{index}]");
+                *index += 1;
+                Some(here)
+            }
+        }
+    }
+}
+
+fn join(path: &str, key: &str) -> String {
+    if path.is_empty() {
+        key.to_owned()
+    } else {
+        format!("{path}.{key}")
+    }
+}
+
+impl MarkedEventReceiver for IndexBuilder {
+    fn on_event(&mut self, event: Event, mark: Marker) {
+        let position = Position { line: mark.line(), column: mark.col() + 1 };
+        match event {
+            Event::Scalar(value, ..) => match self.next_path() {
+                Some(path) => {
+                    self.values.insert(path, position);
+                }
+                None => {
+                    if let Some(Frame::Mapping { path, key }) = self.stack.last_mut() {
+                        self.values.insert(format!("{}#key", join(path, &value)), position);
+                        *key = Some(value);
+                    }
+                }
+            },
+            Event::MappingStart(..) | Event::SequenceStart(..) => {
+                let path = self.next_path().unwrap_or_default();
+                self.values.entry(path.clone()).or_insert(position);
+                if matches!(event, Event::MappingStart(..)) {
+                    self.stack.push(Frame::Mapping { path, key: None });
+                } else {
+                    self.stack.push(Frame::Sequence { path, index: 0 });
+                }
+            }
+            Event::MappingEnd | Event::SequenceEnd => {
+                self.stack.pop();
+            }
+            Event::Alias(..) => {
+                if let Some(path) = self.next_path() {
+                    self.values.insert(path, position);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_nested_values_in_block_and_flow_style() {
+        let index = PositionIndex::build("a:\n  b: 1\nlist:\n  - { x: 2, y: 3 }\n  - z: 4\n");
+        assert_eq!(index.find("a.b"), Position { line: 2, column: 6 });
+        assert_eq!(index.find("list[0].y"), Position { line: 4, column: 16 });
+        assert_eq!(index.find("list[1].z"), Position { line: 5, column: 8 });
+    }
+
+    #[test]
+    fn falls_back_to_the_nearest_ancestor() {
+        let index = PositionIndex::build("a:\n  b: 1\n");
+        assert_eq!(index.find("a.missing"), Position { line: 2, column: 3 });
+    }
+}

@@ -1,0 +1,23 @@
+//! Typed register APIs for every drive described in this folder's YAML files.
+//!
+//! Each drive is a module (`vfd_drives::yd1000`) generated at build time from
+//! `drives/<id>.yaml` and the protocol files in `drives/protocols/`. Its reference page is
+//! `generated-docs/<id>.md`.
+//!
+//! ```
+//! use vfd_drives::yd1000;
+//! use vfd_runtime::units::Hertz;
+//!
+//! // "Set 60 Hz in RAM", binary protocol, no station number.
+//! let request = yd1000::registers::FrequencyCommand::write_ram(Hertz(60.0)).unwrap();
+//! let mut frame = [0u8; 16];
+//! let len = yd1000::protocols::BINARY.encode_request(&request, None, &mut frame).unwrap();
+//! assert_eq!(&frame[..len], [0x2F, 0x50, 0xFA, 0x01, 0x17, 0x70, 0x01]);
+//! ```
+
+include!(concat!(env!("OUT_DIR"), "/drives.rs"));
+
+/// The described drive with this id.
+pub fn drive(id: &str) -> Option<&'static vfd_runtime::DriveInfo> {
+    ALL_DRIVES.iter().copied().find(|drive| drive.id == id)
+}

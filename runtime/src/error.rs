@@ -1,0 +1,285 @@
+//! Typed errors: frames that do not fit, values that must not be sent, and failed transactions.
+
+use crate::layout::{ChecksumAlgorithm, Format, Text};
+use crate::protocol::ErrorCodeInfo;
+use crate::register::RegisterInfo;
+use std::time::Duration;
+
+/// Renders bytes for people: printable ASCII as text, the rest as hex.
+pub fn describe_bytes(bytes: &[u8]) -> String {
+    if !bytes.is_empty() && bytes.iter().all(|b| b.is_ascii_graphic() || *b == b' ') {
+        format!("{:?}", String::from_utf8_lossy(bytes))
+    } else {
+        hex(bytes)
+    }
+}
+
+/// Bytes as upper-case hex pairs separated by spaces (`2F 50 FA`), with CR and LF shown
+/// as such when the rest is printable text.
+pub fn hex(bytes: &[u8]) -> String {
+    let mut out = String::with_capacity(bytes.len() * 3);
+    for (index, byte) in bytes.iter().enumerate() {
+        if index > 0 {
+            out.push(' ');
+        }
+        out.push_str(&format!("{byte:02X}"));
+    }
+    out
+}
+
+/// A byte sequence that cannot be a frame of the layout.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DecodeError {
+    /// A byte differs from what the layout requires at that point.
+    #[error("{layout}: byte {offset} is {found:#04X} ({found_text}) in part `{part}`, expected {expected}", found_text = describe_bytes(&[*found]))]
+    UnexpectedByte {
+        /// Layout name.
+        layout: Text,
+        /// Part name.
+        part: Text,
+        /// Offset of the byte in the frame.
+        offset: usize,
+        /// The byte received.
+        found: u8,
+        /// What would have fitted.
+        expected: String,
+    },
+    /// A field holds a value the layout does not allow there (e.g. an unknown command letter).
+    #[error("{layout}: field `{part}` at byte {offset} holds {shown}, which this layout does not allow", shown = show_value(*value, *format))]
+    NotAllowed {
+        /// Layout name.
+        layout: Text,
+        /// Field name.
+        part: Text,
+        /// Offset of the field.
+        offset: usize,
+        /// The value found.
+        value: u32,
+        /// The field's wire format.
+        format: Format,
+    },
+    /// The checksum does not match the bytes it covers.
+    #[error("{layout}: {algorithm} checksum `{part}` at byte {offset} is {received:02X}, but the covered bytes give {computed:02X}", algorithm = algorithm.as_str())]
+    ChecksumMismatch {
+        /// Layout name.
+        layout: Text,
+        /// Checksum part name.
+        part: Text,
+        /// Offset of the checksum value.
+        offset: usize,
+        /// Algorithm.
+        algorithm: ChecksumAlgorithm,
+        /// Checksum computed over the covered bytes.
+        computed: u32,
+        /// Checksum received.
+        received: u32,
+    },
+    /// The bytes end before the frame does (only from APIs that require a whole frame).
+    #[error("{layout}: the frame ends after {len} bytes, before the layout is complete")]
+    Truncated {
+        /// Layout name.
+        layout: Text,
+        /// Bytes available.
+        len: usize,
+    },
+    /// Bytes follow a complete frame (only from APIs that require exactly one frame).
+    #[error("{layout}: {extra} byte(s) follow the end of the frame at byte {len}")]
+    TrailingBytes {
+        /// Layout name.
+        layout: Text,
+        /// Frame length.
+        len: usize,
+        /// Extra bytes.
+        extra: usize,
+    },
+    /// No layout of the protocol matches the frame.
+    #[error("{protocol}: no {what} layout matches; the closest attempt failed with: {closest}")]
+    NoLayoutMatches {
+        /// Protocol id.
+        protocol: Text,
+        /// "request" or "reply".
+        what: &'static str,
+        /// The error from the layout that got furthest.
+        closest: Box<DecodeError>,
+    },
+}
+
+fn show_value(value: u32, format: Format) -> String {
+    match (format, u8::try_from(value)) {
+        (Format::Char, Ok(byte)) => format!("{:?} ({byte:#04X})", byte as char),
+        _ => format!("{value:#06X}"),
+    }
+}
+
+impl DecodeError {
+    /// Short machine-friendly kind name, as used by `printed_rejected_as` in drive files.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            DecodeError::UnexpectedByte { .. } => "unexpected_byte",
+            DecodeError::NotAllowed { .. } => "not_allowed",
+            DecodeError::ChecksumMismatch { .. } => "checksum_mismatch",
+            DecodeError::Truncated { .. } => "truncated",
+            DecodeError::TrailingBytes { .. } => "trailing_bytes",
+            DecodeError::NoLayoutMatches { closest, .. } => closest.kind(),
+        }
+    }
+
+    /// Offset in the frame at which decoding failed.
+    pub fn offset(&self) -> usize {
+        match self {
+            DecodeError::UnexpectedByte { offset, .. }
+            | DecodeError::NotAllowed { offset, .. }
+            | DecodeError::ChecksumMismatch { offset, .. } => *offset,
+            DecodeError::Truncated { len, .. } | DecodeError::TrailingBytes { len, .. } => *len,
+            DecodeError::NoLayoutMatches { closest, .. } => closest.offset(),
+        }
+    }
+}
+
+/// A frame that cannot be built.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum EncodeError {
+    /// A value does not fit its field.
+    #[error("{layout}: value {value:#X} does not fit field `{field}` ({width} {format} digit(s) or bytes)", format = format.as_str())]
+    ValueTooWide {
+        /// Layout name.
+        layout: Text,
+        /// Field name.
+        field: Text,
+        /// The value.
+        value: u32,
+        /// Wire format.
+        format: Format,
+        /// Digits requested.
+        width: u8,
+    },
+    /// The output buffer is too small.
+    #[error("{layout}: the frame does not fit in a {capacity}-byte buffer")]
+    BufferTooSmall {
+        /// Layout name.
+        layout: Text,
+        /// Buffer length.
+        capacity: usize,
+    },
+    /// The layout has more parts than the runtime supports.
+    #[error("{layout}: more than {} parts", crate::layout::MAX_PARTS)]
+    TooManyParts {
+        /// Layout name.
+        layout: Text,
+    },
+    /// The protocol has no command for this kind of request.
+    #[error("protocol {protocol} has no command for {kind}")]
+    UnsupportedCommand {
+        /// Protocol id.
+        protocol: Text,
+        /// Requested kind.
+        kind: &'static str,
+    },
+    /// The protocol has no address field, but an address was given.
+    #[error("protocol {protocol}: station address {address} is outside {min}..={max}")]
+    AddressOutOfRange {
+        /// Protocol id.
+        protocol: Text,
+        /// Address given.
+        address: u8,
+        /// Lowest address.
+        min: u8,
+        /// Highest address.
+        max: u8,
+    },
+}
+
+/// A value that must not be sent to a register.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ValueError {
+    /// The value is outside the register's range.
+    #[error("{register}: {value} {unit} is outside the range {min} to {max} {unit}{bounds}", register = register.label(), unit = register.unit_symbol(), bounds = register.bound_note())]
+    OutOfRange {
+        /// The register.
+        register: &'static RegisterInfo,
+        /// Value asked for, in engineering units.
+        value: f64,
+        /// Lowest value accepted, in engineering units.
+        min: f64,
+        /// Highest value accepted, in engineering units.
+        max: f64,
+    },
+    /// The value is NaN or infinite.
+    #[error("{register}: {value} is not a finite number", register = register.label())]
+    NotFinite {
+        /// The register.
+        register: &'static RegisterInfo,
+        /// The value.
+        value: f64,
+    },
+    /// A raw value read back is not one of the register's codes.
+    #[error("{register}: raw value {raw:#06X} is not a known code of `{table}`", register = register.label())]
+    UnknownCode {
+        /// The register.
+        register: &'static RegisterInfo,
+        /// Code table id.
+        table: &'static str,
+        /// Raw value.
+        raw: u16,
+    },
+}
+
+/// A request/reply exchange that failed.
+#[derive(Debug, thiserror::Error)]
+pub enum TransactionError {
+    /// The transport failed.
+    #[error("transport error: {0}")]
+    Io(#[from] std::io::Error),
+    /// The request could not be built.
+    #[error(transparent)]
+    Encode(#[from] EncodeError),
+    /// The value could not be sent.
+    #[error(transparent)]
+    Value(#[from] ValueError),
+    /// No complete reply arrived in time.
+    #[error("no complete reply to {request} within {waited:?}; received {received_len} byte(s): {received}{last}", last = last_error.as_ref().map(|e| format!("; last decode error: {e}")).unwrap_or_default())]
+    Timeout {
+        /// What was asked.
+        request: String,
+        /// The timeout that elapsed.
+        waited: Duration,
+        /// Bytes received (hex, at most 64 shown).
+        received: String,
+        /// Number of bytes received.
+        received_len: usize,
+        /// The last decode error seen while waiting, if any.
+        last_error: Option<DecodeError>,
+    },
+    /// The reply is not a valid frame.
+    #[error("invalid reply to {request}: {source}")]
+    Decode {
+        /// What was asked.
+        request: String,
+        /// Why it is invalid.
+        source: DecodeError,
+    },
+    /// The drive answered with an error reply.
+    #[error("drive rejected {request}: error {code:04X}h {meaning}{tripped}", meaning = info.map(|i| format!("{} ({}): {}", i.name, i.name_zh, i.meaning)).unwrap_or_else(|| "(code not in the manual's table)".into()), tripped = if *tripped { "; the drive reports it is tripped" } else { "" })]
+    Rejected {
+        /// What was asked.
+        request: String,
+        /// Error code received.
+        code: u16,
+        /// The manual's entry for the code.
+        info: Option<&'static ErrorCodeInfo>,
+        /// Whether the reply said the drive is tripped (lower-case command).
+        tripped: bool,
+    },
+    /// The reply does not answer the request (wrong address, command or register).
+    #[error("reply to {request} does not match: {field} is {found:#X}, expected {expected:#X}")]
+    Mismatch {
+        /// What was asked.
+        request: String,
+        /// Which field differs.
+        field: &'static str,
+        /// Value expected.
+        expected: u32,
+        /// Value found.
+        found: u32,
+    },
+}

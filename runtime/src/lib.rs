@@ -1,0 +1,31 @@
+//! Runtime support for drive APIs generated from YAML descriptions: frame layouts
+//! interpreted as data, checksums, typed register values, transactions and transports.
+//!
+//! Nothing here names a drive. A generated drive module supplies `static` data (frame
+//! layouts, register tables, error tables) and this crate does the work:
+//!
+//! * [`layout`] describes a frame as a list of parts (literals, fields, checksums);
+//! * [`codec`] encodes and decodes any such layout without heap allocation;
+//! * [`protocol`] ties layouts to commands (read, RAM write, persistent write) and error replies;
+//! * [`register`] holds register metadata and the typed value conversions (units, scaling, ranges);
+//! * [`transaction`] runs request/reply exchanges with timeouts derived from the baud rate;
+//! * [`transport`] moves bytes: serial ports, pseudo-terminals and in-memory pipes.
+
+pub mod checksum;
+pub mod codec;
+pub mod drive;
+pub mod error;
+pub mod layout;
+pub mod protocol;
+pub mod register;
+pub mod serial;
+pub mod transaction;
+pub mod transport;
+pub mod units;
+
+pub use codec::{FieldValue, FrameValues};
+pub use drive::DriveInfo;
+pub use error::{DecodeError, EncodeError, TransactionError, ValueError};
+pub use layout::{ChecksumAlgorithm, ChecksumSpec, FieldSpec, Format, FrameLayout, Part, Presence, Role};
+pub use protocol::{CommandKind, CommandSpec, ErrorCodeInfo, Protocol, Reply, Request};
+pub use register::{Access, Persistable, Register, RegisterInfo, RegisterValue, Writable};

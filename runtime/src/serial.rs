@@ -1,0 +1,119 @@
+//! Serial line settings and the timings derived from them (character time, wire time,
+//! reply timeout).
+
+use std::time::Duration;
+
+/// Parity bit setting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Parity {
+    /// No parity bit.
+    None,
+    /// Even parity.
+    Even,
+    /// Odd parity.
+    Odd,
+}
+
+impl Parity {
+    /// Name as written in drive files.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Parity::None => "none",
+            Parity::Even => "even",
+            Parity::Odd => "odd",
+        }
+    }
+}
+
+/// Settings of one serial line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SerialSettings {
+    /// Bits per second.
+    pub baud: u32,
+    /// Data bits per character (7 or 8).
+    pub data_bits: u8,
+    /// Parity.
+    pub parity: Parity,
+    /// Stop bits (1 or 2).
+    pub stop_bits: u8,
+}
+
+impl SerialSettings {
+    /// Bits on the wire per character: start, data, parity and stop bits.
+    pub fn bits_per_char(&self) -> u32 {
+        1 + u32::from(self.data_bits) + u32::from(self.parity != Parity::None) + u32::from(self.stop_bits)
+    }
+
+    /// Time one character takes on the wire.
+    pub fn char_time(&self) -> Duration {
+        Duration::from_nanos(u64::from(self.bits_per_char()) * 1_000_000_000 / u64::from(self.baud.max(1)))
+    }
+
+    /// Time `bytes` characters take on the wire.
+    pub fn wire_time(&self, bytes: usize) -> Duration {
+        self.char_time() * u32::try_from(bytes).unwrap_or(u32::MAX)
+    }
+}
+
+/// Timing facts from a drive's manual.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DriveTiming {
+    /// After power-on the drive does not answer for this long.
+    pub startup_delay: Duration,
+    /// Time the drive may take to start answering once a request has arrived.
+    pub processing_allowance: Duration,
+    /// The drive drops a frame that is not complete within this time of its start.
+    pub frame_abandon: Duration,
+}
+
+impl DriveTiming {
+    /// Reply timeout for one exchange: the request's and the longest reply's wire time
+    /// plus the drive's processing allowance.
+    pub fn reply_timeout(&self, settings: &SerialSettings, request_len: usize, max_reply_len: usize) -> Duration {
+        settings.wire_time(request_len) + settings.wire_time(max_reply_len) + self.processing_allowance
+    }
+}
+
+/// Serial facts of a drive: supported settings and their defaults.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SerialSpec {
+    /// Supported baud rates.
+    pub baud_rates: &'static [u32],
+    /// Supported parities.
+    pub parities: &'static [Parity],
+    /// Factory settings (what the drive expects out of the box).
+    pub default: SerialSettings,
+    /// Stop bits the drive sends.
+    pub stop_bits_sent: u8,
+    /// Stop bits the drive needs to receive.
+    pub stop_bits_received: u8,
+    /// Timing facts.
+    pub timing: DriveTiming,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eight_e_one_at_9600_takes_about_1_15_ms_per_character() {
+        let settings = SerialSettings { baud: 9600, data_bits: 8, parity: Parity::Even, stop_bits: 1 };
+        assert_eq!(settings.bits_per_char(), 11);
+        assert_eq!(settings.char_time(), Duration::from_nanos(1_145_833));
+        // 8-byte request + 7-byte reply: about 17 ms on the wire.
+        assert_eq!(settings.wire_time(15).as_millis(), 17);
+    }
+
+    #[test]
+    fn reply_timeout_grows_as_the_baud_rate_falls() {
+        let timing = DriveTiming {
+            startup_delay: Duration::from_secs(1),
+            processing_allowance: Duration::from_millis(100),
+            frame_abandon: Duration::from_secs(1),
+        };
+        let fast = SerialSettings { baud: 9600, data_bits: 8, parity: Parity::Even, stop_bits: 1 };
+        let slow = SerialSettings { baud: 1200, ..fast };
+        assert!(timing.reply_timeout(&slow, 8, 15) > timing.reply_timeout(&fast, 8, 15));
+        assert_eq!(timing.reply_timeout(&slow, 8, 15), slow.wire_time(23) + Duration::from_millis(100));
+    }
+}

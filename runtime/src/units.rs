@@ -1,0 +1,205 @@
+//! Engineering units and the quantity types typed register APIs take and return.
+
+use crate::error::ValueError;
+use crate::register::{RegisterInfo, RegisterValue};
+
+/// A unit a register's value is expressed in, after scaling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Unit {
+    /// A plain number (counts, codes, raw words).
+    None,
+    /// Hertz.
+    Hertz,
+    /// Seconds.
+    Second,
+    /// Percent.
+    Percent,
+    /// Amperes.
+    Ampere,
+    /// Volts.
+    Volt,
+    /// Hours.
+    Hour,
+    /// Kilowatts.
+    Kilowatt,
+    /// Revolutions per minute.
+    Rpm,
+}
+
+impl Unit {
+    /// Every unit, in the order the description format documents them.
+    pub const ALL: [Unit; 9] = [
+        Unit::None,
+        Unit::Hertz,
+        Unit::Second,
+        Unit::Percent,
+        Unit::Ampere,
+        Unit::Volt,
+        Unit::Hour,
+        Unit::Kilowatt,
+        Unit::Rpm,
+    ];
+
+    /// The symbol written in drive files and shown to people (`Hz`); empty for [`Unit::None`].
+    pub const fn symbol(self) -> &'static str {
+        match self {
+            Unit::None => "",
+            Unit::Hertz => "Hz",
+            Unit::Second => "s",
+            Unit::Percent => "%",
+            Unit::Ampere => "A",
+            Unit::Volt => "V",
+            Unit::Hour => "h",
+            Unit::Kilowatt => "kW",
+            Unit::Rpm => "rpm",
+        }
+    }
+
+    /// The unit for a symbol as written in drive files.
+    pub fn from_symbol(symbol: &str) -> Option<Unit> {
+        Unit::ALL.into_iter().find(|unit| unit.symbol() == symbol)
+    }
+
+    /// Name of the quantity type in this module (`Hertz`), `None` for plain numbers.
+    pub const fn quantity_type(self) -> Option<&'static str> {
+        match self {
+            Unit::None => None,
+            Unit::Hertz => Some("Hertz"),
+            Unit::Second => Some("Seconds"),
+            Unit::Percent => Some("Percent"),
+            Unit::Ampere => Some("Amperes"),
+            Unit::Volt => Some("Volts"),
+            Unit::Hour => Some("Hours"),
+            Unit::Kilowatt => Some("Kilowatts"),
+            Unit::Rpm => Some("Rpm"),
+        }
+    }
+}
+
+/// Converts an engineering value to the raw word, checking finiteness and the register's range.
+pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u16, ValueError> {
+    if !value.is_finite() {
+        return Err(ValueError::NotFinite { register: info, value });
+    }
+    let raw = (value / info.scale).round();
+    if raw < f64::from(info.raw_min) || raw > f64::from(info.raw_max) {
+        return Err(ValueError::OutOfRange {
+            register: info,
+            value,
+            min: f64::from(info.raw_min) * info.scale,
+            max: f64::from(info.raw_max) * info.scale,
+        });
+    }
+    // The range check above keeps `raw` within i32 and within the register's word.
+    let raw = raw as i32;
+    Ok(if info.signed { raw as i16 as u16 } else { raw as u16 })
+}
+
+/// Converts a raw word to its engineering value.
+pub fn raw_to_scaled(raw: u16, info: &RegisterInfo) -> f64 {
+    let raw = if info.signed { f64::from(raw as i16) } else { f64::from(raw) };
+    // Round away binary noise such as 0.1 * 3 = 0.30000000000000004.
+    let value = raw * info.scale;
+    let decimals = info.decimals();
+    let factor = 10f64.powi(i32::from(decimals));
+    (value * factor).round() / factor
+}
+
+macro_rules! quantity {
+    ($(#[$doc:meta])* $name:ident, $unit:expr) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq, PartialOrd, Default)]
+        pub struct $name(pub f64);
+
+        impl $name {
+            /// The unit of this quantity.
+            pub const UNIT: Unit = $unit;
+        }
+
+        impl std::fmt::Display for $name {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                write!(f, "{} {}", self.0, $unit.symbol())
+            }
+        }
+
+        impl RegisterValue for $name {
+            fn to_raw(&self, info: &'static RegisterInfo) -> Result<u16, ValueError> {
+                scaled_to_raw(self.0, info)
+            }
+            fn from_raw(raw: u16, info: &'static RegisterInfo) -> Result<Self, ValueError> {
+                Ok($name(raw_to_scaled(raw, info)))
+            }
+        }
+    };
+}
+
+quantity!(
+    /// A frequency in hertz.
+    Hertz,
+    Unit::Hertz
+);
+quantity!(
+    /// A time in seconds.
+    Seconds,
+    Unit::Second
+);
+quantity!(
+    /// A ratio in percent.
+    Percent,
+    Unit::Percent
+);
+quantity!(
+    /// A current in amperes.
+    Amperes,
+    Unit::Ampere
+);
+quantity!(
+    /// A voltage in volts.
+    Volts,
+    Unit::Volt
+);
+quantity!(
+    /// A time in hours.
+    Hours,
+    Unit::Hour
+);
+quantity!(
+    /// A power in kilowatts.
+    Kilowatts,
+    Unit::Kilowatt
+);
+quantity!(
+    /// A speed in revolutions per minute.
+    Rpm,
+    Unit::Rpm
+);
+
+/// Plain scaled numbers (no unit, scale other than 1).
+impl RegisterValue for f64 {
+    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u16, ValueError> {
+        scaled_to_raw(*self, info)
+    }
+    fn from_raw(raw: u16, info: &'static RegisterInfo) -> Result<Self, ValueError> {
+        Ok(raw_to_scaled(raw, info))
+    }
+}
+
+/// Raw words (no unit, scale 1), range-checked.
+impl RegisterValue for u16 {
+    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u16, ValueError> {
+        scaled_to_raw(f64::from(*self), info)
+    }
+    fn from_raw(raw: u16, _info: &'static RegisterInfo) -> Result<Self, ValueError> {
+        Ok(raw)
+    }
+}
+
+/// Signed raw words (no unit, scale 1), range-checked.
+impl RegisterValue for i16 {
+    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u16, ValueError> {
+        scaled_to_raw(f64::from(*self), info)
+    }
+    fn from_raw(raw: u16, _info: &'static RegisterInfo) -> Result<Self, ValueError> {
+        Ok(raw as i16)
+    }
+}
