@@ -4,12 +4,17 @@
 use std::path::PathBuf;
 
 fn main() {
-    let manifest = PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
+    let manifest = PathBuf::from(
+        std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"),
+    );
     let out_dir = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     println!("cargo:rerun-if-changed={}", manifest.display());
     println!("cargo:rerun-if-env-changed=CI");
     let mut builder = match vfd_codegen::Builder::new().drives_in(&manifest) {
-        Ok(builder) => builder.out_dir(&out_dir).cargo_metadata(true).display_root(manifest.join("..")),
+        Ok(builder) => builder
+            .out_dir(&out_dir)
+            .cargo_metadata(true)
+            .display_root(manifest.join("..")),
         Err(error) => vfd_codegen::fail_build(&error),
     };
     // The committed pages are refreshed by every local build; in CI they are only

@@ -1,2 +1,432 @@
-//! CLI (being written).
-fn main() {}
+//! `vfd`: the command-line tool. Generates code and reference pages, checks drive files,
+//! and encodes or decodes frames of the described drives by register name with units.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use vfd_runtime::protocol::DecodedRequest;
+use vfd_runtime::units::{raw_to_scaled, scaled_to_raw};
+use vfd_runtime::{Access, CommandKind, DriveInfo, Protocol, RegisterInfo, Reply, Request};
+
+const USAGE: &str = "\
+vfd: tools for RS-485 frequency inverters described in drives/*.yaml
+
+USAGE:
+  vfd generate [--check] [--root DIR]      regenerate generated-docs/ and print a summary
+                                           (--check: only report stale pages, exit 1 if any)
+  vfd check FILE.yaml...                   validate drive files, print every problem
+  vfd registers DRIVE                      list a drive's registers
+  vfd encode DRIVE PROTOCOL read REG [--address N]
+  vfd encode DRIVE PROTOCOL write-ram REG VALUE [--address N]
+  vfd encode DRIVE PROTOCOL write-persistent REG VALUE [--address N]
+                                           print the request frame (REG: code like FA01 or FH,
+                                           or id; VALUE in the register's unit, e.g. 60 or 60Hz)
+  vfd decode DRIVE PROTOCOL FRAME          decode a captured request or reply
+                                           (FRAME: hex \"2F 52 FD 00 7E\" or text \"(RFD00)\\r\")
+
+Drives: see generated-docs/README.md. Protocols: ascii, binary (per drive).";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("{message}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(args: &[String]) -> Result<(), String> {
+    let words: Vec<&str> = args.iter().map(String::as_str).collect();
+    match words.as_slice() {
+        ["generate", rest @ ..] => generate(rest),
+        ["check", files @ ..] if !files.is_empty() => check(files),
+        ["registers", drive] => registers(find_drive(drive)?),
+        ["encode", drive, protocol, rest @ ..] => encode(find_drive(drive)?, protocol, rest),
+        ["decode", drive, protocol, frame] => decode(find_drive(drive)?, protocol, frame),
+        ["--help" | "-h" | "help"] | [] => {
+            println!("{USAGE}");
+            Ok(())
+        }
+        _ => Err(format!(
+            "unrecognised arguments: {}\n\n{USAGE}",
+            args.join(" ")
+        )),
+    }
+}
+
+fn find_drive(id: &str) -> Result<&'static DriveInfo, String> {
+    vfd_drives::drive(id).ok_or_else(|| {
+        let known: Vec<&str> = vfd_drives::ALL_DRIVES.iter().map(|d| d.id).collect();
+        format!(
+            "unknown drive `{id}`; described drives: {}",
+            known.join(", ")
+        )
+    })
+}
+
+fn find_protocol(drive: &DriveInfo, id: &str) -> Result<&'static Protocol, String> {
+    drive.protocol(id).ok_or_else(|| {
+        let known: Vec<&str> = drive.protocols.iter().map(|p| p.id.as_ref()).collect();
+        format!(
+            "drive {} has no protocol `{id}`; it speaks: {}",
+            drive.id,
+            known.join(", ")
+        )
+    })
+}
+
+fn find_register(drive: &DriveInfo, name: &str) -> Result<&'static RegisterInfo, String> {
+    drive.register(name).ok_or_else(|| format!("drive {} has no register `{name}` (use a code such as FA01 or FH, or an id; `vfd registers {}` lists them)", drive.id, drive.id))
+}
+
+/// The workspace root: `--root`, or the nearest folder upwards holding `drives/` and `generated-docs/`.
+fn workspace_root(explicit: Option<&str>) -> Result<PathBuf, String> {
+    if let Some(root) = explicit {
+        return Ok(PathBuf::from(root));
+    }
+    let start =
+        std::env::current_dir().map_err(|e| format!("cannot read the current folder: {e}"))?;
+    start
+        .ancestors()
+        .find(|dir| dir.join("drives").is_dir() && dir.join("generated-docs").is_dir())
+        .map(Path::to_owned)
+        .ok_or_else(|| "run this inside the repository (no folder above holds drives/ and generated-docs/), or pass --root DIR".to_owned())
+}
+
+fn generate(args: &[&str]) -> Result<(), String> {
+    let check_only = args.contains(&"--check");
+    let root_arg = args.windows(2).find(|w| w[0] == "--root").map(|w| w[1]);
+    let root = workspace_root(root_arg)?;
+    let docs = root.join("generated-docs");
+    let builder = vfd_codegen::Builder::new()
+        .drives_in(root.join("drives"))
+        .map_err(|e| e.to_string())?
+        .display_root(&root);
+    let generated = builder.generate_in_memory().map_err(|e| e.to_string())?;
+    let mut pages: Vec<(String, &str)> = generated
+        .drives
+        .iter()
+        .map(|d| (format!("{}.md", d.ir.id), d.markdown.as_str()))
+        .collect();
+    pages.push(("README.md".to_owned(), &generated.index));
+    let mut stale = Vec::new();
+    for (name, text) in &pages {
+        let path = docs.join(name);
+        if std::fs::read_to_string(&path).ok().as_deref() != Some(*text) {
+            stale.push(name.clone());
+            if !check_only {
+                vfd_codegen::write_if_changed(&path, text).map_err(|e| e.to_string())?;
+            }
+        }
+    }
+    println!(
+        "{:<8} {:<28} {:>9} {:>9} {:>6} {:>8} {:>7}  protocols",
+        "drive", "model", "registers", "bitfields", "codes", "examples", "errata"
+    );
+    for drive in &generated.drives {
+        let ir = &drive.ir;
+        let errata = ir
+            .examples
+            .iter()
+            .flat_map(|e| [&e.request, &e.reply])
+            .filter(|f| f.as_ref().is_some_and(|f| f.printed.is_some()))
+            .count();
+        let protocols: Vec<&str> = ir.protocols.iter().map(|p| p.id.as_str()).collect();
+        println!(
+            "{:<8} {:<28} {:>9} {:>9} {:>6} {:>8} {:>7}  {}",
+            ir.id,
+            format!("{} {}", ir.vendor, ir.model),
+            ir.registers.len(),
+            ir.bitfields.len(),
+            ir.code_tables.len() + 1,
+            ir.examples.len(),
+            errata + ir.manual_errata.len(),
+            protocols.join(", ")
+        );
+        println!(
+            "         Rust: {} lines of generated code",
+            drive.rust.lines().count()
+        );
+    }
+    match (check_only, stale.is_empty()) {
+        (_, true) => println!("generated-docs/ is up to date ({} pages)", pages.len()),
+        (false, false) => println!("refreshed generated-docs/: {}", stale.join(", ")),
+        (true, false) => {
+            return Err(format!(
+                "stale pages in generated-docs/: {}; run `cargo run -p vfd-cli -- generate`",
+                stale.join(", ")
+            ))
+        }
+    }
+    Ok(())
+}
+
+fn check(files: &[&str]) -> Result<(), String> {
+    let mut failed = 0;
+    for file in files {
+        match vfd_codegen::compile(Path::new(file), None) {
+            Ok(drive) => println!(
+                "{file}: ok ({} registers, {} examples)",
+                drive.registers.len(),
+                drive.examples.len()
+            ),
+            Err(diagnostics) => {
+                failed += 1;
+                println!("{diagnostics}");
+            }
+        }
+    }
+    if failed == 0 {
+        Ok(())
+    } else {
+        Err(format!("{failed} of {} file(s) have problems", files.len()))
+    }
+}
+
+fn registers(drive: &DriveInfo) -> Result<(), String> {
+    println!(
+        "{} {} ({}): {} registers",
+        drive.vendor,
+        drive.model,
+        drive.name_zh,
+        drive.registers.len()
+    );
+    for r in drive.registers {
+        let unit = r.unit_symbol();
+        println!(
+            "  {:04X}  {:<6} {:<44} {:<12} {:<10} {}{}",
+            r.address,
+            r.code,
+            r.name,
+            r.name_zh,
+            r.access.as_str(),
+            if unit.is_empty() {
+                String::new()
+            } else {
+                format!("{} ({} {unit} steps)", unit, r.scale)
+            },
+            if r.ram_only { ", RAM only" } else { "" }
+        );
+    }
+    Ok(())
+}
+
+fn parse_number(text: &str) -> Option<f64> {
+    match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+        Some(hex) => u32::from_str_radix(hex, 16).ok().map(f64::from),
+        None => text.parse().ok(),
+    }
+}
+
+/// Parses `60`, `60Hz`, `60 Hz` or `0xC400` for `register`, refusing another unit.
+fn parse_value(register: &'static RegisterInfo, text: &str) -> Result<u16, String> {
+    let unit = register.unit_symbol();
+    let trimmed = text.trim();
+    let number = if !unit.is_empty() && trimmed.ends_with(unit) {
+        trimmed[..trimmed.len() - unit.len()].trim()
+    } else {
+        trimmed
+    };
+    let value = parse_number(number).ok_or_else(|| {
+        format!(
+            "`{text}` is not a value for {}: give a number{}",
+            register.label(),
+            if unit.is_empty() {
+                String::new()
+            } else {
+                format!(" in {unit}, e.g. 12.5{unit}")
+            }
+        )
+    })?;
+    scaled_to_raw(value, register).map_err(|e| e.to_string())
+}
+
+fn address_option(args: &[&str]) -> Result<(Vec<String>, Option<u8>), String> {
+    let mut rest = Vec::new();
+    let mut address = None;
+    let mut iter = args.iter();
+    while let Some(arg) = iter.next() {
+        if *arg == "--address" {
+            let value = iter.next().ok_or("--address needs a station number")?;
+            address = Some(
+                value
+                    .parse::<u8>()
+                    .map_err(|_| format!("station number `{value}` is not 0-255"))?,
+            );
+        } else {
+            rest.push((*arg).to_owned());
+        }
+    }
+    Ok((rest, address))
+}
+
+fn encode(drive: &'static DriveInfo, protocol: &str, args: &[&str]) -> Result<(), String> {
+    let protocol = find_protocol(drive, protocol)?;
+    let (rest, address) = address_option(args)?;
+    let words: Vec<&str> = rest.iter().map(String::as_str).collect();
+    let request = match words.as_slice() {
+        ["read", name] => {
+            let register = find_register(drive, name)?;
+            Request {
+                info: Some(register),
+                ..Request::raw(CommandKind::Read, register.address, 0)
+            }
+        }
+        [verb @ ("write-ram" | "write-persistent"), name, value] => {
+            let register = find_register(drive, name)?;
+            if register.access == Access::ReadOnly {
+                return Err(format!("{} is read-only", register.label()));
+            }
+            let kind = if *verb == "write-ram" {
+                CommandKind::WriteRam
+            } else {
+                CommandKind::WritePersistent
+            };
+            if kind == CommandKind::WritePersistent && register.ram_only {
+                return Err(format!("{} is RAM-only: use write-ram", register.label()));
+            }
+            let data = parse_value(register, value)?;
+            Request {
+                info: Some(register),
+                ..Request::raw(kind, register.address, data)
+            }
+        }
+        _ => {
+            return Err(format!(
+                "encode needs `read REG` or `write-ram|write-persistent REG VALUE`\n\n{USAGE}"
+            ))
+        }
+    };
+    let mut frame = [0u8; 256];
+    let len = protocol
+        .encode_request(&request, address, &mut frame)
+        .map_err(|e| e.to_string())?;
+    print_frame(&frame[..len]);
+    println!("{}", request.describe());
+    Ok(())
+}
+
+fn print_frame(bytes: &[u8]) {
+    println!("hex:   {}", vfd_runtime::error::hex(bytes));
+    if bytes
+        .iter()
+        .all(|b| b.is_ascii_graphic() || matches!(b, b' ' | b'\r' | b'\n'))
+    {
+        println!(
+            "ascii: {}",
+            String::from_utf8_lossy(bytes)
+                .replace('\r', "\\r")
+                .replace('\n', "\\n")
+        );
+    }
+}
+
+/// Parses hex pairs, or text with `\r` and `\n` escapes.
+fn parse_frame(text: &str) -> Vec<u8> {
+    let compact: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+    if !compact.is_empty()
+        && compact.len() % 2 == 0
+        && compact.chars().all(|c| c.is_ascii_hexdigit())
+    {
+        return (0..compact.len())
+            .step_by(2)
+            .filter_map(|i| u8::from_str_radix(&compact[i..i + 2], 16).ok())
+            .collect();
+    }
+    text.replace("\\r", "\r").replace("\\n", "\n").into_bytes()
+}
+
+fn describe_value(drive: &DriveInfo, register: u16, data: u16) -> String {
+    match drive.registers.iter().find(|r| r.address == register) {
+        Some(info) if !info.unit_symbol().is_empty() => {
+            format!(
+                "{} = {} {}",
+                info.label(),
+                raw_to_scaled(data, info),
+                info.unit_symbol()
+            )
+        }
+        Some(info) => format!("{} = {data} ({data:04X}h)", info.label()),
+        None => format!("register {register:04X} (not described) = {data:04X}h"),
+    }
+}
+
+fn decode(drive: &'static DriveInfo, protocol: &str, frame: &str) -> Result<(), String> {
+    let protocol = find_protocol(drive, protocol)?;
+    let bytes = parse_frame(frame);
+    print_frame(&bytes);
+    let as_request = protocol.decode_request_exact(&bytes);
+    if let Ok(DecodedRequest {
+        command,
+        address,
+        register,
+        data,
+        ..
+    }) = as_request
+    {
+        println!(
+            "request: {} ({}){}",
+            command.letter as char,
+            command.kind.as_str(),
+            address
+                .map(|a| format!(", station {a}"))
+                .unwrap_or_default()
+        );
+        if command.kind == CommandKind::Read {
+            let target = drive
+                .registers
+                .iter()
+                .find(|r| r.address == register)
+                .map(|r| r.label())
+                .unwrap_or(format!("register {register:04X}"));
+            println!("  {target}");
+        } else {
+            println!("  {}", describe_value(drive, register, data));
+        }
+        return Ok(());
+    }
+    match protocol.decode_reply_exact(None, &bytes) {
+        Ok(Reply::Data {
+            command,
+            address,
+            tripped,
+            register,
+            data,
+            ..
+        }) => {
+            println!(
+                "reply: {} ({}){}{}",
+                command.letter as char,
+                command.kind.as_str(),
+                address
+                    .map(|a| format!(", station {a}"))
+                    .unwrap_or_default(),
+                if tripped { ", drive TRIPPED" } else { "" }
+            );
+            println!("  {}", describe_value(drive, register, data));
+            Ok(())
+        }
+        Ok(Reply::Error {
+            code,
+            info,
+            tripped,
+            ..
+        }) => {
+            println!(
+                "error reply: code {code:04X}h{}",
+                if tripped { ", drive TRIPPED" } else { "" }
+            );
+            match info {
+                Some(info) => println!("  {} ({}): {}", info.name, info.name_zh, info.meaning),
+                None => println!("  (code not in the manual's table)"),
+            }
+            Ok(())
+        }
+        Err(reply_error) => Err(format!(
+            "not a valid {} frame:\n  as a request: {}\n  as a reply:   {reply_error}",
+            protocol.id,
+            as_request.err().map(|e| e.to_string()).unwrap_or_default()
+        )),
+    }
+}

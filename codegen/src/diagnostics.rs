@@ -24,7 +24,12 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     /// A diagnostic without a source line (filled in by [`Diagnostics::attach_sources`]).
-    pub fn new(file: &Path, position: Position, path: impl Into<String>, message: impl Into<String>) -> Self {
+    pub fn new(
+        file: &Path,
+        position: Position,
+        path: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
         Diagnostic {
             file: file.to_owned(),
             position,
@@ -43,7 +48,12 @@ impl Diagnostic {
 
     /// `file:line:column`.
     pub fn location(&self) -> String {
-        format!("{}:{}:{}", self.file.display(), self.position.line, self.position.column)
+        format!(
+            "{}:{}:{}",
+            self.file.display(),
+            self.position.line,
+            self.position.column
+        )
     }
 }
 
@@ -110,11 +120,18 @@ impl Diagnostics {
     pub fn attach_sources(&mut self, read: impl Fn(&Path) -> Option<String>) {
         for item in &mut self.items {
             if let Some(text) = read(&item.file) {
-                item.source_line = text.lines().nth(item.position.line.saturating_sub(1)).map(str::to_owned);
+                item.source_line = text
+                    .lines()
+                    .nth(item.position.line.saturating_sub(1))
+                    .map(str::to_owned);
             }
         }
         self.items.sort_by(|a, b| {
-            (&a.file, a.position.line, a.position.column).cmp(&(&b.file, b.position.line, b.position.column))
+            (&a.file, a.position.line, a.position.column).cmp(&(
+                &b.file,
+                b.position.line,
+                b.position.column,
+            ))
         });
         self.items.dedup();
     }
@@ -125,7 +142,12 @@ impl fmt::Display for Diagnostics {
         for item in &self.items {
             writeln!(f, "{item}")?;
         }
-        write!(f, "{} problem{} found", self.items.len(), if self.items.len() == 1 { "" } else { "s" })
+        write!(
+            f,
+            "{} problem{} found",
+            self.items.len(),
+            if self.items.len() == 1 { "" } else { "s" }
+        )
     }
 }
 

@@ -9,9 +9,13 @@ const INDEX_TEMPLATE: &str = include_str!("../templates/index.md.j2");
 fn environment() -> Result<Environment<'static>, String> {
     let mut env = Environment::new();
     env.set_trim_blocks(false);
-    env.add_filter("cell", |value: String| value.replace('|', "\\|").replace('\n', " "));
-    env.add_template("drive.md", DRIVE_TEMPLATE).map_err(|e| format!("drive template: {e}"))?;
-    env.add_template("index.md", INDEX_TEMPLATE).map_err(|e| format!("index template: {e}"))?;
+    env.add_filter("cell", |value: String| {
+        value.replace('|', "\\|").replace('\n', " ")
+    });
+    env.add_template("drive.md", DRIVE_TEMPLATE)
+        .map_err(|e| format!("drive template: {e}"))?;
+    env.add_template("index.md", INDEX_TEMPLATE)
+        .map_err(|e| format!("index template: {e}"))?;
     Ok(env)
 }
 
@@ -19,7 +23,9 @@ fn environment() -> Result<Environment<'static>, String> {
 pub fn drive_page(drive: &DriveIr) -> Result<String, String> {
     let env = environment()?;
     let template = env.get_template("drive.md").map_err(|e| e.to_string())?;
-    let text = template.render(context! { drive => drive }).map_err(|e| format!("rendering {}: {e:#}", drive.id))?;
+    let text = template
+        .render(context! { drive => drive })
+        .map_err(|e| format!("rendering {}: {e:#}", drive.id))?;
     Ok(tidy(&text))
 }
 
@@ -27,7 +33,9 @@ pub fn drive_page(drive: &DriveIr) -> Result<String, String> {
 pub fn index_page(drives: &[DriveIr]) -> Result<String, String> {
     let env = environment()?;
     let template = env.get_template("index.md").map_err(|e| e.to_string())?;
-    let text = template.render(context! { drives => drives }).map_err(|e| format!("rendering the index: {e:#}"))?;
+    let text = template
+        .render(context! { drives => drives })
+        .map_err(|e| format!("rendering the index: {e:#}"))?;
     Ok(tidy(&text))
 }
 

@@ -19,7 +19,10 @@ pub fn header(drive: &DriveIr) -> String {
 /// The drive's module as tokens (`pub mod <id> { ... }`).
 pub fn drive_module(drive: &DriveIr) -> TokenStream {
     let module = ident(&drive.module);
-    let title = format!(" {} ({}): typed registers, protocols and code tables.", drive.name, drive.name_zh);
+    let title = format!(
+        " {} ({}): typed registers, protocols and code tables.",
+        drive.name, drive.name_zh
+    );
     let intro = format!(
         " Generated from `{}`, transcribed from the manual `{}`. {}",
         drive.file.replace('\\', "/"),
@@ -75,7 +78,8 @@ pub fn drive_module(drive: &DriveIr) -> TokenStream {
 
 /// Formats tokens as a Rust file with the `@generated` header.
 pub fn format_file(drive: &DriveIr, tokens: TokenStream) -> Result<String, String> {
-    let file: syn::File = syn::parse2(tokens).map_err(|e| format!("generated code does not parse: {e}"))?;
+    let file: syn::File =
+        syn::parse2(tokens).map_err(|e| format!("generated code does not parse: {e}"))?;
     Ok(format!("{}{}", header(drive), prettyplease::unparse(&file)))
 }
 
@@ -85,7 +89,9 @@ fn ident(name: &str) -> Ident {
 
 /// A `0xFA01` literal, as the manuals write addresses and masks.
 fn hex_u16(value: u16) -> TokenStream {
-    format!("0x{value:04X}").parse().unwrap_or_else(|_| quote!(#value))
+    format!("0x{value:04X}")
+        .parse()
+        .unwrap_or_else(|_| quote!(#value))
 }
 
 fn f64_literal(value: f64) -> Literal {
@@ -102,10 +108,21 @@ fn serial_spec(drive: &DriveIr) -> TokenStream {
     };
     let parities: Vec<TokenStream> = serial.parities.iter().map(|p| parity(p)).collect();
     let default_parity = parity(&serial.default_parity);
-    let (baud, data_bits, stop_bits) = (serial.default_baud, serial.default_data_bits, serial.default_stop_bits);
+    let (baud, data_bits, stop_bits) = (
+        serial.default_baud,
+        serial.default_data_bits,
+        serial.default_stop_bits,
+    );
     let (sent, received) = (serial.stop_bits_sent, serial.stop_bits_received);
-    let (startup, allowance, abandon) = (serial.startup_delay_ms, serial.processing_allowance_ms, serial.frame_abandon_ms);
-    let doc = format!(" Serial settings (manual section {}): {} baud, {} parity by default.", serial.source, baud, serial.default_parity);
+    let (startup, allowance, abandon) = (
+        serial.startup_delay_ms,
+        serial.processing_allowance_ms,
+        serial.frame_abandon_ms,
+    );
+    let doc = format!(
+        " Serial settings (manual section {}): {} baud, {} parity by default.",
+        serial.source, baud, serial.default_parity
+    );
     quote! {
         #[doc = #doc]
         pub const SERIAL: ::vfd_runtime::serial::SerialSpec = ::vfd_runtime::serial::SerialSpec {
@@ -135,7 +152,13 @@ fn protocols_module(drive: &DriveIr) -> TokenStream {
         .codes
         .iter()
         .map(|code| {
-            let (value, id, name, name_zh, meaning) = (code.code, &code.id, &code.name, &code.name_zh, &code.meaning);
+            let (value, id, name, name_zh, meaning) = (
+                code.code,
+                &code.id,
+                &code.name,
+                &code.name_zh,
+                &code.meaning,
+            );
             quote! {
                 ::vfd_runtime::ErrorCodeInfo {
                     code: #value,
@@ -216,8 +239,15 @@ fn protocol_items(protocol: &ProtocolIr) -> TokenStream {
     let tripped = runtime.lowercase_means_tripped;
     let max = runtime.max_frame_len;
     let (min_address, max_address) = runtime.address_range;
-    let optional: Vec<&str> = runtime.default_optional_parts.iter().map(|p| p.as_ref()).collect();
-    let doc = format!(" {} ({}), described in `drives/protocols/{}.yaml`; manual section {}.", protocol.name, protocol.name_zh, protocol.uses, protocol.source);
+    let optional: Vec<&str> = runtime
+        .default_optional_parts
+        .iter()
+        .map(|p| p.as_ref())
+        .collect();
+    let doc = format!(
+        " {} ({}), described in `drives/protocols/{}.yaml`; manual section {}.",
+        protocol.name, protocol.name_zh, protocol.uses, protocol.source
+    );
     let description = format!(" {}", protocol.description);
     quote! {
         #(#items)*
@@ -249,7 +279,11 @@ fn kind_tokens(kind: CommandKind) -> TokenStream {
 
 fn part_tokens(part: &Part) -> TokenStream {
     match part {
-        Part::Literal { name, bytes, optional } => {
+        Part::Literal {
+            name,
+            bytes,
+            optional,
+        } => {
             let name = name.as_ref();
             let bytes = Literal::byte_string(bytes);
             quote! {
@@ -269,8 +303,12 @@ fn part_tokens(part: &Part) -> TokenStream {
             let (width, min_width) = (field.width, field.min_width);
             let optional = match field.optional {
                 None => quote!(None),
-                Some(Presence::IfFormatMatches) => quote!(Some(::vfd_runtime::Presence::IfFormatMatches)),
-                Some(Presence::IfByteAtMost(limit)) => quote!(Some(::vfd_runtime::Presence::IfByteAtMost(#limit))),
+                Some(Presence::IfFormatMatches) => {
+                    quote!(Some(::vfd_runtime::Presence::IfFormatMatches))
+                }
+                Some(Presence::IfByteAtMost(limit)) => {
+                    quote!(Some(::vfd_runtime::Presence::IfByteAtMost(#limit)))
+                }
             };
             let allowed = field.allowed.iter().map(|v| Literal::u32_suffixed(*v));
             let fold_case = field.fold_case;
@@ -343,10 +381,19 @@ pub fn value_type(kind: &ValueKind) -> TokenStream {
 }
 
 fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
-    let mut lines = vec![format!(" **{} — {}** ({})", register.code, register.name, register.name_zh), String::new()];
+    let mut lines = vec![
+        format!(
+            " **{} — {}** ({})",
+            register.code, register.name, register.name_zh
+        ),
+        String::new(),
+    ];
     let mut facts = vec![format!("address `{}h`", register.address_hex)];
     if !register.unit.is_empty() {
-        facts.push(format!("unit {} in steps of {}", register.unit, register.scale));
+        facts.push(format!(
+            "unit {} in steps of {}",
+            register.unit, register.scale
+        ));
     } else if (register.scale - 1.0).abs() > f64::EPSILON {
         facts.push(format!("steps of {}", register.scale));
     }
@@ -356,7 +403,11 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
     if register.ram_only {
         facts.push("RAM only (no persistent write)".into());
     }
-    facts.push(if register.writable_while_running { "writable while running".into() } else { "not writable while running".into() });
+    facts.push(if register.writable_while_running {
+        "writable while running".into()
+    } else {
+        "not writable while running".into()
+    });
     if register.panel_only {
         facts.push("effective only when set from the panel".into());
     }
@@ -371,7 +422,10 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
         }
     }
     lines.push(String::new());
-    lines.push(format!(" Source: `{}`, section {}.", drive.manual, register.source));
+    lines.push(format!(
+        " Source: `{}`, section {}.",
+        drive.manual, register.source
+    ));
     lines
 }
 
@@ -383,7 +437,12 @@ fn registers_module(drive: &DriveIr) -> TokenStream {
         let docs = register_doc(drive, register);
         let value = value_type(&register.value_kind);
         let address = hex_u16(register.address);
-        let (id, code, title, name_zh) = (&register.id, &register.code, &register.name, &register.name_zh);
+        let (id, code, title, name_zh) = (
+            &register.id,
+            &register.code,
+            &register.name,
+            &register.name_zh,
+        );
         let unit = ident(&register.unit_variant);
         let scale = f64_literal(register.scale);
         let signed = register.signed;
@@ -398,7 +457,11 @@ fn registers_module(drive: &DriveIr) -> TokenStream {
             "write-only" => quote!(WriteOnly),
             _ => quote!(ReadWrite),
         };
-        let (ram_only, while_running, panel_only) = (register.ram_only, register.writable_while_running, register.panel_only);
+        let (ram_only, while_running, panel_only) = (
+            register.ram_only,
+            register.writable_while_running,
+            register.panel_only,
+        );
         let mut methods = vec![quote! {
             /// The register's address.
             pub const ADDRESS: u16 = #address;
@@ -486,7 +549,11 @@ fn registers_module(drive: &DriveIr) -> TokenStream {
 }
 
 fn bits_module(drive: &DriveIr) -> TokenStream {
-    let items: Vec<TokenStream> = drive.bitfields.iter().map(|b| bitfield_tokens(drive, b)).collect();
+    let items: Vec<TokenStream> = drive
+        .bitfields
+        .iter()
+        .map(|b| bitfield_tokens(drive, b))
+        .collect();
     quote! {
         /// Bit-field words with named accessors and builders.
         pub mod bits {
@@ -500,14 +567,20 @@ fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
     let mut docs = vec![format!(" **{}** ({})", bitfield.name, bitfield.name_zh)];
     if !bitfield.registers.is_empty() {
         docs.push(String::new());
-        docs.push(format!(" Value of register(s) {}.", bitfield.registers.join(", ")));
+        docs.push(format!(
+            " Value of register(s) {}.",
+            bitfield.registers.join(", ")
+        ));
     }
     if !bitfield.note.is_empty() {
         docs.push(String::new());
         docs.push(format!(" {}", bitfield.note));
     }
     docs.push(String::new());
-    docs.push(format!(" Source: `{}`, section {}.", drive.manual, bitfield.source));
+    docs.push(format!(
+        " Source: `{}`, section {}.",
+        drive.manual, bitfield.source
+    ));
     let reserved = hex_u16(bitfield.reserved_mask);
     let mut consts = Vec::new();
     let mut accessors = Vec::new();
@@ -518,9 +591,18 @@ fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
         let getter = ident(&field.method);
         let setter = format_ident!("with_{}", field.id);
         let id = &field.id;
-        let mut doc = format!(" Bit {}: {} ({})", field.bits_label, field.name, field.name_zh);
+        let mut doc = format!(
+            " Bit {}: {} ({})",
+            field.bits_label, field.name, field.name_zh
+        );
         if !field.zero.is_empty() || !field.one.is_empty() {
-            doc.push_str(&format!(". 0: {}{}; 1: {}{}", field.zero, zh(&field.zero_zh), field.one, zh(&field.one_zh)));
+            doc.push_str(&format!(
+                ". 0: {}{}; 1: {}{}",
+                field.zero,
+                zh(&field.zero_zh),
+                field.one,
+                zh(&field.one_zh)
+            ));
         }
         if !field.note.is_empty() {
             doc.push_str(&format!(". {}", field.note));
@@ -627,7 +709,11 @@ fn zh(text: &str) -> String {
 }
 
 fn codes_module(drive: &DriveIr) -> TokenStream {
-    let items: Vec<TokenStream> = drive.code_tables.iter().map(|t| code_table_tokens(drive, t)).collect();
+    let items: Vec<TokenStream> = drive
+        .code_tables
+        .iter()
+        .map(|t| code_table_tokens(drive, t))
+        .collect();
     quote! {
         /// Code tables (enumerations) of the manual.
         pub mod codes {
@@ -644,7 +730,10 @@ fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
         docs.push(format!(" {}", table.note));
     }
     docs.push(String::new());
-    docs.push(format!(" Source: `{}`, section {}.", drive.manual, table.source));
+    docs.push(format!(
+        " Source: `{}`, section {}.",
+        drive.manual, table.source
+    ));
     let variants: Vec<TokenStream> = table
         .values
         .iter()
@@ -676,10 +765,14 @@ fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
             quote!(Self::#variant => (#en, #cn))
         })
         .collect();
-    let all: Vec<TokenStream> = table.values.iter().map(|v| {
-        let variant = ident(&v.variant);
-        quote!(Self::#variant)
-    }).collect();
+    let all: Vec<TokenStream> = table
+        .values
+        .iter()
+        .map(|v| {
+            let variant = ident(&v.variant);
+            quote!(Self::#variant)
+        })
+        .collect();
     let count = all.len();
     let id = &table.id;
     let register_value = table.exhaustive.then(|| {
@@ -776,7 +869,10 @@ fn error_code_enum(drive: &DriveIr) -> TokenStream {
             quote!(Self::#variant => &protocols::ERROR_CODES[#index])
         })
         .collect();
-    let doc = format!(" Error codes of the drive's error replies (manual section {}).", drive.error_codes.source);
+    let doc = format!(
+        " Error codes of the drive's error replies (manual section {}).",
+        drive.error_codes.source
+    );
     quote! {
         #[doc = #doc]
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

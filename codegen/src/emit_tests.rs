@@ -1,7 +1,6 @@
 //! Stage 4c: emits golden-frame tests from a drive's examples, one `#[test]` per example,
 //! calling the checks in the workspace test crate (`vfd_tests::golden`).
 
-use crate::emit_rust::value_type;
 use crate::ir::{DriveIr, ExampleIr, ExpectIr, FrameIr, ValueKind};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
@@ -9,8 +8,8 @@ use quote::{format_ident, quote};
 /// Golden tests for every example, bit-field example and value example of `drive`.
 /// `drive_path` is the path of the generated drive module, e.g. `vfd_drives::yd1000`.
 pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
-    let root: syn::Path = syn::parse_str(drive_path).unwrap_or_else(|_| syn::parse_quote!(vfd_drives));
-    let module = Ident::new(&drive.module, Span::call_site());
+    let root: syn::Path =
+        syn::parse_str(drive_path).unwrap_or_else(|_| syn::parse_quote!(vfd_drives));
     let mut tests = Vec::new();
     for example in &drive.examples {
         tests.push(example_test(&root, example));
@@ -21,8 +20,14 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
             let name = format_ident!("bits_{}_example_{}", bitfield.id, index + 1);
             let value = example.value;
             let setters = example.set.iter().map(|id| format_ident!("with_{}", id));
-            let getters = example.set.iter().map(|id| Ident::new(&crate::naming::method_name(id), Span::call_site()));
-            let doc = format!(" {} (manual section {}).", example.description, example.source);
+            let getters = example
+                .set
+                .iter()
+                .map(|id| Ident::new(&crate::naming::method_name(id), Span::call_site()));
+            let doc = format!(
+                " {} (manual section {}).",
+                example.description, example.source
+            );
             tests.push(quote! {
                 #[doc = #doc]
                 #[test]
@@ -37,13 +42,19 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
         }
     }
     for (index, example) in drive.value_examples.iter().enumerate() {
-        let name = format_ident!("value_{}_example_{}", example.register_code.to_ascii_lowercase(), index + 1);
+        let name = format_ident!(
+            "value_{}_example_{}",
+            example.register_code.to_ascii_lowercase(),
+            index + 1
+        );
         let register = Ident::new(&example.register_type, Span::call_site());
-        let value_ty = value_type(&example.value_kind).to_string().replace("super :: ", "");
-        let value_ty: TokenStream = value_ty.parse().unwrap_or_else(|_| quote!(f64));
+        let value_ty = value_type_at(&example.value_kind, &root);
         let construct = construct_value(&example.value_kind, example.value, &value_ty);
         let raw = example.raw;
-        let doc = format!(" {} (manual section {}).", example.description, example.source);
+        let doc = format!(
+            " {} (manual section {}).",
+            example.description, example.source
+        );
         tests.push(quote! {
             #[doc = #doc]
             #[test]
@@ -56,9 +67,29 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
             }
         });
     }
-    let _ = module;
     quote! {
         #(#tests)*
+    }
+}
+
+/// The value type of a register, as a path usable outside the drive module.
+fn value_type_at(kind: &ValueKind, root: &syn::Path) -> TokenStream {
+    match kind {
+        ValueKind::Quantity(name) => {
+            let name = Ident::new(name, Span::call_site());
+            quote!(::vfd_runtime::units::#name)
+        }
+        ValueKind::CodeTable(name) => {
+            let name = Ident::new(name, Span::call_site());
+            quote!(#root::codes::#name)
+        }
+        ValueKind::Bitfield(name) => {
+            let name = Ident::new(name, Span::call_site());
+            quote!(#root::bits::#name)
+        }
+        ValueKind::Raw => quote!(u16),
+        ValueKind::RawSigned => quote!(i16),
+        ValueKind::Scaled => quote!(f64),
     }
 }
 
@@ -106,7 +137,11 @@ fn expect_tokens(expect: &ExpectIr) -> TokenStream {
 }
 
 fn bytes_tokens(bytes: &[u8]) -> TokenStream {
-    let bytes = bytes.iter().map(|b| Literal::u8_unsuffixed(*b));
+    let bytes = bytes.iter().map(|b| {
+        format!("0x{b:02X}")
+            .parse::<TokenStream>()
+            .unwrap_or_else(|_| quote!(#b))
+    });
     quote!(&[#(#bytes),*])
 }
 
@@ -145,18 +180,18 @@ fn example_test(root: &syn::Path, example: &ExampleIr) -> TokenStream {
     if let Some(frame) = &example.reply {
         body.push(frame_checks(&protocol, frame, false));
     }
-    if let (Some(value), Some(register), Some(kind)) = (example.value, &example.register_type, &example.value_kind) {
+    if let (Some(value), Some(register), Some(kind)) =
+        (example.value, &example.register_type, &example.value_kind)
+    {
         let register = Ident::new(register, Span::call_site());
-        let ty: TokenStream = value_type(kind).to_string().replace("super :: ", "").parse().unwrap_or_else(|_| quote!(f64));
-        let ty = if matches!(kind, ValueKind::CodeTable(_) | ValueKind::Bitfield(_)) {
-            let text = ty.to_string();
-            let qualified = format!("{} :: {}", quote!(#root), text);
-            qualified.parse().unwrap_or(ty)
-        } else {
-            ty
-        };
+        let ty = value_type_at(kind, root);
         let construct = construct_value(kind, value, &ty);
-        let data = example.reply.as_ref().or(example.request.as_ref()).and_then(|f| f.expect.data).unwrap_or(0) as u16;
+        let data = example
+            .reply
+            .as_ref()
+            .or(example.request.as_ref())
+            .and_then(|f| f.expect.data)
+            .unwrap_or(0) as u16;
         body.push(quote! {
             {
                 use ::vfd_runtime::{Register, RegisterValue};
@@ -168,23 +203,31 @@ fn example_test(root: &syn::Path, example: &ExampleIr) -> TokenStream {
         if let Some(request) = &example.request {
             let bytes = bytes_tokens(&request.bytes);
             let build = match request.expect.command_kind.as_deref() {
-                Some("write_ram") if example.register_writable => Some(quote!(#root::registers::#register::write_ram(value))),
-                Some("write_persistent") if example.register_persistable => Some(quote!(#root::registers::#register::write_persistent(value))),
-                Some("read") => Some(quote!(Ok::<_, ::vfd_runtime::ValueError>(#root::registers::#register::read()))),
+                Some("write_ram") if example.register_writable => Some(quote! {
+                    let request = #root::registers::#register::write_ram(#construct).expect("the manual's value is within range");
+                }),
+                Some("write_persistent") if example.register_persistable => Some(quote! {
+                    let request = #root::registers::#register::write_persistent(#construct).expect("the manual's value is within range");
+                }),
+                Some("read") => Some(quote! {
+                    let request = #root::registers::#register::read();
+                }),
                 _ => None,
             };
             if let Some(build) = build {
                 body.push(quote! {
                     {
-                        let value = #construct;
-                        let request = #build.expect("the manual's value is within range");
+                        #build
                         ::vfd_tests::golden::typed_request_encodes(#protocol, &request, #bytes);
                     }
                 });
             }
         }
     }
-    let doc = format!(" {} ({}); manual section {}.", example.description, example.description_zh, example.source);
+    let doc = format!(
+        " {} ({}); manual section {}.",
+        example.description, example.description_zh, example.source
+    );
     quote! {
         #[doc = #doc]
         #[test]

@@ -321,7 +321,9 @@ impl DriveIr {
 
     /// The register at `address`.
     pub fn register(&self, address: u32) -> Option<&RegisterIr> {
-        self.registers.iter().find(|r| u32::from(r.address) == address)
+        self.registers
+            .iter()
+            .find(|r| u32::from(r.address) == address)
     }
 }
 
@@ -365,7 +367,11 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
                 .collect(),
         })
         .collect();
-    let registers: Vec<RegisterIr> = model.registers.iter().map(|r| lower_register(drive, r)).collect();
+    let registers: Vec<RegisterIr> = model
+        .registers
+        .iter()
+        .map(|r| lower_register(drive, r))
+        .collect();
     let bitfields = model
         .bitfields
         .iter()
@@ -376,16 +382,27 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
                 .map(|field| {
                     let (lsb, width) = bit_span(field.bit, field.bits.as_deref()).unwrap_or((0, 1));
                     let mask = (((1u32 << width) - 1) << lsb) as u16;
-                    let id = field.id.clone().unwrap_or_else(|| format!("reserved_{lsb}"));
+                    let id = field
+                        .id
+                        .clone()
+                        .unwrap_or_else(|| format!("reserved_{lsb}"));
                     BitIr {
                         method: method_name(&id),
                         id,
                         lsb,
                         width,
                         mask,
-                        bits_label: if width == 1 { format!("{lsb}") } else { format!("{}:{lsb}", lsb + width - 1) },
+                        bits_label: if width == 1 {
+                            format!("{lsb}")
+                        } else {
+                            format!("{}:{lsb}", lsb + width - 1)
+                        },
                         reserved: field.reserved,
-                        name: if field.reserved && field.name.is_empty() { "Reserved".into() } else { field.name.clone() },
+                        name: if field.reserved && field.name.is_empty() {
+                            "Reserved".into()
+                        } else {
+                            field.name.clone()
+                        },
                         name_zh: field.name_zh.clone(),
                         zero: field.zero.clone(),
                         one: field.one.clone(),
@@ -395,7 +412,10 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
                     }
                 })
                 .collect();
-            let reserved_mask = fields.iter().filter(|f| f.reserved).fold(0u16, |m, f| m | f.mask);
+            let reserved_mask = fields
+                .iter()
+                .filter(|f| f.reserved)
+                .fold(0u16, |m, f| m | f.mask);
             BitfieldIr {
                 id: bitfield.id.clone(),
                 type_name: type_name(&bitfield.id),
@@ -403,7 +423,12 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
                 name_zh: bitfield.name_zh.clone(),
                 source: bitfield.source.clone(),
                 note: bitfield.note.clone(),
-                registers: model.registers.iter().filter(|r| r.bitfield.as_deref() == Some(&bitfield.id)).map(|r| r.code.clone()).collect(),
+                registers: model
+                    .registers
+                    .iter()
+                    .filter(|r| r.bitfield.as_deref() == Some(&bitfield.id))
+                    .map(|r| r.code.clone())
+                    .collect(),
                 fields,
                 reserved_mask,
                 examples: bitfield
@@ -430,7 +455,14 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
                 register_code: register.code.clone(),
                 register_type: lowered.type_name.clone(),
                 value: example.value,
-                value_display: format!("{:.*} {}", usize::from(lowered.decimals), example.value, lowered.unit).trim().to_owned(),
+                value_display: format!(
+                    "{:.*} {}",
+                    usize::from(lowered.decimals),
+                    example.value,
+                    lowered.unit
+                )
+                .trim()
+                .to_owned(),
                 raw: example.raw as u16,
                 raw_hex: format!("{:04X}h", example.raw),
                 source: example.source.clone(),
@@ -439,36 +471,48 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
             })
         })
         .collect();
-    let examples: Vec<ExampleIr> = model.examples.iter().map(|example| {
-        let protocol = drive.protocols.iter().find(|p| p.id == example.protocol);
-        let frame = |direction, frame: &Option<FrameModel>| frame.as_ref().and_then(|f| protocol.map(|p| lower_frame(p, direction, f)));
-        let register = example
-            .reply
-            .as_ref()
-            .or(example.request.as_ref())
-            .and_then(|f| f.expect.register)
-            .and_then(|address| registers.iter().find(|r| u32::from(r.address) == address));
-        ExampleIr {
-            id: example.id.clone(),
-            protocol: example.protocol.clone(),
-            protocol_const: const_name(&example.protocol),
-            source: example.source.clone(),
-            description: example.description.clone(),
-            description_zh: example.description_zh.clone(),
-            request: frame(Direction::Request, &example.request),
-            reply: frame(Direction::Reply, &example.reply),
-            value: example.value,
-            value_display: match (example.value, register) {
-                (Some(value), Some(r)) => format!("{:.*} {}", usize::from(r.decimals), value, r.unit).trim().to_owned(),
-                _ => String::new(),
-            },
-            register_type: register.map(|r| r.type_name.clone()),
-            register_code: register.map(|r| r.code.clone()),
-            value_kind: register.map(|r| r.value_kind.clone()),
-            register_writable: register.is_some_and(|r| r.writable),
-            register_persistable: register.is_some_and(|r| r.writable && !r.ram_only),
-        }
-    }).collect();
+    let examples: Vec<ExampleIr> = model
+        .examples
+        .iter()
+        .map(|example| {
+            let protocol = drive.protocols.iter().find(|p| p.id == example.protocol);
+            let frame = |direction, frame: &Option<FrameModel>| {
+                frame
+                    .as_ref()
+                    .and_then(|f| protocol.map(|p| lower_frame(p, direction, f)))
+            };
+            let register = example
+                .reply
+                .as_ref()
+                .or(example.request.as_ref())
+                .and_then(|f| f.expect.register)
+                .and_then(|address| registers.iter().find(|r| u32::from(r.address) == address));
+            ExampleIr {
+                id: example.id.clone(),
+                protocol: example.protocol.clone(),
+                protocol_const: const_name(&example.protocol),
+                source: example.source.clone(),
+                description: example.description.clone(),
+                description_zh: example.description_zh.clone(),
+                request: frame(Direction::Request, &example.request),
+                reply: frame(Direction::Reply, &example.reply),
+                value: example.value,
+                value_display: match (example.value, register) {
+                    (Some(value), Some(r)) => {
+                        format!("{:.*} {}", usize::from(r.decimals), value, r.unit)
+                            .trim()
+                            .to_owned()
+                    }
+                    _ => String::new(),
+                },
+                register_type: register.map(|r| r.type_name.clone()),
+                register_code: register.map(|r| r.code.clone()),
+                value_kind: register.map(|r| r.value_kind.clone()),
+                register_writable: register.is_some_and(|r| r.writable),
+                register_persistable: register.is_some_and(|r| r.writable && !r.ram_only),
+            }
+        })
+        .collect();
     DriveIr {
         id: model.drive.id.clone(),
         module: model.drive.id.clone(),
@@ -495,7 +539,11 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
             processing_allowance_ms: serial.timing.processing_allowance_ms,
             char_time_us: settings.char_time().as_micros() as u64,
         },
-        addressing: AddressingIr { min: model.addressing.min, max: model.addressing.max, note: model.addressing.note.clone() },
+        addressing: AddressingIr {
+            min: model.addressing.min,
+            max: model.addressing.max,
+            note: model.addressing.note.clone(),
+        },
         protocols: drive.protocols.iter().map(lower_protocol).collect(),
         error_codes: ErrorCodesIr {
             source: model.error_codes.source.clone(),
@@ -522,7 +570,12 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
         manual_errata: model
             .manual_errata
             .iter()
-            .map(|e| ManualErratumIr { source: e.source.clone(), printed: e.printed.clone(), corrected: e.corrected.clone(), reason: e.reason.clone() })
+            .map(|e| ManualErratumIr {
+                source: e.source.clone(),
+                printed: e.printed.clone(),
+                corrected: e.corrected.clone(),
+                reason: e.reason.clone(),
+            })
             .collect(),
         examples,
     }
@@ -530,7 +583,11 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
 
 fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
     let model = &drive.model;
-    let unit = register.unit.as_deref().and_then(Unit::from_symbol).unwrap_or(Unit::None);
+    let unit = register
+        .unit
+        .as_deref()
+        .and_then(Unit::from_symbol)
+        .unwrap_or(Unit::None);
     let scale = ranges::scale_of(register);
     let info = vfd_runtime::RegisterInfo {
         address: 0,
@@ -583,7 +640,10 @@ fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
             format!("{low} … {}", end(&range.max, raw_max))
         }
     };
-    let access = register.access.clone().unwrap_or_else(|| "read-write".to_owned());
+    let access = register
+        .access
+        .clone()
+        .unwrap_or_else(|| "read-write".to_owned());
     let value_type_display = match &value_kind {
         ValueKind::Quantity(name) => format!("`{name}`"),
         ValueKind::CodeTable(name) | ValueKind::Bitfield(name) => format!("`{name}`"),
@@ -612,13 +672,19 @@ fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
         min_bound,
         max_bound,
         range_display,
-        default_display: register.default.map(|d| format!("{d:.*}", usize::from(decimals))).unwrap_or_else(|| "—".to_owned()),
+        default_display: register
+            .default
+            .map(|d| format!("{d:.*}", usize::from(decimals)))
+            .unwrap_or_else(|| "—".to_owned()),
         writable: access != "read-only",
         access,
         ram_only: register.ram_only,
         writable_while_running: register.writable_while_running,
         panel_only: register.panel_only,
-        takes_effect: register.takes_effect.clone().unwrap_or_else(|| "immediately".to_owned()),
+        takes_effect: register
+            .takes_effect
+            .clone()
+            .unwrap_or_else(|| "immediately".to_owned()),
         value_kind,
         value_type_display,
         source: register.source.clone(),
@@ -632,7 +698,14 @@ fn lower_protocol(protocol: &LoadedProtocol) -> ProtocolIr {
         if layouts.iter().any(|l| l.name == layout.name) {
             return;
         }
-        layouts.push(LayoutIr { name: layout.name.to_string(), parts: layout.parts.iter().map(|p| lower_part(p, &layout.parts)).collect() });
+        layouts.push(LayoutIr {
+            name: layout.name.to_string(),
+            parts: layout
+                .parts
+                .iter()
+                .map(|p| lower_part(p, &layout.parts))
+                .collect(),
+        });
     };
     for command in runtime.commands.iter() {
         add(&command.request);
@@ -657,7 +730,12 @@ fn lower_protocol(protocol: &LoadedProtocol) -> ProtocolIr {
         commands: runtime
             .commands
             .iter()
-            .map(|c| CommandIr { letter: (c.letter as char).to_string(), kind: c.kind.as_str().to_owned(), request: c.request.name.to_string(), reply: c.reply.name.to_string() })
+            .map(|c| CommandIr {
+                letter: (c.letter as char).to_string(),
+                kind: c.kind.as_str().to_owned(),
+                request: c.request.name.to_string(),
+                reply: c.reply.name.to_string(),
+            })
             .collect(),
         error_reply: runtime.error_reply.as_ref().map(|l| l.name.to_string()),
         runtime: runtime.clone(),
@@ -666,12 +744,24 @@ fn lower_protocol(protocol: &LoadedProtocol) -> ProtocolIr {
 
 fn lower_part(part: &Part, parts: &[Part]) -> PartIr {
     match part {
-        Part::Literal { name, bytes, optional } => PartIr {
+        Part::Literal {
+            name,
+            bytes,
+            optional,
+        } => PartIr {
             name: name.to_string(),
             kind: "literal".into(),
-            encoding: format!("`{}` {}", vfd_runtime::error::hex(bytes), shown_bytes(bytes)),
+            encoding: format!(
+                "`{}` {}",
+                vfd_runtime::error::hex(bytes),
+                shown_bytes(bytes)
+            ),
             size: format!("{}", bytes.len()),
-            optional: if *optional { "optional".into() } else { String::new() },
+            optional: if *optional {
+                "optional".into()
+            } else {
+                String::new()
+            },
             notes: String::new(),
         },
         Part::Field(field) => {
@@ -680,10 +770,22 @@ fn lower_part(part: &Part, parts: &[Part]) -> PartIr {
                 None if field.min_width == field.width => field.width.to_string(),
                 None => format!("{}–{}", field.min_width, field.width),
             };
-            let allowed: Vec<String> = field.allowed.iter().map(|v| format!("`{}`", char::from_u32(*v).unwrap_or('?'))).collect();
+            let allowed: Vec<String> = field
+                .allowed
+                .iter()
+                .map(|v| format!("`{}`", char::from_u32(*v).unwrap_or('?')))
+                .collect();
             let mut notes = Vec::new();
             if !allowed.is_empty() {
-                notes.push(format!("one of {}{}", allowed.join(", "), if field.fold_case { " (lower case: tripped)" } else { "" }));
+                notes.push(format!(
+                    "one of {}{}",
+                    allowed.join(", "),
+                    if field.fold_case {
+                        " (lower case: tripped)"
+                    } else {
+                        ""
+                    }
+                ));
             }
             PartIr {
                 name: field.name.to_string(),
@@ -692,8 +794,12 @@ fn lower_part(part: &Part, parts: &[Part]) -> PartIr {
                 size,
                 optional: match field.optional {
                     None => String::new(),
-                    Some(Presence::IfFormatMatches) => "optional (present when the next byte fits)".into(),
-                    Some(Presence::IfByteAtMost(limit)) => format!("optional (present when the next byte ≤ {limit:02X}h)"),
+                    Some(Presence::IfFormatMatches) => {
+                        "optional (present when the next byte fits)".into()
+                    }
+                    Some(Presence::IfByteAtMost(limit)) => {
+                        format!("optional (present when the next byte ≤ {limit:02X}h)")
+                    }
                 },
                 notes: notes.join("; "),
             }
@@ -702,12 +808,27 @@ fn lower_part(part: &Part, parts: &[Part]) -> PartIr {
             name: spec.name.to_string(),
             kind: format!("checksum ({})", spec.algorithm.as_str()),
             encoding: describe_format(spec.format),
-            size: if spec.format == Format::Hex { "2".into() } else { "1".into() },
-            optional: if spec.optional { "optional".into() } else { String::new() },
+            size: if spec.format == Format::Hex {
+                "2".into()
+            } else {
+                "1".into()
+            },
+            optional: if spec.optional {
+                "optional".into()
+            } else {
+                String::new()
+            },
             notes: format!(
                 "{}covers `{}` through the byte before the sum",
-                if spec.marker.is_empty() { String::new() } else { format!("announced by {}; ", shown_bytes(&spec.marker)) },
-                parts.get(usize::from(spec.covers_from)).map(|p| p.name().to_owned()).unwrap_or_default()
+                if spec.marker.is_empty() {
+                    String::new()
+                } else {
+                    format!("announced by {}; ", shown_bytes(&spec.marker))
+                },
+                parts
+                    .get(usize::from(spec.covers_from))
+                    .map(|p| p.name().to_owned())
+                    .unwrap_or_default()
             ),
         },
     }
@@ -726,8 +847,13 @@ fn describe_format(format: Format) -> String {
 
 /// Shows frame bytes for people: text with `\r` as `<CR>`, or hex pairs.
 pub fn shown_bytes(bytes: &[u8]) -> String {
-    if bytes.iter().all(|b| b.is_ascii_graphic() || *b == b' ' || *b == b'\r' || *b == b'\n') {
-        let text = String::from_utf8_lossy(bytes).replace('\r', "<CR>").replace('\n', "<LF>");
+    if bytes
+        .iter()
+        .all(|b| b.is_ascii_graphic() || *b == b' ' || *b == b'\r' || *b == b'\n')
+    {
+        let text = String::from_utf8_lossy(bytes)
+            .replace('\r', "<CR>")
+            .replace('\n', "<LF>");
         format!("`{text}`")
     } else {
         format!("`{}`", vfd_runtime::error::hex(bytes))
@@ -742,7 +868,12 @@ fn lower_frame(protocol: &LoadedProtocol, direction: Direction, frame: &FrameMod
     let meaning = match (expect.error_code, &expect.command) {
         (Some(code), _) => {
             let entry = protocol.runtime.error_code(code as u16);
-            format!("error reply {code:04X}h{}", entry.map(|e| format!(": {} ({})", e.name, e.name_zh)).unwrap_or_default())
+            format!(
+                "error reply {code:04X}h{}",
+                entry
+                    .map(|e| format!(": {} ({})", e.name, e.name_zh))
+                    .unwrap_or_default()
+            )
         }
         (None, Some(letter)) => {
             let what = kind.map(|k| k.as_str()).unwrap_or("?");
@@ -762,7 +893,10 @@ fn lower_frame(protocol: &LoadedProtocol, direction: Direction, frame: &FrameMod
     };
     let printed = frame.printed.as_ref().map(|printed| {
         let printed_bytes = validate::frame_bytes(&printed.ascii, &printed.hex).unwrap_or_default();
-        let rejection = validate::decode_frame(protocol, direction, kind, &printed_bytes).err().map(|e| e.to_string()).unwrap_or_default();
+        let rejection = validate::decode_frame(protocol, direction, kind, &printed_bytes)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
         PrintedIr {
             shown: shown_bytes(&printed_bytes),
             hex: vfd_runtime::error::hex(&printed_bytes),

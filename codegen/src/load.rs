@@ -38,7 +38,10 @@ pub struct LoadedDrive {
 
 /// Where protocol files are looked up: `<dir>/<uses>.yaml`.
 pub fn default_protocols_dir(drive_path: &Path) -> PathBuf {
-    drive_path.parent().unwrap_or(Path::new(".")).join("protocols")
+    drive_path
+        .parent()
+        .unwrap_or(Path::new("."))
+        .join("protocols")
 }
 
 /// Loads and validates a drive file from disk.
@@ -48,8 +51,13 @@ pub fn load_drive(path: &Path, protocols_dir: Option<&Path>) -> Result<LoadedDri
 }
 
 /// Loads and validates a drive file already in memory.
-pub fn load_source(source: SourceFile, protocols_dir: Option<&Path>) -> Result<LoadedDrive, Diagnostics> {
-    let protocols_dir = protocols_dir.map(Path::to_owned).unwrap_or_else(|| default_protocols_dir(&source.path));
+pub fn load_source(
+    source: SourceFile,
+    protocols_dir: Option<&Path>,
+) -> Result<LoadedDrive, Diagnostics> {
+    let protocols_dir = protocols_dir
+        .map(Path::to_owned)
+        .unwrap_or_else(|| default_protocols_dir(&source.path));
     let mut diagnostics = Diagnostics::default();
     let mut texts: Vec<SourceFile> = vec![source.clone()];
     let result = (|| {
@@ -63,8 +71,19 @@ pub fn load_source(source: SourceFile, protocols_dir: Option<&Path>) -> Result<L
                 Err(_) => {
                     problems.push(
                         source
-                            .error(&format!("protocols[{index}].uses"), format!("no protocol description `{}` ({} does not exist)", reference.uses, path.display()))
-                            .hint(format!("protocol files live in {}; available: {}", protocols_dir.display(), available(&protocols_dir))),
+                            .error(
+                                &format!("protocols[{index}].uses"),
+                                format!(
+                                    "no protocol description `{}` ({} does not exist)",
+                                    reference.uses,
+                                    path.display()
+                                ),
+                            )
+                            .hint(format!(
+                                "protocol files live in {}; available: {}",
+                                protocols_dir.display(),
+                                available(&protocols_dir)
+                            )),
                     );
                     continue;
                 }
@@ -89,7 +108,11 @@ pub fn load_source(source: SourceFile, protocols_dir: Option<&Path>) -> Result<L
                 Err(mut more) => problems.append(&mut more),
             }
         }
-        let drive = LoadedDrive { source: source.clone(), model, protocols: loaded };
+        let drive = LoadedDrive {
+            source: source.clone(),
+            model,
+            protocols: loaded,
+        };
         problems.extend(validate::check(&drive));
         if problems.is_empty() {
             Ok(drive)
@@ -103,14 +126,21 @@ pub fn load_source(source: SourceFile, protocols_dir: Option<&Path>) -> Result<L
             for problem in problems {
                 diagnostics.push(problem);
             }
-            diagnostics.attach_sources(|path| texts.iter().find(|t| t.path == path).map(|t| t.text.clone()));
+            diagnostics.attach_sources(|path| {
+                texts
+                    .iter()
+                    .find(|t| t.path == path)
+                    .map(|t| t.text.clone())
+            });
             Err(diagnostics)
         }
     }
 }
 
 fn single(diagnostic: Diagnostic) -> Diagnostics {
-    Diagnostics { items: vec![diagnostic] }
+    Diagnostics {
+        items: vec![diagnostic],
+    }
 }
 
 fn available(dir: &Path) -> String {
@@ -118,7 +148,12 @@ fn available(dir: &Path) -> String {
         .map(|entries| {
             entries
                 .filter_map(|e| e.ok())
-                .filter_map(|e| e.file_name().to_str().and_then(|n| n.strip_suffix(".yaml")).map(str::to_owned))
+                .filter_map(|e| {
+                    e.file_name()
+                        .to_str()
+                        .and_then(|n| n.strip_suffix(".yaml"))
+                        .map(str::to_owned)
+                })
                 .collect()
         })
         .unwrap_or_default();

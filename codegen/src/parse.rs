@@ -21,8 +21,15 @@ impl SourceFile {
     /// Reads a file.
     pub fn read(path: &Path) -> Result<SourceFile, Diagnostic> {
         let text = std::fs::read_to_string(path).map_err(|error| {
-            Diagnostic::new(path, Position { line: 1, column: 1 }, "", format!("cannot read the file: {error}"))
-                .hint("check the path; drive files live in drives/, protocol files in drives/protocols/")
+            Diagnostic::new(
+                path,
+                Position { line: 1, column: 1 },
+                "",
+                format!("cannot read the file: {error}"),
+            )
+            .hint(
+                "check the path; drive files live in drives/, protocol files in drives/protocols/",
+            )
         })?;
         Ok(SourceFile::from_text(path, text))
     }
@@ -30,7 +37,11 @@ impl SourceFile {
     /// Wraps text already in memory (used by tests and the proc-macro).
     pub fn from_text(path: &Path, text: String) -> SourceFile {
         let index = PositionIndex::build(&text);
-        SourceFile { path: path.to_owned(), text, index }
+        SourceFile {
+            path: path.to_owned(),
+            text,
+            index,
+        }
     }
 
     /// A diagnostic at the node `path` of this file.
@@ -48,13 +59,34 @@ impl SourceFile {
             };
             let inner = error.inner();
             let position = match inner.location() {
-                Some(location) => Position { line: location.line(), column: location.column() },
+                Some(location) => Position {
+                    line: location.line(),
+                    column: location.column(),
+                },
                 None => self.index.find(&path),
             };
+            let path = path.trim_end_matches(".?").trim_end_matches('?').to_owned();
             let mut message = inner.to_string();
-            if let Some(cut) = message.find(" at line ") {
-                message.truncate(cut);
+            // serde_yaml repeats the path and the position; the diagnostic shows both.
+            if let Some(rest) = message.strip_prefix(&format!("{path}: ")) {
+                message = rest.to_owned();
             }
+            message = strip_first_position(&message);
+            // For an unclosed `{`/`[`, the place it was opened is where the fix goes.
+            let (position, message) = match opened_at(&message) {
+                Some(opened) => (
+                    opened,
+                    message.replacen(
+                        ", while parsing",
+                        &format!(
+                            " (noticed at line {} column {}), while parsing",
+                            position.line, position.column
+                        ),
+                        1,
+                    ),
+                ),
+                None => (position, message),
+            };
             let hint = hint_for(&message);
             let mut diagnostic = Diagnostic::new(&self.path, position, path, message);
             if let Some(hint) = hint {
@@ -65,8 +97,45 @@ impl SourceFile {
     }
 }
 
+/// The position in "while parsing a flow mapping at line 51 column 5", if present.
+fn opened_at(message: &str) -> Option<Position> {
+    let context = &message[message.find("while parsing")?..];
+    let rest = &context[context.find(" at line ")? + " at line ".len()..];
+    let (line, rest) = rest.split_once(" column ")?;
+    let column: String = rest.chars().take_while(char::is_ascii_digit).collect();
+    Some(Position {
+        line: line.trim().parse().ok()?,
+        column: column.parse().ok()?,
+    })
+}
+
+/// Removes the first " at line N column M" (the diagnostic's own position) and keeps any
+/// later context such as "while parsing a flow mapping at line 51 column 5".
+fn strip_first_position(message: &str) -> String {
+    let Some(start) = message.find(" at line ") else {
+        return message.to_owned();
+    };
+    let after = &message[start + " at line ".len()..];
+    let end = after
+        .find(" column ")
+        .map(|c| {
+            let digits = after[c + " column ".len()..]
+                .chars()
+                .take_while(char::is_ascii_digit)
+                .count();
+            c + " column ".len() + digits
+        })
+        .unwrap_or(0);
+    format!("{}{}", &message[..start], &after[end..])
+}
+
 fn hint_for(message: &str) -> Option<&'static str> {
-    if message.contains("unknown field") {
+    if message.contains("while parsing")
+        || message.contains("did not find expected")
+        || message.contains("mapping values are not allowed")
+    {
+        Some("YAML syntax: check brackets, quotes and indentation at the lines named; a `{` or `[` may be unclosed")
+    } else if message.contains("unknown field") {
         Some("remove the key or fix its spelling; drives/README.md lists every key")
     } else if message.contains("missing field") {
         Some("add the key; drives/README.md says what it holds")

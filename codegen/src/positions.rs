@@ -26,7 +26,9 @@ impl PositionIndex {
         let mut builder = IndexBuilder::default();
         let mut parser = Parser::new_from_str(text);
         let _ = parser.load(&mut builder, false);
-        PositionIndex { values: builder.values }
+        PositionIndex {
+            values: builder.values,
+        }
     }
 
     /// The position of the node at `path`, or of its nearest indexed ancestor.
@@ -38,15 +40,31 @@ impl PositionIndex {
             }
             match path.rfind(['.', '[']) {
                 Some(cut) => path.truncate(cut),
-                None => return self.values.get("").copied().unwrap_or(Position { line: 1, column: 1 }),
+                None => {
+                    return self
+                        .values
+                        .get("")
+                        .copied()
+                        .unwrap_or(Position { line: 1, column: 1 })
+                }
             }
         }
     }
 }
 
 enum Frame {
-    Mapping { path: String, key: Option<String> },
-    Sequence { path: String, index: usize },
+    /// `key` is the pending key and its position; `at_marker` says the mapping's own
+    /// position came from the parser's marker (which points past the first key of a
+    /// block mapping), so the first key's position should replace it.
+    Mapping {
+        path: String,
+        key: Option<(String, Position)>,
+        at_marker: bool,
+    },
+    Sequence {
+        path: String,
+        index: usize,
+    },
 }
 
 #[derive(Default)]
@@ -56,15 +74,18 @@ struct IndexBuilder {
 }
 
 impl IndexBuilder {
-    /// Path of the node now starting, or `None` when it is a mapping key.
-    fn next_path(&mut self) -> Option<String> {
+    /// Path of the node now starting and the position of its key (for mapping values),
+    /// or `None` when the node is itself a mapping key.
+    fn next_path(&mut self) -> Option<(String, Option<Position>)> {
         match self.stack.last_mut() {
-            None => Some(String::new()),
-            Some(Frame::Mapping { path, key }) => key.take().map(|key| join(path, &key)),
+            None => Some((String::new(), None)),
+            Some(Frame::Mapping { path, key, .. }) => {
+                key.take().map(|(key, at)| (join(path, &key), Some(at)))
+            }
             Some(Frame::Sequence { path, index }) => {
                 let here = format!("{path}[{index}]");
                 *index += 1;
-                Some(here)
+                Some((here, None))
             }
         }
     }
@@ -80,24 +101,43 @@ fn join(path: &str, key: &str) -> String {
 
 impl MarkedEventReceiver for IndexBuilder {
     fn on_event(&mut self, event: Event, mark: Marker) {
-        let position = Position { line: mark.line(), column: mark.col() + 1 };
+        let position = Position {
+            line: mark.line(),
+            column: mark.col() + 1,
+        };
         match event {
             Event::Scalar(value, ..) => match self.next_path() {
-                Some(path) => {
+                Some((path, _)) => {
                     self.values.insert(path, position);
                 }
                 None => {
-                    if let Some(Frame::Mapping { path, key }) = self.stack.last_mut() {
-                        self.values.insert(format!("{}#key", join(path, &value)), position);
-                        *key = Some(value);
+                    if let Some(Frame::Mapping {
+                        path,
+                        key,
+                        at_marker,
+                    }) = self.stack.last_mut()
+                    {
+                        if *at_marker {
+                            self.values.insert(path.clone(), position);
+                            *at_marker = false;
+                        }
+                        self.values
+                            .insert(format!("{}#key", join(path, &value)), position);
+                        *key = Some((value, position));
                     }
                 }
             },
             Event::MappingStart(..) | Event::SequenceStart(..) => {
-                let path = self.next_path().unwrap_or_default();
-                self.values.entry(path.clone()).or_insert(position);
+                let (path, key_position) = self.next_path().unwrap_or_default();
+                // A collection is best shown at its key (`reply:`), else where it starts.
+                self.values
+                    .insert(path.clone(), key_position.unwrap_or(position));
                 if matches!(event, Event::MappingStart(..)) {
-                    self.stack.push(Frame::Mapping { path, key: None });
+                    self.stack.push(Frame::Mapping {
+                        path,
+                        key: None,
+                        at_marker: key_position.is_none(),
+                    });
                 } else {
                     self.stack.push(Frame::Sequence { path, index: 0 });
                 }
@@ -106,7 +146,7 @@ impl MarkedEventReceiver for IndexBuilder {
                 self.stack.pop();
             }
             Event::Alias(..) => {
-                if let Some(path) = self.next_path() {
+                if let Some((path, _)) = self.next_path() {
                     self.values.insert(path, position);
                 }
             }
@@ -123,13 +163,29 @@ mod tests {
     fn finds_nested_values_in_block_and_flow_style() {
         let index = PositionIndex::build("a:\n  b: 1\nlist:\n  - { x: 2, y: 3 }\n  - z: 4\n");
         assert_eq!(index.find("a.b"), Position { line: 2, column: 6 });
-        assert_eq!(index.find("list[0].y"), Position { line: 4, column: 16 });
+        assert_eq!(
+            index.find("list[0].y"),
+            Position {
+                line: 4,
+                column: 16
+            }
+        );
         assert_eq!(index.find("list[1].z"), Position { line: 5, column: 8 });
     }
 
     #[test]
     fn falls_back_to_the_nearest_ancestor() {
         let index = PositionIndex::build("a:\n  b: 1\n");
-        assert_eq!(index.find("a.missing"), Position { line: 2, column: 3 });
+        assert_eq!(index.find("a.missing"), Position { line: 1, column: 1 });
+    }
+
+    #[test]
+    fn block_mappings_in_sequences_start_at_their_first_key() {
+        let index = PositionIndex::build("items:\n  - id: x\n    reply:\n      ascii: y\n");
+        assert_eq!(index.find("items[0]"), Position { line: 2, column: 5 });
+        assert_eq!(
+            index.find("items[0].reply"),
+            Position { line: 3, column: 5 }
+        );
     }
 }

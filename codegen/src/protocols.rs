@@ -7,29 +7,46 @@ use crate::parse::SourceFile;
 use std::borrow::Cow;
 use vfd_runtime::layout::MAX_PARTS;
 use vfd_runtime::{
-    ChecksumAlgorithm, ChecksumSpec, CommandKind, CommandSpec, ErrorCodeInfo, FieldSpec, Format, FrameLayout, Part,
-    Presence, Protocol, Role,
+    ChecksumAlgorithm, ChecksumSpec, CommandKind, CommandSpec, ErrorCodeInfo, FieldSpec, Format,
+    FrameLayout, Part, Presence, Protocol, Role,
 };
 
 /// Parses a format name.
 pub fn format_from_name(name: &str) -> Option<Format> {
-    [Format::Decimal, Format::Hex, Format::Char, Format::U8, Format::U16Be, Format::U16Le]
-        .into_iter()
-        .find(|format| format.as_str() == name)
+    [
+        Format::Decimal,
+        Format::Hex,
+        Format::Char,
+        Format::U8,
+        Format::U16Be,
+        Format::U16Le,
+    ]
+    .into_iter()
+    .find(|format| format.as_str() == name)
 }
 
 /// Parses a role name.
 pub fn role_from_name(name: &str) -> Option<Role> {
-    [Role::Address, Role::Command, Role::Register, Role::Data, Role::ErrorCode]
-        .into_iter()
-        .find(|role| role.as_str() == name)
+    [
+        Role::Address,
+        Role::Command,
+        Role::Register,
+        Role::Data,
+        Role::ErrorCode,
+    ]
+    .into_iter()
+    .find(|role| role.as_str() == name)
 }
 
 /// Parses a command kind.
 pub fn kind_from_name(name: &str) -> Option<CommandKind> {
-    [CommandKind::Read, CommandKind::WriteRam, CommandKind::WritePersistent]
-        .into_iter()
-        .find(|kind| kind.as_str() == name)
+    [
+        CommandKind::Read,
+        CommandKind::WriteRam,
+        CommandKind::WritePersistent,
+    ]
+    .into_iter()
+    .find(|kind| kind.as_str() == name)
 }
 
 /// Builds the runtime protocol; every problem in the protocol file is reported.
@@ -48,7 +65,10 @@ pub fn build_protocol(
         }
     }
     let find = |name: &str, path: &str, problems: &mut Vec<Diagnostic>| -> Option<FrameLayout> {
-        let found = layouts.iter().find(|(n, _)| n == name).map(|(_, l)| l.clone());
+        let found = layouts
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, l)| l.clone());
         if found.is_none() && file.layouts.contains_key(name) {
             return None; // Already reported while building it.
         }
@@ -56,7 +76,10 @@ pub fn build_protocol(
             problems.push(
                 source
                     .error(path, format!("layout `{name}` is not defined"))
-                    .hint(format!("define it under `layouts:`; defined: {}", names(file.layouts.keys()))),
+                    .hint(format!(
+                        "define it under `layouts:`; defined: {}",
+                        names(file.layouts.keys())
+                    )),
             );
         }
         found
@@ -69,7 +92,13 @@ pub fn build_protocol(
             _ => {
                 problems.push(
                     source
-                        .error(&format!("{path}.letter"), format!("command letter `{}` is not one ASCII character", command.letter))
+                        .error(
+                            &format!("{path}.letter"),
+                            format!(
+                                "command letter `{}` is not one ASCII character",
+                                command.letter
+                            ),
+                        )
                         .hint("write the letter as it appears on the wire, e.g. R"),
                 );
                 None
@@ -79,14 +108,24 @@ pub fn build_protocol(
         if kind.is_none() {
             problems.push(
                 source
-                    .error(&format!("{path}.kind"), format!("unknown command kind `{}`", command.kind))
+                    .error(
+                        &format!("{path}.kind"),
+                        format!("unknown command kind `{}`", command.kind),
+                    )
                     .hint("use read, write_ram or write_persistent"),
             );
         }
         let request = find(&command.request, &format!("{path}.request"), &mut problems);
         let reply = find(&command.reply, &format!("{path}.reply"), &mut problems);
-        if let (Some(letter), Some(kind), Some(request), Some(reply)) = (letter, kind, request, reply) {
-            commands.push(CommandSpec { letter, kind, request, reply });
+        if let (Some(letter), Some(kind), Some(request), Some(reply)) =
+            (letter, kind, request, reply)
+        {
+            commands.push(CommandSpec {
+                letter,
+                kind,
+                request,
+                reply,
+            });
         }
     }
     let error_reply = match &file.error_reply {
@@ -94,11 +133,16 @@ pub fn build_protocol(
         None => None,
     };
     for (index, name) in file.protocol.default_optional_parts.iter().enumerate() {
-        let known = layouts.iter().any(|(_, layout)| layout.parts.iter().any(|part| part.name() == name.as_str()));
+        let known = layouts
+            .iter()
+            .any(|(_, layout)| layout.parts.iter().any(|part| part.name() == name.as_str()));
         if !known {
             problems.push(
                 source
-                    .error(&format!("protocol.default_optional_parts[{index}]"), format!("no layout has a part named `{name}`"))
+                    .error(
+                        &format!("protocol.default_optional_parts[{index}]"),
+                        format!("no layout has a part named `{name}`"),
+                    )
                     .hint("name an optional part of the layouts (e.g. sum, end)"),
             );
         }
@@ -115,7 +159,11 @@ pub fn build_protocol(
         max_frame_len: file.protocol.max_frame_len,
         address_range: (drive.addressing.min, drive.addressing.max),
         default_optional_parts: Cow::Owned(
-            file.protocol.default_optional_parts.iter().map(|p| Cow::Owned(p.clone())).collect(),
+            file.protocol
+                .default_optional_parts
+                .iter()
+                .map(|p| Cow::Owned(p.clone()))
+                .collect(),
         ),
         error_codes: Cow::Owned(
             drive
@@ -149,7 +197,13 @@ fn build_layout(
     if entries.len() > MAX_PARTS {
         problems.push(
             source
-                .error(&format!("layouts.{name}"), format!("layout `{name}` has {} parts; the runtime supports {MAX_PARTS}", entries.len()))
+                .error(
+                    &format!("layouts.{name}"),
+                    format!(
+                        "layout `{name}` has {} parts; the runtime supports {MAX_PARTS}",
+                        entries.len()
+                    ),
+                )
                 .hint("merge fields or split the frame"),
         );
     }
@@ -162,13 +216,20 @@ fn build_layout(
                     problems.push(
                         source
                             .error(&entry_path, format!("part `{part_name}` is not defined"))
-                            .hint(format!("define it under `parts:`; defined: {}", names(file.parts.keys()))),
+                            .hint(format!(
+                                "define it under `parts:`; defined: {}",
+                                names(file.parts.keys())
+                            )),
                     );
                     continue;
                 }
             },
             PartRefModel::Inline(model) => {
-                let part_name = model.field.clone().or_else(|| model.checksum.clone()).unwrap_or_else(|| format!("part{index}"));
+                let part_name = model
+                    .field
+                    .clone()
+                    .or_else(|| model.checksum.clone())
+                    .unwrap_or_else(|| format!("part{index}"));
                 (part_name, model, entry_path.clone())
             }
         };
@@ -178,7 +239,10 @@ fn build_layout(
         }
     }
     if problems.is_empty() {
-        Ok(FrameLayout { name: Cow::Owned(name.to_owned()), parts: Cow::Owned(parts) })
+        Ok(FrameLayout {
+            name: Cow::Owned(name.to_owned()),
+            parts: Cow::Owned(parts),
+        })
     } else {
         Err(problems)
     }
@@ -193,10 +257,18 @@ fn build_part(
     file: &ProtocolFile,
     entries: &[PartRefModel],
 ) -> Result<Part, Diagnostic> {
-    let kinds = [model.literal.is_some(), model.literal_hex.is_some(), model.field.is_some(), model.checksum.is_some()];
+    let kinds = [
+        model.literal.is_some(),
+        model.literal_hex.is_some(),
+        model.field.is_some(),
+        model.checksum.is_some(),
+    ];
     if kinds.iter().filter(|k| **k).count() != 1 {
         return Err(source
-            .error(path, "a part must be exactly one of `literal`, `literal_hex`, `field` or `checksum`")
+            .error(
+                path,
+                "a part must be exactly one of `literal`, `literal_hex`, `field` or `checksum`",
+            )
             .hint("e.g. { literal: \"(\" } or { field: register, format: hex, width: 4 }"));
     }
     let optional_flag = match &model.optional {
@@ -204,16 +276,31 @@ fn build_part(
         Some(_) => true,
     };
     if let Some(text) = &model.literal {
-        return Ok(Part::Literal { name: Cow::Owned(name.to_owned()), bytes: Cow::Owned(text.as_bytes().to_vec()), optional: optional_flag });
+        return Ok(Part::Literal {
+            name: Cow::Owned(name.to_owned()),
+            bytes: Cow::Owned(text.as_bytes().to_vec()),
+            optional: optional_flag,
+        });
     }
     if let Some(hex) = &model.literal_hex {
-        let bytes = parse_hex(hex).map_err(|message| source.error(&format!("{path}.literal_hex"), message).hint("write hex pairs separated by spaces, e.g. \"2F\""))?;
-        return Ok(Part::Literal { name: Cow::Owned(name.to_owned()), bytes: Cow::Owned(bytes), optional: optional_flag });
+        let bytes = parse_hex(hex).map_err(|message| {
+            source
+                .error(&format!("{path}.literal_hex"), message)
+                .hint("write hex pairs separated by spaces, e.g. \"2F\"")
+        })?;
+        return Ok(Part::Literal {
+            name: Cow::Owned(name.to_owned()),
+            bytes: Cow::Owned(bytes),
+            optional: optional_flag,
+        });
     }
     let format_name = model.format.as_deref().unwrap_or("");
     let format = format_from_name(format_name).ok_or_else(|| {
         source
-            .error(&format!("{path}.format"), format!("unknown format `{format_name}`"))
+            .error(
+                &format!("{path}.format"),
+                format!("unknown format `{format_name}`"),
+            )
             .hint("use decimal, hex, char, u8, u16be or u16le")
     })?;
     if let Some(algorithm) = &model.checksum {
@@ -222,12 +309,20 @@ fn build_part(
             "xor8" => ChecksumAlgorithm::Xor8,
             other => {
                 return Err(source
-                    .error(&format!("{path}.checksum"), format!("unknown checksum algorithm `{other}`"))
+                    .error(
+                        &format!("{path}.checksum"),
+                        format!("unknown checksum algorithm `{other}`"),
+                    )
                     .hint("the runtime supplies sum8 and xor8"))
             }
         };
         if !matches!(format, Format::Hex | Format::U8) {
-            return Err(source.error(&format!("{path}.format"), "a checksum is written as `hex` (two digits) or `u8`").hint("use format: hex or format: u8"));
+            return Err(source
+                .error(
+                    &format!("{path}.format"),
+                    "a checksum is written as `hex` (two digits) or `u8`",
+                )
+                .hint("use format: hex or format: u8"));
         }
         let from_name = model.covers_from.as_deref().unwrap_or("");
         let covers_from = entries
@@ -244,7 +339,12 @@ fn build_part(
             })?;
         let marker = model.marker.clone().unwrap_or_default().into_bytes();
         if optional_flag && marker.is_empty() {
-            return Err(source.error(&format!("{path}.optional"), "an optional checksum needs a `marker`").hint("the decoder can only tell it is there by its marker, e.g. marker: \"&\""));
+            return Err(source
+                .error(
+                    &format!("{path}.optional"),
+                    "an optional checksum needs a `marker`",
+                )
+                .hint("the decoder can only tell it is there by its marker, e.g. marker: \"&\""));
         }
         let _ = file;
         return Ok(Part::Checksum(ChecksumSpec {
@@ -259,27 +359,49 @@ fn build_part(
     let role_name = model.field.as_deref().unwrap_or("");
     let role = role_from_name(role_name).ok_or_else(|| {
         source
-            .error(&format!("{path}.field"), format!("unknown field role `{role_name}`"))
+            .error(
+                &format!("{path}.field"),
+                format!("unknown field role `{role_name}`"),
+            )
             .hint("use address, command, register, data or error_code")
     })?;
     let width = match (format.fixed_len(), model.width) {
         (Some(len), _) => len as u8,
         (None, Some(width)) if (1..=10).contains(&width) => width,
         (None, _) => {
-            return Err(source.error(&format!("{path}.width"), "digit formats need a `width` from 1 to 10").hint("e.g. width: 4 for a 16-bit word in hex"))
+            return Err(source
+                .error(
+                    &format!("{path}.width"),
+                    "digit formats need a `width` from 1 to 10",
+                )
+                .hint("e.g. width: 4 for a 16-bit word in hex"))
         }
     };
     let min_width = model.min_width.unwrap_or(width);
     if min_width == 0 || min_width > width {
-        return Err(source.error(&format!("{path}.min_width"), format!("min_width {min_width} must be from 1 to width {width}")).hint("leave it out for fixed-width fields"));
+        return Err(source
+            .error(
+                &format!("{path}.min_width"),
+                format!("min_width {min_width} must be from 1 to width {width}"),
+            )
+            .hint("leave it out for fixed-width fields"));
     }
     let optional = match &model.optional {
         None | Some(OptionalModel::Flag(false)) => None,
         Some(OptionalModel::Flag(true)) => Some(Presence::IfFormatMatches),
-        Some(OptionalModel::Rule(rule)) if rule == "if_format_matches" => Some(Presence::IfFormatMatches),
-        Some(OptionalModel::ByteAtMost { if_byte_at_most }) => Some(Presence::IfByteAtMost(*if_byte_at_most)),
+        Some(OptionalModel::Rule(rule)) if rule == "if_format_matches" => {
+            Some(Presence::IfFormatMatches)
+        }
+        Some(OptionalModel::ByteAtMost { if_byte_at_most }) => {
+            Some(Presence::IfByteAtMost(*if_byte_at_most))
+        }
         Some(OptionalModel::Rule(rule)) => {
-            return Err(source.error(&format!("{path}.optional"), format!("unknown presence rule `{rule}`")).hint("use true, if_format_matches or { if_byte_at_most: N }"))
+            return Err(source
+                .error(
+                    &format!("{path}.optional"),
+                    format!("unknown presence rule `{rule}`"),
+                )
+                .hint("use true, if_format_matches or { if_byte_at_most: N }"))
         }
     };
     let mut allowed = Vec::new();
@@ -288,7 +410,10 @@ fn build_part(
             (Format::Char, [byte]) => allowed.push(u32::from(*byte)),
             _ => {
                 return Err(source
-                    .error(&format!("{path}.allowed[{index}]"), format!("allowed value `{value}` is not a single character"))
+                    .error(
+                        &format!("{path}.allowed[{index}]"),
+                        format!("allowed value `{value}` is not a single character"),
+                    )
                     .hint("`allowed` lists command letters of a char field"))
             }
         }
@@ -313,6 +438,9 @@ pub fn parse_hex(text: &str) -> Result<Vec<u8>, String> {
     }
     (0..digits.len())
         .step_by(2)
-        .map(|i| u8::from_str_radix(&digits[i..i + 2], 16).map_err(|_| format!("`{}` in `{text}` is not a hex byte", &digits[i..i + 2])))
+        .map(|i| {
+            u8::from_str_radix(&digits[i..i + 2], 16)
+                .map_err(|_| format!("`{}` in `{text}` is not a hex byte", &digits[i..i + 2]))
+        })
         .collect()
 }

@@ -25,7 +25,11 @@ pub enum BoundProblem {
 
 /// Finds a register by code (`FH`) or id (`maximum_frequency`).
 pub fn find_register<'a>(drive: &'a DriveFile, name: &str) -> Option<&'a RegisterModel> {
-    drive.registers.iter().find(|r| r.code == name).or_else(|| drive.registers.iter().find(|r| r.id == name))
+    drive
+        .registers
+        .iter()
+        .find(|r| r.code == name)
+        .or_else(|| drive.registers.iter().find(|r| r.id == name))
 }
 
 /// The static value of a bound, in engineering units: a named register contributes its own
@@ -34,15 +38,24 @@ pub fn resolve_bound(drive: &DriveFile, bound: &BoundModel, end: End) -> Result<
     resolve_at_depth(drive, bound, end, 0)
 }
 
-fn resolve_at_depth(drive: &DriveFile, bound: &BoundModel, end: End, depth: usize) -> Result<f64, BoundProblem> {
+fn resolve_at_depth(
+    drive: &DriveFile,
+    bound: &BoundModel,
+    end: End,
+    depth: usize,
+) -> Result<f64, BoundProblem> {
     match bound {
         BoundModel::Number(value) => Ok(*value),
         BoundModel::Register(name) => {
             if depth > 8 {
                 return Err(BoundProblem::Cycle(name.clone()));
             }
-            let register = find_register(drive, name).ok_or_else(|| BoundProblem::Unknown(name.clone()))?;
-            let range = register.range.as_ref().ok_or_else(|| BoundProblem::Unbounded(name.clone()))?;
+            let register =
+                find_register(drive, name).ok_or_else(|| BoundProblem::Unknown(name.clone()))?;
+            let range = register
+                .range
+                .as_ref()
+                .ok_or_else(|| BoundProblem::Unbounded(name.clone()))?;
             let next = match end {
                 End::Min => &range.min,
                 End::Max => &range.max,
@@ -74,7 +87,10 @@ pub fn word_limits(register: &RegisterModel) -> (i64, i64) {
 }
 
 /// Static raw bounds and the names of run-time bounds, falling back to the whole word.
-pub fn raw_range(drive: &DriveFile, register: &RegisterModel) -> (i64, i64, Option<String>, Option<String>) {
+pub fn raw_range(
+    drive: &DriveFile,
+    register: &RegisterModel,
+) -> (i64, i64, Option<String>, Option<String>) {
     let (word_min, word_max) = word_limits(register);
     let Some(range) = &register.range else {
         return (word_min, word_max, None, None);

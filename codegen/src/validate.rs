@@ -40,8 +40,20 @@ pub fn check(drive: &LoadedDrive) -> Vec<Diagnostic> {
 pub fn identifiers_are_snake_case(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
     let model = &drive.model;
     let mut ids: Vec<(String, &str)> = vec![("drive.id".into(), model.drive.id.as_str())];
-    ids.extend(model.registers.iter().enumerate().map(|(i, r)| (format!("registers[{i}].id"), r.id.as_str())));
-    ids.extend(model.bitfields.iter().enumerate().map(|(i, b)| (format!("bitfields[{i}].id"), b.id.as_str())));
+    ids.extend(
+        model
+            .registers
+            .iter()
+            .enumerate()
+            .map(|(i, r)| (format!("registers[{i}].id"), r.id.as_str())),
+    );
+    ids.extend(
+        model
+            .bitfields
+            .iter()
+            .enumerate()
+            .map(|(i, b)| (format!("bitfields[{i}].id"), b.id.as_str())),
+    );
     for (i, bitfield) in model.bitfields.iter().enumerate() {
         for (j, field) in bitfield.fields.iter().enumerate() {
             if let Some(id) = &field.id {
@@ -50,27 +62,65 @@ pub fn identifiers_are_snake_case(drive: &LoadedDrive, out: &mut Vec<Diagnostic>
                 out.push(
                     drive
                         .source
-                        .error(&format!("bitfields[{i}].fields[{j}]"), "a bit field that is not reserved needs an `id`")
+                        .error(
+                            &format!("bitfields[{i}].fields[{j}]"),
+                            "a bit field that is not reserved needs an `id`",
+                        )
                         .hint("add `id: some_name`, or `reserved: true` for reserved bits"),
                 );
             }
         }
     }
-    ids.extend(model.codes.iter().enumerate().map(|(i, c)| (format!("codes[{i}].id"), c.id.as_str())));
+    ids.extend(
+        model
+            .codes
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (format!("codes[{i}].id"), c.id.as_str())),
+    );
     for (i, table) in model.codes.iter().enumerate() {
-        ids.extend(table.values.iter().enumerate().map(|(j, v)| (format!("codes[{i}].values[{j}].id"), v.id.as_str())));
+        ids.extend(
+            table
+                .values
+                .iter()
+                .enumerate()
+                .map(|(j, v)| (format!("codes[{i}].values[{j}].id"), v.id.as_str())),
+        );
     }
-    ids.extend(model.error_codes.codes.iter().enumerate().map(|(i, c)| (format!("error_codes.codes[{i}].id"), c.id.as_str())));
-    ids.extend(model.examples.iter().enumerate().map(|(i, e)| (format!("examples[{i}].id"), e.id.as_str())));
+    ids.extend(
+        model
+            .error_codes
+            .codes
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (format!("error_codes.codes[{i}].id"), c.id.as_str())),
+    );
+    ids.extend(
+        model
+            .examples
+            .iter()
+            .enumerate()
+            .map(|(i, e)| (format!("examples[{i}].id"), e.id.as_str())),
+    );
     for (path, id) in ids {
-        let valid = id.chars().next().is_some_and(|c| c.is_ascii_lowercase() || c == '_')
-            && id.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+        let valid = id
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_lowercase() || c == '_')
+            && id
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
         if !valid {
             out.push(
                 drive
                     .source
-                    .error(&path, format!("identifier `{id}` is not lower-case snake case"))
-                    .hint("identifiers become Rust names: use a-z, 0-9 and _ and start with a letter"),
+                    .error(
+                        &path,
+                        format!("identifier `{id}` is not lower-case snake case"),
+                    )
+                    .hint(
+                        "identifiers become Rust names: use a-z, 0-9 and _ and start with a letter",
+                    ),
             );
         }
     }
@@ -82,7 +132,15 @@ pub fn register_addresses_are_unique(drive: &LoadedDrive, out: &mut Vec<Diagnost
     for (index, register) in drive.model.registers.iter().enumerate() {
         let path = format!("registers[{index}].address");
         if register.address > 0xFFFF {
-            out.push(drive.source.error(&path, format!("address {:#X} does not fit in 16 bits", register.address)).hint("communication numbers run from 0x0000 to 0xFFFF"));
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &path,
+                        format!("address {:#X} does not fit in 16 bits", register.address),
+                    )
+                    .hint("communication numbers run from 0x0000 to 0xFFFF"),
+            );
         }
         if let Some(first) = seen.insert(register.address, index) {
             let other = &drive.model.registers[first];
@@ -100,26 +158,102 @@ pub fn register_addresses_are_unique(drive: &LoadedDrive, out: &mut Vec<Diagnost
 pub fn names_are_unique(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
     let model = &drive.model;
     let mut groups: Vec<(&str, Vec<(String, String)>)> = vec![
-        ("register id", model.registers.iter().enumerate().map(|(i, r)| (format!("registers[{i}].id"), r.id.clone())).collect()),
-        ("register code", model.registers.iter().enumerate().map(|(i, r)| (format!("registers[{i}].code"), r.code.clone())).collect()),
-        ("bit-field word id", model.bitfields.iter().enumerate().map(|(i, b)| (format!("bitfields[{i}].id"), b.id.clone())).collect()),
-        ("code table id", model.codes.iter().enumerate().map(|(i, c)| (format!("codes[{i}].id"), c.id.clone())).collect()),
-        ("example id", model.examples.iter().enumerate().map(|(i, e)| (format!("examples[{i}].id"), e.id.clone())).collect()),
-        ("error code id", model.error_codes.codes.iter().enumerate().map(|(i, c)| (format!("error_codes.codes[{i}].id"), c.id.clone())).collect()),
-        ("protocol id", model.protocols.iter().enumerate().map(|(i, p)| (format!("protocols[{i}].id"), p.id.clone())).collect()),
+        (
+            "register id",
+            model
+                .registers
+                .iter()
+                .enumerate()
+                .map(|(i, r)| (format!("registers[{i}].id"), r.id.clone()))
+                .collect(),
+        ),
+        (
+            "register code",
+            model
+                .registers
+                .iter()
+                .enumerate()
+                .map(|(i, r)| (format!("registers[{i}].code"), r.code.clone()))
+                .collect(),
+        ),
+        (
+            "bit-field word id",
+            model
+                .bitfields
+                .iter()
+                .enumerate()
+                .map(|(i, b)| (format!("bitfields[{i}].id"), b.id.clone()))
+                .collect(),
+        ),
+        (
+            "code table id",
+            model
+                .codes
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (format!("codes[{i}].id"), c.id.clone()))
+                .collect(),
+        ),
+        (
+            "example id",
+            model
+                .examples
+                .iter()
+                .enumerate()
+                .map(|(i, e)| (format!("examples[{i}].id"), e.id.clone()))
+                .collect(),
+        ),
+        (
+            "error code id",
+            model
+                .error_codes
+                .codes
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (format!("error_codes.codes[{i}].id"), c.id.clone()))
+                .collect(),
+        ),
+        (
+            "protocol id",
+            model
+                .protocols
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (format!("protocols[{i}].id"), p.id.clone()))
+                .collect(),
+        ),
     ];
     for (i, bitfield) in model.bitfields.iter().enumerate() {
-        let ids = bitfield.fields.iter().enumerate().filter_map(|(j, f)| f.id.clone().map(|id| (format!("bitfields[{i}].fields[{j}].id"), id)));
+        let ids = bitfield.fields.iter().enumerate().filter_map(|(j, f)| {
+            f.id.clone()
+                .map(|id| (format!("bitfields[{i}].fields[{j}].id"), id))
+        });
         groups.push(("bit field id", ids.collect()));
     }
     for (i, table) in model.codes.iter().enumerate() {
-        groups.push(("code id", table.values.iter().enumerate().map(|(j, v)| (format!("codes[{i}].values[{j}].id"), v.id.clone())).collect()));
+        groups.push((
+            "code id",
+            table
+                .values
+                .iter()
+                .enumerate()
+                .map(|(j, v)| (format!("codes[{i}].values[{j}].id"), v.id.clone()))
+                .collect(),
+        ));
     }
     for (what, items) in groups {
         let mut seen: HashMap<&str, &str> = HashMap::new();
         for (path, name) in &items {
             if let Some(first) = seen.insert(name, path) {
-                out.push(drive.source.error(path, format!("duplicate {what} `{name}` (first at {first})")).hint(format!("each {what} must be unique")));
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            path,
+                            format!("duplicate {what} `{name}` (first at {first})"),
+                        )
+                        .hint(format!("each {what} must be unique")),
+                );
             }
         }
     }
@@ -130,12 +264,22 @@ pub fn units_are_known(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
     for (index, register) in drive.model.registers.iter().enumerate() {
         if let Some(unit) = &register.unit {
             if Unit::from_symbol(unit).is_none() {
-                let known: Vec<&str> = Unit::ALL.iter().map(|u| u.symbol()).filter(|s| !s.is_empty()).collect();
+                let known: Vec<&str> = Unit::ALL
+                    .iter()
+                    .map(|u| u.symbol())
+                    .filter(|s| !s.is_empty())
+                    .collect();
                 out.push(
                     drive
                         .source
-                        .error(&format!("registers[{index}].unit"), format!("unknown unit `{unit}`"))
-                        .hint(format!("known units: {}; leave `unit` out for plain numbers", known.join(", "))),
+                        .error(
+                            &format!("registers[{index}].unit"),
+                            format!("unknown unit `{unit}`"),
+                        )
+                        .hint(format!(
+                            "known units: {}; leave `unit` out for plain numbers",
+                            known.join(", ")
+                        )),
                 );
             }
         }
@@ -147,7 +291,15 @@ pub fn scales_are_positive(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
     for (index, register) in drive.model.registers.iter().enumerate() {
         if let Some(scale) = register.scale {
             if !(scale.is_finite() && scale > 0.0) {
-                out.push(drive.source.error(&format!("registers[{index}].scale"), format!("scale {scale} must be a positive number")).hint("the scale is the value of one raw step, e.g. 0.01 for 0.01 Hz"));
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("registers[{index}].scale"),
+                            format!("scale {scale} must be a positive number"),
+                        )
+                        .hint("the scale is the value of one raw step, e.g. 0.01 for 0.01 Hz"),
+                );
             }
         }
     }
@@ -156,15 +308,21 @@ pub fn scales_are_positive(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
 /// Range bounds name known registers, are whole steps, fit the word and are in order.
 pub fn ranges_resolve(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
     for (index, register) in drive.model.registers.iter().enumerate() {
-        let Some(range) = &register.range else { continue };
+        let Some(range) = &register.range else {
+            continue;
+        };
         let mut resolved = [None, None];
-        for (slot, (end, bound, key)) in [(End::Min, &range.min, "min"), (End::Max, &range.max, "max")].into_iter().enumerate() {
+        for (slot, (end, bound, key)) in
+            [(End::Min, &range.min, "min"), (End::Max, &range.max, "max")]
+                .into_iter()
+                .enumerate()
+        {
             let path = format!("registers[{index}].range.{key}");
             match ranges::resolve_bound(&drive.model, bound, end) {
                 Ok(value) => {
                     let (word_min, word_max) = ranges::word_limits(register);
                     match ranges::to_raw(register, value) {
-                        None => out.push(drive.source.error(&path, format!("bound {value} is not a whole number of {} steps", ranges::scale_of(register))).hint("check the scale, or the bound's decimals")),
+                        None => out.push(drive.source.error(&path, format!("bound {} is not a whole number of {} steps", with_unit(register, value.to_string()), with_unit(register, ranges::scale_of(register).to_string()))).hint("check the scale, or the bound's decimals")),
                         Some(raw) if raw < word_min || raw > word_max => out.push(
                             drive
                                 .source
@@ -191,25 +349,82 @@ pub fn ranges_resolve(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
         }
         if let [Some(min), Some(max)] = resolved {
             if min > max {
-                out.push(drive.source.error(&format!("registers[{index}].range"), format!("range minimum {min} is above its maximum {max}")).hint("swap the bounds, or check the manual"));
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("registers[{index}].range"),
+                            format!("range minimum {min} is above its maximum {max}"),
+                        )
+                        .hint("swap the bounds, or check the manual"),
+                );
             }
         }
+    }
+}
+
+/// Decimal places a scale implies (0.01 -> 2).
+fn decimals(scale: f64) -> usize {
+    let mut decimals = 0;
+    let mut step = scale;
+    while decimals < 6 && (step - step.round()).abs() > 1e-9 {
+        step *= 10.0;
+        decimals += 1;
+    }
+    decimals
+}
+
+/// `12.50 Hz` for a raw count of a register, without float noise.
+fn show_raw(register: &crate::model::RegisterModel, raw: i64) -> String {
+    let scale = ranges::scale_of(register);
+    with_unit(
+        register,
+        format!("{:.*}", decimals(scale), raw as f64 * scale),
+    )
+}
+
+fn with_unit(register: &crate::model::RegisterModel, number: String) -> String {
+    match register.unit.as_deref() {
+        Some(unit) if !unit.is_empty() => format!("{number} {unit}"),
+        _ => number,
     }
 }
 
 /// Defaults lie within their (static) range.
 pub fn defaults_are_in_range(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
     for (index, register) in drive.model.registers.iter().enumerate() {
-        let Some(default) = register.default else { continue };
+        let Some(default) = register.default else {
+            continue;
+        };
         let (raw_min, raw_max, _, _) = ranges::raw_range(&drive.model, register);
         let scale = ranges::scale_of(register);
         let path = format!("registers[{index}].default");
         match ranges::to_raw(register, default) {
-            None => out.push(drive.source.error(&path, format!("default {default} is not a whole number of {scale} steps")).hint("check the default's decimals against the scale")),
+            None => out.push(
+                drive
+                    .source
+                    .error(
+                        &path,
+                        format!(
+                            "default {} is not a whole number of {} steps",
+                            with_unit(register, default.to_string()),
+                            with_unit(register, scale.to_string())
+                        ),
+                    )
+                    .hint("check the default's decimals against the scale"),
+            ),
             Some(raw) if raw < raw_min || raw > raw_max => out.push(
                 drive
                     .source
-                    .error(&path, format!("default {default} is outside the range {} to {}", raw_min as f64 * scale, raw_max as f64 * scale))
+                    .error(
+                        &path,
+                        format!(
+                            "default {} is outside the range {} to {}",
+                            with_unit(register, default.to_string()),
+                            show_raw(register, raw_min),
+                            show_raw(register, raw_max)
+                        ),
+                    )
                     .hint("check the default and the range against the manual's table"),
             ),
             Some(_) => {}
@@ -221,43 +436,115 @@ pub fn defaults_are_in_range(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
 pub fn references_resolve(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
     let model = &drive.model;
     for (index, register) in model.registers.iter().enumerate() {
-        if register.bitfield.is_some() && (register.code_table.is_some() || register.unit.is_some() || register.scale.is_some()) {
-            out.push(drive.source.error(&format!("registers[{index}].bitfield"), "a bit-field register cannot also have a code table, a unit or a scale").hint("keep one of them"));
+        let extras: Vec<&str> = [
+            ("code_table", register.code_table.is_some()),
+            ("unit", register.unit.is_some()),
+            ("scale", register.scale.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(key, present)| present.then_some(key))
+        .collect();
+        if register.bitfield.is_some() && !extras.is_empty() {
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("registers[{index}].{}", extras[0]),
+                        format!("a bit-field register cannot also have `{}`", extras.join("` or `")),
+                    )
+                    .hint("a bit-field word has no unit, scale or code table: remove them, or remove `bitfield`"),
+            );
         }
         if register.code_table.is_some() && (register.unit.is_some() || register.scale.is_some()) {
-            out.push(drive.source.error(&format!("registers[{index}].code_table"), "a code-table register cannot also have a unit or a scale").hint("keep one of them"));
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("registers[{index}].code_table"),
+                        "a code-table register cannot also have a unit or a scale",
+                    )
+                    .hint("keep one of them"),
+            );
         }
         if let Some(name) = &register.bitfield {
             if !model.bitfields.iter().any(|b| &b.id == name) {
-                out.push(drive.source.error(&format!("registers[{index}].bitfield"), format!("bit-field word `{name}` is not defined")).hint("define it under `bitfields:`"));
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("registers[{index}].bitfield"),
+                            format!("bit-field word `{name}` is not defined"),
+                        )
+                        .hint("define it under `bitfields:`"),
+                );
             }
         }
         if let Some(name) = &register.code_table {
             if !model.codes.iter().any(|c| &c.id == name) {
-                out.push(drive.source.error(&format!("registers[{index}].code_table"), format!("code table `{name}` is not defined")).hint("define it under `codes:`"));
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("registers[{index}].code_table"),
+                            format!("code table `{name}` is not defined"),
+                        )
+                        .hint("define it under `codes:`"),
+                );
             }
         }
         if let Some(access) = &register.access {
             if !["read-only", "read-write", "write-only"].contains(&access.as_str()) {
-                out.push(drive.source.error(&format!("registers[{index}].access"), format!("unknown access `{access}`")).hint("use read-only, read-write or write-only (default read-write)"));
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("registers[{index}].access"),
+                            format!("unknown access `{access}`"),
+                        )
+                        .hint("use read-only, read-write or write-only (default read-write)"),
+                );
             }
         }
         if let Some(when) = &register.takes_effect {
             if !["immediately", "after_reset"].contains(&when.as_str()) {
-                out.push(drive.source.error(&format!("registers[{index}].takes_effect"), format!("unknown value `{when}`")).hint("use immediately or after_reset"));
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("registers[{index}].takes_effect"),
+                            format!("unknown takes_effect `{when}`"),
+                        )
+                        .hint("use immediately or after_reset"),
+                );
             }
         }
     }
     for (index, example) in model.value_examples.iter().enumerate() {
         if ranges::find_register(model, &example.register).is_none() {
-            out.push(drive.source.error(&format!("value_examples[{index}].register"), format!("register `{}` is not defined", example.register)).hint("name a register by its code or id"));
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("value_examples[{index}].register"),
+                        format!("register `{}` is not defined", example.register),
+                    )
+                    .hint("name a register by its code or id"),
+            );
         }
     }
     for (i, bitfield) in model.bitfields.iter().enumerate() {
         for (j, field) in bitfield.fields.iter().enumerate() {
             if let Some(table) = &field.code_table {
                 if !model.codes.iter().any(|c| &c.id == table) {
-                    out.push(drive.source.error(&format!("bitfields[{i}].fields[{j}].code_table"), format!("code table `{table}` is not defined")).hint("define it under `codes:`"));
+                    out.push(
+                        drive
+                            .source
+                            .error(
+                                &format!("bitfields[{i}].fields[{j}].code_table"),
+                                format!("code table `{table}` is not defined"),
+                            )
+                            .hint("define it under `codes:`"),
+                    );
                 }
             }
         }
@@ -270,9 +557,17 @@ pub fn bit_span(bit: Option<u8>, bits: Option<&str>) -> Result<(u8, u8), String>
         (Some(bit), None) if bit < 16 => Ok((bit, 1)),
         (Some(bit), None) => Err(format!("bit {bit} is outside a 16-bit word")),
         (None, Some(text)) => {
-            let (msb, lsb) = text.split_once(':').ok_or_else(|| format!("`bits: {text}` is not \"msb:lsb\""))?;
-            let msb: u8 = msb.trim().parse().map_err(|_| format!("`{msb}` is not a bit number"))?;
-            let lsb: u8 = lsb.trim().parse().map_err(|_| format!("`{lsb}` is not a bit number"))?;
+            let (msb, lsb) = text
+                .split_once(':')
+                .ok_or_else(|| format!("`bits: {text}` is not \"msb:lsb\""))?;
+            let msb: u8 = msb
+                .trim()
+                .parse()
+                .map_err(|_| format!("`{msb}` is not a bit number"))?;
+            let lsb: u8 = lsb
+                .trim()
+                .parse()
+                .map_err(|_| format!("`{lsb}` is not a bit number"))?;
             if msb < lsb || msb > 15 {
                 return Err(format!("`bits: {text}` needs 15 >= msb >= lsb"));
             }
@@ -289,7 +584,12 @@ pub fn bit_fields_do_not_overlap(drive: &LoadedDrive, out: &mut Vec<Diagnostic>)
         for (j, field) in bitfield.fields.iter().enumerate() {
             let path = format!("bitfields[{i}].fields[{j}]");
             match bit_span(field.bit, field.bits.as_deref()) {
-                Err(message) => out.push(drive.source.error(&path, message).hint("write `bit: 15` for one bit or `bits: \"13:12\"` for several")),
+                Err(message) => out.push(
+                    drive
+                        .source
+                        .error(&path, message)
+                        .hint("write `bit: 15` for one bit or `bits: \"13:12\"` for several"),
+                ),
                 Ok((lsb, width)) => {
                     for bit in lsb..lsb + width {
                         if let Some(first) = owner[usize::from(bit)] {
@@ -317,17 +617,47 @@ pub fn code_values_are_unique(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
         for (j, value) in table.values.iter().enumerate() {
             let path = format!("codes[{i}].values[{j}].value");
             if value.value > 0xFFFF {
-                out.push(drive.source.error(&path, format!("code {:#X} does not fit in 16 bits", value.value)).hint("codes are register values"));
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &path,
+                            format!("code {:#X} does not fit in 16 bits", value.value),
+                        )
+                        .hint("codes are register values"),
+                );
             }
             if let Some(first) = seen.insert(value.value, j) {
-                out.push(drive.source.error(&path, format!("code {} appears twice in `{}` (first at values[{first}])", value.value, table.id)).hint("each code has one meaning"));
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &path,
+                            format!(
+                                "code {} appears twice in `{}` (first at values[{first}])",
+                                value.value, table.id
+                            ),
+                        )
+                        .hint("each code has one meaning"),
+                );
             }
         }
     }
     let mut seen: HashMap<u32, usize> = HashMap::new();
     for (j, code) in drive.model.error_codes.codes.iter().enumerate() {
         if let Some(first) = seen.insert(code.code, j) {
-            out.push(drive.source.error(&format!("error_codes.codes[{j}].code"), format!("error code {:04X}h appears twice (first at codes[{first}])", code.code)).hint("each error code has one meaning"));
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("error_codes.codes[{j}].code"),
+                        format!(
+                            "error code {:04X}h appears twice (first at error_codes.codes[{first}])",
+                            code.code
+                        ),
+                    )
+                    .hint("each error code has one meaning"),
+            );
         }
     }
 }
@@ -337,20 +667,64 @@ pub fn serial_settings_are_consistent(drive: &LoadedDrive, out: &mut Vec<Diagnos
     let serial = &drive.model.serial;
     for (index, parity) in serial.parities.iter().enumerate() {
         if !["none", "even", "odd"].contains(&parity.as_str()) {
-            out.push(drive.source.error(&format!("serial.parities[{index}]"), format!("unknown parity `{parity}`")).hint("use none, even or odd"));
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("serial.parities[{index}]"),
+                        format!("unknown parity `{parity}`"),
+                    )
+                    .hint("use none, even or odd"),
+            );
         }
     }
     if !serial.baud_rates.contains(&serial.default.baud) {
-        out.push(drive.source.error("serial.default.baud", format!("default baud rate {} is not in `baud_rates`", serial.default.baud)).hint("add it to baud_rates or fix the default"));
+        out.push(
+            drive
+                .source
+                .error(
+                    "serial.default.baud",
+                    format!(
+                        "default baud rate {} is not in `baud_rates`",
+                        serial.default.baud
+                    ),
+                )
+                .hint("add it to baud_rates or fix the default"),
+        );
     }
     if !serial.parities.contains(&serial.default.parity) {
-        out.push(drive.source.error("serial.default.parity", format!("default parity `{}` is not in `parities`", serial.default.parity)).hint("add it to parities or fix the default"));
+        out.push(
+            drive
+                .source
+                .error(
+                    "serial.default.parity",
+                    format!(
+                        "default parity `{}` is not in `parities`",
+                        serial.default.parity
+                    ),
+                )
+                .hint("add it to parities or fix the default"),
+        );
     }
-    if !(1..=2).contains(&serial.default.stop_bits) || !(7..=8).contains(&serial.default.data_bits) {
-        out.push(drive.source.error("serial.default", "default needs 7 or 8 data bits and 1 or 2 stop bits").hint("check section 2 of the manual"));
+    if !(1..=2).contains(&serial.default.stop_bits) || !(7..=8).contains(&serial.default.data_bits)
+    {
+        out.push(
+            drive
+                .source
+                .error(
+                    "serial.default",
+                    "default needs 7 or 8 data bits and 1 or 2 stop bits",
+                )
+                .hint("check section 2 of the manual"),
+        );
     }
     if drive.model.addressing.min > drive.model.addressing.max {
-        out.push(drive.source.error("addressing", "addressing.min is above addressing.max").hint("swap them"));
+        out.push(
+            drive
+                .source
+                .error("addressing", "addressing.min is above addressing.max")
+                .hint("swap them"),
+        );
     }
 }
 
@@ -390,7 +764,12 @@ pub struct Decoded {
 }
 
 /// Decodes a whole frame with `protocol`.
-pub fn decode_frame(protocol: &LoadedProtocol, direction: Direction, expected: Option<CommandKind>, bytes: &[u8]) -> Result<Decoded, DecodeError> {
+pub fn decode_frame(
+    protocol: &LoadedProtocol,
+    direction: Direction,
+    expected: Option<CommandKind>,
+    bytes: &[u8],
+) -> Result<Decoded, DecodeError> {
     let protocol = &protocol.runtime;
     match direction {
         Direction::Request => {
@@ -399,21 +778,38 @@ pub fn decode_frame(protocol: &LoadedProtocol, direction: Direction, expected: O
                 address: request.address,
                 command: Some(request.command.letter as char),
                 register: Some(u32::from(request.register)),
-                data: (request.command.kind != CommandKind::Read).then_some(u32::from(request.data)),
+                data: (request.command.kind != CommandKind::Read)
+                    .then_some(u32::from(request.data)),
                 error_code: None,
                 tripped: false,
             })
         }
         Direction::Reply => match protocol.decode_reply_exact(expected, bytes)? {
-            vfd_runtime::Reply::Data { command, address, tripped, register, data, .. } => Ok(Decoded {
+            vfd_runtime::Reply::Data {
+                command,
                 address,
-                command: Some(if tripped { command.letter.to_ascii_lowercase() } else { command.letter } as char),
+                tripped,
+                register,
+                data,
+                ..
+            } => Ok(Decoded {
+                address,
+                command: Some(if tripped {
+                    command.letter.to_ascii_lowercase()
+                } else {
+                    command.letter
+                } as char),
                 register: Some(u32::from(register)),
                 data: Some(u32::from(data)),
                 error_code: None,
                 tripped,
             }),
-            vfd_runtime::Reply::Error { address, tripped, code, .. } => Ok(Decoded {
+            vfd_runtime::Reply::Error {
+                address,
+                tripped,
+                code,
+                ..
+            } => Ok(Decoded {
                 address,
                 command: Some(if tripped { 'n' } else { 'N' }),
                 register: None,
@@ -436,25 +832,74 @@ pub fn examples_decode(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
     for (index, example) in drive.model.examples.iter().enumerate() {
         let base = format!("examples[{index}]");
         let Some(protocol) = drive.protocols.iter().find(|p| p.id == example.protocol) else {
-            let known: Vec<&str> = drive.model.protocols.iter().map(|p| p.id.as_str()).collect();
-            out.push(drive.source.error(&format!("{base}.protocol"), format!("unknown protocol `{}`", example.protocol)).hint(format!("use one of the drive's protocols: {}", known.join(", "))));
+            if drive
+                .model
+                .protocols
+                .iter()
+                .any(|p| p.id == example.protocol)
+            {
+                continue; // The protocol is declared but failed to load; that is reported already.
+            }
+            let known: Vec<&str> = drive
+                .model
+                .protocols
+                .iter()
+                .map(|p| p.id.as_str())
+                .collect();
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("{base}.protocol"),
+                        format!("unknown protocol `{}`", example.protocol),
+                    )
+                    .hint(format!(
+                        "use one of the drive's protocols: {}",
+                        known.join(", ")
+                    )),
+            );
             continue;
         };
         if example.request.is_none() && example.reply.is_none() {
-            out.push(drive.source.error(&base, "an example needs a `request`, a `reply` or both").hint("copy the frames from the manual"));
+            out.push(
+                drive
+                    .source
+                    .error(&base, "an example needs a `request`, a `reply` or both")
+                    .hint("copy the frames from the manual"),
+            );
         }
-        for (direction, key, frame) in [(Direction::Request, "request", &example.request), (Direction::Reply, "reply", &example.reply)] {
+        for (direction, key, frame) in [
+            (Direction::Request, "request", &example.request),
+            (Direction::Reply, "reply", &example.reply),
+        ] {
             if let Some(frame) = frame {
-                check_frame(drive, protocol, direction, &format!("{base}.{key}"), frame, out);
+                check_frame(
+                    drive,
+                    protocol,
+                    direction,
+                    &format!("{base}.{key}"),
+                    frame,
+                    out,
+                );
             }
         }
-        if let (Some(value), Some(frame)) = (example.value, example.reply.as_ref().or(example.request.as_ref())) {
+        if let (Some(value), Some(frame)) = (
+            example.value,
+            example.reply.as_ref().or(example.request.as_ref()),
+        ) {
             check_example_value(drive, &base, value, frame, out);
         }
     }
 }
 
-fn check_frame(drive: &LoadedDrive, protocol: &LoadedProtocol, direction: Direction, path: &str, frame: &FrameModel, out: &mut Vec<Diagnostic>) {
+fn check_frame(
+    drive: &LoadedDrive,
+    protocol: &LoadedProtocol,
+    direction: Direction,
+    path: &str,
+    frame: &FrameModel,
+    out: &mut Vec<Diagnostic>,
+) {
     let bytes = match frame_bytes(&frame.ascii, &frame.hex) {
         Ok(bytes) => bytes,
         Err(message) => {
@@ -464,7 +909,19 @@ fn check_frame(drive: &LoadedDrive, protocol: &LoadedProtocol, direction: Direct
     };
     let kind = expected_kind(protocol, frame.expect.command.as_deref());
     if frame.expect.command.is_some() && kind.is_none() && frame.expect.error_code.is_none() {
-        out.push(drive.source.error(&format!("{path}.expect.command"), format!("`{}` is not a command of protocol {}", frame.expect.command.as_deref().unwrap_or(""), protocol.uses)).hint("use a command letter from the protocol file"));
+        out.push(
+            drive
+                .source
+                .error(
+                    &format!("{path}.expect.command"),
+                    format!(
+                        "`{}` is not a command of protocol {}",
+                        frame.expect.command.as_deref().unwrap_or(""),
+                        protocol.uses
+                    ),
+                )
+                .hint("use a command letter from the protocol file"),
+        );
     }
     match decode_frame(protocol, direction, kind, &bytes) {
         Err(error) => out.push(
@@ -531,36 +988,85 @@ fn check_frame(drive: &LoadedDrive, protocol: &LoadedProtocol, direction: Direct
     }
 }
 
-fn check_example_value(drive: &LoadedDrive, base: &str, value: f64, frame: &FrameModel, out: &mut Vec<Diagnostic>) {
+fn check_example_value(
+    drive: &LoadedDrive,
+    base: &str,
+    value: f64,
+    frame: &FrameModel,
+    out: &mut Vec<Diagnostic>,
+) {
     let path = format!("{base}.value");
     let Some(address) = frame.expect.register else {
-        out.push(drive.source.error(&path, "`value` needs the frame's `expect.register`").hint("say which register the value belongs to"));
+        out.push(
+            drive
+                .source
+                .error(&path, "`value` needs the frame's `expect.register`")
+                .hint("say which register the value belongs to"),
+        );
         return;
     };
     let Some(register) = drive.model.registers.iter().find(|r| r.address == address) else {
-        out.push(drive.source.error(&path, format!("no register is described at {address:04X}h")).hint("describe the register, or drop `value`"));
+        out.push(
+            drive
+                .source
+                .error(&path, format!("no register is described at {address:04X}h"))
+                .hint("describe the register, or drop `value`"),
+        );
         return;
     };
     let Some(data) = frame.expect.data else {
-        out.push(drive.source.error(&path, "`value` needs the frame's `expect.data`").hint("the value is the data word in engineering units"));
+        out.push(
+            drive
+                .source
+                .error(&path, "`value` needs the frame's `expect.data`")
+                .hint("the value is the data word in engineering units"),
+        );
         return;
     };
     let scale = ranges::scale_of(register);
-    let raw = if register.signed { f64::from(data as u16 as i16) } else { f64::from(data) };
+    let raw = if register.signed {
+        f64::from(data as u16 as i16)
+    } else {
+        f64::from(data)
+    };
     if (raw * scale - value).abs() > scale / 2.0 {
-        out.push(drive.source.error(&path, format!("data {data:04X}h is {} {} in `{}`, not {value}", raw * scale, register.unit.as_deref().unwrap_or(""), register.code)).hint("check the register's scale and the example"));
+        out.push(
+            drive
+                .source
+                .error(
+                    &path,
+                    format!(
+                        "data {data:04X}h is {} in `{}`, not {}",
+                        with_unit(register, format!("{:.*}", decimals(scale), raw * scale)),
+                        register.code,
+                        with_unit(register, value.to_string())
+                    ),
+                )
+                .hint("check the register's scale and the example"),
+        );
     }
 }
 
 /// Value examples (`80 Hz = 1F40h`) agree with the register's scale.
 pub fn value_examples_match(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
     for (index, example) in drive.model.value_examples.iter().enumerate() {
-        let Some(register) = ranges::find_register(&drive.model, &example.register) else { continue };
+        let Some(register) = ranges::find_register(&drive.model, &example.register) else {
+            continue;
+        };
         if ranges::to_raw(register, example.value) != Some(i64::from(example.raw)) {
             out.push(
                 drive
                     .source
-                    .error(&format!("value_examples[{index}].raw"), format!("{} {} in `{}` is not raw {:04X}h with scale {}", example.value, register.unit.as_deref().unwrap_or(""), register.code, example.raw, ranges::scale_of(register)))
+                    .error(
+                        &format!("value_examples[{index}].raw"),
+                        format!(
+                            "{} in `{}` is not raw {:04X}h with a step of {}",
+                            with_unit(register, example.value.to_string()),
+                            register.code,
+                            example.raw,
+                            with_unit(register, ranges::scale_of(register).to_string())
+                        ),
+                    )
                     .hint("check the register's scale, or record a manual mistake"),
             );
         }
@@ -573,17 +1079,40 @@ pub fn bit_examples_match(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
         for (j, example) in bitfield.examples.iter().enumerate() {
             let mut value = 0u32;
             for name in &example.set {
-                match bitfield.fields.iter().find(|f| f.id.as_deref() == Some(name.as_str())) {
+                match bitfield
+                    .fields
+                    .iter()
+                    .find(|f| f.id.as_deref() == Some(name.as_str()))
+                {
                     Some(field) => {
                         if let Ok((lsb, _)) = bit_span(field.bit, field.bits.as_deref()) {
                             value |= 1 << lsb;
                         }
                     }
-                    None => out.push(drive.source.error(&format!("bitfields[{i}].examples[{j}].set"), format!("`{name}` is not a field of `{}`", bitfield.id)).hint("name fields by id")),
+                    None => out.push(
+                        drive
+                            .source
+                            .error(
+                                &format!("bitfields[{i}].examples[{j}].set"),
+                                format!("`{name}` is not a field of `{}`", bitfield.id),
+                            )
+                            .hint("name fields by id"),
+                    ),
                 }
             }
             if value != example.value {
-                out.push(drive.source.error(&format!("bitfields[{i}].examples[{j}].value"), format!("the fields set give {value:04X}h, not {:04X}h", example.value)).hint("check the example against the bit table"));
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("bitfields[{i}].examples[{j}].value"),
+                            format!(
+                                "the fields set give {value:04X}h, not {:04X}h",
+                                example.value
+                            ),
+                        )
+                        .hint("check the example against the bit table"),
+                );
             }
         }
     }

@@ -21,3 +21,22 @@ include!(concat!(env!("OUT_DIR"), "/drives.rs"));
 pub fn drive(id: &str) -> Option<&'static vfd_runtime::DriveInfo> {
     ALL_DRIVES.iter().copied().find(|drive| drive.id == id)
 }
+
+/// Writing a read-only register or writing a RAM-only register persistently does not compile:
+///
+/// ```compile_fail,E0599
+/// use vfd_drives::yd1000::registers::OutputFrequency;
+/// let _ = OutputFrequency::write_ram(vfd_runtime::units::Hertz(1.0));
+/// ```
+///
+/// ```compile_fail,E0599
+/// use vfd_drives::yd1000::registers::FrequencyCommand;
+/// let _ = FrequencyCommand::write_persistent(vfd_runtime::units::Hertz(1.0));
+/// ```
+///
+/// ```compile_fail,E0308
+/// // Units are types: seconds are not hertz.
+/// use vfd_drives::yd1000::registers::FrequencyCommand;
+/// let _ = FrequencyCommand::write_ram(vfd_runtime::units::Seconds(1.0));
+/// ```
+pub mod compile_time_checks {}

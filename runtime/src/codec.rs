@@ -7,7 +7,9 @@
 
 use crate::checksum;
 use crate::error::{DecodeError, EncodeError};
-use crate::layout::{ChecksumSpec, FieldSpec, Format, FrameLayout, Part, Presence, Role, MAX_PARTS};
+use crate::layout::{
+    ChecksumSpec, FieldSpec, Format, FrameLayout, Part, Presence, Role, MAX_PARTS,
+};
 
 /// The value of one part of a frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -76,17 +78,29 @@ pub enum DecodeStatus {
 ///
 /// Required parts are always written; optional ones only when their slot in `values` is
 /// marked present. Checksums are computed.
-pub fn encode(layout: &FrameLayout, values: &FrameValues, out: &mut [u8]) -> Result<usize, EncodeError> {
+pub fn encode(
+    layout: &FrameLayout,
+    values: &FrameValues,
+    out: &mut [u8],
+) -> Result<usize, EncodeError> {
     if layout.parts.len() > MAX_PARTS {
-        return Err(EncodeError::TooManyParts { layout: layout.name.clone() });
+        return Err(EncodeError::TooManyParts {
+            layout: layout.name.clone(),
+        });
     }
-    let mut writer = Writer { out, len: 0, layout };
+    let mut writer = Writer {
+        out,
+        len: 0,
+        layout,
+    };
     let mut part_offsets = [0usize; MAX_PARTS];
     for (index, part) in layout.parts.iter().enumerate() {
         part_offsets[index] = writer.len;
         let slot = values.parts[index];
         match part {
-            Part::Literal { bytes, optional, .. } => {
+            Part::Literal {
+                bytes, optional, ..
+            } => {
                 if !optional || slot.present {
                     writer.put(bytes)?;
                 }
@@ -115,8 +129,16 @@ pub fn encode(layout: &FrameLayout, values: &FrameValues, out: &mut [u8]) -> Res
     Ok(writer.len)
 }
 
-fn encode_field(writer: &mut Writer<'_, '_>, field: &FieldSpec, slot: FieldValue) -> Result<(), EncodeError> {
-    let width = if slot.width == 0 { field.width } else { slot.width };
+fn encode_field(
+    writer: &mut Writer<'_, '_>,
+    field: &FieldSpec,
+    slot: FieldValue,
+) -> Result<(), EncodeError> {
+    let width = if slot.width == 0 {
+        field.width
+    } else {
+        slot.width
+    };
     writer.put_value(&field.name, field.format, slot.value, width)
 }
 
@@ -140,7 +162,13 @@ impl Writer<'_, '_> {
         Ok(())
     }
 
-    fn put_value(&mut self, name: &str, format: Format, value: u32, width: u8) -> Result<(), EncodeError> {
+    fn put_value(
+        &mut self,
+        name: &str,
+        format: Format,
+        value: u32,
+        width: u8,
+    ) -> Result<(), EncodeError> {
         let too_wide = || EncodeError::ValueTooWide {
             layout: self.layout.name.clone(),
             field: name.to_owned().into(),
@@ -159,7 +187,11 @@ impl Writer<'_, '_> {
                 let mut rest = value;
                 for slot in digits[..width].iter_mut().rev() {
                     let digit = (rest % radix) as u8;
-                    *slot = if digit < 10 { b'0' + digit } else { b'A' + digit - 10 };
+                    *slot = if digit < 10 {
+                        b'0' + digit
+                    } else {
+                        b'A' + digit - 10
+                    };
                     rest /= radix;
                 }
                 if rest != 0 {
@@ -195,7 +227,11 @@ pub fn decode(layout: &FrameLayout, bytes: &[u8]) -> Result<DecodeStatus, Decode
         part_offsets[index] = pos;
         let rest = &bytes[pos..];
         match part {
-            Part::Literal { bytes: literal, optional, name } => {
+            Part::Literal {
+                bytes: literal,
+                optional,
+                name,
+            } => {
                 let compared = rest.len().min(literal.len());
                 if rest[..compared] != literal[..compared] {
                     if *optional {
@@ -228,24 +264,41 @@ pub fn decode(layout: &FrameLayout, bytes: &[u8]) -> Result<DecodeStatus, Decode
                         continue;
                     }
                 }
-                match decode_value(layout, &field.name, field.format, field.min_width, field.width, rest, pos)? {
+                match decode_value(
+                    layout,
+                    &field.name,
+                    field.format,
+                    field.min_width,
+                    field.width,
+                    rest,
+                    pos,
+                )? {
                     None => return Ok(DecodeStatus::Incomplete),
                     Some((value, used)) => {
                         check_allowed(layout, field, value, pos)?;
                         values.parts[index] = FieldValue {
                             present: true,
                             value,
-                            width: if field.format.is_digits() { used as u8 } else { 0 },
+                            width: if field.format.is_digits() {
+                                used as u8
+                            } else {
+                                0
+                            },
                         };
                         pos += used;
                     }
                 }
             }
-            Part::Checksum(spec) => match decode_checksum(layout, spec, bytes, pos, &part_offsets)? {
+            Part::Checksum(spec) => match decode_checksum(layout, spec, bytes, pos, &part_offsets)?
+            {
                 ChecksumOutcome::Absent => continue,
                 ChecksumOutcome::Incomplete => return Ok(DecodeStatus::Incomplete),
                 ChecksumOutcome::Present { value, end } => {
-                    values.parts[index] = FieldValue { present: true, value, width: 0 };
+                    values.parts[index] = FieldValue {
+                        present: true,
+                        value,
+                        width: 0,
+                    };
                     pos = end;
                 }
             },
@@ -291,7 +344,16 @@ fn decode_checksum(
     }
     let value_at = pos + marker.len();
     let width = if spec.format == Format::Hex { 2 } else { 0 };
-    let Some((received, used)) = decode_value(layout, &spec.name, spec.format, width, width, &bytes[value_at..], value_at)? else {
+    let Some((received, used)) = decode_value(
+        layout,
+        &spec.name,
+        spec.format,
+        width,
+        width,
+        &bytes[value_at..],
+        value_at,
+    )?
+    else {
         return Ok(ChecksumOutcome::Incomplete);
     };
     let from = part_offsets[usize::from(spec.covers_from)];
@@ -306,10 +368,18 @@ fn decode_checksum(
             received,
         });
     }
-    Ok(ChecksumOutcome::Present { value: received, end: value_at + used })
+    Ok(ChecksumOutcome::Present {
+        value: received,
+        end: value_at + used,
+    })
 }
 
-fn check_allowed(layout: &FrameLayout, field: &FieldSpec, value: u32, offset: usize) -> Result<(), DecodeError> {
+fn check_allowed(
+    layout: &FrameLayout,
+    field: &FieldSpec,
+    value: u32,
+    offset: usize,
+) -> Result<(), DecodeError> {
     if field.allowed.is_empty() {
         return Ok(());
     }
@@ -320,7 +390,11 @@ fn check_allowed(layout: &FrameLayout, field: &FieldSpec, value: u32, offset: us
             v
         }
     };
-    if field.allowed.iter().any(|allowed| fold(*allowed) == fold(value)) {
+    if field
+        .allowed
+        .iter()
+        .any(|allowed| fold(*allowed) == fold(value))
+    {
         return Ok(());
     }
     Err(DecodeError::NotAllowed {
@@ -365,7 +439,11 @@ fn decode_value(
                     found: rest[used],
                     expected: format!(
                         "{} {} digit{}",
-                        if min_width == width { format!("{width}") } else { format!("{min_width} to {width}") },
+                        if min_width == width {
+                            format!("{width}")
+                        } else {
+                            format!("{min_width} to {width}")
+                        },
                         format.as_str(),
                         if width == 1 { "" } else { "s" }
                     ),
@@ -374,13 +452,20 @@ fn decode_value(
             Ok(Some((value, used)))
         }
         Format::Char | Format::U8 => Ok(rest.first().map(|b| (u32::from(*b), 1))),
-        Format::U16Be => Ok((rest.len() >= 2).then(|| (u32::from(u16::from_be_bytes([rest[0], rest[1]])), 2))),
-        Format::U16Le => Ok((rest.len() >= 2).then(|| (u32::from(u16::from_le_bytes([rest[0], rest[1]])), 2))),
+        Format::U16Be => {
+            Ok((rest.len() >= 2).then(|| (u32::from(u16::from_be_bytes([rest[0], rest[1]])), 2)))
+        }
+        Format::U16Le => {
+            Ok((rest.len() >= 2).then(|| (u32::from(u16::from_le_bytes([rest[0], rest[1]])), 2)))
+        }
     }
 }
 
 fn mismatch_at(rest: &[u8], literal: &[u8]) -> usize {
-    rest.iter().zip(literal).position(|(a, b)| a != b).unwrap_or(0)
+    rest.iter()
+        .zip(literal)
+        .position(|(a, b)| a != b)
+        .unwrap_or(0)
 }
 
 fn describe_literal(literal: &[u8]) -> String {
@@ -397,7 +482,11 @@ mod tests {
         FrameLayout {
             name: "read_request".into(),
             parts: List::Owned(vec![
-                Part::Literal { name: "start".into(), bytes: Cow::Borrowed(b"("), optional: false },
+                Part::Literal {
+                    name: "start".into(),
+                    bytes: Cow::Borrowed(b"("),
+                    optional: false,
+                },
                 Part::Field(FieldSpec {
                     name: "address".into(),
                     role: Role::Address,
@@ -436,8 +525,16 @@ mod tests {
                     covers_from: 0,
                     optional: true,
                 }),
-                Part::Literal { name: "end".into(), bytes: Cow::Borrowed(b")"), optional: true },
-                Part::Literal { name: "cr".into(), bytes: Cow::Borrowed(b"\r"), optional: false },
+                Part::Literal {
+                    name: "end".into(),
+                    bytes: Cow::Borrowed(b")"),
+                    optional: true,
+                },
+                Part::Literal {
+                    name: "cr".into(),
+                    bytes: Cow::Borrowed(b"\r"),
+                    optional: false,
+                },
             ]),
         }
     }
@@ -445,7 +542,8 @@ mod tests {
     #[test]
     fn decodes_and_reencodes_a_frame_with_checksum() {
         let layout = toshiba_ascii_read();
-        let DecodeStatus::Complete { values, len } = decode(&layout, b"(R0000&60)\r").unwrap() else {
+        let DecodeStatus::Complete { values, len } = decode(&layout, b"(R0000&60)\r").unwrap()
+        else {
             panic!("incomplete")
         };
         assert_eq!(len, 11);
@@ -458,10 +556,14 @@ mod tests {
     #[test]
     fn every_proper_prefix_is_incomplete() {
         let layout = toshiba_ascii_read();
-        let frame = b"(12R0501&A5)\r";
+        let frame = b"(12R0501&C9)\r";
         for end in 0..frame.len() {
             let outcome = decode(&layout, &frame[..end]);
-            assert_eq!(outcome, Ok(DecodeStatus::Incomplete), "prefix of {end} bytes");
+            assert_eq!(
+                outcome,
+                Ok(DecodeStatus::Incomplete),
+                "prefix of {end} bytes"
+            );
         }
     }
 
@@ -469,14 +571,27 @@ mod tests {
     fn a_wrong_checksum_is_reported_with_both_values() {
         let layout = toshiba_ascii_read();
         let error = decode(&layout, b"(R0000&61)\r").unwrap_err();
-        assert!(matches!(error, DecodeError::ChecksumMismatch { computed: 0x60, received: 0x61, .. }), "{error}");
+        assert!(
+            matches!(
+                error,
+                DecodeError::ChecksumMismatch {
+                    computed: 0x60,
+                    received: 0x61,
+                    ..
+                }
+            ),
+            "{error}"
+        );
     }
 
     #[test]
     fn a_command_outside_the_allowed_set_is_rejected_at_its_offset() {
         let layout = toshiba_ascii_read();
         let error = decode(&layout, b"(X0000)\r").unwrap_err();
-        assert!(matches!(error, DecodeError::NotAllowed { offset: 1, .. }), "{error}");
+        assert!(
+            matches!(error, DecodeError::NotAllowed { offset: 1, .. }),
+            "{error}"
+        );
     }
 
     #[test]

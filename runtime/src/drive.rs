@@ -40,6 +40,11 @@ impl DriveInfo {
             .iter()
             .copied()
             .find(|r| r.code == name || r.id == name)
-            .or_else(|| self.registers.iter().copied().find(|r| r.code.eq_ignore_ascii_case(name)))
+            .or_else(|| {
+                self.registers
+                    .iter()
+                    .copied()
+                    .find(|r| r.code.eq_ignore_ascii_case(name))
+            })
     }
 }

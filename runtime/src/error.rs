@@ -248,7 +248,7 @@ pub enum TransactionError {
         /// Number of bytes received.
         received_len: usize,
         /// The last decode error seen while waiting, if any.
-        last_error: Option<DecodeError>,
+        last_error: Option<Box<DecodeError>>,
     },
     /// The reply is not a valid frame.
     #[error("invalid reply to {request}: {source}")]
@@ -256,7 +256,7 @@ pub enum TransactionError {
         /// What was asked.
         request: String,
         /// Why it is invalid.
-        source: DecodeError,
+        source: Box<DecodeError>,
     },
     /// The drive answered with an error reply.
     #[error("drive rejected {request}: error {code:04X}h {meaning}{tripped}", meaning = info.map(|i| format!("{} ({}): {}", i.name, i.name_zh, i.meaning)).unwrap_or_else(|| "(code not in the manual's table)".into()), tripped = if *tripped { "; the drive reports it is tripped" } else { "" })]

@@ -26,6 +26,8 @@ pub mod units;
 pub use codec::{FieldValue, FrameValues};
 pub use drive::DriveInfo;
 pub use error::{DecodeError, EncodeError, TransactionError, ValueError};
-pub use layout::{ChecksumAlgorithm, ChecksumSpec, FieldSpec, Format, FrameLayout, Part, Presence, Role};
+pub use layout::{
+    ChecksumAlgorithm, ChecksumSpec, FieldSpec, Format, FrameLayout, Part, Presence, Role,
+};
 pub use protocol::{CommandKind, CommandSpec, ErrorCodeInfo, Protocol, Reply, Request};
 pub use register::{Access, Persistable, Register, RegisterInfo, RegisterValue, Writable};

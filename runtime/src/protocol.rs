@@ -95,13 +95,23 @@ pub struct Request {
 impl Request {
     /// Reads register `R`.
     pub fn read<R: Register>() -> Request {
-        Request { kind: CommandKind::Read, register: R::INFO.address, data: 0, info: Some(R::INFO) }
+        Request {
+            kind: CommandKind::Read,
+            register: R::INFO.address,
+            data: 0,
+            info: Some(R::INFO),
+        }
     }
 
     /// Writes `value` to register `R` in RAM only. Refuses values outside the register's range.
     pub fn write_ram<R: Writable>(value: R::Value) -> Result<Request, ValueError> {
         let data = value.to_raw(R::INFO)?;
-        Ok(Request { kind: CommandKind::WriteRam, register: R::INFO.address, data, info: Some(R::INFO) })
+        Ok(Request {
+            kind: CommandKind::WriteRam,
+            register: R::INFO.address,
+            data,
+            info: Some(R::INFO),
+        })
     }
 
     /// Writes `value` to register `R` in RAM and EEPROM. EEPROM endures a limited number of
@@ -109,12 +119,22 @@ impl Request {
     /// change often.
     pub fn write_persistent<R: Persistable>(value: R::Value) -> Result<Request, ValueError> {
         let data = value.to_raw(R::INFO)?;
-        Ok(Request { kind: CommandKind::WritePersistent, register: R::INFO.address, data, info: Some(R::INFO) })
+        Ok(Request {
+            kind: CommandKind::WritePersistent,
+            register: R::INFO.address,
+            data,
+            info: Some(R::INFO),
+        })
     }
 
     /// A request built from raw numbers, with no range checks.
     pub fn raw(kind: CommandKind, register: u16, data: u16) -> Request {
-        Request { kind, register, data, info: None }
+        Request {
+            kind,
+            register,
+            data,
+            info: None,
+        }
     }
 
     /// Describes the request for error messages.
@@ -126,7 +146,9 @@ impl Request {
         match self.kind {
             CommandKind::Read => format!("read of {target}"),
             CommandKind::WriteRam => format!("RAM write of {:04X}h to {target}", self.data),
-            CommandKind::WritePersistent => format!("persistent write of {:04X}h to {target}", self.data),
+            CommandKind::WritePersistent => {
+                format!("persistent write of {:04X}h to {target}", self.data)
+            }
         }
     }
 }
@@ -222,7 +244,8 @@ impl Protocol {
     /// The command with this letter (either case when lower case means "tripped").
     pub fn command_by_letter(&self, letter: u8) -> Option<&CommandSpec> {
         self.commands.iter().find(|command| {
-            command.letter == letter || (self.lowercase_means_tripped && command.letter == letter.to_ascii_uppercase())
+            command.letter == letter
+                || (self.lowercase_means_tripped && command.letter == letter.to_ascii_uppercase())
         })
     }
 
@@ -239,10 +262,12 @@ impl Protocol {
         request: &Request,
         address: Option<u8>,
     ) -> Result<(&FrameLayout, FrameValues), EncodeError> {
-        let command = self.command(request.kind).ok_or_else(|| EncodeError::UnsupportedCommand {
-            protocol: self.id.clone(),
-            kind: request.kind.as_str(),
-        })?;
+        let command =
+            self.command(request.kind)
+                .ok_or_else(|| EncodeError::UnsupportedCommand {
+                    protocol: self.id.clone(),
+                    kind: request.kind.as_str(),
+                })?;
         let layout = &command.request;
         let mut values = FrameValues::default();
         for name in self.default_optional_parts.iter() {
@@ -254,7 +279,12 @@ impl Protocol {
         if let Some(address) = address {
             let (min, max) = self.address_range;
             if address < min || address > max {
-                return Err(EncodeError::AddressOutOfRange { protocol: self.id.clone(), address, min, max });
+                return Err(EncodeError::AddressOutOfRange {
+                    protocol: self.id.clone(),
+                    address,
+                    min,
+                    max,
+                });
             }
             values.set(layout, Role::Address, u32::from(address));
         }
@@ -263,7 +293,12 @@ impl Protocol {
 
     /// Encodes `request` for the station `address` (or for whichever drive listens, when
     /// `None` and the protocol lets the address out) into `out`; returns the frame length.
-    pub fn encode_request(&self, request: &Request, address: Option<u8>, out: &mut [u8]) -> Result<usize, EncodeError> {
+    pub fn encode_request(
+        &self,
+        request: &Request,
+        address: Option<u8>,
+        out: &mut [u8],
+    ) -> Result<usize, EncodeError> {
         let (layout, values) = self.request_values(request, address)?;
         codec::encode(layout, &values, out)
     }
@@ -277,7 +312,10 @@ impl Protocol {
                 Ok(DecodeStatus::Complete { values, len }) => {
                     let layout = &command.request;
                     // Commands may share a layout (W and P): the letter decides.
-                    if values.get(layout, Role::Command).is_some_and(|letter| letter != u32::from(command.letter)) {
+                    if values
+                        .get(layout, Role::Command)
+                        .is_some_and(|letter| letter != u32::from(command.letter))
+                    {
                         continue;
                     }
                     return Ok(Found::Frame {
@@ -304,7 +342,11 @@ impl Protocol {
 
     /// Decodes a reply frame starting at `bytes[0]`. With `expected`, only that command's
     /// reply layout (and the error reply) is tried.
-    pub fn decode_reply(&self, expected: Option<CommandKind>, bytes: &[u8]) -> Result<Found<Reply<'_>>, DecodeError> {
+    pub fn decode_reply(
+        &self,
+        expected: Option<CommandKind>,
+        bytes: &[u8],
+    ) -> Result<Found<Reply<'_>>, DecodeError> {
         let mut best: Option<DecodeError> = None;
         let mut incomplete = false;
         if let Some(layout) = &self.error_reply {
@@ -328,13 +370,18 @@ impl Protocol {
                 Err(error) => best = Some(furthest(best, error)),
             }
         }
-        for command in self.commands.iter().filter(|c| expected.is_none_or(|kind| c.kind == kind)) {
+        for command in self
+            .commands
+            .iter()
+            .filter(|c| expected.is_none_or(|kind| c.kind == kind))
+        {
             let layout = &command.reply;
             match codec::decode(layout, bytes) {
                 Ok(DecodeStatus::Complete { values, len }) => {
                     let letter = values.get(layout, Role::Command).unwrap_or(0) as u8;
                     let same = letter == command.letter
-                        || (self.lowercase_means_tripped && letter.to_ascii_uppercase() == command.letter);
+                        || (self.lowercase_means_tripped
+                            && letter.to_ascii_uppercase() == command.letter);
                     if !same {
                         continue;
                     }
@@ -365,15 +412,25 @@ impl Protocol {
     pub fn decode_request_exact(&self, bytes: &[u8]) -> Result<DecodedRequest<'_>, DecodeError> {
         match self.decode_request(bytes)? {
             Found::Frame { frame, .. } => self.exact(frame.len, bytes.len()).map(|()| frame),
-            Found::Incomplete => Err(DecodeError::Truncated { layout: self.id.clone(), len: bytes.len() }),
+            Found::Incomplete => Err(DecodeError::Truncated {
+                layout: self.id.clone(),
+                len: bytes.len(),
+            }),
         }
     }
 
     /// Decodes exactly one reply frame: `bytes` must hold the whole frame and nothing else.
-    pub fn decode_reply_exact(&self, expected: Option<CommandKind>, bytes: &[u8]) -> Result<Reply<'_>, DecodeError> {
+    pub fn decode_reply_exact(
+        &self,
+        expected: Option<CommandKind>,
+        bytes: &[u8],
+    ) -> Result<Reply<'_>, DecodeError> {
         match self.decode_reply(expected, bytes)? {
             Found::Frame { frame, .. } => self.exact(frame.len(), bytes.len()).map(|()| frame),
-            Found::Incomplete => Err(DecodeError::Truncated { layout: self.id.clone(), len: bytes.len() }),
+            Found::Incomplete => Err(DecodeError::Truncated {
+                layout: self.id.clone(),
+                len: bytes.len(),
+            }),
         }
     }
 
@@ -381,13 +438,21 @@ impl Protocol {
         if len == available {
             Ok(())
         } else {
-            Err(DecodeError::TrailingBytes { layout: self.id.clone(), len, extra: available - len })
+            Err(DecodeError::TrailingBytes {
+                layout: self.id.clone(),
+                len,
+                extra: available - len,
+            })
         }
     }
 
     /// Looks for a reply in `bytes`, skipping noise before a start sequence: each
     /// occurrence of a layout's start bytes is tried in turn.
-    pub fn find_reply(&self, expected: Option<CommandKind>, bytes: &[u8]) -> Result<Found<Reply<'_>>, DecodeError> {
+    pub fn find_reply(
+        &self,
+        expected: Option<CommandKind>,
+        bytes: &[u8],
+    ) -> Result<Found<Reply<'_>>, DecodeError> {
         let start = self.start_bytes();
         let mut last_error = None;
         let mut incomplete = false;
@@ -396,7 +461,12 @@ impl Protocol {
                 continue;
             }
             match self.decode_reply(expected, &bytes[offset..]) {
-                Ok(Found::Frame { frame, .. }) => return Ok(Found::Frame { frame, skipped: offset }),
+                Ok(Found::Frame { frame, .. }) => {
+                    return Ok(Found::Frame {
+                        frame,
+                        skipped: offset,
+                    })
+                }
                 Ok(Found::Incomplete) => incomplete = true,
                 Err(error) => last_error = Some(error),
             }
@@ -412,12 +482,22 @@ impl Protocol {
 
     /// The start bytes shared by the protocol's layouts (empty if there are none).
     pub fn start_bytes(&self) -> &[u8] {
-        self.commands.first().and_then(|c| c.reply.start_bytes()).unwrap_or(&[])
+        self.commands
+            .first()
+            .and_then(|c| c.reply.start_bytes())
+            .unwrap_or(&[])
     }
 
     fn no_match(&self, what: &'static str, best: Option<DecodeError>) -> DecodeError {
-        let closest = best.unwrap_or(DecodeError::Truncated { layout: self.id.clone(), len: 0 });
-        DecodeError::NoLayoutMatches { protocol: self.id.clone(), what, closest: Box::new(closest) }
+        let closest = best.unwrap_or(DecodeError::Truncated {
+            layout: self.id.clone(),
+            len: 0,
+        });
+        DecodeError::NoLayoutMatches {
+            protocol: self.id.clone(),
+            what,
+            closest: Box::new(closest),
+        }
     }
 
     /// Whether any layout of the protocol has a part with this name.

@@ -63,9 +63,18 @@ pub struct RegisterInfo {
 }
 
 impl RegisterInfo {
-    /// `FA01 (FA01 通信频率指令, communication frequency command)`: how errors name the register.
+    /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.
+    /// The code is left out when it only repeats the address (`FA01`).
     pub fn label(&self) -> String {
-        format!("register {:04X} {} ({} / {})", self.address, self.code, self.name, self.name_zh)
+        let address = format!("{:04X}", self.address);
+        if self.code.eq_ignore_ascii_case(&address) {
+            format!("register {address} ({} / {})", self.name, self.name_zh)
+        } else {
+            format!(
+                "register {address} {} ({} / {})",
+                self.code, self.name, self.name_zh
+            )
+        }
     }
 
     /// The unit's symbol.

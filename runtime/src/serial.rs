@@ -41,12 +41,16 @@ pub struct SerialSettings {
 impl SerialSettings {
     /// Bits on the wire per character: start, data, parity and stop bits.
     pub fn bits_per_char(&self) -> u32 {
-        1 + u32::from(self.data_bits) + u32::from(self.parity != Parity::None) + u32::from(self.stop_bits)
+        1 + u32::from(self.data_bits)
+            + u32::from(self.parity != Parity::None)
+            + u32::from(self.stop_bits)
     }
 
     /// Time one character takes on the wire.
     pub fn char_time(&self) -> Duration {
-        Duration::from_nanos(u64::from(self.bits_per_char()) * 1_000_000_000 / u64::from(self.baud.max(1)))
+        Duration::from_nanos(
+            u64::from(self.bits_per_char()) * 1_000_000_000 / u64::from(self.baud.max(1)),
+        )
     }
 
     /// Time `bytes` characters take on the wire.
@@ -69,8 +73,15 @@ pub struct DriveTiming {
 impl DriveTiming {
     /// Reply timeout for one exchange: the request's and the longest reply's wire time
     /// plus the drive's processing allowance.
-    pub fn reply_timeout(&self, settings: &SerialSettings, request_len: usize, max_reply_len: usize) -> Duration {
-        settings.wire_time(request_len) + settings.wire_time(max_reply_len) + self.processing_allowance
+    pub fn reply_timeout(
+        &self,
+        settings: &SerialSettings,
+        request_len: usize,
+        max_reply_len: usize,
+    ) -> Duration {
+        settings.wire_time(request_len)
+            + settings.wire_time(max_reply_len)
+            + self.processing_allowance
     }
 }
 
@@ -97,7 +108,12 @@ mod tests {
 
     #[test]
     fn eight_e_one_at_9600_takes_about_1_15_ms_per_character() {
-        let settings = SerialSettings { baud: 9600, data_bits: 8, parity: Parity::Even, stop_bits: 1 };
+        let settings = SerialSettings {
+            baud: 9600,
+            data_bits: 8,
+            parity: Parity::Even,
+            stop_bits: 1,
+        };
         assert_eq!(settings.bits_per_char(), 11);
         assert_eq!(settings.char_time(), Duration::from_nanos(1_145_833));
         // 8-byte request + 7-byte reply: about 17 ms on the wire.
@@ -111,9 +127,17 @@ mod tests {
             processing_allowance: Duration::from_millis(100),
             frame_abandon: Duration::from_secs(1),
         };
-        let fast = SerialSettings { baud: 9600, data_bits: 8, parity: Parity::Even, stop_bits: 1 };
+        let fast = SerialSettings {
+            baud: 9600,
+            data_bits: 8,
+            parity: Parity::Even,
+            stop_bits: 1,
+        };
         let slow = SerialSettings { baud: 1200, ..fast };
         assert!(timing.reply_timeout(&slow, 8, 15) > timing.reply_timeout(&fast, 8, 15));
-        assert_eq!(timing.reply_timeout(&slow, 8, 15), slow.wire_time(23) + Duration::from_millis(100));
+        assert_eq!(
+            timing.reply_timeout(&slow, 8, 15),
+            slow.wire_time(23) + Duration::from_millis(100)
+        );
     }
 }

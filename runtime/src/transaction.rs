@@ -36,8 +36,21 @@ pub struct Master<T: Transport> {
 impl<T: Transport> Master<T> {
     /// A master for `protocol` over `transport`, with the line `settings` and the drive's
     /// `timing` (from the generated drive module).
-    pub fn new(transport: T, protocol: &'static Protocol, settings: SerialSettings, timing: DriveTiming) -> Self {
-        Master { transport, protocol, settings, timing, address: None, request: [0; MAX_FRAME], reply: [0; MAX_FRAME] }
+    pub fn new(
+        transport: T,
+        protocol: &'static Protocol,
+        settings: SerialSettings,
+        timing: DriveTiming,
+    ) -> Self {
+        Master {
+            transport,
+            protocol,
+            settings,
+            timing,
+            address: None,
+            request: [0; MAX_FRAME],
+            reply: [0; MAX_FRAME],
+        }
     }
 
     /// Addresses requests to station `address` (`None`: send no address, which the
@@ -54,7 +67,11 @@ impl<T: Transport> Master<T> {
 
     /// The reply timeout for a request of `request_len` bytes.
     pub fn reply_timeout(&self, request_len: usize) -> Duration {
-        self.timing.reply_timeout(&self.settings, request_len, usize::from(self.protocol.max_frame_len))
+        self.timing.reply_timeout(
+            &self.settings,
+            request_len,
+            usize::from(self.protocol.max_frame_len),
+        )
     }
 
     /// Reads register `R` and converts the word to its typed value.
@@ -64,20 +81,28 @@ impl<T: Transport> Master<T> {
     }
 
     /// Writes `value` to register `R` in RAM only; returns the value the drive reports written.
-    pub fn write_ram<R: Writable>(&mut self, value: R::Value) -> Result<R::Value, TransactionError> {
+    pub fn write_ram<R: Writable>(
+        &mut self,
+        value: R::Value,
+    ) -> Result<R::Value, TransactionError> {
         let answer = self.transact(&Request::write_ram::<R>(value)?)?;
         Ok(R::Value::from_raw(answer.data, R::INFO)?)
     }
 
     /// Writes `value` to register `R` in RAM and EEPROM (persistent; EEPROM wears out).
-    pub fn write_persistent<R: Persistable>(&mut self, value: R::Value) -> Result<R::Value, TransactionError> {
+    pub fn write_persistent<R: Persistable>(
+        &mut self,
+        value: R::Value,
+    ) -> Result<R::Value, TransactionError> {
         let answer = self.transact(&Request::write_persistent::<R>(value)?)?;
         Ok(R::Value::from_raw(answer.data, R::INFO)?)
     }
 
     /// Runs one exchange.
     pub fn transact(&mut self, request: &Request) -> Result<Answer, TransactionError> {
-        let len = self.protocol.encode_request(request, self.address, &mut self.request)?;
+        let len = self
+            .protocol
+            .encode_request(request, self.address, &mut self.request)?;
         self.transport.clear_input()?;
         self.transport.send(&self.request[..len])?;
         let timeout = self.reply_timeout(len);
@@ -90,7 +115,9 @@ impl<T: Transport> Master<T> {
                 self.reply.copy_within(MAX_FRAME / 2.., 0);
                 filled = MAX_FRAME - MAX_FRAME / 2;
             }
-            let got = self.transport.receive(&mut self.reply[filled..], deadline)?;
+            let got = self
+                .transport
+                .receive(&mut self.reply[filled..], deadline)?;
             if got == 0 {
                 return Err(TransactionError::Timeout {
                     request: request.describe(),
@@ -101,13 +128,21 @@ impl<T: Transport> Master<T> {
                 });
             }
             filled += got;
-            match self.protocol.find_reply(Some(request.kind), &self.reply[..filled]) {
+            match self
+                .protocol
+                .find_reply(Some(request.kind), &self.reply[..filled])
+            {
                 Ok(Found::Incomplete) => continue,
-                Ok(Found::Frame { frame, .. }) => return check_reply(self.protocol, request, self.address, frame),
-                Err(error) if error.kind() == "checksum_mismatch" => {
-                    return Err(TransactionError::Decode { request: request.describe(), source: error });
+                Ok(Found::Frame { frame, .. }) => {
+                    return check_reply(self.protocol, request, self.address, frame)
                 }
-                Err(error) => last_error = Some(error),
+                Err(error) if error.kind() == "checksum_mismatch" => {
+                    return Err(TransactionError::Decode {
+                        request: request.describe(),
+                        source: Box::new(error),
+                    });
+                }
+                Err(error) => last_error = Some(Box::new(error)),
             }
         }
     }
@@ -120,13 +155,25 @@ fn check_reply(
     reply: Reply<'static>,
 ) -> Result<Answer, TransactionError> {
     match reply {
-        Reply::Error { code, info, tripped, .. } => Err(TransactionError::Rejected {
+        Reply::Error {
+            code,
+            info,
+            tripped,
+            ..
+        } => Err(TransactionError::Rejected {
             request: request.describe(),
             code,
             info,
             tripped,
         }),
-        Reply::Data { command, address: reply_address, tripped, register, data, .. } => {
+        Reply::Data {
+            command,
+            address: reply_address,
+            tripped,
+            register,
+            data,
+            ..
+        } => {
             let mismatch = |field, expected: u32, found: u32| TransactionError::Mismatch {
                 request: request.describe(),
                 field,
@@ -138,15 +185,21 @@ fn check_reply(
                     return Err(mismatch("address", sent.into(), got.into()));
                 }
             }
-            let expected = protocol.command(request.kind).map(|c| c.letter).unwrap_or(0);
+            let expected = protocol
+                .command(request.kind)
+                .map(|c| c.letter)
+                .unwrap_or(0);
             if command.letter != expected {
                 return Err(mismatch("command", expected.into(), command.letter.into()));
             }
             if register != request.register {
-                return Err(mismatch("register", request.register.into(), register.into()));
+                return Err(mismatch(
+                    "register",
+                    request.register.into(),
+                    register.into(),
+                ));
             }
             Ok(Answer { data, tripped })
         }
     }
 }
-

@@ -79,7 +79,10 @@ impl Unit {
 /// Converts an engineering value to the raw word, checking finiteness and the register's range.
 pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u16, ValueError> {
     if !value.is_finite() {
-        return Err(ValueError::NotFinite { register: info, value });
+        return Err(ValueError::NotFinite {
+            register: info,
+            value,
+        });
     }
     let raw = (value / info.scale).round();
     if raw < f64::from(info.raw_min) || raw > f64::from(info.raw_max) {
@@ -92,12 +95,20 @@ pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u16, Val
     }
     // The range check above keeps `raw` within i32 and within the register's word.
     let raw = raw as i32;
-    Ok(if info.signed { raw as i16 as u16 } else { raw as u16 })
+    Ok(if info.signed {
+        raw as i16 as u16
+    } else {
+        raw as u16
+    })
 }
 
 /// Converts a raw word to its engineering value.
 pub fn raw_to_scaled(raw: u16, info: &RegisterInfo) -> f64 {
-    let raw = if info.signed { f64::from(raw as i16) } else { f64::from(raw) };
+    let raw = if info.signed {
+        f64::from(raw as i16)
+    } else {
+        f64::from(raw)
+    };
     // Round away binary noise such as 0.1 * 3 = 0.30000000000000004.
     let value = raw * info.scale;
     let decimals = info.decimals();
