@@ -14,6 +14,7 @@
 //! let len = yd1000::protocols::BINARY.encode_request(&request, None, &mut frame).unwrap();
 //! assert_eq!(&frame[..len], [0x2F, 0x50, 0xFA, 0x01, 0x17, 0x70, 0x01]);
 //! ```
+#![warn(missing_docs)]
 
 include!(concat!(env!("OUT_DIR"), "/drives.rs"));
 

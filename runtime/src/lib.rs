@@ -10,6 +10,7 @@
 //! * [`register`] holds register metadata and the typed value conversions (units, scaling, ranges);
 //! * [`transaction`] runs request/reply exchanges with timeouts derived from the baud rate;
 //! * [`transport`] moves bytes: serial ports, pseudo-terminals and in-memory pipes.
+#![warn(missing_docs)]
 
 pub mod checksum;
 pub mod codec;

@@ -4,6 +4,7 @@
 //! The path is relative to the calling crate's `Cargo.toml`. Problems in the description
 //! become a compile error at the macro call listing every message with file:line:column.
 //! The expansion `include_bytes!`s its inputs, so editing the YAML recompiles the caller.
+#![warn(missing_docs)]
 
 use proc_macro::TokenStream;
 use quote::quote;
