@@ -589,25 +589,7 @@ fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
         .and_then(Unit::from_symbol)
         .unwrap_or(Unit::None);
     let scale = ranges::scale_of(register);
-    let info = vfd_runtime::RegisterInfo {
-        address: 0,
-        id: "",
-        code: "",
-        name: "",
-        name_zh: "",
-        unit,
-        scale,
-        signed: register.signed,
-        raw_min: 0,
-        raw_max: 0,
-        min_bound: None,
-        max_bound: None,
-        access: vfd_runtime::Access::ReadWrite,
-        ram_only: false,
-        writable_while_running: false,
-        panel_only: false,
-    };
-    let decimals = info.decimals();
+    let decimals = vfd_runtime::units::decimals_of(scale);
     let (raw_min, raw_max, min_bound, max_bound) = ranges::raw_range(model, register);
     let value_kind = if let Some(bitfield) = &register.bitfield {
         ValueKind::Bitfield(type_name(bitfield))

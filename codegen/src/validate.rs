@@ -365,13 +365,7 @@ pub fn ranges_resolve(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
 
 /// Decimal places a scale implies (0.01 -> 2).
 fn decimals(scale: f64) -> usize {
-    let mut decimals = 0;
-    let mut step = scale;
-    while decimals < 6 && (step - step.round()).abs() > 1e-9 {
-        step *= 10.0;
-        decimals += 1;
-    }
-    decimals
+    usize::from(vfd_runtime::units::decimals_of(scale))
 }
 
 /// `12.50 Hz` for a raw count of a register, without float noise.

@@ -84,13 +84,7 @@ impl RegisterInfo {
 
     /// Decimal places implied by the scale (0.01 -> 2).
     pub fn decimals(&self) -> u8 {
-        let mut decimals = 0u8;
-        let mut step = self.scale;
-        while decimals < 6 && (step - step.round()).abs() > 1e-9 {
-            step *= 10.0;
-            decimals += 1;
-        }
-        decimals
+        crate::units::decimals_of(self.scale)
     }
 
     /// Explains run-time bounds named after other registers, for error messages.

@@ -76,6 +76,17 @@ impl Unit {
     }
 }
 
+/// Decimal places a scale implies: 0.01 gives 2, 1 gives 0 (at most 6).
+pub fn decimals_of(scale: f64) -> u8 {
+    let mut decimals = 0u8;
+    let mut step = scale;
+    while decimals < 6 && (step - step.round()).abs() > 1e-9 {
+        step *= 10.0;
+        decimals += 1;
+    }
+    decimals
+}
+
 /// Converts an engineering value to the raw word, checking finiteness and the register's range.
 pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u16, ValueError> {
     if !value.is_finite() {
