@@ -3,9 +3,11 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use vfd_runtime::protocol::DecodedRequest;
+use vfd_runtime::protocol::code_label;
 use vfd_runtime::units::{raw_to_scaled, scaled_to_raw};
-use vfd_runtime::{Access, CommandKind, DriveInfo, Protocol, RegisterInfo, Reply, Request};
+use vfd_runtime::{
+    Access, CommandKind, DataType, DriveInfo, Protocol, RegisterInfo, Reply, Request, Space,
+};
 
 const USAGE: &str = "\
 vfd: tools for RS-485 frequency inverters described in drives/*.yaml
@@ -220,7 +222,7 @@ fn parse_number(text: &str) -> Option<f64> {
 }
 
 /// Parses `60`, `60Hz`, `60 Hz` or `0xC400` for `register`, refusing another unit.
-fn parse_value(register: &'static RegisterInfo, text: &str) -> Result<u16, String> {
+fn parse_value(register: &'static RegisterInfo, text: &str) -> Result<u32, String> {
     let unit = register.unit_symbol();
     let trimmed = text.trim();
     let number = if !unit.is_empty() && trimmed.ends_with(unit) {
@@ -268,10 +270,12 @@ fn encode(drive: &'static DriveInfo, protocol: &str, args: &[&str]) -> Result<()
     let request = match words.as_slice() {
         ["read", name] => {
             let register = find_register(drive, name)?;
-            Request {
-                info: Some(register),
-                ..Request::raw(CommandKind::Read, register.address, 0)
-            }
+            let kind = if register.data_type == DataType::Text {
+                CommandKind::ReadText
+            } else {
+                CommandKind::Read
+            };
+            Request::for_register(kind, register, 0)
         }
         [verb @ ("write-ram" | "write-persistent"), name, value] => {
             let register = find_register(drive, name)?;
@@ -287,10 +291,7 @@ fn encode(drive: &'static DriveInfo, protocol: &str, args: &[&str]) -> Result<()
                 return Err(format!("{} is RAM-only: use write-ram", register.label()));
             }
             let data = parse_value(register, value)?;
-            Request {
-                info: Some(register),
-                ..Request::raw(kind, register.address, data)
-            }
+            Request::for_register(kind, register, data)
         }
         _ => {
             return Err(format!(
@@ -337,9 +338,21 @@ fn parse_frame(text: &str) -> Vec<u8> {
     text.replace("\\r", "\r").replace("\\n", "\n").into_bytes()
 }
 
-fn describe_value(drive: &DriveInfo, register: u16, data: u16) -> String {
-    match drive.registers.iter().find(|r| r.address == register) {
-        Some(info) if !info.unit_symbol().is_empty() => {
+fn describe_value(
+    drive: &DriveInfo,
+    space: Space,
+    register: Option<u16>,
+    wire: Option<u16>,
+    data: u32,
+) -> String {
+    let info = register.and_then(|r| {
+        drive
+            .registers
+            .iter()
+            .find(|info| info.address == r && info.space == space)
+    });
+    match (info, register) {
+        (Some(info), _) if !info.unit_symbol().is_empty() => {
             format!(
                 "{} = {} {}",
                 info.label(),
@@ -347,8 +360,15 @@ fn describe_value(drive: &DriveInfo, register: u16, data: u16) -> String {
                 info.unit_symbol()
             )
         }
-        Some(info) => format!("{} = {data} ({data:04X}h)", info.label()),
-        None => format!("register {register:04X} (not described) = {data:04X}h"),
+        (Some(info), _) => format!("{} = {data} ({data:04X}h)", info.label()),
+        (None, Some(register)) => format!(
+            "{} {register} (not described) = {data} ({data:04X}h)",
+            space.as_str()
+        ),
+        (None, None) => format!(
+            "wire register {:04X}h = {data} ({data:04X}h)",
+            wire.unwrap_or(0)
+        ),
     }
 }
 
@@ -357,64 +377,97 @@ fn decode(drive: &'static DriveInfo, protocol: &str, frame: &str) -> Result<(), 
     let bytes = parse_frame(frame);
     print_frame(&bytes);
     let as_request = protocol.decode_request_exact(&bytes);
-    if let Ok(DecodedRequest {
-        command,
-        address,
-        register,
-        data,
-        ..
-    }) = as_request
-    {
+    if let Ok(request) = &as_request {
+        let command = request.command;
         println!(
             "request: {} ({}){}",
-            command.letter as char,
+            code_label(command.code),
             command.kind.as_str(),
-            address
+            request
+                .address
                 .map(|a| format!(", station {a}"))
                 .unwrap_or_default()
         );
-        if command.kind == CommandKind::Read {
+        if let Some(index) = request.index {
+            println!("  index {index}");
+        }
+        if command.kind.is_write() {
+            println!(
+                "  {}",
+                describe_value(
+                    drive,
+                    command.space,
+                    request.register,
+                    request.wire_register,
+                    request.data
+                )
+            );
+        } else if let Some(register) = request.register {
             let target = drive
                 .registers
                 .iter()
-                .find(|r| r.address == register)
+                .find(|r| r.address == register && r.space == command.space)
                 .map(|r| r.label())
-                .unwrap_or(format!("register {register:04X}"));
+                .unwrap_or(format!("{} {register}", command.space.as_str()));
             println!("  {target}");
-        } else {
-            println!("  {}", describe_value(drive, register, data));
+        }
+        if let Some([control, reference]) = request.process {
+            println!("  control word {control:04X}h, reference {reference:04X}h");
         }
         return Ok(());
     }
     match protocol.decode_reply_exact(None, &bytes) {
         Ok(Reply::Data {
             command,
+            code,
             address,
             tripped,
-            register,
+            wire_register,
+            index,
             data,
+            process,
+            text,
             ..
         }) => {
             println!(
                 "reply: {} ({}){}{}",
-                command.letter as char,
+                code_label(code),
                 command.kind.as_str(),
                 address
                     .map(|a| format!(", station {a}"))
                     .unwrap_or_default(),
                 if tripped { ", drive TRIPPED" } else { "" }
             );
-            println!("  {}", describe_value(drive, register, data));
+            if let Some((start, len)) = text {
+                println!(
+                    "  text {:?}",
+                    String::from_utf8_lossy(&bytes[start..start + len])
+                );
+            } else if command.kind != CommandKind::Process {
+                let register = wire_register.and_then(|w| command.address_map.from_wire(w));
+                if let Some(index) = index {
+                    println!("  index {index}");
+                }
+                println!(
+                    "  {}",
+                    describe_value(drive, command.space, register, wire_register, data)
+                );
+            }
+            if let Some([status, value]) = process {
+                println!("  status word {status:04X}h, output value {value:04X}h");
+            }
             Ok(())
         }
         Ok(Reply::Error {
             code,
+            error,
             info,
             tripped,
             ..
         }) => {
             println!(
-                "error reply: code {code:04X}h{}",
+                "error reply {}: error {error}{}",
+                code_label(code),
                 if tripped { ", drive TRIPPED" } else { "" }
             );
             match info {

@@ -5,8 +5,7 @@ use crate::ir::{BitfieldIr, CodeTableIr, DriveIr, ProtocolIr, RegisterIr, ValueK
 use crate::naming::const_name;
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
-use vfd_runtime::layout::{ChecksumAlgorithm, Format, FrameLayout, Part, Presence, Role};
-use vfd_runtime::CommandKind;
+use vfd_runtime::layout::{FrameLayout, Part, Presence};
 
 /// The header every generated Rust file starts with.
 pub fn header(drive: &DriveIr) -> String {
@@ -192,6 +191,22 @@ fn protocols_module(drive: &DriveIr) -> TokenStream {
     }
 }
 
+/// `::vfd_runtime::<type_path>::<Variant>` for a unit enum value, by its `Debug` name.
+fn variant(type_path: &str, value: impl std::fmt::Debug) -> TokenStream {
+    format!("::vfd_runtime::{type_path}::{value:?}")
+        .parse()
+        .unwrap_or_default()
+}
+
+fn cow_str(text: &str) -> TokenStream {
+    quote!(::std::borrow::Cow::Borrowed(#text))
+}
+
+fn cow_list<T>(items: &[T], each: impl Fn(&T) -> TokenStream) -> TokenStream {
+    let items = items.iter().map(each);
+    quote!(::std::borrow::Cow::Borrowed(&[#(#items),*]))
+}
+
 fn protocol_items(protocol: &ProtocolIr) -> TokenStream {
     let prefix = &protocol.const_name;
     let runtime = &protocol.runtime;
@@ -201,27 +216,37 @@ fn protocol_items(protocol: &ProtocolIr) -> TokenStream {
         let parts_name = format_ident!("{}_{}", prefix, const_name(&layout.name));
         let parts: Vec<TokenStream> = layout.parts.iter().map(part_tokens).collect();
         let count = parts.len();
-        let name = layout.name.as_ref();
+        let name = cow_str(&layout.name);
         if emitted.insert(parts_name.to_string()) {
             items.push(quote! {
                 static #parts_name: [::vfd_runtime::Part; #count] = [#(#parts),*];
             });
         }
         quote! {
-            ::vfd_runtime::FrameLayout {
-                name: ::std::borrow::Cow::Borrowed(#name),
-                parts: ::std::borrow::Cow::Borrowed(&#parts_name),
-            }
+            ::vfd_runtime::FrameLayout { name: #name, parts: ::std::borrow::Cow::Borrowed(&#parts_name) }
         }
     };
     let mut commands = Vec::new();
     for command in runtime.commands.iter() {
-        let letter = Literal::u8_suffixed(command.letter);
-        let kind = kind_tokens(command.kind);
+        let code = command.code;
+        let kind = variant("CommandKind", command.kind);
+        let data_types = cow_list(&command.data_types, |t| variant("DataType", t));
+        let space = variant("Space", command.space);
+        let (multiply, offset) = (command.address_map.multiply, command.address_map.offset);
         let request = layout_expr(&command.request, &mut items);
         let reply = layout_expr(&command.reply, &mut items);
+        let reply_codes = cow_list(&command.reply_codes, |c| quote!(#c));
         commands.push(quote! {
-            ::vfd_runtime::CommandSpec { letter: #letter, kind: #kind, request: #request, reply: #reply }
+            ::vfd_runtime::CommandSpec {
+                code: #code,
+                kind: #kind,
+                data_types: #data_types,
+                space: #space,
+                address_map: ::vfd_runtime::AddressMap { multiply: #multiply, offset: #offset },
+                request: #request,
+                reply: #reply,
+                reply_codes: #reply_codes,
+            }
         });
     }
     let error_reply = match &runtime.error_reply {
@@ -234,16 +259,30 @@ fn protocol_items(protocol: &ProtocolIr) -> TokenStream {
     let commands_name = format_ident!("{}_COMMANDS", prefix);
     let command_count = commands.len();
     let name = ident(prefix);
-    let id = &protocol.id;
-    let title = runtime.name.as_ref();
+    let id = cow_str(&protocol.id);
+    let title = cow_str(&runtime.name);
     let tripped = runtime.lowercase_means_tripped;
     let max = runtime.max_frame_len;
     let (min_address, max_address) = runtime.address_range;
-    let optional: Vec<&str> = runtime
-        .default_optional_parts
-        .iter()
-        .map(|p| p.as_ref())
-        .collect();
+    let optional = cow_list(&runtime.default_optional_parts, |p| cow_str(p));
+    let pre_steps = cow_list(&runtime.pre_steps, |step| match *step {
+        vfd_runtime::PreStep::Index { register } => {
+            quote!(::vfd_runtime::PreStep::Index { register: #register })
+        }
+        vfd_runtime::PreStep::Persistence {
+            space,
+            register,
+            data_type,
+            ram,
+            persistent,
+        } => {
+            let space = variant("Space", space);
+            let data_type = variant("DataType", data_type);
+            quote!(::vfd_runtime::PreStep::Persistence { space: #space, register: #register, data_type: #data_type, ram: #ram, persistent: #persistent })
+        }
+    });
+    let [first, second] = runtime.default_process;
+    let gap = runtime.frame_gap_chars;
     let doc = format!(
         " {} ({}), described in `drives/protocols/{}.yaml`; manual section {}.",
         protocol.name, protocol.name_zh, protocol.uses, protocol.source
@@ -256,24 +295,19 @@ fn protocol_items(protocol: &ProtocolIr) -> TokenStream {
         #[doc = ""]
         #[doc = #description]
         pub static #name: ::vfd_runtime::Protocol = ::vfd_runtime::Protocol {
-            id: ::std::borrow::Cow::Borrowed(#id),
-            name: ::std::borrow::Cow::Borrowed(#title),
+            id: #id,
+            name: #title,
             commands: ::std::borrow::Cow::Borrowed(&#commands_name),
             error_reply: #error_reply,
             lowercase_means_tripped: #tripped,
             max_frame_len: #max,
             address_range: (#min_address, #max_address),
-            default_optional_parts: ::std::borrow::Cow::Borrowed(&[#(::std::borrow::Cow::Borrowed(#optional)),*]),
+            default_optional_parts: #optional,
             error_codes: ::std::borrow::Cow::Borrowed(&ERROR_CODES),
+            pre_steps: #pre_steps,
+            default_process: [#first, #second],
+            frame_gap_chars: #gap,
         };
-    }
-}
-
-fn kind_tokens(kind: CommandKind) -> TokenStream {
-    match kind {
-        CommandKind::Read => quote!(::vfd_runtime::CommandKind::Read),
-        CommandKind::WriteRam => quote!(::vfd_runtime::CommandKind::WriteRam),
-        CommandKind::WritePersistent => quote!(::vfd_runtime::CommandKind::WritePersistent),
     }
 }
 
@@ -284,22 +318,14 @@ fn part_tokens(part: &Part) -> TokenStream {
             bytes,
             optional,
         } => {
-            let name = name.as_ref();
+            let name = cow_str(name);
             let bytes = Literal::byte_string(bytes);
-            quote! {
-                ::vfd_runtime::Part::Literal { name: ::std::borrow::Cow::Borrowed(#name), bytes: ::std::borrow::Cow::Borrowed(#bytes), optional: #optional }
-            }
+            quote!(::vfd_runtime::Part::Literal { name: #name, bytes: ::std::borrow::Cow::Borrowed(#bytes), optional: #optional })
         }
         Part::Field(field) => {
-            let name = field.name.as_ref();
-            let role = match field.role {
-                Role::Address => quote!(Address),
-                Role::Command => quote!(Command),
-                Role::Register => quote!(Register),
-                Role::Data => quote!(Data),
-                Role::ErrorCode => quote!(ErrorCode),
-            };
-            let format = format_tokens(field.format);
+            let name = cow_str(&field.name);
+            let role = variant("Role", field.role);
+            let format = variant("Format", field.format);
             let (width, min_width) = (field.width, field.min_width);
             let optional = match field.optional {
                 None => quote!(None),
@@ -310,34 +336,33 @@ fn part_tokens(part: &Part) -> TokenStream {
                     quote!(Some(::vfd_runtime::Presence::IfByteAtMost(#limit)))
                 }
             };
-            let allowed = field.allowed.iter().map(|v| Literal::u32_suffixed(*v));
+            let allowed = cow_list(&field.allowed, |v| quote!(#v));
             let fold_case = field.fold_case;
+            let sized_by = variant("SizedBy", field.sized_by);
             quote! {
                 ::vfd_runtime::Part::Field(::vfd_runtime::FieldSpec {
-                    name: ::std::borrow::Cow::Borrowed(#name),
-                    role: ::vfd_runtime::Role::#role,
+                    name: #name,
+                    role: #role,
                     format: #format,
                     width: #width,
                     min_width: #min_width,
                     optional: #optional,
-                    allowed: ::std::borrow::Cow::Borrowed(&[#(#allowed),*]),
+                    allowed: #allowed,
                     fold_case: #fold_case,
+                    sized_by: #sized_by,
                 })
             }
         }
         Part::Checksum(spec) => {
-            let name = spec.name.as_ref();
-            let algorithm = match spec.algorithm {
-                ChecksumAlgorithm::Sum8 => quote!(Sum8),
-                ChecksumAlgorithm::Xor8 => quote!(Xor8),
-            };
-            let format = format_tokens(spec.format);
+            let name = cow_str(&spec.name);
+            let algorithm = variant("ChecksumAlgorithm", spec.algorithm);
+            let format = variant("Format", spec.format);
             let marker = Literal::byte_string(&spec.marker);
             let (covers_from, optional) = (spec.covers_from, spec.optional);
             quote! {
                 ::vfd_runtime::Part::Checksum(::vfd_runtime::ChecksumSpec {
-                    name: ::std::borrow::Cow::Borrowed(#name),
-                    algorithm: ::vfd_runtime::ChecksumAlgorithm::#algorithm,
+                    name: #name,
+                    algorithm: #algorithm,
                     format: #format,
                     marker: ::std::borrow::Cow::Borrowed(#marker),
                     covers_from: #covers_from,
@@ -345,17 +370,30 @@ fn part_tokens(part: &Part) -> TokenStream {
                 })
             }
         }
-    }
-}
-
-fn format_tokens(format: Format) -> TokenStream {
-    match format {
-        Format::Decimal => quote!(::vfd_runtime::Format::Decimal),
-        Format::Hex => quote!(::vfd_runtime::Format::Hex),
-        Format::Char => quote!(::vfd_runtime::Format::Char),
-        Format::U8 => quote!(::vfd_runtime::Format::U8),
-        Format::U16Be => quote!(::vfd_runtime::Format::U16Be),
-        Format::U16Le => quote!(::vfd_runtime::Format::U16Le),
+        Part::Word(word) => {
+            let name = cow_str(&word.name);
+            let format = variant("Format", word.format);
+            let fields = cow_list(&word.fields, |bits| {
+                let name = cow_str(&bits.name);
+                let role = variant("Role", bits.role);
+                let (lsb, width) = (bits.lsb, bits.width);
+                let allowed = cow_list(&bits.allowed, |v| quote!(#v));
+                quote!(::vfd_runtime::BitsSpec { name: #name, role: #role, lsb: #lsb, width: #width, allowed: #allowed })
+            });
+            quote!(::vfd_runtime::Part::Word(::vfd_runtime::WordSpec { name: #name, format: #format, fields: #fields }))
+        }
+        Part::Length(length) => {
+            let name = cow_str(&length.name);
+            let format = variant("Format", length.format);
+            let counts = match length.counts {
+                vfd_runtime::Counts::Parts { from, through } => {
+                    quote!(::vfd_runtime::Counts::Parts { from: #from, through: #through })
+                }
+                vfd_runtime::Counts::DataSize => quote!(::vfd_runtime::Counts::DataSize),
+            };
+            let (times, per) = (length.times, length.per);
+            quote!(::vfd_runtime::Part::Length(::vfd_runtime::LengthSpec { name: #name, format: #format, counts: #counts, times: #times, per: #per }))
+        }
     }
 }
 
@@ -377,6 +415,9 @@ pub fn value_type(kind: &ValueKind) -> TokenStream {
         ValueKind::Raw => quote!(u16),
         ValueKind::RawSigned => quote!(i16),
         ValueKind::Scaled => quote!(f64),
+        ValueKind::RawDouble => quote!(u32),
+        ValueKind::RawSignedDouble => quote!(i32),
+        ValueKind::Text => quote!(::std::string::String),
     }
 }
 
@@ -446,7 +487,25 @@ fn registers_module(drive: &DriveIr) -> TokenStream {
         let unit = ident(&register.unit_variant);
         let scale = f64_literal(register.scale);
         let signed = register.signed;
-        let (raw_min, raw_max) = (register.raw_min as i32, register.raw_max as i32);
+        let (raw_min, raw_max) = (register.raw_min, register.raw_max);
+        let data_type = variant(
+            "DataType",
+            match register.data_type.as_str() {
+                "double_word" => vfd_runtime::DataType::DoubleWord,
+                "bit" => vfd_runtime::DataType::Bit,
+                "text" => vfd_runtime::DataType::Text,
+                _ => vfd_runtime::DataType::Word,
+            },
+        );
+        let space = variant(
+            "Space",
+            if register.space == "coil" {
+                vfd_runtime::Space::Coil
+            } else {
+                vfd_runtime::Space::Parameter
+            },
+        );
+        let array_len = register.array_len;
         let bound = |b: &Option<String>| match b {
             Some(name) => quote!(Some(#name)),
             None => quote!(None),
@@ -470,7 +529,30 @@ fn registers_module(drive: &DriveIr) -> TokenStream {
                 ::vfd_runtime::Request::read::<Self>()
             }
         }];
+        if register.array_len > 0 {
+            let len = register.array_len;
+            let doc = format!(
+                " A request reading element `index` (0 to {}) of this array parameter.",
+                len - 1
+            );
+            methods.push(quote! {
+                /// Number of array elements.
+                pub const ARRAY_LEN: u8 = #len;
+                #[doc = #doc]
+                pub fn read_at(index: u16) -> ::core::result::Result<::vfd_runtime::Request, ::vfd_runtime::ValueError> {
+                    ::vfd_runtime::Request::read::<Self>().at_index(index)
+                }
+            });
+        }
         let mut marker_impls = Vec::new();
+        if register.writable && register.array_len > 0 {
+            methods.push(quote! {
+                /// A request writing `value` to element `index` of this array parameter, in RAM only.
+                pub fn write_ram_at(index: u16, value: #value) -> ::core::result::Result<::vfd_runtime::Request, ::vfd_runtime::ValueError> {
+                    ::vfd_runtime::Request::write_ram::<Self>(value)?.at_index(index)
+                }
+            });
+        }
         if register.writable {
             methods.push(quote! {
                 /// A request writing `value` to RAM only (lost at power-off). Refuses values outside the range.
@@ -517,6 +599,9 @@ fn registers_module(drive: &DriveIr) -> TokenStream {
                     ram_only: #ram_only,
                     writable_while_running: #while_running,
                     panel_only: #panel_only,
+                    data_type: #data_type,
+                    space: #space,
+                    array_len: #array_len,
                 };
                 type Value = #value;
             }
@@ -670,11 +755,12 @@ fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
         }
 
         impl ::vfd_runtime::RegisterValue for #name {
-            fn to_raw(&self, _info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<u16, ::vfd_runtime::ValueError> {
-                Ok(self.0)
+            fn to_raw(&self, _info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<u32, ::vfd_runtime::ValueError> {
+                Ok(u32::from(self.0))
             }
-            fn from_raw(raw: u16, _info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<Self, ::vfd_runtime::ValueError> {
-                Ok(Self(raw))
+            /// Keeps the low 16 bits (bit-field words are one word wide).
+            fn from_raw(raw: u32, _info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<Self, ::vfd_runtime::ValueError> {
+                Ok(Self(raw as u16))
             }
         }
 
@@ -778,11 +864,14 @@ fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
     let register_value = table.exhaustive.then(|| {
         quote! {
             impl ::vfd_runtime::RegisterValue for #name {
-                fn to_raw(&self, info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<u16, ::vfd_runtime::ValueError> {
+                fn to_raw(&self, info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<u32, ::vfd_runtime::ValueError> {
                     ::vfd_runtime::units::scaled_to_raw(f64::from(self.code()), info)
                 }
-                fn from_raw(raw: u16, info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<Self, ::vfd_runtime::ValueError> {
-                    Self::from_code(raw).ok_or(::vfd_runtime::ValueError::UnknownCode { register: info, table: #id, raw })
+                fn from_raw(raw: u32, info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<Self, ::vfd_runtime::ValueError> {
+                    u16::try_from(raw)
+                        .ok()
+                        .and_then(Self::from_code)
+                        .ok_or(::vfd_runtime::ValueError::UnknownCode { register: info, table: #id, raw })
                 }
             }
         }

@@ -90,6 +90,9 @@ fn value_type_at(kind: &ValueKind, root: &syn::Path) -> TokenStream {
         ValueKind::Raw => quote!(u16),
         ValueKind::RawSigned => quote!(i16),
         ValueKind::Scaled => quote!(f64),
+        ValueKind::RawDouble => quote!(u32),
+        ValueKind::RawSignedDouble => quote!(i32),
+        ValueKind::Text => quote!(::std::string::String),
     }
 }
 
@@ -106,33 +109,62 @@ fn construct_value(kind: &ValueKind, value: f64, ty: &TokenStream) -> TokenStrea
             let v = Literal::i16_unsuffixed(value as i16);
             quote!(#v)
         }
+        ValueKind::RawDouble => {
+            let v = Literal::u32_unsuffixed(value as u32);
+            quote!(#v)
+        }
+        ValueKind::RawSignedDouble => {
+            let v = Literal::i32_unsuffixed(value as i32);
+            quote!(#v)
+        }
+        ValueKind::Text => quote!(::std::string::String::new()),
         ValueKind::CodeTable(_) | ValueKind::Bitfield(_) => {
-            let v = Literal::u16_unsuffixed(value as u16);
+            let v = Literal::u32_unsuffixed(value as u32);
             quote!(<#ty as ::vfd_runtime::RegisterValue>::from_raw(#v, R::INFO).unwrap())
         }
     }
 }
 
 fn expect_tokens(expect: &ExpectIr) -> TokenStream {
-    let option_u8 = |v: Option<u8>| match v {
-        Some(v) => quote!(Some(#v)),
-        None => quote!(None),
-    };
-    let option_u16 = |v: Option<u32>| match v {
-        Some(v) => {
-            let v = v as u16;
-            quote!(Some(#v))
+    fn option<T: quote::ToTokens>(value: Option<T>) -> TokenStream {
+        match value {
+            Some(value) => quote!(Some(#value)),
+            None => quote!(None),
+        }
+    }
+    let address = option(expect.address);
+    let code = option(expect.code);
+    let register = option(expect.register.map(|r| r as u16));
+    let wire_register = option(if expect.register.is_none() {
+        expect.wire_register.map(|r| r as u16)
+    } else {
+        None
+    });
+    let index = option(expect.index.map(|i| i as u16));
+    let data = option(expect.data);
+    let error_code = option(expect.error_code.map(|e| e as u16));
+    let process = match expect.process {
+        Some([first, second]) => {
+            let (first, second) = (first as u16, second as u16);
+            quote!(Some([#first, #second]))
         }
         None => quote!(None),
     };
-    let address = option_u8(expect.address);
-    let command = option_u8(expect.command.as_ref().and_then(|c| c.bytes().next()));
-    let register = option_u16(expect.register);
-    let data = option_u16(expect.data);
-    let error_code = option_u16(expect.error_code);
+    let text = option(expect.text.as_deref());
     let tripped = expect.tripped;
     quote! {
-        ::vfd_tests::golden::Expect { address: #address, command: #command, register: #register, data: #data, error_code: #error_code, tripped: #tripped }
+        ::vfd_tests::golden::Expect {
+            address: #address,
+            code: #code,
+            register: #register,
+            wire_register: #wire_register,
+            index: #index,
+            data: #data,
+            error_code: #error_code,
+            process: #process,
+            text: #text,
+            tripped: #tripped,
+        }
     }
 }
 
@@ -157,13 +189,8 @@ fn frame_checks(protocol: &TokenStream, frame: &FrameIr, request: bool) -> Token
         let bytes = bytes_tokens(&printed.bytes);
         let reason = &printed.rejected_as;
         let direction = if request { quote!(Request) } else { quote!(Reply) };
-        let command = frame.expect.command.as_ref().and_then(|c| c.bytes().next());
-        let command = match command {
-            Some(c) => quote!(Some(#c)),
-            None => quote!(None),
-        };
         quote! {
-            ::vfd_tests::golden::printed_is_rejected(#protocol, ::vfd_tests::golden::Direction::#direction, #command, #bytes, #reason);
+            ::vfd_tests::golden::printed_is_rejected(#protocol, ::vfd_tests::golden::Direction::#direction, #bytes, #reason);
         }
     });
     quote! { #check #printed }
@@ -189,9 +216,9 @@ fn example_test(root: &syn::Path, example: &ExampleIr) -> TokenStream {
         let data = example
             .reply
             .as_ref()
-            .or(example.request.as_ref())
             .and_then(|f| f.expect.data)
-            .unwrap_or(0) as u16;
+            .or(example.request.as_ref().and_then(|f| f.expect.data))
+            .unwrap_or(0);
         body.push(quote! {
             {
                 use ::vfd_runtime::{Register, RegisterValue};
@@ -214,10 +241,18 @@ fn example_test(root: &syn::Path, example: &ExampleIr) -> TokenStream {
                 }),
                 _ => None,
             };
+            let at_index = match request.expect.index {
+                Some(index) if index > 0 || example.register_array => {
+                    let index = index as u16;
+                    quote!(let request = request.at_index(#index).expect("the manual's index is within the array");)
+                }
+                _ => quote!(),
+            };
             if let Some(build) = build {
                 body.push(quote! {
                     {
                         #build
+                        #at_index
                         ::vfd_tests::golden::typed_request_encodes(#protocol, &request, #bytes);
                     }
                 });

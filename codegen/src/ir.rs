@@ -101,8 +101,12 @@ pub struct PartIr {
 
 #[derive(Debug, Clone, Serialize)]
 pub struct CommandIr {
-    pub letter: String,
+    pub code: String,
     pub kind: String,
+    pub data_types: String,
+    pub space: String,
+    pub address_map: String,
+    pub reply_codes: String,
     pub request: String,
     pub reply: String,
 }
@@ -204,6 +208,12 @@ pub enum ValueKind {
     RawSigned,
     /// A plain number with a scale other than 1.
     Scaled,
+    /// A plain unsigned double word.
+    RawDouble,
+    /// A plain signed double word.
+    RawSignedDouble,
+    /// Text.
+    Text,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -235,6 +245,9 @@ pub struct RegisterIr {
     pub writable_while_running: bool,
     pub panel_only: bool,
     pub takes_effect: String,
+    pub data_type: String,
+    pub space: String,
+    pub array_len: u8,
     pub value_kind: ValueKind,
     pub value_type_display: String,
     pub source: String,
@@ -246,7 +259,7 @@ pub struct ValueExampleIr {
     pub register_type: String,
     pub value: f64,
     pub value_display: String,
-    pub raw: u16,
+    pub raw: u32,
     pub raw_hex: String,
     pub source: String,
     pub description: String,
@@ -279,6 +292,7 @@ pub struct ExampleIr {
     pub value_kind: Option<ValueKind>,
     pub register_writable: bool,
     pub register_persistable: bool,
+    pub register_array: bool,
 }
 
 #[derive(Debug, Clone, Serialize)]
@@ -295,11 +309,17 @@ pub struct FrameIr {
 #[derive(Debug, Clone, Serialize)]
 pub struct ExpectIr {
     pub address: Option<u8>,
-    pub command: Option<String>,
+    /// Command code as received.
+    pub code: Option<u32>,
     pub command_kind: Option<String>,
+    pub space: Option<String>,
     pub register: Option<u32>,
+    pub wire_register: Option<u32>,
+    pub index: Option<u32>,
     pub data: Option<u32>,
     pub error_code: Option<u32>,
+    pub process: Option<[u32; 2]>,
+    pub text: Option<String>,
     pub tripped: bool,
 }
 
@@ -463,7 +483,7 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
                 )
                 .trim()
                 .to_owned(),
-                raw: example.raw as u16,
+                raw: example.raw,
                 raw_hex: format!("{:04X}h", example.raw),
                 source: example.source.clone(),
                 description: example.description.clone(),
@@ -481,12 +501,9 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
                     .as_ref()
                     .and_then(|f| protocol.map(|p| lower_frame(p, direction, f)))
             };
-            let register = example
-                .reply
-                .as_ref()
-                .or(example.request.as_ref())
-                .and_then(|f| f.expect.register)
-                .and_then(|address| registers.iter().find(|r| u32::from(r.address) == address));
+            let register = protocol
+                .and_then(|p| example_register(drive, p, example))
+                .and_then(|found| registers.iter().find(|r| r.id == found.id));
             ExampleIr {
                 id: example.id.clone(),
                 protocol: example.protocol.clone(),
@@ -510,6 +527,7 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
                 value_kind: register.map(|r| r.value_kind.clone()),
                 register_writable: register.is_some_and(|r| r.writable),
                 register_persistable: register.is_some_and(|r| r.writable && !r.ram_only),
+                register_array: register.is_some_and(|r| r.array_len > 0),
             }
         })
         .collect();
@@ -600,12 +618,20 @@ fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
         }
     } else if let Some(name) = unit.quantity_type() {
         ValueKind::Quantity(name.to_owned())
+    } else if register.data_type.as_deref() == Some("text") {
+        ValueKind::Text
     } else if (scale - 1.0).abs() > f64::EPSILON {
         ValueKind::Scaled
-    } else if register.signed {
-        ValueKind::RawSigned
     } else {
-        ValueKind::Raw
+        match (
+            register.signed,
+            register.data_type.as_deref() == Some("double_word"),
+        ) {
+            (true, true) => ValueKind::RawSignedDouble,
+            (false, true) => ValueKind::RawDouble,
+            (true, false) => ValueKind::RawSigned,
+            (false, false) => ValueKind::Raw,
+        }
     };
     let show = |raw: i64| format!("{:.*}", usize::from(decimals), raw as f64 * scale);
     let range_display = match &register.range {
@@ -632,6 +658,9 @@ fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
         ValueKind::Raw => "`u16`".to_owned(),
         ValueKind::RawSigned => "`i16`".to_owned(),
         ValueKind::Scaled => "`f64`".to_owned(),
+        ValueKind::RawDouble => "`u32`".to_owned(),
+        ValueKind::RawSignedDouble => "`i32`".to_owned(),
+        ValueKind::Text => "`String`".to_owned(),
     };
     RegisterIr {
         address: register.address as u16,
@@ -658,7 +687,7 @@ fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
             .default
             .map(|d| format!("{d:.*}", usize::from(decimals)))
             .unwrap_or_else(|| "—".to_owned()),
-        writable: access != "read-only",
+        writable: access != "read-only" && register.data_type.as_deref() != Some("text"),
         access,
         ram_only: register.ram_only,
         writable_while_running: register.writable_while_running,
@@ -667,6 +696,15 @@ fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
             .takes_effect
             .clone()
             .unwrap_or_else(|| "immediately".to_owned()),
+        data_type: register
+            .data_type
+            .clone()
+            .unwrap_or_else(|| "word".to_owned()),
+        space: register
+            .space
+            .clone()
+            .unwrap_or_else(|| "parameter".to_owned()),
+        array_len: register.array.unwrap_or(0),
         value_kind,
         value_type_display,
         source: register.source.clone(),
@@ -713,7 +751,36 @@ fn lower_protocol(protocol: &LoadedProtocol) -> ProtocolIr {
             .commands
             .iter()
             .map(|c| CommandIr {
-                letter: (c.letter as char).to_string(),
+                code: if c.request.has(vfd_runtime::Role::Command) {
+                    c.code_label()
+                } else {
+                    "—".to_owned()
+                },
+                data_types: if c.data_types.is_empty() {
+                    "any".to_owned()
+                } else {
+                    c.data_types
+                        .iter()
+                        .map(|t| t.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
+                space: c.space.as_str().to_owned(),
+                address_map: match (c.address_map.multiply, c.address_map.offset) {
+                    (1, 0) => "as is".to_owned(),
+                    (1, offset) => format!("number {offset:+}"),
+                    (multiply, 0) => format!("number × {multiply}"),
+                    (multiply, offset) => format!("number × {multiply} {offset:+}"),
+                },
+                reply_codes: if c.reply_codes.is_empty() {
+                    "same".to_owned()
+                } else {
+                    c.reply_codes
+                        .iter()
+                        .map(|r| vfd_runtime::protocol::code_label(*r))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
                 kind: c.kind.as_str().to_owned(),
                 request: c.request.name.to_string(),
                 reply: c.reply.name.to_string(),
@@ -747,10 +814,12 @@ fn lower_part(part: &Part, parts: &[Part]) -> PartIr {
             notes: String::new(),
         },
         Part::Field(field) => {
-            let size = match field.format.fixed_len() {
-                Some(len) => len.to_string(),
-                None if field.min_width == field.width => field.width.to_string(),
-                None => format!("{}–{}", field.min_width, field.width),
+            let size = match (field.format.fixed_len(), field.sized_by) {
+                (Some(len), _) => len.to_string(),
+                (None, vfd_runtime::SizedBy::Rest) => "rest of the frame".into(),
+                (None, vfd_runtime::SizedBy::Length) => "given by its length".into(),
+                (None, _) if field.min_width == field.width => field.width.to_string(),
+                (None, _) => format!("{}–{}", field.min_width, field.width),
             };
             let allowed: Vec<String> = field
                 .allowed
@@ -786,6 +855,65 @@ fn lower_part(part: &Part, parts: &[Part]) -> PartIr {
                 notes: notes.join("; "),
             }
         }
+        Part::Word(word) => PartIr {
+            name: word.name.to_string(),
+            kind: "bit-field word".into(),
+            encoding: describe_format(word.format),
+            size: word.format.fixed_len().unwrap_or(0).to_string(),
+            optional: String::new(),
+            notes: word
+                .fields
+                .iter()
+                .map(|bits| {
+                    let span = if bits.width == 1 {
+                        format!("bit {}", bits.lsb)
+                    } else {
+                        format!("bits {}:{}", bits.lsb + bits.width - 1, bits.lsb)
+                    };
+                    let allowed: Vec<String> =
+                        bits.allowed.iter().map(|v| format!("{v:X}h")).collect();
+                    let allowed = if allowed.is_empty() {
+                        String::new()
+                    } else {
+                        format!(", one of {}", allowed.join(", "))
+                    };
+                    format!("{span}: {} ({}){allowed}", bits.name, bits.role.as_str())
+                })
+                .collect::<Vec<_>>()
+                .join("; "),
+        },
+        Part::Length(length) => PartIr {
+            name: length.name.to_string(),
+            kind: "length".into(),
+            encoding: describe_format(length.format),
+            size: length.format.fixed_len().unwrap_or(0).to_string(),
+            optional: String::new(),
+            notes: {
+                let counted = match length.counts {
+                    vfd_runtime::Counts::Parts { from, through } if from == through => {
+                        format!(
+                            "bytes of `{}`",
+                            parts.get(usize::from(from)).map(|p| p.name()).unwrap_or("")
+                        )
+                    }
+                    vfd_runtime::Counts::Parts { from, through } => format!(
+                        "bytes from `{}` through `{}`",
+                        parts.get(usize::from(from)).map(|p| p.name()).unwrap_or(""),
+                        parts
+                            .get(usize::from(through))
+                            .map(|p| p.name())
+                            .unwrap_or("")
+                    ),
+                    vfd_runtime::Counts::DataSize => "bytes of the requested data".to_owned(),
+                };
+                match (length.times, length.per) {
+                    (1, 1) => format!("computed: {counted}"),
+                    (times, 1) => format!("computed: {counted} × {times}"),
+                    (1, per) => format!("computed: {counted} ÷ {per}"),
+                    (times, per) => format!("computed: {counted} × {times} ÷ {per}"),
+                }
+            },
+        },
         Part::Checksum(spec) => PartIr {
             name: spec.name.to_string(),
             kind: format!("checksum ({})", spec.algorithm.as_str()),
@@ -824,6 +952,11 @@ fn describe_format(format: Format) -> String {
         Format::U8 => "byte".into(),
         Format::U16Be => "16-bit word, high byte first".into(),
         Format::U16Le => "16-bit word, low byte first".into(),
+        Format::U32Be => "32-bit double word, high byte first".into(),
+        Format::U32Le => "32-bit double word, low byte first".into(),
+        Format::UintBe => "unsigned integer, high byte first".into(),
+        Format::UintLe => "unsigned integer, low byte first (byte-swapped)".into(),
+        Format::Bytes => "raw bytes (text)".into(),
     }
 }
 
@@ -842,40 +975,85 @@ pub fn shown_bytes(bytes: &[u8]) -> String {
     }
 }
 
+/// The described register an example's data belongs to (reply first, then request).
+fn example_register<'d>(
+    drive: &'d LoadedDrive,
+    protocol: &LoadedProtocol,
+    example: &crate::model::ExampleModel,
+) -> Option<&'d RegisterModel> {
+    [
+        (Direction::Reply, &example.reply),
+        (Direction::Request, &example.request),
+    ]
+    .into_iter()
+    .find_map(|(direction, frame)| {
+        let frame = frame.as_ref()?;
+        let bytes = validate::frame_bytes(&frame.ascii, &frame.hex).ok()?;
+        let decoded = validate::decode_frame(protocol, direction, &bytes).ok()?;
+        validate::register_of(drive, &decoded)
+    })
+}
+
 fn lower_frame(protocol: &LoadedProtocol, direction: Direction, frame: &FrameModel) -> FrameIr {
     let bytes = validate::frame_bytes(&frame.ascii, &frame.hex).unwrap_or_default();
-    let kind = validate::expected_kind(protocol, frame.expect.command.as_deref());
-    let text = frame.ascii.is_some();
-    let expect = &frame.expect;
-    let meaning = match (expect.error_code, &expect.command) {
-        (Some(code), _) => {
+    let decoded = validate::decode_frame(protocol, direction, &bytes).unwrap_or_default();
+    let label = |code: u32| vfd_runtime::protocol::code_label(code);
+    let meaning = match decoded.error_code {
+        Some(code) => {
             let entry = protocol.runtime.error_code(code as u16);
             format!(
-                "error reply {code:04X}h{}",
+                "error reply{}: error {code}{}",
+                decoded
+                    .command
+                    .map(|c| format!(" `{}`", label(c)))
+                    .unwrap_or_default(),
                 entry
-                    .map(|e| format!(": {} ({})", e.name, e.name_zh))
+                    .map(|e| format!(" {} ({})", e.name, e.name_zh))
                     .unwrap_or_default()
             )
         }
-        (None, Some(letter)) => {
-            let what = kind.map(|k| k.as_str()).unwrap_or("?");
-            let mut parts = vec![format!("`{letter}` ({what})")];
-            if let Some(address) = expect.address {
+        None => {
+            let mut parts = Vec::new();
+            let kind = decoded.kind.map(|k| k.as_str()).unwrap_or("?");
+            match decoded.command {
+                Some(code) => parts.push(format!("`{}` ({kind})", label(code))),
+                None => parts.push(kind.to_owned()),
+            }
+            if let Some(address) = decoded.address {
                 parts.push(format!("station {address}"));
             }
-            if let Some(register) = expect.register {
-                parts.push(format!("register {register:04X}"));
+            match (decoded.register, decoded.wire_register, decoded.space) {
+                (Some(register), _, Some(vfd_runtime::Space::Coil)) => {
+                    parts.push(format!("coil {register}"))
+                }
+                (Some(register), Some(wire), _) if u32::from(register as u16) != wire => {
+                    parts.push(format!("register {register} (wire {wire:04X}h)"))
+                }
+                (Some(register), _, _) => parts.push(format!("register {register:04X}")),
+                (None, Some(wire), _) => parts.push(format!("wire register {wire:04X}h")),
+                _ => {}
             }
-            if let Some(data) = expect.data {
+            if let Some(index) = decoded.index {
+                parts.push(format!("index {index}"));
+            }
+            if let Some(data) = decoded.data {
                 parts.push(format!("data {data:04X}h"));
+            }
+            if let Some([first, second]) = decoded.process {
+                parts.push(format!("process words {first:04X}h {second:04X}h"));
+            }
+            if let Some(text) = &decoded.text {
+                parts.push(format!("text {text:?}"));
+            }
+            if decoded.tripped {
+                parts.push("drive tripped".to_owned());
             }
             parts.join(", ")
         }
-        (None, None) => String::new(),
     };
     let printed = frame.printed.as_ref().map(|printed| {
         let printed_bytes = validate::frame_bytes(&printed.ascii, &printed.hex).unwrap_or_default();
-        let rejection = validate::decode_frame(protocol, direction, kind, &printed_bytes)
+        let rejection = validate::decode_frame(protocol, direction, &printed_bytes)
             .err()
             .map(|e| e.to_string())
             .unwrap_or_default();
@@ -891,16 +1069,21 @@ fn lower_frame(protocol: &LoadedProtocol, direction: Direction, frame: &FrameMod
     FrameIr {
         shown: shown_bytes(&bytes),
         hex: vfd_runtime::error::hex(&bytes),
-        text,
+        text: frame.ascii.is_some(),
         bytes,
         expect: ExpectIr {
-            address: expect.address,
-            command: expect.command.clone(),
-            command_kind: kind.map(|k| k.as_str().to_owned()),
-            register: expect.register,
-            data: expect.data,
-            error_code: expect.error_code,
-            tripped: expect.tripped,
+            address: decoded.address,
+            code: decoded.command,
+            command_kind: decoded.kind.map(|k| k.as_str().to_owned()),
+            space: decoded.space.map(|s| s.as_str().to_owned()),
+            register: decoded.register,
+            wire_register: decoded.wire_register,
+            index: decoded.index,
+            data: decoded.data,
+            error_code: decoded.error_code,
+            process: decoded.process,
+            text: decoded.text,
+            tripped: decoded.tripped,
         },
         meaning,
         printed,

@@ -46,6 +46,8 @@ pub struct DriveMeta {
 #[serde(deny_unknown_fields)]
 pub struct SerialModel {
     pub source: String,
+    #[serde(default)]
+    pub note: String,
     pub baud_rates: Vec<u32>,
     pub parities: Vec<String>,
     pub data_bits: u8,
@@ -236,6 +238,12 @@ pub struct RegisterModel {
     pub takes_effect: Option<String>,
     pub bitfield: Option<String>,
     pub code_table: Option<String>,
+    /// `word` (default), `double_word`, `bit` or `text`.
+    pub data_type: Option<String>,
+    /// `parameter` (default) or `coil`.
+    pub space: Option<String>,
+    /// Number of elements of an array (indexed) parameter.
+    pub array: Option<u8>,
     pub source: String,
     #[serde(default)]
     pub note: String,
@@ -299,10 +307,18 @@ pub struct FrameModel {
 #[serde(deny_unknown_fields)]
 pub struct ExpectModel {
     pub address: Option<u8>,
-    pub command: Option<String>,
+    pub command: Option<CodeModel>,
+    /// Register number as the drive file numbers it (before the protocol's address map).
     pub register: Option<u32>,
+    /// Register number on the wire, for frames addressing no described register (the FC
+    /// Modbus index register 0008h).
+    pub wire_register: Option<u32>,
+    pub index: Option<u32>,
     pub data: Option<u32>,
     pub error_code: Option<u32>,
+    /// Process words (control word and reference, or status word and output value).
+    pub process: Option<[u32; 2]>,
+    pub text: Option<String>,
     #[serde(default)]
     pub tripped: bool,
 }
@@ -334,6 +350,14 @@ pub struct ProtocolMeta {
     pub lowercase_means_tripped: bool,
     #[serde(default)]
     pub default_optional_parts: Vec<String>,
+    /// Steps some requests need first.
+    #[serde(default)]
+    pub pre_steps: Vec<PreStepModel>,
+    /// Process words sent when the caller gives none.
+    pub default_process: Option<[u16; 2]>,
+    /// Silence between frames in character times.
+    #[serde(default)]
+    pub frame_gap_chars: f32,
 }
 
 /// A layout entry: the name of a shared part, or a part written in place.
@@ -341,7 +365,7 @@ pub struct ProtocolMeta {
 #[serde(untagged)]
 pub enum PartRefModel {
     Named(String),
-    Inline(PartModel),
+    Inline(Box<PartModel>),
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -351,16 +375,79 @@ pub struct PartModel {
     pub literal_hex: Option<String>,
     pub field: Option<String>,
     pub checksum: Option<String>,
+    /// A word made of bit fields: its format (`u16be`).
+    pub word: Option<String>,
+    /// A computed length: its format (`u8`).
+    pub length: Option<String>,
+    /// Name for error messages and docs (defaults to the role or the part's key).
+    pub name: Option<String>,
     pub format: Option<String>,
     pub width: Option<u8>,
     pub min_width: Option<u8>,
+    /// `rest` (up to the fixed parts before the frame end) or `length` (a length part covers it).
+    pub size: Option<String>,
     pub optional: Option<OptionalModel>,
     #[serde(default)]
-    pub allowed: Vec<String>,
+    pub allowed: Vec<CodeModel>,
     #[serde(default)]
     pub fold_case: bool,
     pub marker: Option<String>,
     pub covers_from: Option<String>,
+    /// Bit fields of a `word`.
+    #[serde(default)]
+    pub fields: Vec<BitsModel>,
+    /// What a `length` counts.
+    pub counts: Option<CountsModel>,
+    pub times: Option<u8>,
+    pub per: Option<u8>,
+}
+
+/// A command code or allowed value: one character (`R`) or a number (`0x03`).
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum CodeModel {
+    Number(u32),
+    Text(String),
+}
+
+impl CodeModel {
+    /// The code's value: a character's byte, or the number.
+    pub fn value(&self) -> Option<u32> {
+        match self {
+            CodeModel::Number(n) => Some(*n),
+            CodeModel::Text(text) => match text.as_bytes() {
+                [byte] => Some(u32::from(*byte)),
+                _ => None,
+            },
+        }
+    }
+
+    /// As written.
+    pub fn shown(&self) -> String {
+        match self {
+            CodeModel::Number(n) => format!("{n:#X}"),
+            CodeModel::Text(text) => text.clone(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BitsModel {
+    pub field: String,
+    pub name: Option<String>,
+    /// `"msb:lsb"` or a single bit number.
+    pub bits: String,
+    #[serde(default)]
+    pub allowed: Vec<CodeModel>,
+}
+
+/// What a length counts: `{ from: part, through: part }` or `data_size`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum CountsModel {
+    Parts { from: String, through: String },
+    Keyword(String),
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -374,8 +461,41 @@ pub enum OptionalModel {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CommandModel {
-    pub letter: String,
+    /// The code on the wire; absent for layouts without a command field.
+    pub code: Option<CodeModel>,
     pub kind: String,
     pub request: String,
     pub reply: String,
+    /// Data types carried (`word`, `double_word`, `bit`, `text`); empty: any.
+    #[serde(default)]
+    pub data_types: Vec<String>,
+    /// `parameter` (default) or `coil`.
+    pub space: Option<String>,
+    pub address_map: Option<AddressMapModel>,
+    /// Codes a normal reply may carry; empty: the request's code.
+    #[serde(default)]
+    pub reply_codes: Vec<CodeModel>,
+    #[serde(default)]
+    pub description: String,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AddressMapModel {
+    pub multiply: u16,
+    pub offset: i32,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PreStepModel {
+    /// `index` or `persistence`.
+    pub step: String,
+    pub register: u16,
+    pub space: Option<String>,
+    pub data_type: Option<String>,
+    pub ram: Option<u32>,
+    pub persistent: Option<u32>,
+    #[serde(default)]
+    pub description: String,
 }

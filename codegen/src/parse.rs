@@ -68,8 +68,11 @@ impl SourceFile {
             let path = path.trim_end_matches(".?").trim_end_matches('?').to_owned();
             let mut message = inner.to_string();
             // serde_yaml repeats the path and the position; the diagnostic shows both.
-            if let Some(rest) = message.strip_prefix(&format!("{path}: ")) {
-                message = rest.to_owned();
+            // serde_yaml prefixes the path (or its parent) that `= at:` shows anyway.
+            if let Some((prefix, rest)) = message.split_once(": ") {
+                if !prefix.contains(' ') && path.starts_with(prefix) {
+                    message = rest.to_owned();
+                }
             }
             message = strip_first_position(&message);
             // For an unclosed `{`/`[`, the place it was opened is where the fix goes.

@@ -2,13 +2,16 @@
 //! [`Protocol`]: the layouts the generated code embeds and the validator decodes examples with.
 
 use crate::diagnostics::Diagnostic;
-use crate::model::{DriveFile, OptionalModel, PartModel, PartRefModel, ProtocolFile};
+use crate::model::{
+    CodeModel, CountsModel, DriveFile, OptionalModel, PartModel, PartRefModel, ProtocolFile,
+};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
 use vfd_runtime::layout::MAX_PARTS;
 use vfd_runtime::{
-    ChecksumAlgorithm, ChecksumSpec, CommandKind, CommandSpec, ErrorCodeInfo, FieldSpec, Format,
-    FrameLayout, Part, Presence, Protocol, Role,
+    AddressMap, BitsSpec, ChecksumAlgorithm, ChecksumSpec, CommandKind, CommandSpec, Counts,
+    DataType, ErrorCodeInfo, FieldSpec, Format, FrameLayout, LengthSpec, Part, PreStep, Presence,
+    Protocol, Role, SizedBy, Space, WordSpec,
 };
 
 /// Parses a format name.
@@ -20,6 +23,11 @@ pub fn format_from_name(name: &str) -> Option<Format> {
         Format::U8,
         Format::U16Be,
         Format::U16Le,
+        Format::U32Be,
+        Format::U32Le,
+        Format::UintBe,
+        Format::UintLe,
+        Format::Bytes,
     ]
     .into_iter()
     .find(|format| format.as_str() == name)
@@ -33,6 +41,10 @@ pub fn role_from_name(name: &str) -> Option<Role> {
         Role::Register,
         Role::Data,
         Role::ErrorCode,
+        Role::Index,
+        Role::Process1,
+        Role::Process2,
+        Role::Text,
     ]
     .into_iter()
     .find(|role| role.as_str() == name)
@@ -40,13 +52,21 @@ pub fn role_from_name(name: &str) -> Option<Role> {
 
 /// Parses a command kind.
 pub fn kind_from_name(name: &str) -> Option<CommandKind> {
-    [
-        CommandKind::Read,
-        CommandKind::WriteRam,
-        CommandKind::WritePersistent,
-    ]
-    .into_iter()
-    .find(|kind| kind.as_str() == name)
+    CommandKind::ALL
+        .into_iter()
+        .find(|kind| kind.as_str() == name)
+}
+
+/// Parses a data type.
+pub fn data_type_from_name(name: &str) -> Option<DataType> {
+    DataType::ALL.into_iter().find(|t| t.as_str() == name)
+}
+
+/// Parses an address space.
+pub fn space_from_name(name: &str) -> Option<Space> {
+    [Space::Parameter, Space::Coil]
+        .into_iter()
+        .find(|s| s.as_str() == name)
 }
 
 /// Builds the runtime protocol; every problem in the protocol file is reported.
@@ -78,7 +98,7 @@ pub fn build_protocol(
                     .error(path, format!("layout `{name}` is not defined"))
                     .hint(format!(
                         "define it under `layouts:`; defined: {}",
-                        names(file.layouts.keys())
+                        names_of(file.layouts.keys())
                     )),
             );
         }
@@ -87,21 +107,20 @@ pub fn build_protocol(
     let mut commands = Vec::new();
     for (index, command) in file.commands.iter().enumerate() {
         let path = format!("commands[{index}]");
-        let letter = match command.letter.as_bytes() {
-            [byte] if byte.is_ascii_graphic() => Some(*byte),
-            _ => {
-                problems.push(
-                    source
-                        .error(
-                            &format!("{path}.letter"),
-                            format!(
-                                "command letter `{}` is not one ASCII character",
-                                command.letter
-                            ),
-                        )
-                        .hint("write the letter as it appears on the wire, e.g. R"),
-                );
-                None
+        let code = match &command.code {
+            None => Some(0),
+            Some(code) => {
+                match code.value() {
+                    Some(value) => Some(value),
+                    None => {
+                        problems.push(
+                        source
+                            .error(&format!("{path}.code"), format!("command code `{}` is not one character or a number", code.shown()))
+                            .hint("write a letter as it appears on the wire (R) or a number (0x03)"),
+                    );
+                        None
+                    }
+                }
             }
         };
         let kind = kind_from_name(&command.kind);
@@ -112,20 +131,123 @@ pub fn build_protocol(
                         &format!("{path}.kind"),
                         format!("unknown command kind `{}`", command.kind),
                     )
-                    .hint("use read, write_ram or write_persistent"),
+                    .hint("use read, write_ram, write_persistent, read_text or process"),
             );
         }
+        let mut data_types = Vec::new();
+        for (i, name) in command.data_types.iter().enumerate() {
+            match data_type_from_name(name) {
+                Some(data_type) => data_types.push(data_type),
+                None => problems.push(
+                    source
+                        .error(
+                            &format!("{path}.data_types[{i}]"),
+                            format!("unknown data type `{name}`"),
+                        )
+                        .hint("use word, double_word, bit or text"),
+                ),
+            }
+        }
+        let space = match command.space.as_deref() {
+            None => Some(Space::Parameter),
+            Some(name) => {
+                let space = space_from_name(name);
+                if space.is_none() {
+                    problems.push(
+                        source
+                            .error(
+                                &format!("{path}.space"),
+                                format!("unknown address space `{name}`"),
+                            )
+                            .hint("use parameter or coil"),
+                    );
+                }
+                space
+            }
+        };
+        let reply_codes: Vec<u32> = command
+            .reply_codes
+            .iter()
+            .filter_map(|c| c.value())
+            .collect();
+        if reply_codes.len() != command.reply_codes.len() {
+            problems.push(
+                source
+                    .error(
+                        &format!("{path}.reply_codes"),
+                        "reply codes are numbers or single characters",
+                    )
+                    .hint("e.g. reply_codes: [1, 2]"),
+            );
+        }
+        let address_map = command
+            .address_map
+            .as_ref()
+            .map(|m| AddressMap {
+                multiply: m.multiply.max(1),
+                offset: m.offset,
+            })
+            .unwrap_or(AddressMap::IDENTITY);
         let request = find(&command.request, &format!("{path}.request"), &mut problems);
         let reply = find(&command.reply, &format!("{path}.reply"), &mut problems);
-        if let (Some(letter), Some(kind), Some(request), Some(reply)) =
-            (letter, kind, request, reply)
+        if let (Some(request), Some(_)) = (&request, &command.code) {
+            if !request.has(Role::Command) {
+                problems.push(
+                    source
+                        .error(&format!("{path}.code"), format!("layout `{}` has no command field to carry the code", command.request))
+                        .hint("leave `code` out for commands whose layout has no command (process telegrams)"),
+                );
+            }
+        }
+        if let (Some(code), Some(kind), Some(space), Some(request), Some(reply)) =
+            (code, kind, space, request, reply)
         {
             commands.push(CommandSpec {
-                letter,
+                code,
                 kind,
+                data_types: Cow::Owned(data_types),
+                space,
+                address_map,
                 request,
                 reply,
+                reply_codes: Cow::Owned(reply_codes),
             });
+        }
+    }
+    let mut pre_steps = Vec::new();
+    for (index, step) in file.protocol.pre_steps.iter().enumerate() {
+        let path = format!("protocol.pre_steps[{index}]");
+        match step.step.as_str() {
+            "index" => pre_steps.push(PreStep::Index {
+                register: step.register,
+            }),
+            "persistence" => {
+                let space = step
+                    .space
+                    .as_deref()
+                    .map(space_from_name)
+                    .unwrap_or(Some(Space::Parameter));
+                let data_type = step
+                    .data_type
+                    .as_deref()
+                    .map(data_type_from_name)
+                    .unwrap_or(Some(DataType::Word));
+                match (space, data_type, step.ram, step.persistent) {
+                    (Some(space), Some(data_type), Some(ram), Some(persistent)) => {
+                        pre_steps.push(PreStep::Persistence { space, register: step.register, data_type, ram, persistent })
+                    }
+                    _ => problems.push(
+                        source
+                            .error(&path, "a persistence step needs a known `space`, `data_type`, and both `ram` and `persistent` values")
+                            .hint("e.g. { step: persistence, space: coil, register: 65, data_type: bit, ram: 0x0000, persistent: 0xFF00 }"),
+                    ),
+                }
+            }
+            other => problems.push(
+                source
+                    .error(&format!("{path}.step"), format!("unknown step `{other}`"))
+                    .hint("use index or persistence"),
+            ),
         }
     }
     let error_reply = match &file.error_reply {
@@ -165,6 +287,9 @@ pub fn build_protocol(
                 .map(|p| Cow::Owned(p.clone()))
                 .collect(),
         ),
+        pre_steps: Cow::Owned(pre_steps),
+        default_process: file.protocol.default_process.unwrap_or([0, 0]),
+        frame_gap_chars: file.protocol.frame_gap_chars,
         error_codes: Cow::Owned(
             drive
                 .error_codes
@@ -182,8 +307,21 @@ pub fn build_protocol(
     })
 }
 
-fn names<'a>(names: impl Iterator<Item = &'a String>) -> String {
+fn names_of<'a>(names: impl Iterator<Item = &'a String>) -> String {
     names.map(String::as_str).collect::<Vec<_>>().join(", ")
+}
+
+fn entry_name(entry: &PartRefModel, index: usize) -> String {
+    match entry {
+        PartRefModel::Named(name) => name.clone(),
+        PartRefModel::Inline(model) => model
+            .name
+            .clone()
+            .or_else(|| model.field.clone())
+            .or_else(|| model.checksum.as_ref().map(|_| "checksum".to_owned()))
+            .or_else(|| model.length.as_ref().map(|_| "length".to_owned()))
+            .unwrap_or_else(|| format!("part{index}")),
+    }
 }
 
 fn build_layout(
@@ -207,68 +345,130 @@ fn build_layout(
                 .hint("merge fields or split the frame"),
         );
     }
+    let names: Vec<String> = entries
+        .iter()
+        .enumerate()
+        .map(|(i, e)| entry_name(e, i))
+        .collect();
     for (index, entry) in entries.iter().enumerate() {
         let entry_path = format!("layouts.{name}[{index}]");
-        let (part_name, model, path) = match entry {
+        let (model, path) = match entry {
             PartRefModel::Named(part_name) => match file.parts.get(part_name) {
-                Some(model) => (part_name.clone(), model, format!("parts.{part_name}")),
+                Some(model) => (model, format!("parts.{part_name}")),
                 None => {
                     problems.push(
                         source
                             .error(&entry_path, format!("part `{part_name}` is not defined"))
                             .hint(format!(
                                 "define it under `parts:`; defined: {}",
-                                names(file.parts.keys())
+                                names_of(file.parts.keys())
                             )),
                     );
                     continue;
                 }
             },
-            PartRefModel::Inline(model) => {
-                let part_name = model
-                    .field
-                    .clone()
-                    .or_else(|| model.checksum.clone())
-                    .unwrap_or_else(|| format!("part{index}"));
-                (part_name, model, entry_path.clone())
-            }
+            PartRefModel::Inline(model) => (&**model, entry_path.clone()),
         };
-        match build_part(&part_name, model, &path, source, &parts, file, entries) {
+        let name_of_part = match entry {
+            PartRefModel::Named(key) => model.name.clone().unwrap_or_else(|| key.clone()),
+            PartRefModel::Inline(_) => names[index].clone(),
+        };
+        let context = PartContext {
+            index,
+            names: &names,
+            path: &path,
+            source,
+        };
+        match build_part(&name_of_part, model, &context) {
             Ok(part) => parts.push(part),
             Err(problem) => problems.push(problem),
         }
     }
     if problems.is_empty() {
-        Ok(FrameLayout {
+        let layout = FrameLayout {
             name: Cow::Owned(name.to_owned()),
             parts: Cow::Owned(parts),
-        })
+        };
+        check_sizes(&layout, name, source).map_err(|p| vec![p])?;
+        Ok(layout)
     } else {
         Err(problems)
+    }
+}
+
+/// Every variable-size field can be sized when decoding.
+fn check_sizes(layout: &FrameLayout, name: &str, source: &SourceFile) -> Result<(), Diagnostic> {
+    for (index, part) in layout.parts.iter().enumerate() {
+        let Part::Field(field) = part else { continue };
+        let path = format!("layouts.{name}[{index}]");
+        match field.sized_by {
+            SizedBy::Rest => {
+                let framed = layout.parts[..index].iter().any(|p| {
+                    matches!(p, Part::Length(LengthSpec { counts: Counts::Parts { through, .. }, .. }) if usize::from(*through) + 1 == layout.parts.len())
+                });
+                let tail_fixed = layout.parts[index + 1..]
+                    .iter()
+                    .all(|p| p.fixed_size().is_some());
+                if !framed || !tail_fixed {
+                    return Err(source
+                        .error(&path, format!("`{}` takes the rest of the frame, but no earlier length covers the frame to its end, or a later part has no fixed size", field.name))
+                        .hint("put a length counting `from` the next part `through` the last part before it, and only fixed-size parts after it"));
+                }
+            }
+            SizedBy::Length => {
+                let covered = layout.parts[..index].iter().any(|p| {
+                    matches!(p, Part::Length(LengthSpec { counts: Counts::Parts { from, through }, .. }) if usize::from(*from) == index && from == through)
+                });
+                if !covered {
+                    return Err(source
+                        .error(&path, format!("`{}` is sized by a length, but no earlier length covers exactly it", field.name))
+                        .hint("add a length part with counts: { from: this, through: this } before it"));
+                }
+            }
+            SizedBy::Format => {}
+        }
+    }
+    Ok(())
+}
+
+struct PartContext<'a> {
+    index: usize,
+    names: &'a [String],
+    path: &'a str,
+    source: &'a SourceFile,
+}
+
+impl PartContext<'_> {
+    fn error(&self, key: &str, message: impl Into<String>) -> Diagnostic {
+        let path = if key.is_empty() {
+            self.path.to_owned()
+        } else {
+            format!("{}.{key}", self.path)
+        };
+        self.source.error(&path, message)
+    }
+
+    fn position_of(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
     }
 }
 
 fn build_part(
     name: &str,
     model: &PartModel,
-    path: &str,
-    source: &SourceFile,
-    earlier: &[Part],
-    file: &ProtocolFile,
-    entries: &[PartRefModel],
+    context: &PartContext<'_>,
 ) -> Result<Part, Diagnostic> {
     let kinds = [
         model.literal.is_some(),
         model.literal_hex.is_some(),
         model.field.is_some(),
         model.checksum.is_some(),
+        model.word.is_some(),
+        model.length.is_some(),
     ];
     if kinds.iter().filter(|k| **k).count() != 1 {
-        return Err(source
-            .error(
-                path,
-                "a part must be exactly one of `literal`, `literal_hex`, `field` or `checksum`",
-            )
+        return Err(context
+            .error("", "a part must be exactly one of `literal`, `literal_hex`, `field`, `checksum`, `word` or `length`")
             .hint("e.g. { literal: \"(\" } or { field: register, format: hex, width: 4 }"));
     }
     let optional_flag = match &model.optional {
@@ -284,8 +484,8 @@ fn build_part(
     }
     if let Some(hex) = &model.literal_hex {
         let bytes = parse_hex(hex).map_err(|message| {
-            source
-                .error(&format!("{path}.literal_hex"), message)
+            context
+                .error("literal_hex", message)
                 .hint("write hex pairs separated by spaces, e.g. \"2F\"")
         })?;
         return Ok(Part::Literal {
@@ -294,59 +494,160 @@ fn build_part(
             optional: optional_flag,
         });
     }
+    if let Some(format_name) = &model.word {
+        let format = format_from_name(format_name)
+            .filter(|f| {
+                matches!(
+                    f,
+                    Format::U16Be | Format::U16Le | Format::U32Be | Format::U32Le
+                )
+            })
+            .ok_or_else(|| {
+                context
+                    .error(
+                        "word",
+                        format!("`word: {format_name}` is not a word format"),
+                    )
+                    .hint("use u16be, u16le, u32be or u32le")
+            })?;
+        let word_bits = if matches!(format, Format::U16Be | Format::U16Le) {
+            16
+        } else {
+            32
+        };
+        let mut fields = Vec::new();
+        for (index, bits) in model.fields.iter().enumerate() {
+            let key = format!("fields[{index}]");
+            let role = role_from_name(&bits.field).ok_or_else(|| {
+                context
+                    .error(
+                        &format!("{key}.field"),
+                        format!("unknown field role `{}`", bits.field),
+                    )
+                    .hint(ROLES_HINT)
+            })?;
+            let (lsb, width) = parse_bits(&bits.bits)
+                .filter(|(lsb, width)| u32::from(*lsb) + u32::from(*width) <= word_bits)
+                .ok_or_else(|| {
+                    context
+                        .error(
+                            &format!("{key}.bits"),
+                            format!("`bits: {}` is not \"msb:lsb\" within the word", bits.bits),
+                        )
+                        .hint("e.g. bits: \"15:12\"")
+                })?;
+            let allowed = codes(&bits.allowed).map_err(|shown| {
+                context
+                    .error(
+                        &format!("{key}.allowed"),
+                        format!("`{shown}` is not a number or one character"),
+                    )
+                    .hint("e.g. allowed: [1, 2]")
+            })?;
+            fields.push(BitsSpec {
+                name: Cow::Owned(bits.name.clone().unwrap_or_else(|| bits.field.clone())),
+                role,
+                lsb,
+                width,
+                allowed: Cow::Owned(allowed),
+            });
+        }
+        return Ok(Part::Word(WordSpec {
+            name: Cow::Owned(name.to_owned()),
+            format,
+            fields: Cow::Owned(fields),
+        }));
+    }
+    if let Some(format_name) = &model.length {
+        let format = format_from_name(format_name)
+            .filter(|f| matches!(f, Format::U8 | Format::U16Be))
+            .ok_or_else(|| {
+                context
+                    .error(
+                        "length",
+                        format!("`length: {format_name}` is not a length format"),
+                    )
+                    .hint("use u8 or u16be")
+            })?;
+        let counts = match &model.counts {
+            Some(CountsModel::Keyword(word)) if word == "data_size" => Counts::DataSize,
+            Some(CountsModel::Parts { from, through }) => {
+                let from_index = context.position_of(from).filter(|i| *i > context.index);
+                let through_index = context
+                    .position_of(through)
+                    .filter(|i| Some(*i) >= from_index);
+                match (from_index, through_index) {
+                    (Some(from), Some(through)) => Counts::Parts { from: from as u8, through: through as u8 },
+                    _ => {
+                        return Err(context
+                            .error("counts", format!("`counts: {{ from: {from}, through: {through} }}` must name later parts of the layout, in order"))
+                            .hint(format!("parts of this layout: {}", context.names.join(", "))))
+                    }
+                }
+            }
+            _ => return Err(context
+                .error(
+                    "counts",
+                    "a length needs `counts: { from: part, through: part }` or `counts: data_size`",
+                )
+                .hint("FC LGE: { from: addr, through: bcc }")),
+        };
+        return Ok(Part::Length(LengthSpec {
+            name: Cow::Owned(name.to_owned()),
+            format,
+            counts,
+            times: model.times.unwrap_or(1),
+            per: model.per.unwrap_or(1).max(1),
+        }));
+    }
     let format_name = model.format.as_deref().unwrap_or("");
     let format = format_from_name(format_name).ok_or_else(|| {
-        source
-            .error(
-                &format!("{path}.format"),
-                format!("unknown format `{format_name}`"),
+        context
+            .error("format", format!("unknown format `{format_name}`"))
+            .hint(
+                "use decimal, hex, char, u8, u16be, u16le, u32be, u32le, uint_be, uint_le or bytes",
             )
-            .hint("use decimal, hex, char, u8, u16be or u16le")
     })?;
     if let Some(algorithm) = &model.checksum {
         let algorithm = match algorithm.as_str() {
             "sum8" => ChecksumAlgorithm::Sum8,
             "xor8" => ChecksumAlgorithm::Xor8,
+            "crc16_modbus" => ChecksumAlgorithm::Crc16Modbus,
+            "lrc8" => ChecksumAlgorithm::Lrc8,
             other => {
-                return Err(source
-                    .error(
-                        &format!("{path}.checksum"),
-                        format!("unknown checksum algorithm `{other}`"),
-                    )
-                    .hint("the runtime supplies sum8 and xor8"))
+                return Err(context
+                    .error("checksum", format!("unknown checksum algorithm `{other}`"))
+                    .hint("the runtime supplies sum8, xor8, crc16_modbus and lrc8"))
             }
         };
-        if !matches!(format, Format::Hex | Format::U8) {
-            return Err(source
+        let fits = match algorithm {
+            ChecksumAlgorithm::Crc16Modbus => matches!(format, Format::U16Le | Format::U16Be),
+            _ => matches!(format, Format::Hex | Format::U8),
+        };
+        if !fits {
+            return Err(context
                 .error(
-                    &format!("{path}.format"),
-                    "a checksum is written as `hex` (two digits) or `u8`",
+                    "format",
+                    format!(
+                        "a {} checksum cannot be written as {}",
+                        algorithm.as_str(),
+                        format.as_str()
+                    ),
                 )
-                .hint("use format: hex or format: u8"));
+                .hint("8-bit sums: hex (two digits) or u8; crc16_modbus: u16le"));
         }
         let from_name = model.covers_from.as_deref().unwrap_or("");
-        let covers_from = entries
-            .iter()
-            .position(|entry| match entry {
-                PartRefModel::Named(n) => n == from_name,
-                PartRefModel::Inline(inline) => inline.field.as_deref() == Some(from_name),
-            })
-            .filter(|position| *position < earlier.len())
-            .ok_or_else(|| {
-                source
-                    .error(&format!("{path}.covers_from"), format!("`covers_from: {from_name}` does not name an earlier part of the layout"))
-                    .hint("name the first covered part, e.g. covers_from: start")
-            })?;
+        let covers_from = context.position_of(from_name).filter(|position| *position < context.index).ok_or_else(|| {
+            context
+                .error("covers_from", format!("`covers_from: {from_name}` does not name an earlier part of the layout"))
+                .hint("name the first covered part, e.g. covers_from: start")
+        })?;
         let marker = model.marker.clone().unwrap_or_default().into_bytes();
         if optional_flag && marker.is_empty() {
-            return Err(source
-                .error(
-                    &format!("{path}.optional"),
-                    "an optional checksum needs a `marker`",
-                )
+            return Err(context
+                .error("optional", "an optional checksum needs a `marker`")
                 .hint("the decoder can only tell it is there by its marker, e.g. marker: \"&\""));
         }
-        let _ = file;
         return Ok(Part::Checksum(ChecksumSpec {
             name: Cow::Owned(name.to_owned()),
             algorithm,
@@ -358,33 +659,70 @@ fn build_part(
     }
     let role_name = model.field.as_deref().unwrap_or("");
     let role = role_from_name(role_name).ok_or_else(|| {
-        source
-            .error(
-                &format!("{path}.field"),
-                format!("unknown field role `{role_name}`"),
-            )
-            .hint("use address, command, register, data or error_code")
+        context
+            .error("field", format!("unknown field role `{role_name}`"))
+            .hint(ROLES_HINT)
     })?;
+    let sized_by = match model.size.as_deref() {
+        None => SizedBy::Format,
+        Some("rest") => SizedBy::Rest,
+        Some("length") => SizedBy::Length,
+        Some(other) => {
+            return Err(context
+                .error("size", format!("unknown size rule `{other}`"))
+                .hint("use rest or length, or leave `size` out"))
+        }
+    };
+    let variable = matches!(format, Format::UintBe | Format::UintLe | Format::Bytes);
     let width = match (format.fixed_len(), model.width) {
         (Some(len), _) => len as u8,
+        (None, Some(width)) if variable && (1..=255).contains(&width) => width,
         (None, Some(width)) if (1..=10).contains(&width) => width,
+        (None, None) if variable && sized_by != SizedBy::Format => {
+            if format == Format::Bytes {
+                255
+            } else {
+                4
+            }
+        }
         (None, _) => {
-            return Err(source
+            return Err(context
                 .error(
-                    &format!("{path}.width"),
-                    "digit formats need a `width` from 1 to 10",
+                    "width",
+                    "this format needs a `width` (digits, or the most bytes)",
                 )
                 .hint("e.g. width: 4 for a 16-bit word in hex"))
         }
     };
-    let min_width = model.min_width.unwrap_or(width);
-    if min_width == 0 || min_width > width {
-        return Err(source
+    let min_width = model
+        .min_width
+        .unwrap_or(if variable && sized_by != SizedBy::Format {
+            if format == Format::Bytes {
+                0
+            } else {
+                1
+            }
+        } else {
+            width
+        });
+    if (min_width == 0 && format != Format::Bytes) || min_width > width {
+        return Err(context
             .error(
-                &format!("{path}.min_width"),
+                "min_width",
                 format!("min_width {min_width} must be from 1 to width {width}"),
             )
             .hint("leave it out for fixed-width fields"));
+    }
+    if sized_by != SizedBy::Format && !variable {
+        return Err(context
+            .error(
+                "size",
+                format!(
+                    "`size` applies to uint_be, uint_le and bytes fields, not {}",
+                    format.as_str()
+                ),
+            )
+            .hint("remove `size`"));
     }
     let optional = match &model.optional {
         None | Some(OptionalModel::Flag(false)) => None,
@@ -396,28 +734,19 @@ fn build_part(
             Some(Presence::IfByteAtMost(*if_byte_at_most))
         }
         Some(OptionalModel::Rule(rule)) => {
-            return Err(source
-                .error(
-                    &format!("{path}.optional"),
-                    format!("unknown presence rule `{rule}`"),
-                )
+            return Err(context
+                .error("optional", format!("unknown presence rule `{rule}`"))
                 .hint("use true, if_format_matches or { if_byte_at_most: N }"))
         }
     };
-    let mut allowed = Vec::new();
-    for (index, value) in model.allowed.iter().enumerate() {
-        match (format, value.as_bytes()) {
-            (Format::Char, [byte]) => allowed.push(u32::from(*byte)),
-            _ => {
-                return Err(source
-                    .error(
-                        &format!("{path}.allowed[{index}]"),
-                        format!("allowed value `{value}` is not a single character"),
-                    )
-                    .hint("`allowed` lists command letters of a char field"))
-            }
-        }
-    }
+    let allowed = codes(&model.allowed).map_err(|shown| {
+        context
+            .error(
+                "allowed",
+                format!("allowed value `{shown}` is not a number or one character"),
+            )
+            .hint("`allowed` lists command letters or codes")
+    })?;
     Ok(Part::Field(FieldSpec {
         name: Cow::Owned(name.to_owned()),
         role,
@@ -427,7 +756,29 @@ fn build_part(
         optional,
         allowed: Cow::Owned(allowed),
         fold_case: model.fold_case,
+        sized_by,
     }))
+}
+
+const ROLES_HINT: &str =
+    "use address, command, register, index, data, error_code, process_1, process_2 or text";
+
+fn codes(models: &[CodeModel]) -> Result<Vec<u32>, String> {
+    models
+        .iter()
+        .map(|m| m.value().ok_or_else(|| m.shown()))
+        .collect()
+}
+
+/// Parses `"15:12"` or `"7"` into (lsb, width).
+pub fn parse_bits(text: &str) -> Option<(u8, u8)> {
+    match text.split_once(':') {
+        Some((msb, lsb)) => {
+            let (msb, lsb): (u8, u8) = (msb.trim().parse().ok()?, lsb.trim().parse().ok()?);
+            (msb >= lsb).then_some((lsb, msb - lsb + 1))
+        }
+        None => text.trim().parse().ok().map(|bit| (bit, 1)),
+    }
 }
 
 /// Parses `"2F 50 FA"` (spaces optional between pairs).

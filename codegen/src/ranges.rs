@@ -77,12 +77,14 @@ pub fn to_raw(register: &RegisterModel, value: f64) -> Option<i64> {
     ((raw - rounded).abs() < 1e-6 && rounded.abs() < 1e12).then_some(rounded as i64)
 }
 
-/// The widest raw range a 16-bit register can hold.
+/// The widest raw range the register's word or double word can hold.
 pub fn word_limits(register: &RegisterModel) -> (i64, i64) {
-    if register.signed {
-        (i64::from(i16::MIN), i64::from(i16::MAX))
-    } else {
-        (0, i64::from(u16::MAX))
+    let double = register.data_type.as_deref() == Some("double_word");
+    match (register.signed, double) {
+        (true, true) => (i64::from(i32::MIN), i64::from(i32::MAX)),
+        (false, true) => (0, i64::from(u32::MAX)),
+        (true, false) => (i64::from(i16::MIN), i64::from(i16::MAX)),
+        (false, false) => (0, i64::from(u16::MAX)),
     }
 }
 

@@ -9,7 +9,7 @@ use crate::model::{BoundModel, FrameModel};
 use crate::ranges::{self, BoundProblem, End};
 use std::collections::HashMap;
 use vfd_runtime::units::Unit;
-use vfd_runtime::{CommandKind, DecodeError};
+use vfd_runtime::{CommandKind, DecodeError, Role, Space};
 
 /// Runs every check.
 pub fn check(drive: &LoadedDrive) -> Vec<Diagnostic> {
@@ -745,14 +745,26 @@ pub enum Direction {
 pub struct Decoded {
     /// Station address.
     pub address: Option<u8>,
-    /// Command letter as received.
-    pub command: Option<char>,
-    /// Register.
+    /// Command code as received (letter in its case, AK nibble, function code).
+    pub command: Option<u32>,
+    /// Kind of the command the frame belongs to.
+    pub kind: Option<CommandKind>,
+    /// Address space of the command.
+    pub space: Option<Space>,
+    /// Register number after undoing the address map.
     pub register: Option<u32>,
-    /// Data word.
+    /// Register number on the wire.
+    pub wire_register: Option<u32>,
+    /// Array index.
+    pub index: Option<u32>,
+    /// Data.
     pub data: Option<u32>,
     /// Error code.
     pub error_code: Option<u32>,
+    /// Process words.
+    pub process: Option<[u32; 2]>,
+    /// Text.
+    pub text: Option<String>,
     /// Lower-case command.
     pub tripped: bool,
 }
@@ -761,64 +773,97 @@ pub struct Decoded {
 pub fn decode_frame(
     protocol: &LoadedProtocol,
     direction: Direction,
-    expected: Option<CommandKind>,
     bytes: &[u8],
 ) -> Result<Decoded, DecodeError> {
     let protocol = &protocol.runtime;
+    let process = |p: Option<[u16; 2]>| p.map(|[a, b]| [u32::from(a), u32::from(b)]);
     match direction {
         Direction::Request => {
             let request = protocol.decode_request_exact(bytes)?;
+            let command = request.command;
             Ok(Decoded {
                 address: request.address,
-                command: Some(request.command.letter as char),
-                register: Some(u32::from(request.register)),
-                data: (request.command.kind != CommandKind::Read)
-                    .then_some(u32::from(request.data)),
+                command: command.request.has(Role::Command).then_some(command.code),
+                kind: Some(command.kind),
+                space: Some(command.space),
+                register: request.register.map(u32::from),
+                wire_register: request.wire_register.map(u32::from),
+                index: request.index.map(u32::from),
+                data: command.request.has(Role::Data).then_some(request.data),
                 error_code: None,
+                process: process(request.process),
+                text: None,
                 tripped: false,
             })
         }
-        Direction::Reply => match protocol.decode_reply_exact(expected, bytes)? {
+        Direction::Reply => match protocol.decode_reply_exact(None, bytes)? {
             vfd_runtime::Reply::Data {
                 command,
+                code,
                 address,
                 tripped,
-                register,
+                wire_register,
+                index,
                 data,
+                process: words,
+                text,
                 ..
             } => Ok(Decoded {
                 address,
-                command: Some(if tripped {
-                    command.letter.to_ascii_lowercase()
-                } else {
-                    command.letter
-                } as char),
-                register: Some(u32::from(register)),
-                data: Some(u32::from(data)),
+                command: command.reply.has(Role::Command).then_some(code),
+                kind: Some(command.kind),
+                space: Some(command.space),
+                register: wire_register
+                    .and_then(|w| command.address_map.from_wire(w))
+                    .map(u32::from),
+                wire_register: wire_register.map(u32::from),
+                index: index.map(u32::from),
+                data: command.reply.has(Role::Data).then_some(data),
                 error_code: None,
+                process: process(words),
+                text: text.map(|(start, len)| {
+                    String::from_utf8_lossy(&bytes[start..start + len]).into_owned()
+                }),
                 tripped,
             }),
             vfd_runtime::Reply::Error {
                 address,
                 tripped,
                 code,
+                error,
                 ..
             } => Ok(Decoded {
                 address,
-                command: Some(if tripped { 'n' } else { 'N' }),
-                register: None,
-                data: None,
-                error_code: Some(u32::from(code)),
+                command: Some(code),
+                error_code: Some(u32::from(error)),
                 tripped,
+                ..Decoded::default()
             }),
         },
     }
 }
 
-/// The command kind an `expect.command` letter stands for in `protocol`.
-pub fn expected_kind(protocol: &LoadedProtocol, letter: Option<&str>) -> Option<CommandKind> {
-    let letter = letter?.bytes().next()?;
-    protocol.runtime.command_by_letter(letter).map(|c| c.kind)
+/// The register a decoded frame's data belongs to.
+pub fn register_of<'d>(
+    drive: &'d LoadedDrive,
+    decoded: &Decoded,
+) -> Option<&'d crate::model::RegisterModel> {
+    let address = decoded.register?;
+    let space = decoded.space.unwrap_or(Space::Parameter);
+    drive
+        .model
+        .registers
+        .iter()
+        .find(|r| r.address == address && space_of(r) == space)
+}
+
+/// A register's address space.
+pub fn space_of(register: &crate::model::RegisterModel) -> Space {
+    register
+        .space
+        .as_deref()
+        .and_then(crate::protocols::space_from_name)
+        .unwrap_or(Space::Parameter)
 }
 
 /// Every example frame decodes to what it says; printed errata are rejected for the stated reason.
@@ -877,11 +922,12 @@ pub fn examples_decode(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
                 );
             }
         }
-        if let (Some(value), Some(frame)) = (
-            example.value,
-            example.reply.as_ref().or(example.request.as_ref()),
-        ) {
-            check_example_value(drive, &base, value, frame, out);
+        if let Some(value) = example.value {
+            let frames = [
+                (Direction::Request, example.request.as_ref()),
+                (Direction::Reply, example.reply.as_ref()),
+            ];
+            check_example_value(drive, protocol, &base, value, frames, out);
         }
     }
 }
@@ -901,23 +947,26 @@ fn check_frame(
             return;
         }
     };
-    let kind = expected_kind(protocol, frame.expect.command.as_deref());
-    if frame.expect.command.is_some() && kind.is_none() && frame.expect.error_code.is_none() {
-        out.push(
-            drive
-                .source
-                .error(
-                    &format!("{path}.expect.command"),
-                    format!(
-                        "`{}` is not a command of protocol {}",
-                        frame.expect.command.as_deref().unwrap_or(""),
-                        protocol.uses
-                    ),
-                )
-                .hint("use a command letter from the protocol file"),
-        );
-    }
-    match decode_frame(protocol, direction, kind, &bytes) {
+    let expect = &frame.expect;
+    let expected_code = match &expect.command {
+        Some(code) => match code.value() {
+            Some(value) => Some(value),
+            None => {
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("{path}.expect.command"),
+                            format!("`{}` is not one character or a number", code.shown()),
+                        )
+                        .hint("e.g. command: R, or command: 0x03"),
+                );
+                None
+            }
+        },
+        None => None,
+    };
+    match decode_frame(protocol, direction, &bytes) {
         Err(error) => out.push(
             drive
                 .source
@@ -928,28 +977,35 @@ fn check_frame(
                 }),
         ),
         Ok(decoded) => {
-            let expect = &frame.expect;
             let mut mismatches = Vec::new();
-            let command = decoded.command.map(|c| c.to_string());
-            if expect.command.is_some() && expect.command != command {
-                mismatches.push(format!("command is {:?}, expected {:?}", command.unwrap_or_default(), expect.command.clone().unwrap_or_default()));
+            let show = |v: Option<u32>| v.map_or("absent".to_owned(), |v| format!("{v:04X}h"));
+            if expected_code != decoded.command {
+                let label = |c: Option<u32>| c.map_or("absent".to_owned(), vfd_runtime::protocol::code_label);
+                mismatches.push(format!("command is {}, expected {}", label(decoded.command), label(expected_code)));
             }
             for (name, wanted, got) in [
                 ("register", expect.register, decoded.register),
+                ("wire_register", expect.wire_register, if expect.wire_register.is_some() { decoded.wire_register } else { None }),
+                ("index", expect.index, decoded.index),
                 ("data", expect.data, decoded.data),
                 ("error_code", expect.error_code, decoded.error_code),
                 ("address", expect.address.map(u32::from), decoded.address.map(u32::from)),
             ] {
                 if wanted != got {
-                    let show = |v: Option<u32>| v.map_or("absent".to_owned(), |v| format!("{v:04X}h"));
                     mismatches.push(format!("{name} is {}, expected {}", show(got), show(wanted)));
                 }
+            }
+            if expect.process != decoded.process {
+                mismatches.push(format!("process words are {:X?}, expected {:X?}", decoded.process, expect.process));
+            }
+            if expect.text != decoded.text {
+                mismatches.push(format!("text is {:?}, expected {:?}", decoded.text, expect.text));
             }
             if expect.tripped != decoded.tripped {
                 mismatches.push(format!("tripped is {}, expected {}", decoded.tripped, expect.tripped));
             }
             if !mismatches.is_empty() {
-                out.push(drive.source.error(&format!("{path}.expect"), format!("the frame decodes differently: {}", mismatches.join("; "))).hint("`expect` states what the manual says the frame means"));
+                out.push(drive.source.error(&format!("{path}.expect"), format!("the frame decodes differently: {}", mismatches.join("; "))).hint("`expect` states what the manual says the frame means (register numbers before the protocol's address map)"));
             }
         }
     }
@@ -957,7 +1013,7 @@ fn check_frame(
         (None, None, None) => {}
         (Some(printed), Some(_), Some(reason)) => match frame_bytes(&printed.ascii, &printed.hex) {
             Err(message) => out.push(drive.source.error(&format!("{path}.printed"), message).hint("give the bytes exactly as printed")),
-            Ok(printed) => match decode_frame(protocol, direction, kind, &printed) {
+            Ok(printed) => match decode_frame(protocol, direction, &printed) {
                 Ok(_) => out.push(
                     drive
                         .source
@@ -977,51 +1033,62 @@ fn check_frame(
             drive
                 .source
                 .error(path, "an erratum needs `printed`, `erratum` and `printed_rejected_as` together")
-                .hint("printed: the manual's bytes; erratum: why they are wrong; printed_rejected_as: the decoder's reason (checksum_mismatch, not_allowed, unexpected_byte, truncated, trailing_bytes)"),
+                .hint("printed: the manual's bytes; erratum: why they are wrong; printed_rejected_as: the decoder's reason (checksum_mismatch, length_mismatch, not_allowed, unexpected_byte, truncated, trailing_bytes)"),
         ),
     }
 }
 
 fn check_example_value(
     drive: &LoadedDrive,
+    protocol: &LoadedProtocol,
     base: &str,
     value: f64,
-    frame: &FrameModel,
+    frames: [(Direction, Option<&FrameModel>); 2],
     out: &mut Vec<Diagnostic>,
 ) {
     let path = format!("{base}.value");
-    let Some(address) = frame.expect.register else {
+    // The value belongs to the data of the reply, else of the request.
+    let mut register = None;
+    let mut data = None;
+    for (direction, frame) in frames.iter().rev() {
+        let Some(frame) = frame else { continue };
+        let Ok(bytes) = frame_bytes(&frame.ascii, &frame.hex) else {
+            continue;
+        };
+        let Ok(decoded) = decode_frame(protocol, *direction, &bytes) else {
+            continue;
+        };
+        if register.is_none() {
+            register = register_of(drive, &decoded);
+        }
+        if data.is_none() {
+            data = decoded.data;
+        }
+    }
+    let Some(register) = register else {
         out.push(
             drive
                 .source
-                .error(&path, "`value` needs the frame's `expect.register`")
-                .hint("say which register the value belongs to"),
-        );
-        return;
-    };
-    let Some(register) = drive.model.registers.iter().find(|r| r.address == address) else {
-        out.push(
-            drive
-                .source
-                .error(&path, format!("no register is described at {address:04X}h"))
+                .error(&path, "`value` needs a frame naming a described register")
                 .hint("describe the register, or drop `value`"),
         );
         return;
     };
-    let Some(data) = frame.expect.data else {
+    let Some(data) = data else {
         out.push(
             drive
                 .source
-                .error(&path, "`value` needs the frame's `expect.data`")
-                .hint("the value is the data word in engineering units"),
+                .error(&path, "`value` needs a frame carrying data")
+                .hint("the value is the data in engineering units"),
         );
         return;
     };
     let scale = ranges::scale_of(register);
-    let raw = if register.signed {
-        f64::from(data as u16 as i16)
-    } else {
-        f64::from(data)
+    let double = register.data_type.as_deref() == Some("double_word");
+    let raw = match (register.signed, double) {
+        (true, true) => f64::from(data as i32),
+        (true, false) => f64::from(data as u16 as i16),
+        (false, _) => f64::from(data),
     };
     if (raw * scale - value).abs() > scale / 2.0 {
         out.push(

@@ -12,11 +12,34 @@ pub fn xor8(bytes: &[u8]) -> u8 {
     bytes.iter().fold(0u8, |acc, byte| acc ^ byte)
 }
 
+/// CRC-16/MODBUS: reflected polynomial A001h, initial value FFFFh (sent low byte first).
+pub fn crc16_modbus(bytes: &[u8]) -> u16 {
+    let mut crc = 0xFFFFu16;
+    for byte in bytes {
+        crc ^= u16::from(*byte);
+        for _ in 0..8 {
+            crc = if crc & 1 != 0 {
+                (crc >> 1) ^ 0xA001
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    crc
+}
+
+/// Modbus ASCII LRC: the two's complement of the byte sum.
+pub fn lrc8(bytes: &[u8]) -> u8 {
+    sum8(bytes).wrapping_neg()
+}
+
 /// Computes `algorithm` over `bytes`.
 pub fn compute(algorithm: ChecksumAlgorithm, bytes: &[u8]) -> u32 {
     match algorithm {
         ChecksumAlgorithm::Sum8 => u32::from(sum8(bytes)),
         ChecksumAlgorithm::Xor8 => u32::from(xor8(bytes)),
+        ChecksumAlgorithm::Crc16Modbus => u32::from(crc16_modbus(bytes)),
+        ChecksumAlgorithm::Lrc8 => u32::from(lrc8(bytes)),
     }
 }
 
@@ -35,6 +58,24 @@ mod tests {
     #[test]
     fn sum8_wraps() {
         assert_eq!(sum8(&[0xFF, 0x02]), 0x01);
+    }
+
+    #[test]
+    fn crc16_matches_the_fc_manual_modbus_example() {
+        // FC manual, function 03: 01 03 0B D5 00 02 carries CRC D7 D7.
+        assert_eq!(
+            crc16_modbus(&[0x01, 0x03, 0x0B, 0xD5, 0x00, 0x02]).to_le_bytes(),
+            [0xD7, 0xD7]
+        );
+        // The CRC-16/MODBUS check value.
+        assert_eq!(crc16_modbus(b"123456789"), 0x4B37);
+    }
+
+    #[test]
+    fn lrc8_makes_the_sum_zero() {
+        let bytes = [0x01, 0x03, 0x00, 0x6B, 0x00, 0x03];
+        assert_eq!(sum8(&bytes).wrapping_add(lrc8(&bytes)), 0);
+        assert_eq!(lrc8(&bytes), 0x8E);
     }
 
     #[test]

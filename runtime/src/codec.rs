@@ -4,11 +4,15 @@
 //! ([`DecodeStatus::Incomplete`]) and a [`DecodeError`] that says which part, at which
 //! offset, did not fit. The transaction engine relies on that difference to wait for the
 //! rest of a reply without waiting on garbage.
+//!
+//! Encoding runs in three passes: parts are written (lengths and checksums reserved),
+//! lengths are filled in, then checksums are computed, so a checksum may cover a length.
 
 use crate::checksum;
 use crate::error::{DecodeError, EncodeError};
 use crate::layout::{
-    ChecksumSpec, FieldSpec, Format, FrameLayout, Part, Presence, Role, MAX_PARTS,
+    checksum_size, BitsSpec, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,
+    Part, Presence, Role, SizedBy, WordSpec, MAX_PARTS,
 };
 
 /// The value of one part of a frame.
@@ -16,9 +20,11 @@ use crate::layout::{
 pub struct FieldValue {
     /// Whether the part is in the frame (always true for required parts after decoding).
     pub present: bool,
-    /// The value: a field's number, a checksum's received value; 0 for literals.
+    /// The value: a field's number, a word's bits, a checksum's or length's received
+    /// value, the offset of a bytes field in the frame; 0 for literals.
     pub value: u32,
-    /// Digits used on the wire for digit formats; 0 means the layout's width.
+    /// Digits (digit formats) or bytes (variable binary formats) on the wire; 0 means
+    /// the layout's width.
     pub width: u8,
 }
 
@@ -27,27 +33,53 @@ pub struct FieldValue {
 pub struct FrameValues {
     /// One slot per layout part.
     pub parts: [FieldValue; MAX_PARTS],
+    /// Size in bytes of the request's data, for length parts that count it (Modbus
+    /// quantity) and for variable-width data fields.
+    pub data_size: u8,
 }
 
 impl FrameValues {
-    /// Sets the field with `role` to `value` and marks it present. Returns false when the
-    /// layout has no such field.
+    /// Sets the value with `role` (a field or bits of a word) and marks it present.
+    /// Returns false when the layout has no such value.
     pub fn set(&mut self, layout: &FrameLayout, role: Role, value: u32) -> bool {
-        match layout.index_of(role) {
-            Some(index) => {
+        match layout.locate(role) {
+            Some((index, None)) => {
                 self.parts[index].present = true;
                 self.parts[index].value = value;
+                true
+            }
+            Some((index, Some(bits))) => {
+                let slot = &mut self.parts[index];
+                slot.present = true;
+                slot.value = (slot.value & !bits.mask()) | ((value << bits.lsb) & bits.mask());
                 true
             }
             None => false,
         }
     }
 
-    /// The value of the field with `role`, when the layout has it and the frame carries it.
+    /// The value with `role`, when the layout has it and the frame carries it. For a
+    /// bytes field this is the offset of the bytes; see [`FrameValues::bytes`].
     pub fn get(&self, layout: &FrameLayout, role: Role) -> Option<u32> {
+        let (index, bits) = layout.locate(role)?;
+        let slot = self.parts[index];
+        if !slot.present {
+            return None;
+        }
+        Some(match bits {
+            None => slot.value,
+            Some(bits) => (slot.value & bits.mask()) >> bits.lsb,
+        })
+    }
+
+    /// The bytes of the bytes field with `role` in `frame` (the frame these values were decoded from).
+    pub fn bytes<'f>(&self, layout: &FrameLayout, role: Role, frame: &'f [u8]) -> Option<&'f [u8]> {
         let index = layout.index_of(role)?;
         let slot = self.parts[index];
-        slot.present.then_some(slot.value)
+        let start = slot.value as usize;
+        slot.present
+            .then(|| frame.get(start..start + usize::from(slot.width)))
+            .flatten()
     }
 
     /// Marks every optional part named in `names` present (e.g. `["sum", "end"]`).
@@ -74,13 +106,24 @@ pub enum DecodeStatus {
     Incomplete,
 }
 
-/// Encodes a frame into `out`, returning the number of bytes written.
+/// Encodes a frame into `out`, returning the number of bytes written. `payload` supplies
+/// the bytes of a bytes field (text), if the layout has one.
 ///
 /// Required parts are always written; optional ones only when their slot in `values` is
-/// marked present. Checksums are computed.
+/// marked present. Lengths and checksums are computed.
 pub fn encode(
     layout: &FrameLayout,
     values: &FrameValues,
+    out: &mut [u8],
+) -> Result<usize, EncodeError> {
+    encode_with_payload(layout, values, &[], out)
+}
+
+/// [`encode`] with the bytes of the layout's bytes field.
+pub fn encode_with_payload(
+    layout: &FrameLayout,
+    values: &FrameValues,
+    payload: &[u8],
     out: &mut [u8],
 ) -> Result<usize, EncodeError> {
     if layout.parts.len() > MAX_PARTS {
@@ -93,9 +136,10 @@ pub fn encode(
         len: 0,
         layout,
     };
-    let mut part_offsets = [0usize; MAX_PARTS];
+    let mut starts = [0usize; MAX_PARTS];
+    let mut ends = [0usize; MAX_PARTS];
     for (index, part) in layout.parts.iter().enumerate() {
-        part_offsets[index] = writer.len;
+        starts[index] = writer.len;
         let slot = values.parts[index];
         match part {
             Part::Literal {
@@ -106,40 +150,82 @@ pub fn encode(
                 }
             }
             Part::Field(field) => {
-                if field.optional.is_some() && !slot.present {
-                    continue;
+                if field.optional.is_none() || slot.present {
+                    encode_field(&mut writer, field, slot, values.data_size, payload)?;
                 }
-                encode_field(&mut writer, field, slot)?;
             }
+            Part::Word(word) => writer.put_value(&word.name, word.format, slot.value, 0)?,
+            Part::Length(length) => writer.reserve(length.format.fixed_len().unwrap_or(1))?,
             Part::Checksum(spec) => {
-                if spec.optional && !slot.present {
-                    continue;
+                if !spec.optional || slot.present {
+                    writer.put(&spec.marker)?;
+                    writer.reserve(checksum_size(spec.format))?;
                 }
-                writer.put(&spec.marker)?;
-                let from = part_offsets[usize::from(spec.covers_from)];
-                let sum = checksum::compute(spec.algorithm, &writer.out[from..writer.len]);
-                let width = match spec.format {
-                    Format::Hex => 2,
-                    _ => 0,
-                };
-                writer.put_value(&spec.name, spec.format, sum, width)?;
             }
         }
+        ends[index] = writer.len;
     }
-    Ok(writer.len)
+    for (index, part) in layout.parts.iter().enumerate() {
+        if let Part::Length(length) = part {
+            let counted = match length.counts {
+                Counts::Parts { from, through } => {
+                    ends[usize::from(through)] - starts[usize::from(from)]
+                }
+                Counts::DataSize => usize::from(values.data_size),
+            };
+            let value =
+                (counted * usize::from(length.times) / usize::from(length.per.max(1))) as u32;
+            writer.len = starts[index];
+            writer.put_value(&length.name, length.format, value, 0)?;
+        }
+    }
+    for (index, part) in layout.parts.iter().enumerate() {
+        if let Part::Checksum(spec) = part {
+            if ends[index] == starts[index] {
+                continue;
+            }
+            let value_at = starts[index] + spec.marker.len();
+            let sum = checksum::compute(
+                spec.algorithm,
+                &writer.out[starts[usize::from(spec.covers_from)]..value_at],
+            );
+            writer.len = value_at;
+            writer.put_value(&spec.name, spec.format, sum, 2)?;
+        }
+    }
+    Ok(layout
+        .parts
+        .len()
+        .checked_sub(1)
+        .map_or(0, |last| ends[last]))
 }
 
 fn encode_field(
     writer: &mut Writer<'_, '_>,
     field: &FieldSpec,
     slot: FieldValue,
+    data_size: u8,
+    payload: &[u8],
 ) -> Result<(), EncodeError> {
-    let width = if slot.width == 0 {
-        field.width
-    } else {
-        slot.width
-    };
-    writer.put_value(&field.name, field.format, slot.value, width)
+    match field.format {
+        Format::Bytes => writer.put(payload),
+        Format::UintBe | Format::UintLe => {
+            let width = match (slot.width, data_size) {
+                (0, 0) => field.width,
+                (0, size) => size,
+                (width, _) => width,
+            };
+            writer.put_value(&field.name, field.format, slot.value, width)
+        }
+        _ => {
+            let width = if slot.width == 0 {
+                field.width
+            } else {
+                slot.width
+            };
+            writer.put_value(&field.name, field.format, slot.value, width)
+        }
+    }
 }
 
 struct Writer<'o, 'l> {
@@ -160,6 +246,11 @@ impl Writer<'_, '_> {
         self.out[self.len..end].copy_from_slice(bytes);
         self.len = end;
         Ok(())
+    }
+
+    fn reserve(&mut self, count: usize) -> Result<(), EncodeError> {
+        let zeros = [0u8; 8];
+        self.put(&zeros[..count.min(8)])
     }
 
     fn put_value(
@@ -203,16 +294,43 @@ impl Writer<'_, '_> {
                 let byte = u8::try_from(value).map_err(|_| too_wide())?;
                 self.put(&[byte])
             }
-            Format::U16Be => {
+            Format::U16Be | Format::U16Le => {
                 let word = u16::try_from(value).map_err(|_| too_wide())?;
-                self.put(&word.to_be_bytes())
+                let bytes = if format == Format::U16Be {
+                    word.to_be_bytes()
+                } else {
+                    word.to_le_bytes()
+                };
+                self.put(&bytes)
             }
-            Format::U16Le => {
-                let word = u16::try_from(value).map_err(|_| too_wide())?;
-                self.put(&word.to_le_bytes())
+            Format::U32Be => self.put(&value.to_be_bytes()),
+            Format::U32Le => self.put(&value.to_le_bytes()),
+            Format::UintBe | Format::UintLe => {
+                let width = usize::from(width);
+                if width == 0 || width > 4 || (width < 4 && value >> (8 * width) != 0) {
+                    return Err(too_wide());
+                }
+                let be = value.to_be_bytes();
+                let mut bytes = [0u8; 4];
+                bytes[..width].copy_from_slice(&be[4 - width..]);
+                if format == Format::UintLe {
+                    bytes[..width].reverse();
+                }
+                self.put(&bytes[..width])
             }
+            Format::Bytes => Err(too_wide()),
         }
     }
+}
+
+/// Decoding state shared by the parts of one frame.
+struct Cursor<'b> {
+    bytes: &'b [u8],
+    pos: usize,
+    /// End of the frame, once a length part covering the last part has been read.
+    frame_end: Option<usize>,
+    /// Sizes fixed by length parts that cover exactly one later part.
+    sized: [Option<usize>; MAX_PARTS],
 }
 
 /// Decodes one frame that starts at `bytes[0]`.
@@ -221,111 +339,321 @@ impl Writer<'_, '_> {
 /// fits the layout, and an error as soon as a byte cannot belong to one.
 pub fn decode(layout: &FrameLayout, bytes: &[u8]) -> Result<DecodeStatus, DecodeError> {
     let mut values = FrameValues::default();
-    let mut part_offsets = [0usize; MAX_PARTS];
-    let mut pos = 0usize;
-    for (index, part) in layout.parts.iter().enumerate().take(MAX_PARTS) {
-        part_offsets[index] = pos;
-        let rest = &bytes[pos..];
-        match part {
-            Part::Literal {
-                bytes: literal,
-                optional,
-                name,
-            } => {
-                let compared = rest.len().min(literal.len());
-                if rest[..compared] != literal[..compared] {
-                    if *optional {
-                        continue;
-                    }
-                    return Err(DecodeError::UnexpectedByte {
-                        layout: layout.name.clone(),
-                        part: name.clone(),
-                        offset: pos + mismatch_at(rest, literal),
-                        found: rest[mismatch_at(rest, literal)],
-                        expected: describe_literal(literal),
-                    });
-                }
-                if compared < literal.len() {
-                    return Ok(DecodeStatus::Incomplete);
-                }
-                values.parts[index].present = true;
-                pos += literal.len();
+    let mut starts = [0usize; MAX_PARTS];
+    let mut ends = [0usize; MAX_PARTS];
+    let mut cursor = Cursor {
+        bytes,
+        pos: 0,
+        frame_end: None,
+        sized: [None; MAX_PARTS],
+    };
+    let parts = &layout.parts[..layout.parts.len().min(MAX_PARTS)];
+    for (index, part) in parts.iter().enumerate() {
+        starts[index] = cursor.pos;
+        let outcome = decode_part(layout, index, part, &mut cursor, &starts, &mut values)?;
+        if outcome == PartOutcome::Incomplete {
+            return Ok(DecodeStatus::Incomplete);
+        }
+        ends[index] = cursor.pos;
+        if let Some(end) = cursor.frame_end {
+            if cursor.pos > end {
+                return Err(length_error(layout, part.name(), end, cursor.pos));
             }
-            Part::Field(field) => {
-                if let Some(presence) = field.optional {
-                    let Some(&next) = rest.first() else {
-                        return Ok(DecodeStatus::Incomplete);
-                    };
-                    let present = match presence {
-                        Presence::IfFormatMatches => field.format.accepts_digit(next),
-                        Presence::IfByteAtMost(limit) => next <= limit,
-                    };
-                    if !present {
-                        continue;
-                    }
-                }
-                match decode_value(
-                    layout,
-                    &field.name,
-                    field.format,
-                    field.min_width,
-                    field.width,
-                    rest,
-                    pos,
-                )? {
-                    None => return Ok(DecodeStatus::Incomplete),
-                    Some((value, used)) => {
-                        check_allowed(layout, field, value, pos)?;
-                        values.parts[index] = FieldValue {
-                            present: true,
-                            value,
-                            width: if field.format.is_digits() {
-                                used as u8
-                            } else {
-                                0
-                            },
-                        };
-                        pos += used;
-                    }
-                }
-            }
-            Part::Checksum(spec) => match decode_checksum(layout, spec, bytes, pos, &part_offsets)?
-            {
-                ChecksumOutcome::Absent => continue,
-                ChecksumOutcome::Incomplete => return Ok(DecodeStatus::Incomplete),
-                ChecksumOutcome::Present { value, end } => {
-                    values.parts[index] = FieldValue {
-                        present: true,
-                        value,
-                        width: 0,
-                    };
-                    pos = end;
-                }
-            },
         }
     }
-    Ok(DecodeStatus::Complete { values, len: pos })
+    for (index, part) in parts.iter().enumerate() {
+        if let Part::Length(length) = part {
+            if let Counts::Parts { from, through } = length.counts {
+                let counted = ends[usize::from(through)] - starts[usize::from(from)];
+                let expected =
+                    (counted * usize::from(length.times) / usize::from(length.per.max(1))) as u32;
+                if values.parts[index].value != expected {
+                    return Err(DecodeError::LengthMismatch {
+                        layout: layout.name.clone(),
+                        part: length.name.clone(),
+                        offset: starts[index],
+                        received: values.parts[index].value,
+                        actual: expected,
+                    });
+                }
+            }
+        }
+    }
+    Ok(DecodeStatus::Complete {
+        values,
+        len: cursor.pos,
+    })
 }
 
-enum ChecksumOutcome {
-    Absent,
+fn length_error(layout: &FrameLayout, part: &str, end: usize, pos: usize) -> DecodeError {
+    DecodeError::LengthMismatch {
+        layout: layout.name.clone(),
+        part: part.to_owned().into(),
+        offset: end,
+        received: end as u32,
+        actual: pos as u32,
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PartOutcome {
+    Done,
     Incomplete,
-    Present { value: u32, end: usize },
+}
+
+fn decode_part(
+    layout: &FrameLayout,
+    index: usize,
+    part: &Part,
+    cursor: &mut Cursor<'_>,
+    starts: &[usize; MAX_PARTS],
+    values: &mut FrameValues,
+) -> Result<PartOutcome, DecodeError> {
+    let rest = &cursor.bytes[cursor.pos..];
+    match part {
+        Part::Literal {
+            bytes: literal,
+            optional,
+            name,
+        } => {
+            let compared = rest.len().min(literal.len());
+            if rest[..compared] != literal[..compared] {
+                if *optional {
+                    return Ok(PartOutcome::Done);
+                }
+                let at = mismatch_at(rest, literal);
+                return Err(DecodeError::UnexpectedByte {
+                    layout: layout.name.clone(),
+                    part: name.clone(),
+                    offset: cursor.pos + at,
+                    found: rest[at],
+                    expected: crate::error::describe_bytes(literal),
+                });
+            }
+            if compared < literal.len() {
+                return Ok(PartOutcome::Incomplete);
+            }
+            values.parts[index].present = true;
+            cursor.pos += literal.len();
+            Ok(PartOutcome::Done)
+        }
+        Part::Field(field) => decode_field(layout, index, field, cursor, values),
+        Part::Word(word) => decode_word(layout, index, word, cursor, values),
+        Part::Length(length) => decode_length(layout, index, length, cursor, values),
+        Part::Checksum(spec) => decode_checksum(layout, index, spec, cursor, starts, values),
+    }
+}
+
+fn decode_field(
+    layout: &FrameLayout,
+    index: usize,
+    field: &FieldSpec,
+    cursor: &mut Cursor<'_>,
+    values: &mut FrameValues,
+) -> Result<PartOutcome, DecodeError> {
+    let rest = &cursor.bytes[cursor.pos..];
+    if let Some(presence) = field.optional {
+        let Some(&next) = rest.first() else {
+            return Ok(PartOutcome::Incomplete);
+        };
+        let present = match presence {
+            Presence::IfFormatMatches => field.format.accepts_digit(next),
+            Presence::IfByteAtMost(limit) => next <= limit,
+        };
+        if !present {
+            return Ok(PartOutcome::Done);
+        }
+    }
+    let size = match (field.sized_by, field.format) {
+        (SizedBy::Rest, _) => Some(rest_size(layout, index, cursor)?),
+        (SizedBy::Length, _) => cursor.sized[index],
+        (SizedBy::Format, Format::UintBe | Format::UintLe | Format::Bytes) => {
+            Some(usize::from(field.width))
+        }
+        (SizedBy::Format, _) => None,
+    };
+    if let Some(size) = size {
+        if size < usize::from(field.min_width) || (field.format != Format::Bytes && size > 4) {
+            return Err(DecodeError::LengthMismatch {
+                layout: layout.name.clone(),
+                part: field.name.clone(),
+                offset: cursor.pos,
+                received: size as u32,
+                actual: u32::from(field.width),
+            });
+        }
+        if rest.len() < size {
+            return Ok(PartOutcome::Incomplete);
+        }
+        let value = match field.format {
+            Format::Bytes => cursor.pos as u32,
+            Format::UintLe => rest[..size]
+                .iter()
+                .rev()
+                .fold(0u32, |acc, b| (acc << 8) | u32::from(*b)),
+            _ => rest[..size]
+                .iter()
+                .fold(0u32, |acc, b| (acc << 8) | u32::from(*b)),
+        };
+        if field.format != Format::Bytes {
+            check_allowed(layout, field, value, cursor.pos)?;
+        }
+        if field.role == Role::Data {
+            values.data_size = size as u8;
+        }
+        values.parts[index] = FieldValue {
+            present: true,
+            value,
+            width: size as u8,
+        };
+        cursor.pos += size;
+        return Ok(PartOutcome::Done);
+    }
+    match decode_value(
+        layout,
+        &field.name,
+        field.format,
+        field.min_width,
+        field.width,
+        rest,
+        cursor.pos,
+    )? {
+        None => Ok(PartOutcome::Incomplete),
+        Some((value, used)) => {
+            check_allowed(layout, field, value, cursor.pos)?;
+            values.parts[index] = FieldValue {
+                present: true,
+                value,
+                width: if field.format.is_digits() {
+                    used as u8
+                } else {
+                    0
+                },
+            };
+            cursor.pos += used;
+            Ok(PartOutcome::Done)
+        }
+    }
+}
+
+/// Size of a rest-of-frame field: up to the frame end, less the fixed parts after it.
+fn rest_size(
+    layout: &FrameLayout,
+    index: usize,
+    cursor: &Cursor<'_>,
+) -> Result<usize, DecodeError> {
+    let tail: usize = layout.parts[index + 1..]
+        .iter()
+        .map(|p| p.fixed_size().unwrap_or(0))
+        .sum();
+    let end = cursor
+        .frame_end
+        .ok_or_else(|| DecodeError::LengthMismatch {
+            layout: layout.name.clone(),
+            part: layout.parts[index].name().to_owned().into(),
+            offset: cursor.pos,
+            received: 0,
+            actual: 0,
+        })?;
+    end.checked_sub(cursor.pos + tail)
+        .ok_or_else(|| length_error(layout, layout.parts[index].name(), end, cursor.pos + tail))
+}
+
+fn decode_word(
+    layout: &FrameLayout,
+    index: usize,
+    word: &WordSpec,
+    cursor: &mut Cursor<'_>,
+    values: &mut FrameValues,
+) -> Result<PartOutcome, DecodeError> {
+    let rest = &cursor.bytes[cursor.pos..];
+    let Some((value, used)) =
+        decode_value(layout, &word.name, word.format, 0, 0, rest, cursor.pos)?
+    else {
+        return Ok(PartOutcome::Incomplete);
+    };
+    for bits in word.fields.iter() {
+        check_bits(layout, bits, value, cursor.pos)?;
+    }
+    values.parts[index] = FieldValue {
+        present: true,
+        value,
+        width: 0,
+    };
+    cursor.pos += used;
+    Ok(PartOutcome::Done)
+}
+
+fn check_bits(
+    layout: &FrameLayout,
+    bits: &BitsSpec,
+    word: u32,
+    offset: usize,
+) -> Result<(), DecodeError> {
+    let value = (word & bits.mask()) >> bits.lsb;
+    if bits.allowed.is_empty() || bits.allowed.contains(&value) {
+        return Ok(());
+    }
+    Err(DecodeError::NotAllowed {
+        layout: layout.name.clone(),
+        part: bits.name.clone(),
+        offset,
+        value,
+        format: Format::U8,
+    })
+}
+
+fn decode_length(
+    layout: &FrameLayout,
+    index: usize,
+    length: &LengthSpec,
+    cursor: &mut Cursor<'_>,
+    values: &mut FrameValues,
+) -> Result<PartOutcome, DecodeError> {
+    let rest = &cursor.bytes[cursor.pos..];
+    let Some((value, used)) =
+        decode_value(layout, &length.name, length.format, 0, 0, rest, cursor.pos)?
+    else {
+        return Ok(PartOutcome::Incomplete);
+    };
+    values.parts[index] = FieldValue {
+        present: true,
+        value,
+        width: 0,
+    };
+    cursor.pos += used;
+    if length.counts == Counts::DataSize {
+        values.data_size = (value as usize * usize::from(length.per.max(1))
+            / usize::from(length.times.max(1))) as u8;
+    }
+    if let Counts::Parts { from, through } = length.counts {
+        let bytes =
+            value as usize * usize::from(length.per.max(1)) / usize::from(length.times.max(1));
+        if usize::from(from) == index + 1 && usize::from(through) + 1 == layout.parts.len() {
+            cursor.frame_end = Some(cursor.pos + bytes);
+        } else if from == through {
+            cursor.sized[usize::from(from)] = Some(bytes);
+        }
+    }
+    Ok(PartOutcome::Done)
 }
 
 fn decode_checksum(
     layout: &FrameLayout,
+    index: usize,
     spec: &ChecksumSpec,
-    bytes: &[u8],
-    pos: usize,
-    part_offsets: &[usize; MAX_PARTS],
-) -> Result<ChecksumOutcome, DecodeError> {
+    cursor: &mut Cursor<'_>,
+    starts: &[usize; MAX_PARTS],
+    values: &mut FrameValues,
+) -> Result<PartOutcome, DecodeError> {
+    let bytes = cursor.bytes;
+    let pos = cursor.pos;
     let rest = &bytes[pos..];
     let marker = &spec.marker[..];
     let compared = rest.len().min(marker.len());
     if rest[..compared] != marker[..compared] {
         if spec.optional {
-            return Ok(ChecksumOutcome::Absent);
+            return Ok(PartOutcome::Done);
         }
         let at = mismatch_at(rest, marker);
         return Err(DecodeError::UnexpectedByte {
@@ -333,14 +661,11 @@ fn decode_checksum(
             part: spec.name.clone(),
             offset: pos + at,
             found: rest[at],
-            expected: describe_literal(marker),
+            expected: crate::error::describe_bytes(marker),
         });
     }
     if compared < marker.len() {
-        return Ok(ChecksumOutcome::Incomplete);
-    }
-    if spec.optional && rest.is_empty() && marker.is_empty() {
-        return Ok(ChecksumOutcome::Incomplete);
+        return Ok(PartOutcome::Incomplete);
     }
     let value_at = pos + marker.len();
     let width = if spec.format == Format::Hex { 2 } else { 0 };
@@ -354,10 +679,12 @@ fn decode_checksum(
         value_at,
     )?
     else {
-        return Ok(ChecksumOutcome::Incomplete);
+        return Ok(PartOutcome::Incomplete);
     };
-    let from = part_offsets[usize::from(spec.covers_from)];
-    let computed = checksum::compute(spec.algorithm, &bytes[from..value_at]);
+    let computed = checksum::compute(
+        spec.algorithm,
+        &bytes[starts[usize::from(spec.covers_from)]..value_at],
+    );
     if computed != received {
         return Err(DecodeError::ChecksumMismatch {
             layout: layout.name.clone(),
@@ -368,10 +695,13 @@ fn decode_checksum(
             received,
         });
     }
-    Ok(ChecksumOutcome::Present {
+    values.parts[index] = FieldValue {
+        present: true,
         value: received,
-        end: value_at + used,
-    })
+        width: 0,
+    };
+    cursor.pos = value_at + used;
+    Ok(PartOutcome::Done)
 }
 
 fn check_allowed(
@@ -406,7 +736,7 @@ fn check_allowed(
     })
 }
 
-/// Decodes one value; `None` means more bytes are needed.
+/// Decodes one fixed-format or digit value; `None` means more bytes are needed.
 fn decode_value(
     layout: &FrameLayout,
     name: &str,
@@ -416,6 +746,7 @@ fn decode_value(
     rest: &[u8],
     offset: usize,
 ) -> Result<Option<(u32, usize)>, DecodeError> {
+    let take = |n: usize| (rest.len() >= n).then(|| &rest[..n]);
     match format {
         Format::Decimal | Format::Hex => {
             let radix = if format == Format::Hex { 16 } else { 10 };
@@ -451,13 +782,12 @@ fn decode_value(
             }
             Ok(Some((value, used)))
         }
-        Format::Char | Format::U8 => Ok(rest.first().map(|b| (u32::from(*b), 1))),
-        Format::U16Be => {
-            Ok((rest.len() >= 2).then(|| (u32::from(u16::from_be_bytes([rest[0], rest[1]])), 2)))
-        }
-        Format::U16Le => {
-            Ok((rest.len() >= 2).then(|| (u32::from(u16::from_le_bytes([rest[0], rest[1]])), 2)))
-        }
+        Format::Char | Format::U8 => Ok(take(1).map(|b| (u32::from(b[0]), 1))),
+        Format::U16Be => Ok(take(2).map(|b| (u32::from(u16::from_be_bytes([b[0], b[1]])), 2))),
+        Format::U16Le => Ok(take(2).map(|b| (u32::from(u16::from_le_bytes([b[0], b[1]])), 2))),
+        Format::U32Be => Ok(take(4).map(|b| (u32::from_be_bytes([b[0], b[1], b[2], b[3]]), 4))),
+        Format::U32Le => Ok(take(4).map(|b| (u32::from_le_bytes([b[0], b[1], b[2], b[3]]), 4))),
+        Format::UintBe | Format::UintLe | Format::Bytes => Ok(None),
     }
 }
 
@@ -466,10 +796,6 @@ fn mismatch_at(rest: &[u8], literal: &[u8]) -> usize {
         .zip(literal)
         .position(|(a, b)| a != b)
         .unwrap_or(0)
-}
-
-fn describe_literal(literal: &[u8]) -> String {
-    crate::error::describe_bytes(literal)
 }
 
 #[cfg(test)]
@@ -496,6 +822,7 @@ mod tests {
                     optional: Some(Presence::IfFormatMatches),
                     allowed: Cow::Borrowed(&[]),
                     fold_case: false,
+                    sized_by: crate::layout::SizedBy::Format,
                 }),
                 Part::Field(FieldSpec {
                     name: "command".into(),
@@ -506,6 +833,7 @@ mod tests {
                     optional: None,
                     allowed: Cow::Borrowed(&[b'R' as u32]),
                     fold_case: true,
+                    sized_by: crate::layout::SizedBy::Format,
                 }),
                 Part::Field(FieldSpec {
                     name: "register".into(),
@@ -516,6 +844,7 @@ mod tests {
                     optional: None,
                     allowed: Cow::Borrowed(&[]),
                     fold_case: false,
+                    sized_by: crate::layout::SizedBy::Format,
                 }),
                 Part::Checksum(ChecksumSpec {
                     name: "sum".into(),

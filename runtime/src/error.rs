@@ -59,7 +59,7 @@ pub enum DecodeError {
         format: Format,
     },
     /// The checksum does not match the bytes it covers.
-    #[error("{layout}: {algorithm} checksum `{part}` at byte {offset} is {received:02X}, but the covered bytes give {computed:02X}", algorithm = algorithm.as_str())]
+    #[error("{layout}: {algorithm} checksum `{part}` at byte {offset} is {received:02X}h, but the covered bytes give {computed:02X}h", algorithm = algorithm.as_str())]
     ChecksumMismatch {
         /// Layout name.
         layout: Text,
@@ -73,6 +73,22 @@ pub enum DecodeError {
         computed: u32,
         /// Checksum received.
         received: u32,
+    },
+    /// A length part disagrees with the frame (FC LGE, Modbus byte count).
+    #[error(
+        "{layout}: length `{part}` at byte {offset} says {received}, but the frame gives {actual}"
+    )]
+    LengthMismatch {
+        /// Layout name.
+        layout: Text,
+        /// Length part name.
+        part: Text,
+        /// Offset of the length.
+        offset: usize,
+        /// Length received.
+        received: u32,
+        /// Length the frame's parts give.
+        actual: u32,
     },
     /// The bytes end before the frame does (only from APIs that require a whole frame).
     #[error("{layout}: the frame ends after {len} bytes, before the layout is complete")]
@@ -118,6 +134,7 @@ impl DecodeError {
             DecodeError::UnexpectedByte { .. } => "unexpected_byte",
             DecodeError::NotAllowed { .. } => "not_allowed",
             DecodeError::ChecksumMismatch { .. } => "checksum_mismatch",
+            DecodeError::LengthMismatch { .. } => "length_mismatch",
             DecodeError::Truncated { .. } => "truncated",
             DecodeError::TrailingBytes { .. } => "trailing_bytes",
             DecodeError::NoLayoutMatches { closest, .. } => closest.kind(),
@@ -129,7 +146,8 @@ impl DecodeError {
         match self {
             DecodeError::UnexpectedByte { offset, .. }
             | DecodeError::NotAllowed { offset, .. }
-            | DecodeError::ChecksumMismatch { offset, .. } => *offset,
+            | DecodeError::ChecksumMismatch { offset, .. }
+            | DecodeError::LengthMismatch { offset, .. } => *offset,
             DecodeError::Truncated { len, .. } | DecodeError::TrailingBytes { len, .. } => *len,
             DecodeError::NoLayoutMatches { closest, .. } => closest.offset(),
         }
@@ -168,12 +186,30 @@ pub enum EncodeError {
         layout: Text,
     },
     /// The protocol has no command for this kind of request.
-    #[error("protocol {protocol} has no command for {kind}")]
+    #[error("protocol {protocol} has no command to {kind} a {data_type} in the {space} space")]
     UnsupportedCommand {
         /// Protocol id.
         protocol: Text,
         /// Requested kind.
         kind: &'static str,
+        /// Address space.
+        space: &'static str,
+        /// Data type.
+        data_type: &'static str,
+    },
+    /// The register number does not fit the protocol's wire numbering.
+    #[error("protocol {protocol}: register {register} has no wire address (its address map leaves 0..=65535)")]
+    RegisterOutOfRange {
+        /// Protocol id.
+        protocol: Text,
+        /// Register number.
+        register: u16,
+    },
+    /// The protocol needs a station address and none was given.
+    #[error("protocol {protocol} needs a station address")]
+    AddressRequired {
+        /// Protocol id.
+        protocol: Text,
     },
     /// The protocol has no address field, but an address was given.
     #[error("protocol {protocol}: station address {address} is outside {min}..={max}")]
@@ -212,6 +248,22 @@ pub enum ValueError {
         /// The value.
         value: f64,
     },
+    /// The value cannot be written or converted this way (text parameters).
+    #[error("{register}: a text parameter is read with read_text, not as a number", register = register.label())]
+    NotWritable {
+        /// The register.
+        register: &'static RegisterInfo,
+    },
+    /// An array index beyond the register's array.
+    #[error("{register}: index {index} is outside the array of {len} element(s)", register = register.label())]
+    IndexOutOfRange {
+        /// The register.
+        register: &'static RegisterInfo,
+        /// Index asked for.
+        index: u16,
+        /// Array length (0: not an array).
+        len: u8,
+    },
     /// A raw value read back is not one of the register's codes.
     #[error("{register}: raw value {raw:#06X} is not a known code of `{table}`", register = register.label())]
     UnknownCode {
@@ -220,7 +272,7 @@ pub enum ValueError {
         /// Code table id.
         table: &'static str,
         /// Raw value.
-        raw: u16,
+        raw: u32,
     },
 }
 

@@ -6,6 +6,47 @@
 
 use std::borrow::Cow;
 
+// Sizes of fixed parts, used by the codec to size rest-of-frame fields.
+impl Part {
+    /// The part's size in bytes when it does not depend on the frame, `None` otherwise.
+    pub fn fixed_size(&self) -> Option<usize> {
+        match self {
+            Part::Literal {
+                bytes,
+                optional: false,
+                ..
+            } => Some(bytes.len()),
+            Part::Literal { .. } => None,
+            Part::Field(field) if field.optional.is_some() => None,
+            Part::Field(field) => match field.format {
+                Format::Decimal | Format::Hex if field.min_width == field.width => {
+                    Some(usize::from(field.width))
+                }
+                Format::UintBe | Format::UintLe | Format::Bytes
+                    if field.sized_by == SizedBy::Format && field.min_width == field.width =>
+                {
+                    Some(usize::from(field.width))
+                }
+                format => format.fixed_len(),
+            },
+            Part::Checksum(spec) if !spec.optional => {
+                Some(spec.marker.len() + checksum_size(spec.format))
+            }
+            Part::Checksum(_) => None,
+            Part::Word(word) => word.format.fixed_len(),
+            Part::Length(length) => length.format.fixed_len(),
+        }
+    }
+}
+
+/// Bytes a checksum value occupies in `format`.
+pub const fn checksum_size(format: Format) -> usize {
+    match format {
+        Format::Hex | Format::U16Be | Format::U16Le => 2,
+        _ => 1,
+    }
+}
+
 /// Text that is `&'static str` in generated code and owned in the generator.
 pub type Text = Cow<'static, str>;
 /// A list that is a `&'static [T]` in generated code and a `Vec<T>` in the generator.
@@ -39,6 +80,10 @@ pub enum Part {
     Field(FieldSpec),
     /// A checksum over earlier bytes.
     Checksum(ChecksumSpec),
+    /// A word made of bit fields.
+    Word(WordSpec),
+    /// A computed length.
+    Length(LengthSpec),
 }
 
 /// What a field means to the transaction engine.
@@ -54,6 +99,14 @@ pub enum Role {
     Data,
     /// Error code in an error reply.
     ErrorCode,
+    /// Array index of an indexed parameter.
+    Index,
+    /// First process word (control word out, status word back).
+    Process1,
+    /// Second process word (reference out, output value back).
+    Process2,
+    /// Text carried by the frame (raw bytes).
+    Text,
 }
 
 impl Role {
@@ -65,6 +118,10 @@ impl Role {
             Role::Register => "register",
             Role::Data => "data",
             Role::ErrorCode => "error_code",
+            Role::Index => "index",
+            Role::Process1 => "process_1",
+            Role::Process2 => "process_2",
+            Role::Text => "text",
         }
     }
 }
@@ -84,6 +141,17 @@ pub enum Format {
     U16Be,
     /// Two binary bytes, least significant first.
     U16Le,
+    /// Four binary bytes, most significant first.
+    U32Be,
+    /// Four binary bytes, least significant first.
+    U32Le,
+    /// An unsigned integer of `min_width..=width` bytes (at most 4), most significant first;
+    /// its size comes from a length part or from the value's data type.
+    UintBe,
+    /// Like [`Format::UintBe`], least significant byte first (FC coil data).
+    UintLe,
+    /// Raw bytes (text); the value is their offset in the frame, the width their count.
+    Bytes,
 }
 
 impl Format {
@@ -96,6 +164,11 @@ impl Format {
             Format::U8 => "u8",
             Format::U16Be => "u16be",
             Format::U16Le => "u16le",
+            Format::U32Be => "u32be",
+            Format::U32Le => "u32le",
+            Format::UintBe => "uint_be",
+            Format::UintLe => "uint_le",
+            Format::Bytes => "bytes",
         }
     }
 
@@ -109,7 +182,8 @@ impl Format {
         match self {
             Format::Char | Format::U8 => Some(1),
             Format::U16Be | Format::U16Le => Some(2),
-            Format::Decimal | Format::Hex => None,
+            Format::U32Be | Format::U32Le => Some(4),
+            Format::Decimal | Format::Hex | Format::UintBe | Format::UintLe | Format::Bytes => None,
         }
     }
 
@@ -119,7 +193,7 @@ impl Format {
             Format::Decimal => byte.is_ascii_digit(),
             Format::Hex => byte.is_ascii_hexdigit(),
             Format::Char => byte.is_ascii_graphic(),
-            Format::U8 | Format::U16Be | Format::U16Le => true,
+            _ => true,
         }
     }
 }
@@ -133,6 +207,18 @@ pub enum Presence {
     /// Present when the next byte is at most this value (binary station addresses
     /// 0x00-0x3F never collide with command letters).
     IfByteAtMost(u8),
+}
+
+/// Where a variable-size field's size comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SizedBy {
+    /// The format: fixed bytes, or as many digits as are there (`min_width..=width`).
+    Format,
+    /// Whatever the frame's length part leaves between this field and the fixed-size
+    /// parts after it (FC text blocks).
+    Rest,
+    /// A length part that covers exactly this field (Modbus byte count).
+    Length,
 }
 
 /// A value field.
@@ -154,6 +240,72 @@ pub struct FieldSpec {
     pub allowed: List<u32>,
     /// Compare `allowed` character values without regard to ASCII case.
     pub fold_case: bool,
+    /// Where the field's size comes from.
+    pub sized_by: SizedBy,
+}
+
+/// A word whose bits hold several fields (the FC PKE: command nibble + parameter number).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WordSpec {
+    /// Name used in error messages, e.g. `pke`.
+    pub name: Text,
+    /// `U16Be`, `U16Le`, `U32Be` or `U32Le`.
+    pub format: Format,
+    /// The fields, each a run of bits.
+    pub fields: List<BitsSpec>,
+}
+
+/// A run of bits inside a [`WordSpec`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct BitsSpec {
+    /// Field name, e.g. `ak`.
+    pub name: Text,
+    /// What it means.
+    pub role: Role,
+    /// Lowest bit.
+    pub lsb: u8,
+    /// Bit count.
+    pub width: u8,
+    /// Values the decoder accepts; empty means any.
+    pub allowed: List<u32>,
+}
+
+impl BitsSpec {
+    /// The bits' mask within the word.
+    pub const fn mask(&self) -> u32 {
+        (((1u64 << self.width) - 1) << self.lsb) as u32
+    }
+}
+
+/// A length computed on encode and checked on decode: the byte count of a run of parts
+/// (FC LGE, Modbus byte count), or the size of the request's data (Modbus quantity).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LengthSpec {
+    /// Name used in error messages, e.g. `lge`.
+    pub name: Text,
+    /// `U8` or `U16Be`.
+    pub format: Format,
+    /// What is counted.
+    pub counts: Counts,
+    /// The value is the byte count times `times` divided by `per` (16 coils per 2 bytes:
+    /// times 8; registers: per 2).
+    pub times: u8,
+    /// See `times`.
+    pub per: u8,
+}
+
+/// What a [`LengthSpec`] counts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Counts {
+    /// The bytes of parts `from..=through` (indexes into the layout).
+    Parts {
+        /// First counted part.
+        from: u8,
+        /// Last counted part.
+        through: u8,
+    },
+    /// The size of the request's data (its data type), which the frame itself does not carry.
+    DataSize,
 }
 
 /// Checksum algorithms the runtime supplies.
@@ -163,6 +315,11 @@ pub enum ChecksumAlgorithm {
     Sum8,
     /// Exclusive-or of the covered bytes.
     Xor8,
+    /// CRC-16 as Modbus RTU defines it (polynomial A001h reflected, initial FFFFh),
+    /// sent low byte first.
+    Crc16Modbus,
+    /// Two's complement of the byte sum (Modbus ASCII LRC).
+    Lrc8,
 }
 
 impl ChecksumAlgorithm {
@@ -171,6 +328,8 @@ impl ChecksumAlgorithm {
         match self {
             ChecksumAlgorithm::Sum8 => "sum8",
             ChecksumAlgorithm::Xor8 => "xor8",
+            ChecksumAlgorithm::Crc16Modbus => "crc16_modbus",
+            ChecksumAlgorithm::Lrc8 => "lrc8",
         }
     }
 }
@@ -182,7 +341,7 @@ pub struct ChecksumSpec {
     pub name: Text,
     /// The algorithm.
     pub algorithm: ChecksumAlgorithm,
-    /// `Hex` (two ASCII digits) or `U8` (one byte).
+    /// `Hex` (two ASCII digits), `U8` (one byte) or `U16Le` (CRC-16).
     pub format: Format,
     /// Bytes that announce the checksum (`"&"`); they are covered by it.
     pub marker: List<u8>,
@@ -193,11 +352,32 @@ pub struct ChecksumSpec {
 }
 
 impl FrameLayout {
-    /// Index of the first field with this role.
+    /// Index of the first field with this role (plain fields only; see [`Self::locate`]).
     pub fn index_of(&self, role: Role) -> Option<usize> {
         self.parts
             .iter()
             .position(|part| matches!(part, Part::Field(field) if field.role == role))
+    }
+
+    /// Where the value with this role lives: a field, or bits of a word.
+    pub fn locate(&self, role: Role) -> Option<(usize, Option<&BitsSpec>)> {
+        self.parts
+            .iter()
+            .enumerate()
+            .find_map(|(index, part)| match part {
+                Part::Field(field) if field.role == role => Some((index, None)),
+                Part::Word(word) => word
+                    .fields
+                    .iter()
+                    .find(|bits| bits.role == role)
+                    .map(|bits| (index, Some(bits))),
+                _ => None,
+            })
+    }
+
+    /// Whether the layout carries a value with this role.
+    pub fn has(&self, role: Role) -> bool {
+        self.locate(role).is_some()
     }
 
     /// The field with this role.
@@ -228,6 +408,8 @@ impl Part {
             Part::Literal { name, .. } => name,
             Part::Field(field) => &field.name,
             Part::Checksum(checksum) => &checksum.name,
+            Part::Word(word) => &word.name,
+            Part::Length(length) => &length.name,
         }
     }
 }

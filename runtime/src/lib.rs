@@ -28,7 +28,11 @@ pub use codec::{FieldValue, FrameValues};
 pub use drive::DriveInfo;
 pub use error::{DecodeError, EncodeError, TransactionError, ValueError};
 pub use layout::{
-    ChecksumAlgorithm, ChecksumSpec, FieldSpec, Format, FrameLayout, Part, Presence, Role,
+    BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,
+    Part, Presence, Role, SizedBy, WordSpec,
 };
-pub use protocol::{CommandKind, CommandSpec, ErrorCodeInfo, Protocol, Reply, Request};
+pub use protocol::{
+    AddressMap, CommandKind, CommandSpec, DataType, ErrorCodeInfo, PreStep, Protocol, Reply,
+    Request, Space,
+};
 pub use register::{Access, Persistable, Register, RegisterInfo, RegisterValue, Writable};

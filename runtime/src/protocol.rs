@@ -1,44 +1,212 @@
-//! A protocol is a set of frame layouts tied to commands, plus the error-reply layout and
-//! the drive's error-code table; this module encodes requests and decodes replies with it.
+//! A protocol is a set of frame layouts tied to commands, plus the error-reply layout, the
+//! drive's error-code table and any steps a request needs first; this module encodes
+//! requests and decodes replies with it.
 
 use crate::codec::{self, DecodeStatus, FrameValues};
 use crate::error::{DecodeError, EncodeError, ValueError};
 use crate::layout::{FrameLayout, List, Part, Role, Text};
 use crate::register::{Persistable, Register, RegisterInfo, RegisterValue, Writable};
 
-/// What a command does, independent of its letter on the wire.
+/// What a command does, independent of its code on the wire.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum CommandKind {
-    /// Read one register.
+    /// Read one register or parameter.
     Read,
-    /// Write one register in RAM only (lost at power-off).
+    /// Write in RAM only (lost at power-off).
     WriteRam,
-    /// Write one register in RAM and EEPROM (persistent; EEPROM wears out).
+    /// Write in RAM and EEPROM (persistent; EEPROM wears out).
     WritePersistent,
+    /// Read a text parameter.
+    ReadText,
+    /// Exchange process words only (control word and reference out, status word and
+    /// output value back).
+    Process,
 }
 
 impl CommandKind {
+    /// Every kind, in the order the description format documents them.
+    pub const ALL: [CommandKind; 5] = [
+        CommandKind::Read,
+        CommandKind::WriteRam,
+        CommandKind::WritePersistent,
+        CommandKind::ReadText,
+        CommandKind::Process,
+    ];
+
     /// Name as written in protocol description files.
     pub const fn as_str(self) -> &'static str {
         match self {
             CommandKind::Read => "read",
             CommandKind::WriteRam => "write_ram",
             CommandKind::WritePersistent => "write_persistent",
+            CommandKind::ReadText => "read_text",
+            CommandKind::Process => "process",
+        }
+    }
+
+    /// Whether the command writes.
+    pub const fn is_write(self) -> bool {
+        matches!(self, CommandKind::WriteRam | CommandKind::WritePersistent)
+    }
+}
+
+/// The shape of a register's value on the wire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DataType {
+    /// 16 bits.
+    Word,
+    /// 32 bits.
+    DoubleWord,
+    /// One coil, written as FF00h (on) or 0000h (off).
+    Bit,
+    /// Text (read as bytes).
+    Text,
+}
+
+impl DataType {
+    /// Every data type.
+    pub const ALL: [DataType; 4] = [
+        DataType::Word,
+        DataType::DoubleWord,
+        DataType::Bit,
+        DataType::Text,
+    ];
+
+    /// Name as written in description files.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            DataType::Word => "word",
+            DataType::DoubleWord => "double_word",
+            DataType::Bit => "bit",
+            DataType::Text => "text",
+        }
+    }
+
+    /// Bytes the value takes in a frame (text: 0, it has no fixed size).
+    pub const fn size(self) -> u8 {
+        match self {
+            DataType::Word | DataType::Bit => 2,
+            DataType::DoubleWord => 4,
+            DataType::Text => 0,
         }
     }
 }
 
-/// One command of a protocol: its letter and the layouts of its request and reply.
+/// Which numbering a register address belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Space {
+    /// Parameters and communication numbers (the default).
+    Parameter,
+    /// Coils (bit addresses; 16 make a word).
+    Coil,
+}
+
+impl Space {
+    /// Name as written in description files.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Space::Parameter => "parameter",
+            Space::Coil => "coil",
+        }
+    }
+}
+
+/// How a command turns a register number into the number on the wire:
+/// `wire = number * multiply + offset` (Modbus holding register = parameter x 10 - 1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AddressMap {
+    /// Factor.
+    pub multiply: u16,
+    /// Offset added after multiplying.
+    pub offset: i32,
+}
+
+impl AddressMap {
+    /// The identity map.
+    pub const IDENTITY: AddressMap = AddressMap {
+        multiply: 1,
+        offset: 0,
+    };
+
+    /// The wire number of `number`, if it fits 16 bits.
+    pub fn to_wire(self, number: u16) -> Option<u16> {
+        u16::try_from(i64::from(number) * i64::from(self.multiply) + i64::from(self.offset)).ok()
+    }
+
+    /// The register number of a wire number, if it maps back exactly.
+    pub fn from_wire(self, wire: u16) -> Option<u16> {
+        let shifted = i64::from(wire) - i64::from(self.offset);
+        let multiply = i64::from(self.multiply.max(1));
+        (shifted % multiply == 0)
+            .then(|| u16::try_from(shifted / multiply).ok())
+            .flatten()
+    }
+}
+
+/// One command of a protocol: its code and the layouts of its request and reply.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CommandSpec {
-    /// Command letter (`b'R'`).
-    pub letter: u8,
+    /// Code on the wire: a letter (`b'R'`), an AK nibble or a function code. Unused by
+    /// layouts without a command field (process telegrams).
+    pub code: u32,
     /// What it does.
     pub kind: CommandKind,
+    /// Data types it carries; empty means any.
+    pub data_types: List<DataType>,
+    /// Address space it serves.
+    pub space: Space,
+    /// Register number to wire number.
+    pub address_map: AddressMap,
     /// Request layout.
     pub request: FrameLayout,
     /// Normal reply layout.
     pub reply: FrameLayout,
+    /// Codes a normal reply may carry; empty means the request's own code.
+    pub reply_codes: List<u32>,
+}
+
+impl CommandSpec {
+    /// Whether it carries `data_type`.
+    pub fn carries(&self, data_type: DataType) -> bool {
+        self.data_types.is_empty() || self.data_types.contains(&data_type)
+    }
+
+    /// The code shown for people: the letter for printable codes, hex otherwise.
+    pub fn code_label(&self) -> String {
+        code_label(self.code)
+    }
+}
+
+/// Shows a command code: `R` for letters, `03h` for numbers.
+pub fn code_label(code: u32) -> String {
+    match u8::try_from(code) {
+        Ok(byte) if byte.is_ascii_alphabetic() => (byte as char).to_string(),
+        _ => format!("{code:02X}h"),
+    }
+}
+
+/// Something a request needs done first, in another exchange.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PreStep {
+    /// Before an indexed access, write the index to this wire register (FC Modbus: 0008h).
+    Index {
+        /// Wire register that selects the index.
+        register: u16,
+    },
+    /// Before a write, select RAM or RAM + EEPROM by writing `ram` or `persistent` to
+    /// `register` of `space` (FC Modbus: coil 65, 0000h or FF00h).
+    Persistence {
+        /// Address space of the selector.
+        space: Space,
+        /// Selector register (number before mapping).
+        register: u16,
+        /// Data type of the selector.
+        data_type: DataType,
+        /// Value selecting RAM only.
+        ram: u32,
+        /// Value selecting RAM and EEPROM.
+        persistent: u32,
+    },
 }
 
 /// One entry of a drive's error-code table.
@@ -77,6 +245,13 @@ pub struct Protocol {
     pub default_optional_parts: List<Text>,
     /// The drive's error codes.
     pub error_codes: List<ErrorCodeInfo>,
+    /// Steps some requests need first.
+    pub pre_steps: List<PreStep>,
+    /// Process words sent with requests that carry them when the caller gives none
+    /// (FC: a control word with "data valid" clear, so the drive ignores it).
+    pub default_process: [u16; 2],
+    /// Silence between frames, in character times (Modbus RTU: 3.5); 0 for none.
+    pub frame_gap_chars: f32,
 }
 
 /// A request, independent of the protocol that will carry it.
@@ -84,34 +259,55 @@ pub struct Protocol {
 pub struct Request {
     /// What to do.
     pub kind: CommandKind,
-    /// Register address.
+    /// Register or parameter number (before the protocol's address map).
     pub register: u16,
-    /// Data word (ignored for reads).
-    pub data: u16,
+    /// Address space of `register`.
+    pub space: Space,
+    /// `register` is already a wire number: do not map it.
+    pub wire_register: bool,
+    /// Array index, for indexed parameters.
+    pub index: Option<u16>,
+    /// Data (ignored for reads).
+    pub data: u32,
+    /// Shape of the data.
+    pub data_type: DataType,
+    /// Process words to send along (control word, reference), where the protocol carries them.
+    pub process: Option<[u16; 2]>,
     /// The register's metadata, when the request was built from a typed register.
     pub info: Option<&'static RegisterInfo>,
 }
 
 impl Request {
+    /// A request for the register `info` describes, with raw `data` (no range check; the
+    /// typed constructors check). Tools that pick registers at run time use this.
+    pub fn for_register(kind: CommandKind, info: &'static RegisterInfo, data: u32) -> Request {
+        Request {
+            kind,
+            register: info.address,
+            space: info.space,
+            wire_register: false,
+            index: None,
+            data,
+            data_type: info.data_type,
+            process: None,
+            info: Some(info),
+        }
+    }
+
     /// Reads register `R`.
     pub fn read<R: Register>() -> Request {
-        Request {
-            kind: CommandKind::Read,
-            register: R::INFO.address,
-            data: 0,
-            info: Some(R::INFO),
-        }
+        let kind = if R::INFO.data_type == DataType::Text {
+            CommandKind::ReadText
+        } else {
+            CommandKind::Read
+        };
+        Request::for_register(kind, R::INFO, 0)
     }
 
     /// Writes `value` to register `R` in RAM only. Refuses values outside the register's range.
     pub fn write_ram<R: Writable>(value: R::Value) -> Result<Request, ValueError> {
         let data = value.to_raw(R::INFO)?;
-        Ok(Request {
-            kind: CommandKind::WriteRam,
-            register: R::INFO.address,
-            data,
-            info: Some(R::INFO),
-        })
+        Ok(Request::for_register(CommandKind::WriteRam, R::INFO, data))
     }
 
     /// Writes `value` to register `R` in RAM and EEPROM. EEPROM endures a limited number of
@@ -119,36 +315,100 @@ impl Request {
     /// change often.
     pub fn write_persistent<R: Persistable>(value: R::Value) -> Result<Request, ValueError> {
         let data = value.to_raw(R::INFO)?;
-        Ok(Request {
-            kind: CommandKind::WritePersistent,
-            register: R::INFO.address,
+        Ok(Request::for_register(
+            CommandKind::WritePersistent,
+            R::INFO,
             data,
-            info: Some(R::INFO),
-        })
+        ))
     }
 
-    /// A request built from raw numbers, with no range checks.
-    pub fn raw(kind: CommandKind, register: u16, data: u16) -> Request {
+    /// Exchanges process words: `control` and `reference` out, status and output value back.
+    pub fn process(control: u16, reference: u16) -> Request {
+        Request {
+            kind: CommandKind::Process,
+            register: 0,
+            space: Space::Parameter,
+            wire_register: false,
+            index: None,
+            data: 0,
+            data_type: DataType::Word,
+            process: Some([control, reference]),
+            info: None,
+        }
+    }
+
+    /// A request built from raw numbers (a word in the parameter space), with no range checks.
+    pub fn raw(kind: CommandKind, register: u16, data: u32) -> Request {
         Request {
             kind,
             register,
+            space: Space::Parameter,
+            wire_register: false,
+            index: None,
             data,
+            data_type: DataType::Word,
+            process: None,
             info: None,
         }
+    }
+
+    /// The same request for array element `index`. Refuses indexes beyond the register's array.
+    pub fn at_index(mut self, index: u16) -> Result<Request, ValueError> {
+        if let Some(info) = self.info {
+            if u32::from(index) >= u32::from(info.array_len) {
+                return Err(ValueError::IndexOutOfRange {
+                    register: info,
+                    index,
+                    len: info.array_len,
+                });
+            }
+        }
+        self.index = Some(index);
+        Ok(self)
+    }
+
+    /// The same request with these process words (control word, reference) sent along.
+    pub fn with_process(mut self, control: u16, reference: u16) -> Request {
+        self.process = Some([control, reference]);
+        self
+    }
+
+    /// The same request with another data type.
+    pub fn with_data_type(mut self, data_type: DataType) -> Request {
+        self.data_type = data_type;
+        self
+    }
+
+    /// The same request in another address space.
+    pub fn in_space(mut self, space: Space) -> Request {
+        self.space = space;
+        self
     }
 
     /// Describes the request for error messages.
     pub fn describe(&self) -> String {
         let target = match self.info {
             Some(info) => info.label(),
+            None if self.space == Space::Coil => format!("coil {}", self.register),
             None => format!("register {:04X}", self.register),
+        };
+        let target = match self.index {
+            Some(index) => format!("{target}[{index}]"),
+            None => target,
         };
         match self.kind {
             CommandKind::Read => format!("read of {target}"),
+            CommandKind::ReadText => format!("text read of {target}"),
             CommandKind::WriteRam => format!("RAM write of {:04X}h to {target}", self.data),
             CommandKind::WritePersistent => {
                 format!("persistent write of {:04X}h to {target}", self.data)
             }
+            CommandKind::Process => match self.process {
+                Some([control, reference]) => {
+                    format!("process exchange (control {control:04X}h, reference {reference:04X}h)")
+                }
+                None => "process exchange".to_owned(),
+            },
         }
     }
 }
@@ -160,10 +420,16 @@ pub struct DecodedRequest<'p> {
     pub command: &'p CommandSpec,
     /// Station address, if the frame carries one.
     pub address: Option<u8>,
-    /// Register address.
-    pub register: u16,
-    /// Data word (0 for reads).
-    pub data: u16,
+    /// Register number on the wire.
+    pub wire_register: Option<u16>,
+    /// Register number after undoing the command's address map, when it maps back.
+    pub register: Option<u16>,
+    /// Array index, if the frame carries one.
+    pub index: Option<u16>,
+    /// Data (0 for reads).
+    pub data: u32,
+    /// Process words, if the frame carries them.
+    pub process: Option<[u16; 2]>,
     /// Every part's value, including presentation (digits used, optional parts present).
     pub values: FrameValues,
     /// Frame length in bytes.
@@ -177,14 +443,22 @@ pub enum Reply<'p> {
     Data {
         /// The command it answers.
         command: &'p CommandSpec,
+        /// The code it carries (the AK response, the letter in its case).
+        code: u32,
         /// Station address, if the frame carries one.
         address: Option<u8>,
         /// The command letter was lower case: the drive is tripped.
         tripped: bool,
-        /// Register address.
-        register: u16,
-        /// Data word read, or actually written.
-        data: u16,
+        /// Register number on the wire, if the reply carries one.
+        wire_register: Option<u16>,
+        /// Array index, if the reply carries one.
+        index: Option<u16>,
+        /// Data read, or actually written (0 when the reply carries none).
+        data: u32,
+        /// Process words (status word, output value), if the reply carries them.
+        process: Option<[u16; 2]>,
+        /// Offset and length of the text in the frame, for text replies.
+        text: Option<(usize, usize)>,
         /// Every part's value.
         values: FrameValues,
         /// Frame length in bytes.
@@ -196,9 +470,11 @@ pub enum Reply<'p> {
         address: Option<u8>,
         /// The command letter was lower case: the drive is tripped.
         tripped: bool,
+        /// The code the reply carries (`N`, AK 7, function | 80h).
+        code: u32,
         /// Error code.
-        code: u16,
-        /// The manual's entry for the code, when the table has it.
+        error: u16,
+        /// The manual's entry for the error code, when the table has it.
         info: Option<&'p ErrorCodeInfo>,
         /// Every part's value.
         values: FrameValues,
@@ -235,17 +511,39 @@ pub enum Found<T> {
     Incomplete,
 }
 
+fn process_of(layout: &FrameLayout, values: &FrameValues) -> Option<[u16; 2]> {
+    match (
+        values.get(layout, Role::Process1),
+        values.get(layout, Role::Process2),
+    ) {
+        (Some(first), Some(second)) => Some([first as u16, second as u16]),
+        _ => None,
+    }
+}
+
 impl Protocol {
-    /// The command of the given kind.
+    /// The first command of `kind` serving `space` and carrying `data_type`.
+    pub fn command_for(
+        &self,
+        kind: CommandKind,
+        space: Space,
+        data_type: DataType,
+    ) -> Option<&CommandSpec> {
+        self.commands
+            .iter()
+            .find(|c| c.kind == kind && c.space == space && c.carries(data_type))
+    }
+
+    /// The first command of the given kind.
     pub fn command(&self, kind: CommandKind) -> Option<&CommandSpec> {
         self.commands.iter().find(|command| command.kind == kind)
     }
 
-    /// The command with this letter (either case when lower case means "tripped").
-    pub fn command_by_letter(&self, letter: u8) -> Option<&CommandSpec> {
+    /// The command with this code (either case when lower case means "tripped").
+    pub fn command_by_code(&self, code: u32) -> Option<&CommandSpec> {
+        let folded = u8::try_from(code).map_or(code, |b| u32::from(b.to_ascii_uppercase()));
         self.commands.iter().find(|command| {
-            command.letter == letter
-                || (self.lowercase_means_tripped && command.letter == letter.to_ascii_uppercase())
+            command.code == code || (self.lowercase_means_tripped && command.code == folded)
         })
     }
 
@@ -262,20 +560,49 @@ impl Protocol {
         request: &Request,
         address: Option<u8>,
     ) -> Result<(&FrameLayout, FrameValues), EncodeError> {
-        let command =
-            self.command(request.kind)
-                .ok_or_else(|| EncodeError::UnsupportedCommand {
-                    protocol: self.id.clone(),
-                    kind: request.kind.as_str(),
-                })?;
+        let command = self
+            .command_for(request.kind, request.space, request.data_type)
+            .ok_or_else(|| EncodeError::UnsupportedCommand {
+                protocol: self.id.clone(),
+                kind: request.kind.as_str(),
+                space: request.space.as_str(),
+                data_type: request.data_type.as_str(),
+            })?;
+        self.request_values_for(command, request, address)
+    }
+
+    /// Like [`Protocol::request_values`] with the command chosen by the caller (for
+    /// example the one a captured frame used).
+    pub fn request_values_for<'c>(
+        &self,
+        command: &'c CommandSpec,
+        request: &Request,
+        address: Option<u8>,
+    ) -> Result<(&'c FrameLayout, FrameValues), EncodeError> {
         let layout = &command.request;
-        let mut values = FrameValues::default();
+        let mut values = FrameValues {
+            data_size: request.data_type.size(),
+            ..FrameValues::default()
+        };
         for name in self.default_optional_parts.iter() {
             values.include(layout, &[name]);
         }
-        values.set(layout, Role::Command, u32::from(command.letter));
-        values.set(layout, Role::Register, u32::from(request.register));
-        values.set(layout, Role::Data, u32::from(request.data));
+        values.set(layout, Role::Command, command.code);
+        let wire = if request.wire_register {
+            Some(request.register)
+        } else {
+            command.address_map.to_wire(request.register)
+        };
+        let wire = wire.ok_or(EncodeError::RegisterOutOfRange {
+            protocol: self.id.clone(),
+            register: request.register,
+        })?;
+        values.set(layout, Role::Register, u32::from(wire));
+        values.set(layout, Role::Data, request.data);
+        values.set(layout, Role::Index, u32::from(request.index.unwrap_or(0)));
+        let [first, second] = request.process.unwrap_or(self.default_process);
+        values.set(layout, Role::Process1, u32::from(first));
+        values.set(layout, Role::Process2, u32::from(second));
         if let Some(address) = address {
             let (min, max) = self.address_range;
             if address < min || address > max {
@@ -287,6 +614,13 @@ impl Protocol {
                 });
             }
             values.set(layout, Role::Address, u32::from(address));
+        } else if layout
+            .locate(Role::Address)
+            .is_some_and(|(index, _)| !is_optional(&layout.parts[index]))
+        {
+            return Err(EncodeError::AddressRequired {
+                protocol: self.id.clone(),
+            });
         }
         Ok((layout, values))
     }
@@ -308,22 +642,26 @@ impl Protocol {
         let mut best: Option<DecodeError> = None;
         let mut incomplete = false;
         for command in self.commands.iter() {
-            match codec::decode(&command.request, bytes) {
+            let layout = &command.request;
+            match codec::decode(layout, bytes) {
                 Ok(DecodeStatus::Complete { values, len }) => {
-                    let layout = &command.request;
-                    // Commands may share a layout (W and P): the letter decides.
+                    // Commands may share a layout (W and P): the code decides.
                     if values
                         .get(layout, Role::Command)
-                        .is_some_and(|letter| letter != u32::from(command.letter))
+                        .is_some_and(|code| code != command.code)
                     {
                         continue;
                     }
+                    let wire = values.get(layout, Role::Register).map(|r| r as u16);
                     return Ok(Found::Frame {
                         frame: DecodedRequest {
                             command,
                             address: values.get(layout, Role::Address).map(|a| a as u8),
-                            register: values.get(layout, Role::Register).unwrap_or(0) as u16,
-                            data: values.get(layout, Role::Data).unwrap_or(0) as u16,
+                            wire_register: wire,
+                            register: wire.and_then(|w| command.address_map.from_wire(w)),
+                            index: values.get(layout, Role::Index).map(|i| i as u16),
+                            data: values.get(layout, Role::Data).unwrap_or(0),
+                            process: process_of(layout, &values),
                             values,
                             len,
                         },
@@ -344,7 +682,7 @@ impl Protocol {
     /// reply layout (and the error reply) is tried.
     pub fn decode_reply(
         &self,
-        expected: Option<CommandKind>,
+        expected: Option<&CommandSpec>,
         bytes: &[u8],
     ) -> Result<Found<Reply<'_>>, DecodeError> {
         let mut best: Option<DecodeError> = None;
@@ -352,14 +690,15 @@ impl Protocol {
         if let Some(layout) = &self.error_reply {
             match codec::decode(layout, bytes) {
                 Ok(DecodeStatus::Complete { values, len }) => {
-                    let letter = values.get(layout, Role::Command).unwrap_or(0) as u8;
-                    let code = values.get(layout, Role::ErrorCode).unwrap_or(0) as u16;
+                    let code = values.get(layout, Role::Command).unwrap_or(0);
+                    let error = values.get(layout, Role::ErrorCode).unwrap_or(0) as u16;
                     return Ok(Found::Frame {
                         frame: Reply::Error {
                             address: values.get(layout, Role::Address).map(|a| a as u8),
-                            tripped: self.lowercase_means_tripped && letter.is_ascii_lowercase(),
+                            tripped: self.is_tripped(code),
                             code,
-                            info: self.error_code(code),
+                            error,
+                            info: self.error_code(error),
                             values,
                             len,
                         },
@@ -370,28 +709,32 @@ impl Protocol {
                 Err(error) => best = Some(furthest(best, error)),
             }
         }
-        for command in self
-            .commands
-            .iter()
-            .filter(|c| expected.is_none_or(|kind| c.kind == kind))
-        {
+        for command in self.commands.iter() {
+            if expected.is_some_and(|wanted| !std::ptr::eq(wanted, command) && wanted != command) {
+                continue;
+            }
             let layout = &command.reply;
             match codec::decode(layout, bytes) {
                 Ok(DecodeStatus::Complete { values, len }) => {
-                    let letter = values.get(layout, Role::Command).unwrap_or(0) as u8;
-                    let same = letter == command.letter
-                        || (self.lowercase_means_tripped
-                            && letter.to_ascii_uppercase() == command.letter);
-                    if !same {
+                    let code = values.get(layout, Role::Command);
+                    if code.is_some_and(|code| !self.reply_code_matches(command, code)) {
                         continue;
                     }
+                    let text = layout.index_of(Role::Text).map(|index| {
+                        let slot = values.parts[index];
+                        (slot.value as usize, usize::from(slot.width))
+                    });
                     return Ok(Found::Frame {
                         frame: Reply::Data {
                             command,
+                            code: code.unwrap_or(command.code),
                             address: values.get(layout, Role::Address).map(|a| a as u8),
-                            tripped: self.lowercase_means_tripped && letter.is_ascii_lowercase(),
-                            register: values.get(layout, Role::Register).unwrap_or(0) as u16,
-                            data: values.get(layout, Role::Data).unwrap_or(0) as u16,
+                            tripped: code.is_some_and(|code| self.is_tripped(code)),
+                            wire_register: values.get(layout, Role::Register).map(|r| r as u16),
+                            index: values.get(layout, Role::Index).map(|i| i as u16),
+                            data: values.get(layout, Role::Data).unwrap_or(0),
+                            process: process_of(layout, &values),
+                            text,
                             values,
                             len,
                         },
@@ -408,6 +751,23 @@ impl Protocol {
         Err(self.no_match("reply", best))
     }
 
+    fn is_tripped(&self, code: u32) -> bool {
+        self.lowercase_means_tripped && u8::try_from(code).is_ok_and(|b| b.is_ascii_lowercase())
+    }
+
+    fn reply_code_matches(&self, command: &CommandSpec, code: u32) -> bool {
+        let folded = if self.lowercase_means_tripped {
+            u8::try_from(code).map_or(code, |b| u32::from(b.to_ascii_uppercase()))
+        } else {
+            code
+        };
+        if command.reply_codes.is_empty() {
+            folded == command.code
+        } else {
+            command.reply_codes.contains(&folded)
+        }
+    }
+
     /// Decodes exactly one request frame: `bytes` must hold the whole frame and nothing else.
     pub fn decode_request_exact(&self, bytes: &[u8]) -> Result<DecodedRequest<'_>, DecodeError> {
         match self.decode_request(bytes)? {
@@ -422,7 +782,7 @@ impl Protocol {
     /// Decodes exactly one reply frame: `bytes` must hold the whole frame and nothing else.
     pub fn decode_reply_exact(
         &self,
-        expected: Option<CommandKind>,
+        expected: Option<&CommandSpec>,
         bytes: &[u8],
     ) -> Result<Reply<'_>, DecodeError> {
         match self.decode_reply(expected, bytes)? {
@@ -447,10 +807,11 @@ impl Protocol {
     }
 
     /// Looks for a reply in `bytes`, skipping noise before a start sequence: each
-    /// occurrence of a layout's start bytes is tried in turn.
+    /// occurrence of a layout's start bytes is tried in turn. Protocols without a start
+    /// sequence (Modbus RTU) are decoded from the first byte.
     pub fn find_reply(
         &self,
-        expected: Option<CommandKind>,
+        expected: Option<&CommandSpec>,
         bytes: &[u8],
     ) -> Result<Found<Reply<'_>>, DecodeError> {
         let start = self.start_bytes();
@@ -507,6 +868,13 @@ impl Protocol {
             .flat_map(|c| [&c.request, &c.reply])
             .chain(self.error_reply.as_ref())
             .any(|layout| layout.parts.iter().any(|part: &Part| part.name() == name))
+    }
+}
+
+fn is_optional(part: &Part) -> bool {
+    match part {
+        Part::Field(field) => field.optional.is_some(),
+        _ => false,
     }
 }
 

@@ -1,6 +1,7 @@
 //! Register metadata and the traits that make register access typed.
 
 use crate::error::ValueError;
+use crate::protocol::{DataType, Space};
 use crate::units::Unit;
 
 /// Whether a register can be read, written or both over the serial link.
@@ -28,7 +29,7 @@ impl Access {
 /// Everything the manual says about one register, as static data.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RegisterInfo {
-    /// Communication number (register address).
+    /// Communication number, parameter number or coil number (before any protocol's address map).
     pub address: u16,
     /// Identifier in the drive file (`deceleration_time_1`).
     pub id: &'static str,
@@ -45,9 +46,15 @@ pub struct RegisterInfo {
     /// Whether the raw word is two's-complement signed.
     pub signed: bool,
     /// Lowest raw value accepted (static bound).
-    pub raw_min: i32,
+    pub raw_min: i64,
     /// Highest raw value accepted (static bound).
-    pub raw_max: i32,
+    pub raw_max: i64,
+    /// Shape on the wire (word, double word, text).
+    pub data_type: DataType,
+    /// Address space of `address` (parameters, coils).
+    pub space: Space,
+    /// Number of array elements for indexed parameters; 0 when it is not an array.
+    pub array_len: u8,
     /// Code of the register that bounds the value from below at run time (`LL`), if any.
     pub min_bound: Option<&'static str>,
     /// Code of the register that bounds the value from above at run time (`FH`), if any.
@@ -66,6 +73,12 @@ impl RegisterInfo {
     /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.
     /// The code is left out when it only repeats the address (`FA01`).
     pub fn label(&self) -> String {
+        if self.space == Space::Coil {
+            return format!(
+                "coil {} {} ({} / {})",
+                self.address, self.code, self.name, self.name_zh
+            );
+        }
         let address = format!("{:04X}", self.address);
         if self.code.eq_ignore_ascii_case(&address) {
             format!("register {address} ({} / {})", self.name, self.name_zh)
@@ -101,10 +114,11 @@ impl RegisterInfo {
 /// A value that can be stored in a register: a quantity, a code-table enum, a bit-field
 /// word or a raw number.
 pub trait RegisterValue: Sized {
-    /// Converts to the raw word, refusing values outside the register's range.
-    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u16, ValueError>;
-    /// Converts a raw word read from the drive.
-    fn from_raw(raw: u16, info: &'static RegisterInfo) -> Result<Self, ValueError>;
+    /// Converts to the raw value (a word or a double word), refusing values outside the
+    /// register's range.
+    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u32, ValueError>;
+    /// Converts a raw value read from the drive.
+    fn from_raw(raw: u32, info: &'static RegisterInfo) -> Result<Self, ValueError>;
 }
 
 /// A register of a described drive. Generated code implements it for one unit struct per register.

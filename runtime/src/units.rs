@@ -87,8 +87,8 @@ pub fn decimals_of(scale: f64) -> u8 {
     decimals
 }
 
-/// Converts an engineering value to the raw word, checking finiteness and the register's range.
-pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u16, ValueError> {
+/// Converts an engineering value to the raw value, checking finiteness and the register's range.
+pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u32, ValueError> {
     if !value.is_finite() {
         return Err(ValueError::NotFinite {
             register: info,
@@ -96,35 +96,37 @@ pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u16, Val
         });
     }
     let raw = (value / info.scale).round();
-    if raw < f64::from(info.raw_min) || raw > f64::from(info.raw_max) {
+    if raw < info.raw_min as f64 || raw > info.raw_max as f64 {
         return Err(ValueError::OutOfRange {
             register: info,
             value,
-            min: f64::from(info.raw_min) * info.scale,
-            max: f64::from(info.raw_max) * info.scale,
+            min: rounded(info.raw_min as f64 * info.scale, info),
+            max: rounded(info.raw_max as f64 * info.scale, info),
         });
     }
-    // The range check above keeps `raw` within i32 and within the register's word.
-    let raw = raw as i32;
-    Ok(if info.signed {
-        raw as i16 as u16
-    } else {
-        raw as u16
+    // The range check above keeps `raw` within the register's word or double word.
+    let raw = raw as i64;
+    Ok(match (info.signed, info.data_type) {
+        (true, crate::protocol::DataType::DoubleWord) => raw as i32 as u32,
+        (true, _) => u32::from(raw as i16 as u16),
+        (false, _) => raw as u32,
     })
 }
 
-/// Converts a raw word to its engineering value.
-pub fn raw_to_scaled(raw: u16, info: &RegisterInfo) -> f64 {
-    let raw = if info.signed {
-        f64::from(raw as i16)
-    } else {
-        f64::from(raw)
+fn rounded(value: f64, info: &RegisterInfo) -> f64 {
+    let factor = 10f64.powi(i32::from(info.decimals()));
+    (value * factor).round() / factor
+}
+
+/// Converts a raw value to its engineering value.
+pub fn raw_to_scaled(raw: u32, info: &RegisterInfo) -> f64 {
+    let raw = match (info.signed, info.data_type) {
+        (true, crate::protocol::DataType::DoubleWord) => f64::from(raw as i32),
+        (true, _) => f64::from(raw as u16 as i16),
+        (false, _) => f64::from(raw),
     };
     // Round away binary noise such as 0.1 * 3 = 0.30000000000000004.
-    let value = raw * info.scale;
-    let decimals = info.decimals();
-    let factor = 10f64.powi(i32::from(decimals));
-    (value * factor).round() / factor
+    rounded(raw * info.scale, info)
 }
 
 macro_rules! quantity {
@@ -145,10 +147,10 @@ macro_rules! quantity {
         }
 
         impl RegisterValue for $name {
-            fn to_raw(&self, info: &'static RegisterInfo) -> Result<u16, ValueError> {
+            fn to_raw(&self, info: &'static RegisterInfo) -> Result<u32, ValueError> {
                 scaled_to_raw(self.0, info)
             }
-            fn from_raw(raw: u16, info: &'static RegisterInfo) -> Result<Self, ValueError> {
+            fn from_raw(raw: u32, info: &'static RegisterInfo) -> Result<Self, ValueError> {
                 Ok($name(raw_to_scaled(raw, info)))
             }
         }
@@ -198,30 +200,60 @@ quantity!(
 
 /// Plain scaled numbers (no unit, scale other than 1).
 impl RegisterValue for f64 {
-    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u16, ValueError> {
+    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u32, ValueError> {
         scaled_to_raw(*self, info)
     }
-    fn from_raw(raw: u16, info: &'static RegisterInfo) -> Result<Self, ValueError> {
+    fn from_raw(raw: u32, info: &'static RegisterInfo) -> Result<Self, ValueError> {
         Ok(raw_to_scaled(raw, info))
     }
 }
 
 /// Raw words (no unit, scale 1), range-checked.
 impl RegisterValue for u16 {
-    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u16, ValueError> {
+    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u32, ValueError> {
         scaled_to_raw(f64::from(*self), info)
     }
-    fn from_raw(raw: u16, _info: &'static RegisterInfo) -> Result<Self, ValueError> {
-        Ok(raw)
+    fn from_raw(raw: u32, _info: &'static RegisterInfo) -> Result<Self, ValueError> {
+        Ok(raw as u16)
     }
 }
 
 /// Signed raw words (no unit, scale 1), range-checked.
 impl RegisterValue for i16 {
-    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u16, ValueError> {
+    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u32, ValueError> {
         scaled_to_raw(f64::from(*self), info)
     }
-    fn from_raw(raw: u16, _info: &'static RegisterInfo) -> Result<Self, ValueError> {
-        Ok(raw as i16)
+    fn from_raw(raw: u32, _info: &'static RegisterInfo) -> Result<Self, ValueError> {
+        Ok(raw as u16 as i16)
+    }
+}
+
+/// Raw double words (no unit, scale 1), range-checked.
+impl RegisterValue for u32 {
+    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u32, ValueError> {
+        scaled_to_raw(f64::from(*self), info)
+    }
+    fn from_raw(raw: u32, _info: &'static RegisterInfo) -> Result<Self, ValueError> {
+        Ok(raw)
+    }
+}
+
+/// Signed raw double words (no unit, scale 1), range-checked.
+impl RegisterValue for i32 {
+    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u32, ValueError> {
+        scaled_to_raw(f64::from(*self), info)
+    }
+    fn from_raw(raw: u32, _info: &'static RegisterInfo) -> Result<Self, ValueError> {
+        Ok(raw as i32)
+    }
+}
+
+/// Text parameters: read as text; writing text is not supported by the runtime.
+impl RegisterValue for String {
+    fn to_raw(&self, info: &'static RegisterInfo) -> Result<u32, ValueError> {
+        Err(ValueError::NotWritable { register: info })
+    }
+    fn from_raw(_raw: u32, info: &'static RegisterInfo) -> Result<Self, ValueError> {
+        Err(ValueError::NotWritable { register: info })
     }
 }

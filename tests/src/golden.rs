@@ -3,21 +3,30 @@
 
 use vfd_runtime::codec::{self, FrameValues};
 use vfd_runtime::layout::{FrameLayout, Part};
-use vfd_runtime::{CommandKind, Protocol, Reply, Request};
+use vfd_runtime::protocol::DecodedRequest;
+use vfd_runtime::{DataType, Protocol, Reply, Request, Role};
 
 /// What a frame should decode to (fields the manual states; `None` means "not in the frame").
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Expect {
     /// Station address.
     pub address: Option<u8>,
-    /// Command letter as on the wire.
-    pub command: Option<u8>,
-    /// Register.
+    /// Command code as on the wire (letter, AK nibble, function code).
+    pub code: Option<u32>,
+    /// Register number before the protocol's address map.
     pub register: Option<u16>,
-    /// Data word.
-    pub data: Option<u16>,
+    /// Register number on the wire.
+    pub wire_register: Option<u16>,
+    /// Array index.
+    pub index: Option<u16>,
+    /// Data.
+    pub data: Option<u32>,
     /// Error code (error replies).
     pub error_code: Option<u16>,
+    /// Process words.
+    pub process: Option<[u16; 2]>,
+    /// Text.
+    pub text: Option<&'static str>,
     /// Lower-case command (tripped).
     pub tripped: bool,
 }
@@ -31,19 +40,29 @@ pub enum Direction {
     Reply,
 }
 
-/// Copies presentation choices (optional parts present, digits used) from a decoded
-/// frame onto values built from meaning, so both can be compared byte for byte.
+/// Copies presentation choices (optional parts present, digits and bytes used) from a
+/// decoded frame onto values built from meaning, so both can be compared byte for byte.
 fn adopt_presentation(layout: &FrameLayout, built: &mut FrameValues, decoded: &FrameValues) {
     for (index, part) in layout.parts.iter().enumerate() {
         let optional = match part {
             Part::Literal { optional, .. } => *optional,
             Part::Field(field) => field.optional.is_some(),
             Part::Checksum(spec) => spec.optional,
+            Part::Word(_) | Part::Length(_) => false,
         };
         if optional {
             built.parts[index].present = decoded.parts[index].present;
         }
         built.parts[index].width = decoded.parts[index].width;
+    }
+    built.data_size = decoded.data_size;
+}
+
+fn data_type_of(decoded: &DecodedRequest<'_>) -> DataType {
+    match (decoded.command.data_types.first(), decoded.values.data_size) {
+        (_, 4) => DataType::DoubleWord,
+        (Some(data_type), _) if decoded.command.data_types.len() == 1 => *data_type,
+        _ => DataType::Word,
     }
 }
 
@@ -53,47 +72,63 @@ pub fn request_round_trips(protocol: &'static Protocol, bytes: &[u8], expect: Ex
     let decoded = protocol
         .decode_request_exact(bytes)
         .unwrap_or_else(|e| panic!("request does not decode: {e}"));
-    assert_eq!(
-        Some(decoded.command.letter),
-        expect.command,
-        "command letter"
-    );
+    let command = decoded.command;
+    if command.request.has(Role::Command) {
+        assert_eq!(Some(command.code), expect.code, "command code");
+    }
     assert_eq!(decoded.address, expect.address, "address");
-    assert_eq!(Some(decoded.register), expect.register, "register");
-    if decoded.command.kind != CommandKind::Read {
+    match expect.wire_register {
+        Some(wire) => assert_eq!(decoded.wire_register, Some(wire), "wire register"),
+        None => assert_eq!(decoded.register, expect.register, "register"),
+    }
+    assert_eq!(decoded.index, expect.index, "index");
+    if command.request.has(Role::Data) {
         assert_eq!(Some(decoded.data), expect.data, "data");
     }
-    let request = Request::raw(
-        decoded.command.kind,
-        expect.register.unwrap_or(0),
-        expect.data.unwrap_or(0),
-    );
-    encodes_with_presentation(protocol, &request, expect.address, bytes);
+    assert_eq!(decoded.process, expect.process, "process words");
+    let (register, wire_register) = match (expect.register, expect.wire_register) {
+        (Some(register), _) => (register, false),
+        (None, Some(wire)) => (wire, true),
+        (None, None) => (0, false),
+    };
+    let request = Request {
+        kind: command.kind,
+        register,
+        space: command.space,
+        wire_register,
+        index: expect.index,
+        data: expect.data.unwrap_or(0),
+        data_type: data_type_of(&decoded),
+        process: expect.process,
+        info: None,
+    };
+    encodes_like(protocol, &decoded, &request, bytes);
 }
 
 /// A request built through the typed API encodes to the manual's `bytes` (with the
-/// manual's choice of optional parts and digit counts).
+/// manual's command, optional parts, digit counts and process words).
 #[track_caller]
 pub fn typed_request_encodes(protocol: &'static Protocol, request: &Request, bytes: &[u8]) {
     let decoded = protocol
         .decode_request_exact(bytes)
         .unwrap_or_else(|e| panic!("request does not decode: {e}"));
-    assert_eq!(request.kind, decoded.command.kind, "command kind");
-    encodes_with_presentation(protocol, request, decoded.address, bytes);
+    assert_eq!(request.space, decoded.command.space, "address space");
+    let request = Request {
+        process: decoded.process,
+        ..*request
+    };
+    encodes_like(protocol, &decoded, &request, bytes);
 }
 
 #[track_caller]
-fn encodes_with_presentation(
+fn encodes_like(
     protocol: &'static Protocol,
+    decoded: &DecodedRequest<'_>,
     request: &Request,
-    address: Option<u8>,
     bytes: &[u8],
 ) {
-    let decoded = protocol
-        .decode_request_exact(bytes)
-        .unwrap_or_else(|e| panic!("request does not decode: {e}"));
     let (layout, mut values) = protocol
-        .request_values(request, address)
+        .request_values_for(decoded.command, request, decoded.address)
         .unwrap_or_else(|e| panic!("cannot build the request: {e}"));
     adopt_presentation(layout, &mut values, &decoded.values);
     let mut out = [0u8; 256];
@@ -109,62 +144,74 @@ fn encodes_with_presentation(
 /// The reply decodes to `expect` and re-encodes to `bytes`.
 #[track_caller]
 pub fn reply_round_trips(protocol: &'static Protocol, bytes: &[u8], expect: Expect) {
-    let kind = expect
-        .command
-        .and_then(|letter| protocol.command_by_letter(letter))
-        .map(|c| c.kind);
     let reply = protocol
-        .decode_reply_exact(kind, bytes)
+        .decode_reply_exact(None, bytes)
         .unwrap_or_else(|e| panic!("reply does not decode: {e}"));
-    let (layout, values) = match reply {
+    let (layout, values, payload) = match reply {
         Reply::Data {
             command,
+            code,
             address,
             tripped,
-            register,
+            wire_register,
+            index,
             data,
+            process,
+            text,
             values,
             ..
         } => {
-            let letter = if tripped {
-                command.letter.to_ascii_lowercase()
-            } else {
-                command.letter
-            };
-            assert_eq!(Some(letter), expect.command, "command letter");
+            if command.reply.has(Role::Command) {
+                assert_eq!(Some(code), expect.code, "command code");
+            }
             assert_eq!(address, expect.address, "address");
-            assert_eq!(Some(register), expect.register, "register");
-            assert_eq!(Some(data), expect.data, "data");
+            let register = wire_register.and_then(|w| command.address_map.from_wire(w));
+            if expect.wire_register.is_some() {
+                assert_eq!(wire_register, expect.wire_register, "wire register");
+            } else {
+                assert_eq!(register, expect.register, "register");
+            }
+            assert_eq!(index, expect.index, "index");
+            if command.reply.has(Role::Data) {
+                assert_eq!(Some(data), expect.data, "data");
+            }
+            assert_eq!(process, expect.process, "process words");
+            let text_bytes = text.map(|(start, len)| &bytes[start..start + len]);
+            assert_eq!(
+                text_bytes.map(|t| String::from_utf8_lossy(t).into_owned()),
+                expect.text.map(str::to_owned),
+                "text"
+            );
             assert_eq!(tripped, expect.tripped, "tripped");
             assert_eq!(expect.error_code, None, "expected an error reply");
-            (&command.reply, values)
+            (&command.reply, values, text_bytes.unwrap_or(&[]))
         }
         Reply::Error {
+            code,
             address,
             tripped,
-            code,
+            error,
             info,
             values,
             ..
         } => {
-            assert_eq!(Some(code), expect.error_code, "error code");
+            assert_eq!(Some(code), expect.code, "command code");
+            assert_eq!(Some(error), expect.error_code, "error code");
             assert_eq!(address, expect.address, "address");
             assert_eq!(tripped, expect.tripped, "tripped");
             assert!(
                 info.is_some(),
-                "error code {code:04X}h is not in the drive's table"
+                "error code {error} is not in the drive's table"
             );
-            (
-                protocol
-                    .error_reply
-                    .as_ref()
-                    .expect("an error reply needs an error layout"),
-                values,
-            )
+            let layout = protocol
+                .error_reply
+                .as_ref()
+                .expect("an error reply needs an error layout");
+            (layout, values, &[][..])
         }
     };
     let mut out = [0u8; 256];
-    let len = codec::encode(layout, &values, &mut out)
+    let len = codec::encode_with_payload(layout, &values, payload, &mut out)
         .unwrap_or_else(|e| panic!("cannot re-encode: {e}"));
     assert_eq!(
         vfd_runtime::error::hex(&out[..len]),
@@ -178,16 +225,12 @@ pub fn reply_round_trips(protocol: &'static Protocol, bytes: &[u8], expect: Expe
 pub fn printed_is_rejected(
     protocol: &'static Protocol,
     direction: Direction,
-    command: Option<u8>,
     bytes: &[u8],
     reason: &str,
 ) {
-    let kind = command
-        .and_then(|letter| protocol.command_by_letter(letter))
-        .map(|c| c.kind);
     let error = match direction {
         Direction::Request => protocol.decode_request_exact(bytes).err(),
-        Direction::Reply => protocol.decode_reply_exact(kind, bytes).err(),
+        Direction::Reply => protocol.decode_reply_exact(None, bytes).err(),
     };
     let error = error.unwrap_or_else(|| {
         panic!(
