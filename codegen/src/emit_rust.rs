@@ -39,6 +39,7 @@ pub fn drive_module(drive: &DriveIr) -> TokenStream {
     let bits = bits_module(drive);
     let codes = codes_module(drive);
     let errors = error_code_enum(drive);
+    let scaling = reference_scaling(drive);
     quote! {
         #[doc = #title]
         #[doc = ""]
@@ -71,6 +72,7 @@ pub fn drive_module(drive: &DriveIr) -> TokenStream {
             #bits
             #codes
             #errors
+            #scaling
         }
     }
 }
@@ -712,16 +714,24 @@ fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
             });
         } else {
             let lsb = u32::from(field.lsb);
+            let (get, put) = if lsb == 0 {
+                (quote!(self.0 & #mask), quote!(value & #mask))
+            } else {
+                (
+                    quote!((self.0 & #mask) >> #lsb),
+                    quote!((value << #lsb) & #mask),
+                )
+            };
             accessors.push(quote! {
                 #[doc = #doc]
                 pub const fn #getter(self) -> u16 {
-                    (self.0 & #mask) >> #lsb
+                    #get
                 }
                 #[doc = #doc]
                 /// Bits of `value` beyond the field's width are dropped.
                 #[must_use]
                 pub const fn #setter(self, value: u16) -> Self {
-                    Self((self.0 & !#mask) | ((value << #lsb) & #mask))
+                    Self((self.0 & !#mask) | #put)
                 }
             });
         }
@@ -989,5 +999,40 @@ fn error_code_enum(drive: &DriveIr) -> TokenStream {
                 }
             }
         }
+    }
+}
+
+fn reference_scaling(drive: &DriveIr) -> TokenStream {
+    let Some(scaling) = &drive.reference_scaling else {
+        return quote!();
+    };
+    let full = scaling.full_scale_raw;
+    let applies = scaling.applies_to.iter().map(String::as_str);
+    let selector = &scaling.selector;
+    let end = |bound: &crate::model::BoundModel| match bound {
+        crate::model::BoundModel::Number(value) => {
+            let value = f64_literal(*value);
+            quote!(::vfd_runtime::scaling::SpanEnd::Number(#value))
+        }
+        crate::model::BoundModel::Register(id) => {
+            quote!(::vfd_runtime::scaling::SpanEnd::Register(#id))
+        }
+    };
+    let modes = scaling.modes.iter().map(|mode| {
+        let (value, low, high, description) = (mode.selector, end(&mode.low), end(&mode.high), &mode.description);
+        quote!(::vfd_runtime::scaling::ScalingMode { selector: #value, low: #low, high: #high, description: #description })
+    });
+    let doc = format!(
+        " Reference scaling (manual: {}): {full:X}h is 100 %; register `{selector}` chooses the span. {}",
+        scaling.source, scaling.note
+    );
+    quote! {
+        #[doc = #doc]
+        pub static REFERENCE_SCALING: ::vfd_runtime::scaling::ReferenceScaling = ::vfd_runtime::scaling::ReferenceScaling {
+            full_scale_raw: #full,
+            applies_to: &[#(#applies),*],
+            selector: #selector,
+            modes: &[#(#modes),*],
+        };
     }
 }

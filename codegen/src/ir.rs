@@ -33,6 +33,7 @@ pub struct DriveIr {
     pub bitfields: Vec<BitfieldIr>,
     pub registers: Vec<RegisterIr>,
     pub value_examples: Vec<ValueExampleIr>,
+    pub reference_scaling: Option<crate::model::ReferenceScalingModel>,
     pub manual_errata: Vec<ManualErratumIr>,
     pub examples: Vec<ExampleIr>,
 }
@@ -40,6 +41,7 @@ pub struct DriveIr {
 #[derive(Debug, Clone, Serialize)]
 pub struct SerialIr {
     pub source: String,
+    pub note: String,
     pub baud_rates: Vec<u32>,
     pub parities: Vec<String>,
     pub data_bits: u8,
@@ -79,6 +81,9 @@ pub struct ProtocolIr {
     pub layouts: Vec<LayoutIr>,
     pub commands: Vec<CommandIr>,
     pub error_reply: Option<String>,
+    pub pre_steps: Vec<String>,
+    pub frame_gap_chars: f32,
+    pub default_process: Option<[u16; 2]>,
     #[serde(skip)]
     pub runtime: Protocol,
 }
@@ -543,6 +548,7 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
         file: drive.source.path.display().to_string(),
         serial: SerialIr {
             source: serial.source.clone(),
+            note: serial.note.trim().to_owned(),
             baud_rates: serial.baud_rates.clone(),
             parities: serial.parities.clone(),
             data_bits: serial.data_bits,
@@ -585,6 +591,7 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
         bitfields,
         registers,
         value_examples,
+        reference_scaling: model.reference_scaling.clone(),
         manual_errata: model
             .manual_errata
             .iter()
@@ -787,6 +794,21 @@ fn lower_protocol(protocol: &LoadedProtocol) -> ProtocolIr {
             })
             .collect(),
         error_reply: runtime.error_reply.as_ref().map(|l| l.name.to_string()),
+        pre_steps: runtime
+            .pre_steps
+            .iter()
+            .map(|step| match *step {
+                vfd_runtime::PreStep::Index { register } => {
+                    format!("Before an indexed (array) access: write the index to wire register {register:04X}h.")
+                }
+                vfd_runtime::PreStep::Persistence { space, register, ram, persistent, .. } => format!(
+                    "Before a parameter write: write {ram:04X}h (RAM only) or {persistent:04X}h (RAM and EEPROM) to {} {register}.",
+                    space.as_str()
+                ),
+            })
+            .collect(),
+        frame_gap_chars: runtime.frame_gap_chars,
+        default_process: protocol.file.protocol.default_process,
         runtime: runtime.clone(),
     }
 }
@@ -800,11 +822,15 @@ fn lower_part(part: &Part, parts: &[Part]) -> PartIr {
         } => PartIr {
             name: name.to_string(),
             kind: "literal".into(),
-            encoding: format!(
-                "`{}` {}",
-                vfd_runtime::error::hex(bytes),
-                shown_bytes(bytes)
-            ),
+            encoding: if bytes.iter().all(|b| b.is_ascii_graphic()) {
+                format!(
+                    "`{}` ({})",
+                    vfd_runtime::error::hex(bytes),
+                    shown_bytes(bytes)
+                )
+            } else {
+                format!("`{}`", vfd_runtime::error::hex(bytes))
+            },
             size: format!("{}", bytes.len()),
             optional: if *optional {
                 "optional".into()

@@ -96,7 +96,15 @@ pub fn load_source(
                     continue;
                 }
             };
-            match protocols::build_protocol(&reference.id, &file, &protocol_source, &model) {
+            let reference_path = format!("protocols[{index}]");
+            match protocols::build_protocol(
+                reference,
+                &reference_path,
+                &file,
+                &protocol_source,
+                &source,
+                &model,
+            ) {
                 Ok(runtime) => loaded.push(LoadedProtocol {
                     id: reference.id.clone(),
                     uses: reference.uses.clone(),

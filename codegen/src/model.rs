@@ -3,7 +3,7 @@
 //! These types mirror the YAML one to one (unknown keys are errors). Meaning is checked
 //! later, in [`crate::validate`]; nothing here resolves references.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 /// A drive file (`drives/<id>.yaml`).
@@ -22,6 +22,7 @@ pub struct DriveFile {
     pub registers: Vec<RegisterModel>,
     #[serde(default)]
     pub value_examples: Vec<ValueExampleModel>,
+    pub reference_scaling: Option<ReferenceScalingModel>,
     #[serde(default)]
     pub manual_errata: Vec<ManualErratumModel>,
     #[serde(default)]
@@ -89,6 +90,13 @@ pub struct ProtocolRef {
     pub id: String,
     pub uses: String,
     pub source: String,
+    /// How this drive numbers registers on the wire, per address space (overrides the
+    /// protocol file): `{ parameter: { multiply: 10, offset: -1 }, coil: { multiply: 1, offset: -1 } }`.
+    #[serde(default)]
+    pub address_maps: BTreeMap<String, AddressMapModel>,
+    /// Steps this drive needs before some requests (added to the protocol file's).
+    #[serde(default)]
+    pub pre_steps: Vec<PreStepModel>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -193,7 +201,7 @@ pub struct BitExampleModel {
 }
 
 /// A range bound: a number in engineering units, or the code of another register.
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
 #[serde(untagged)]
 pub enum BoundModel {
     Number(f64),
@@ -247,6 +255,28 @@ pub struct RegisterModel {
     pub source: String,
     #[serde(default)]
     pub note: String,
+}
+
+/// A reference word that is a percentage of a span chosen by a selector register.
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferenceScalingModel {
+    pub source: String,
+    pub full_scale_raw: u32,
+    pub applies_to: Vec<String>,
+    pub selector: String,
+    #[serde(default)]
+    pub note: String,
+    pub modes: Vec<ScalingModeModel>,
+}
+
+#[derive(Debug, Clone, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScalingModeModel {
+    pub selector: u32,
+    pub low: BoundModel,
+    pub high: BoundModel,
+    pub description: String,
 }
 
 #[derive(Debug, Clone, Deserialize)]

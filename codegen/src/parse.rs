@@ -138,6 +138,13 @@ fn hint_for(message: &str) -> Option<&'static str> {
         || message.contains("mapping values are not allowed")
     {
         Some("YAML syntax: check brackets, quotes and indentation at the lines named; a `{` or `[` may be unclosed")
+    } else if message.contains("unknown field `")
+        && message
+            .split('`')
+            .nth(1)
+            .is_some_and(|field| field.contains(' '))
+    {
+        Some("inside `{ ... }` an unquoted comma ends the value: put text containing commas in quotes")
     } else if message.contains("unknown field") {
         Some("remove the key or fix its spelling; drives/README.md lists every key")
     } else if message.contains("missing field") {

@@ -4,6 +4,7 @@
 use crate::diagnostics::Diagnostic;
 use crate::model::{
     CodeModel, CountsModel, DriveFile, OptionalModel, PartModel, PartRefModel, ProtocolFile,
+    ProtocolRef,
 };
 use crate::parse::SourceFile;
 use std::borrow::Cow;
@@ -71,11 +72,14 @@ pub fn space_from_name(name: &str) -> Option<Space> {
 
 /// Builds the runtime protocol; every problem in the protocol file is reported.
 pub fn build_protocol(
-    id: &str,
+    reference: &ProtocolRef,
+    reference_path: &str,
     file: &ProtocolFile,
     source: &SourceFile,
+    drive_source: &SourceFile,
     drive: &DriveFile,
 ) -> Result<Protocol, Vec<Diagnostic>> {
+    let id = reference.id.as_str();
     let mut problems = Vec::new();
     let mut layouts: Vec<(String, FrameLayout)> = Vec::new();
     for (name, entries) in &file.layouts {
@@ -180,9 +184,10 @@ pub fn build_protocol(
                     .hint("e.g. reply_codes: [1, 2]"),
             );
         }
-        let address_map = command
-            .address_map
-            .as_ref()
+        // The drive's own numbering for the command's space wins over the protocol file's.
+        let drive_map = space.and_then(|space| reference.address_maps.get(space.as_str()));
+        let address_map = drive_map
+            .or(command.address_map.as_ref())
             .map(|m| AddressMap {
                 multiply: m.multiply.max(1),
                 offset: m.offset,
@@ -214,9 +219,33 @@ pub fn build_protocol(
             });
         }
     }
+    for (key, _) in reference.address_maps.iter() {
+        if space_from_name(key).is_none() {
+            problems.push(
+                drive_source
+                    .error(
+                        &format!("{reference_path}.address_maps.{key}"),
+                        format!("unknown address space `{key}`"),
+                    )
+                    .hint("use parameter or coil"),
+            );
+        }
+    }
     let mut pre_steps = Vec::new();
-    for (index, step) in file.protocol.pre_steps.iter().enumerate() {
-        let path = format!("protocol.pre_steps[{index}]");
+    let steps = file
+        .protocol
+        .pre_steps
+        .iter()
+        .enumerate()
+        .map(|(index, step)| (source, format!("protocol.pre_steps[{index}]"), step))
+        .chain(reference.pre_steps.iter().enumerate().map(|(index, step)| {
+            (
+                drive_source,
+                format!("{reference_path}.pre_steps[{index}]"),
+                step,
+            )
+        }));
+    for (source, path, step) in steps {
         match step.step.as_str() {
             "index" => pre_steps.push(PreStep::Index {
                 register: step.register,

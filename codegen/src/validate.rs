@@ -14,7 +14,7 @@ use vfd_runtime::{CommandKind, DecodeError, Role, Space};
 /// Runs every check.
 pub fn check(drive: &LoadedDrive) -> Vec<Diagnostic> {
     let mut out = Vec::new();
-    let checks: [fn(&LoadedDrive, &mut Vec<Diagnostic>); 14] = [
+    let checks: [fn(&LoadedDrive, &mut Vec<Diagnostic>); 15] = [
         identifiers_are_snake_case,
         register_addresses_are_unique,
         names_are_unique,
@@ -29,6 +29,7 @@ pub fn check(drive: &LoadedDrive) -> Vec<Diagnostic> {
         examples_decode,
         value_examples_match,
         bit_examples_match,
+        reference_scaling_resolves,
     ];
     for check in checks {
         check(drive, &mut out);
@@ -1114,7 +1115,9 @@ pub fn value_examples_match(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
         let Some(register) = ranges::find_register(&drive.model, &example.register) else {
             continue;
         };
-        if ranges::to_raw(register, example.value) != Some(i64::from(example.raw)) {
+        // The runtime rounds to the nearest step, so the example must round to its raw value.
+        let steps = example.value / ranges::scale_of(register);
+        if !steps.is_finite() || steps.round() as i64 != i64::from(example.raw) {
             out.push(
                 drive
                     .source
@@ -1184,5 +1187,52 @@ pub fn bound_label(bound: &BoundModel) -> String {
     match bound {
         BoundModel::Number(value) => format!("{value}"),
         BoundModel::Register(name) => name.clone(),
+    }
+}
+
+/// The reference scaling names registers that exist.
+pub fn reference_scaling_resolves(drive: &LoadedDrive, out: &mut Vec<Diagnostic>) {
+    let Some(scaling) = &drive.model.reference_scaling else {
+        return;
+    };
+    let known = |id: &str| drive.model.registers.iter().any(|r| r.id == id);
+    let mut names: Vec<(String, &str)> = vec![(
+        "reference_scaling.selector".to_owned(),
+        scaling.selector.as_str(),
+    )];
+    names.extend(
+        scaling
+            .applies_to
+            .iter()
+            .enumerate()
+            .map(|(i, id)| (format!("reference_scaling.applies_to[{i}]"), id.as_str())),
+    );
+    for (i, mode) in scaling.modes.iter().enumerate() {
+        for (key, bound) in [("low", &mode.low), ("high", &mode.high)] {
+            if let BoundModel::Register(id) = bound {
+                names.push((format!("reference_scaling.modes[{i}].{key}"), id.as_str()));
+            }
+        }
+    }
+    for (path, id) in names {
+        if !known(id) {
+            out.push(
+                drive
+                    .source
+                    .error(&path, format!("`{id}` is not the id of a register"))
+                    .hint("name registers by their `id` here"),
+            );
+        }
+    }
+    if scaling.full_scale_raw == 0 {
+        out.push(
+            drive
+                .source
+                .error(
+                    "reference_scaling.full_scale_raw",
+                    "full scale must be above 0",
+                )
+                .hint("the raw value meaning 100 %, e.g. 0x4000"),
+        );
     }
 }

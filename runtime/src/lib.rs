@@ -19,6 +19,7 @@ pub mod error;
 pub mod layout;
 pub mod protocol;
 pub mod register;
+pub mod scaling;
 pub mod serial;
 pub mod transaction;
 pub mod transport;

@@ -193,8 +193,9 @@ pub enum PreStep {
         /// Wire register that selects the index.
         register: u16,
     },
-    /// Before a write, select RAM or RAM + EEPROM by writing `ram` or `persistent` to
-    /// `register` of `space` (FC Modbus: coil 65, 0000h or FF00h).
+    /// Before a parameter write, select RAM or RAM + EEPROM by writing `ram` or
+    /// `persistent` to `register` of `space` (FC Modbus: coil 65, 0000h or FF00h). Coil
+    /// writes (process data) skip it.
     Persistence {
         /// Address space of the selector.
         space: Space,

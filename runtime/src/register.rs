@@ -79,6 +79,10 @@ impl RegisterInfo {
                 self.address, self.code, self.name, self.name_zh
             );
         }
+        if self.code.parse::<u16>().ok() == Some(self.address) {
+            // Parameters numbered in decimal (FC 303).
+            return format!("parameter {} ({} / {})", self.code, self.name, self.name_zh);
+        }
         let address = format!("{:04X}", self.address);
         if self.code.eq_ignore_ascii_case(&address) {
             format!("register {address} ({} / {})", self.name, self.name_zh)

@@ -181,7 +181,9 @@ impl<T: Transport> Master<T> {
                     ram,
                     persistent,
                 } => {
-                    if request.kind.is_write() {
+                    // Coil writes (process data) are not parameter writes: no selector for them.
+                    if request.kind.is_write() && request.space == crate::protocol::Space::Parameter
+                    {
                         let value = if request.kind == CommandKind::WritePersistent {
                             persistent
                         } else {
@@ -204,7 +206,10 @@ impl<T: Transport> Master<T> {
         } else {
             *request
         };
-        let main = if self.has_persistence_step() && request.kind == CommandKind::WritePersistent {
+        let main = if self.has_persistence_step()
+            && request.kind == CommandKind::WritePersistent
+            && request.space == crate::protocol::Space::Parameter
+        {
             Request {
                 kind: CommandKind::WriteRam,
                 ..main
