@@ -365,10 +365,10 @@ fn describe_value(
             "{} {register} (not described) = {data} ({data:04X}h)",
             space.as_str()
         ),
-        (None, None) => format!(
-            "wire register {:04X}h = {data} ({data:04X}h)",
-            wire.unwrap_or(0)
-        ),
+        (None, None) => match wire {
+            Some(wire) => format!("wire register {wire:04X}h = {data} ({data:04X}h)"),
+            None => format!("data {data} ({data:04X}h); the reply does not name the register"),
+        },
     }
 }
 
