@@ -391,11 +391,28 @@ pub struct ProtocolMeta {
 }
 
 /// A layout entry: the name of a shared part, or a part written in place.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone)]
 pub enum PartRefModel {
     Named(String),
     Inline(Box<PartModel>),
+}
+
+impl<'de> Deserialize<'de> for PartRefModel {
+    /// Written by hand so that a mistake inside an inline part is reported as itself
+    /// ("unknown field `fromat`") rather than as "no variant matched".
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        let value = serde_yaml::Value::deserialize(deserializer)?;
+        match value {
+            serde_yaml::Value::String(name) => Ok(PartRefModel::Named(name)),
+            serde_yaml::Value::Mapping(_) => serde_yaml::from_value::<PartModel>(value)
+                .map(|part| PartRefModel::Inline(Box::new(part)))
+                .map_err(|e| D::Error::custom(e.to_string())),
+            _ => Err(D::Error::custom(
+                "a layout entry is the name of a part or a part written as `{ ... }`",
+            )),
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]

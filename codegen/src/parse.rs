@@ -58,12 +58,15 @@ impl SourceFile {
                 path => path,
             };
             let inner = error.inner();
+            let indexed = self.index.find(&path);
             let position = match inner.location() {
-                Some(location) => Position {
+                // serde_yaml sometimes reports an error before the node it belongs to
+                // (hand-written deserialisers): the node's own position is better then.
+                Some(location) if location.line() >= indexed.line => Position {
                     line: location.line(),
                     column: location.column(),
                 },
-                None => self.index.find(&path),
+                _ => indexed,
             };
             let path = path.trim_end_matches(".?").trim_end_matches('?').to_owned();
             let mut message = inner.to_string();

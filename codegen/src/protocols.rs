@@ -219,7 +219,17 @@ pub fn build_protocol(
             });
         }
     }
-    for (key, _) in reference.address_maps.iter() {
+    for (key, map) in reference.address_maps.iter() {
+        if map.multiply == 0 {
+            problems.push(
+                drive_source
+                    .error(
+                        &format!("{reference_path}.address_maps.{key}.multiply"),
+                        "`multiply: 0` maps every register to the same wire address",
+                    )
+                    .hint("use 1 for numbers that go on the wire as they are"),
+            );
+        }
         if space_from_name(key).is_none() {
             problems.push(
                 drive_source
@@ -251,25 +261,58 @@ pub fn build_protocol(
                 register: step.register,
             }),
             "persistence" => {
-                let space = step
-                    .space
-                    .as_deref()
-                    .map(space_from_name)
-                    .unwrap_or(Some(Space::Parameter));
-                let data_type = step
-                    .data_type
-                    .as_deref()
-                    .map(data_type_from_name)
-                    .unwrap_or(Some(DataType::Word));
-                match (space, data_type, step.ram, step.persistent) {
-                    (Some(space), Some(data_type), Some(ram), Some(persistent)) => {
-                        pre_steps.push(PreStep::Persistence { space, register: step.register, data_type, ram, persistent })
-                    }
-                    _ => problems.push(
+                let space = match step.space.as_deref() {
+                    None => Some(Space::Parameter),
+                    Some(name) => space_from_name(name).or_else(|| {
+                        problems.push(
+                            source
+                                .error(
+                                    &format!("{path}.space"),
+                                    format!("unknown address space `{name}`"),
+                                )
+                                .hint("use parameter or coil"),
+                        );
+                        None
+                    }),
+                };
+                let data_type = match step.data_type.as_deref() {
+                    None => Some(DataType::Word),
+                    Some(name) => data_type_from_name(name).or_else(|| {
+                        problems.push(
+                            source
+                                .error(
+                                    &format!("{path}.data_type"),
+                                    format!("unknown data type `{name}`"),
+                                )
+                                .hint("use word, double_word, bit or text"),
+                        );
+                        None
+                    }),
+                };
+                let missing: Vec<&str> = [
+                    ("ram", step.ram.is_none()),
+                    ("persistent", step.persistent.is_none()),
+                ]
+                .into_iter()
+                .filter_map(|(key, absent)| absent.then_some(key))
+                .collect();
+                if !missing.is_empty() {
+                    problems.push(
                         source
-                            .error(&path, "a persistence step needs a known `space`, `data_type`, and both `ram` and `persistent` values")
-                            .hint("e.g. { step: persistence, space: coil, register: 65, data_type: bit, ram: 0x0000, persistent: 0xFF00 }"),
-                    ),
+                            .error(&path, format!("the persistence step lacks `{}`", missing.join("` and `")))
+                            .hint("give the values that select RAM only and RAM + EEPROM, e.g. ram: 0x0000, persistent: 0xFF00"),
+                    );
+                }
+                if let (Some(space), Some(data_type), Some(ram), Some(persistent)) =
+                    (space, data_type, step.ram, step.persistent)
+                {
+                    pre_steps.push(PreStep::Persistence {
+                        space,
+                        register: step.register,
+                        data_type,
+                        ram,
+                        persistent,
+                    });
                 }
             }
             other => problems.push(
@@ -284,9 +327,16 @@ pub fn build_protocol(
         None => None,
     };
     for (index, name) in file.protocol.default_optional_parts.iter().enumerate() {
-        let known = layouts
-            .iter()
-            .any(|(_, layout)| layout.parts.iter().any(|part| part.name() == name.as_str()));
+        // Judge by the names the layouts list, so a part that failed to build is not
+        // reported a second time as missing.
+        let known = file.layouts.values().any(|entries| {
+            entries.iter().enumerate().any(|(i, entry)| match entry {
+                PartRefModel::Named(key) => {
+                    key == name || file.parts.get(key).and_then(|p| p.name.as_ref()) == Some(name)
+                }
+                PartRefModel::Inline(_) => entry_name(entry, i) == *name,
+            })
+        });
         if !known {
             problems.push(
                 source
@@ -403,6 +453,7 @@ fn build_layout(
             PartRefModel::Inline(_) => names[index].clone(),
         };
         let context = PartContext {
+            layout: name,
             index,
             names: &names,
             path: &path,
@@ -461,6 +512,7 @@ fn check_sizes(layout: &FrameLayout, name: &str, source: &SourceFile) -> Result<
 }
 
 struct PartContext<'a> {
+    layout: &'a str,
     index: usize,
     names: &'a [String],
     path: &'a str,
@@ -561,7 +613,10 @@ fn build_part(
                     context
                         .error(
                             &format!("{key}.bits"),
-                            format!("`bits: {}` is not \"msb:lsb\" within the word", bits.bits),
+                            format!(
+                                "`bits: {}` is not \"msb:lsb\" within the {word_bits}-bit word",
+                                bits.bits
+                            ),
                         )
                         .hint("e.g. bits: \"15:12\"")
                 })?;
@@ -580,6 +635,21 @@ fn build_part(
                 width,
                 allowed: Cow::Owned(allowed),
             });
+        }
+        let mut used = 0u32;
+        for (index, field) in fields.iter().enumerate() {
+            if used & field.mask() != 0 {
+                return Err(context
+                    .error(
+                        &format!("fields[{index}].bits"),
+                        format!(
+                            "bit field `{}` overlaps an earlier field of word `{name}`",
+                            field.name
+                        ),
+                    )
+                    .hint("the bit fields of a word must not share bits"));
+            }
+            used |= field.mask();
         }
         return Ok(Part::Word(WordSpec {
             name: Cow::Owned(name.to_owned()),
@@ -606,11 +676,31 @@ fn build_part(
                     .position_of(through)
                     .filter(|i| Some(*i) >= from_index);
                 match (from_index, through_index) {
-                    (Some(from), Some(through)) => Counts::Parts { from: from as u8, through: through as u8 },
+                    (Some(from), Some(through)) => Counts::Parts {
+                        from: from as u8,
+                        through: through as u8,
+                    },
                     _ => {
+                        let unknown: Vec<&str> = [from.as_str(), through.as_str()]
+                            .into_iter()
+                            .filter(|n| context.position_of(n).is_none())
+                            .collect();
+                        let why = if unknown.is_empty() {
+                            "they must be later parts, `from` before `through`".to_owned()
+                        } else {
+                            format!(
+                                "layout `{}` has no part named {}",
+                                context.layout,
+                                unknown
+                                    .iter()
+                                    .map(|n| format!("`{n}`"))
+                                    .collect::<Vec<_>>()
+                                    .join(" or ")
+                            )
+                        };
                         return Err(context
-                            .error("counts", format!("`counts: {{ from: {from}, through: {through} }}` must name later parts of the layout, in order"))
-                            .hint(format!("parts of this layout: {}", context.names.join(", "))))
+                            .error("counts", format!("in layout `{}`, `counts: {{ from: {from}, through: {through} }}` does not fit: {why}", context.layout))
+                            .hint(format!("parts of layout `{}`: {}", context.layout, context.names.join(", "))));
                     }
                 }
             }
@@ -663,7 +753,7 @@ fn build_part(
                         format.as_str()
                     ),
                 )
-                .hint("8-bit sums: hex (two digits) or u8; crc16_modbus: u16le"));
+                .hint("8-bit sums: hex (two digits) or u8; crc16_modbus: u16le (Modbus sends the low byte first) or u16be"));
         }
         let from_name = model.covers_from.as_deref().unwrap_or("");
         let covers_from = context.position_of(from_name).filter(|position| *position < context.index).ok_or_else(|| {
