@@ -12,20 +12,32 @@ pub fn xor8(bytes: &[u8]) -> u8 {
     bytes.iter().fold(0u8, |acc, byte| acc ^ byte)
 }
 
-/// CRC-16/MODBUS: reflected polynomial A001h, initial value FFFFh (sent low byte first).
-pub fn crc16_modbus(bytes: &[u8]) -> u16 {
-    let mut crc = 0xFFFFu16;
-    for byte in bytes {
-        crc ^= u16::from(*byte);
-        for _ in 0..8 {
+/// CRC-16/MODBUS lookup table, built at compile time from the reflected polynomial A001h.
+const CRC16_MODBUS_TABLE: [u16; 256] = {
+    let mut table = [0u16; 256];
+    let mut index = 0;
+    while index < 256 {
+        let mut crc = index as u16;
+        let mut bit = 0;
+        while bit < 8 {
             crc = if crc & 1 != 0 {
                 (crc >> 1) ^ 0xA001
             } else {
                 crc >> 1
             };
+            bit += 1;
         }
+        table[index] = crc;
+        index += 1;
     }
-    crc
+    table
+};
+
+/// CRC-16/MODBUS: reflected polynomial A001h, initial value FFFFh (sent low byte first).
+pub fn crc16_modbus(bytes: &[u8]) -> u16 {
+    bytes.iter().fold(0xFFFFu16, |crc, byte| {
+        (crc >> 8) ^ CRC16_MODBUS_TABLE[usize::from((crc ^ u16::from(*byte)) as u8)]
+    })
 }
 
 /// Modbus ASCII LRC: the two's complement of the byte sum.
@@ -69,6 +81,32 @@ mod tests {
         );
         // The CRC-16/MODBUS check value.
         assert_eq!(crc16_modbus(b"123456789"), 0x4B37);
+    }
+
+    #[test]
+    fn crc16_table_matches_the_bitwise_definition() {
+        let bitwise = |bytes: &[u8]| {
+            let mut crc = 0xFFFFu16;
+            for byte in bytes {
+                crc ^= u16::from(*byte);
+                for _ in 0..8 {
+                    crc = if crc & 1 != 0 {
+                        (crc >> 1) ^ 0xA001
+                    } else {
+                        crc >> 1
+                    };
+                }
+            }
+            crc
+        };
+        let data: Vec<u8> = (0..=255u8).chain((0..=255u8).rev()).collect();
+        for len in [0, 1, 2, 7, 64, 512] {
+            assert_eq!(
+                crc16_modbus(&data[..len]),
+                bitwise(&data[..len]),
+                "{len} bytes"
+            );
+        }
     }
 
     #[test]

@@ -92,6 +92,98 @@ impl FrameValues {
     }
 }
 
+/// The values of every role of a frame, gathered in one pass over the layout.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Roles {
+    /// Station address.
+    pub address: Option<u32>,
+    /// Command code.
+    pub command: Option<u32>,
+    /// Register (wire number).
+    pub register: Option<u32>,
+    /// Array index.
+    pub index: Option<u32>,
+    /// Data.
+    pub data: Option<u32>,
+    /// Error code.
+    pub error_code: Option<u32>,
+    /// First process word.
+    pub process_1: Option<u32>,
+    /// Second process word.
+    pub process_2: Option<u32>,
+}
+
+impl Roles {
+    fn slot(&mut self, role: Role) -> Option<&mut Option<u32>> {
+        match role {
+            Role::Address => Some(&mut self.address),
+            Role::Command => Some(&mut self.command),
+            Role::Register => Some(&mut self.register),
+            Role::Index => Some(&mut self.index),
+            Role::Data => Some(&mut self.data),
+            Role::ErrorCode => Some(&mut self.error_code),
+            Role::Process1 => Some(&mut self.process_1),
+            Role::Process2 => Some(&mut self.process_2),
+            Role::Text => None,
+        }
+    }
+}
+
+impl FrameValues {
+    /// Every role's value in one pass (the hot path's alternative to repeated [`FrameValues::get`]).
+    pub fn roles(&self, layout: &FrameLayout) -> Roles {
+        let mut roles = Roles::default();
+        for (index, part) in layout.parts.iter().enumerate() {
+            let slot = self.parts[index];
+            if !slot.present {
+                continue;
+            }
+            match part {
+                Part::Field(field) => {
+                    if let Some(target) = roles.slot(field.role) {
+                        *target = Some(slot.value);
+                    }
+                }
+                Part::Word(word) => {
+                    for bits in word.fields.iter() {
+                        if let Some(target) = roles.slot(bits.role) {
+                            *target = Some((slot.value & bits.mask()) >> bits.lsb);
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        roles
+    }
+
+    /// Sets every role given in `roles` in one pass; roles the layout lacks are ignored.
+    pub fn fill(&mut self, layout: &FrameLayout, roles: &Roles) {
+        let mut roles = *roles;
+        for (index, part) in layout.parts.iter().enumerate() {
+            match part {
+                Part::Field(field) => {
+                    if let Some(Some(value)) = roles.slot(field.role).map(|v| *v) {
+                        self.parts[index].present = true;
+                        self.parts[index].value = value;
+                    }
+                }
+                Part::Word(word) => {
+                    for bits in word.fields.iter() {
+                        if let Some(Some(value)) = roles.slot(bits.role).map(|v| *v) {
+                            let slot = &mut self.parts[index];
+                            slot.present = true;
+                            slot.value =
+                                (slot.value & !bits.mask()) | ((value << bits.lsb) & bits.mask());
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
 /// Outcome of [`decode`] when the bytes are not wrong.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DecodeStatus {
@@ -329,8 +421,8 @@ struct Cursor<'b> {
     pos: usize,
     /// End of the frame, once a length part covering the last part has been read.
     frame_end: Option<usize>,
-    /// Sizes fixed by length parts that cover exactly one later part.
-    sized: [Option<usize>; MAX_PARTS],
+    /// Sizes fixed by length parts that cover exactly one later part (`u16::MAX`: none).
+    sized: [u16; MAX_PARTS],
 }
 
 /// Decodes one frame that starts at `bytes[0]`.
@@ -345,7 +437,7 @@ pub fn decode(layout: &FrameLayout, bytes: &[u8]) -> Result<DecodeStatus, Decode
         bytes,
         pos: 0,
         frame_end: None,
-        sized: [None; MAX_PARTS],
+        sized: [u16::MAX; MAX_PARTS],
     };
     let parts = &layout.parts[..layout.parts.len().min(MAX_PARTS)];
     for (index, part) in parts.iter().enumerate() {
@@ -466,7 +558,9 @@ fn decode_field(
     }
     let size = match (field.sized_by, field.format) {
         (SizedBy::Rest, _) => Some(rest_size(layout, index, cursor)?),
-        (SizedBy::Length, _) => cursor.sized[index],
+        (SizedBy::Length, _) => {
+            (cursor.sized[index] != u16::MAX).then_some(usize::from(cursor.sized[index]))
+        }
         (SizedBy::Format, Format::UintBe | Format::UintLe | Format::Bytes) => {
             Some(usize::from(field.width))
         }
@@ -632,7 +726,7 @@ fn decode_length(
         if usize::from(from) == index + 1 && usize::from(through) + 1 == layout.parts.len() {
             cursor.frame_end = Some(cursor.pos + bytes);
         } else if from == through {
-            cursor.sized[usize::from(from)] = Some(bytes);
+            cursor.sized[usize::from(from)] = u16::try_from(bytes).unwrap_or(u16::MAX - 1);
         }
     }
     Ok(PartOutcome::Done)

@@ -25,7 +25,7 @@ pub mod transaction;
 pub mod transport;
 pub mod units;
 
-pub use codec::{FieldValue, FrameValues};
+pub use codec::{FieldValue, FrameValues, Roles};
 pub use drive::DriveInfo;
 pub use error::{DecodeError, EncodeError, TransactionError, ValueError};
 pub use layout::{

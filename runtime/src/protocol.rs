@@ -2,7 +2,7 @@
 //! drive's error-code table and any steps a request needs first; this module encodes
 //! requests and decodes replies with it.
 
-use crate::codec::{self, DecodeStatus, FrameValues};
+use crate::codec::{self, DecodeStatus, FrameValues, Roles};
 use crate::error::{DecodeError, EncodeError, ValueError};
 use crate::layout::{FrameLayout, List, Part, Role, Text};
 use crate::register::{Persistable, Register, RegisterInfo, RegisterValue, Writable};
@@ -588,7 +588,6 @@ impl Protocol {
         for name in self.default_optional_parts.iter() {
             values.include(layout, &[name]);
         }
-        values.set(layout, Role::Command, command.code);
         let wire = if request.wire_register {
             Some(request.register)
         } else {
@@ -598,12 +597,18 @@ impl Protocol {
             protocol: self.id.clone(),
             register: request.register,
         })?;
-        values.set(layout, Role::Register, u32::from(wire));
-        values.set(layout, Role::Data, request.data);
-        values.set(layout, Role::Index, u32::from(request.index.unwrap_or(0)));
         let [first, second] = request.process.unwrap_or(self.default_process);
-        values.set(layout, Role::Process1, u32::from(first));
-        values.set(layout, Role::Process2, u32::from(second));
+        let roles = Roles {
+            address: address.map(u32::from),
+            command: Some(command.code),
+            register: Some(u32::from(wire)),
+            index: Some(u32::from(request.index.unwrap_or(0))),
+            data: Some(request.data),
+            error_code: None,
+            process_1: Some(u32::from(first)),
+            process_2: Some(u32::from(second)),
+        };
+        values.fill(layout, &roles);
         if let Some(address) = address {
             let (min, max) = self.address_range;
             if address < min || address > max {
@@ -614,7 +619,6 @@ impl Protocol {
                     max,
                 });
             }
-            values.set(layout, Role::Address, u32::from(address));
         } else if layout
             .locate(Role::Address)
             .is_some_and(|(index, _)| !is_optional(&layout.parts[index]))
@@ -679,8 +683,10 @@ impl Protocol {
         Err(self.no_match("request", best))
     }
 
-    /// Decodes a reply frame starting at `bytes[0]`. With `expected`, only that command's
-    /// reply layout (and the error reply) is tried.
+    /// Decodes a reply frame starting at `bytes[0]`. With `expected` (one of this
+    /// protocol's commands, compared by identity), that command's reply layout is tried
+    /// first, then the error reply; without it, the error reply and then every command's.
+    /// Layouts restrict their command codes, so the order only saves work.
     pub fn decode_reply(
         &self,
         expected: Option<&CommandSpec>,
@@ -688,68 +694,121 @@ impl Protocol {
     ) -> Result<Found<Reply<'_>>, DecodeError> {
         let mut best: Option<DecodeError> = None;
         let mut incomplete = false;
-        if let Some(layout) = &self.error_reply {
-            match codec::decode(layout, bytes) {
-                Ok(DecodeStatus::Complete { values, len }) => {
-                    let code = values.get(layout, Role::Command).unwrap_or(0);
-                    let error = values.get(layout, Role::ErrorCode).unwrap_or(0) as u16;
+        if let Some(wanted) = expected {
+            if let Some(command) = self.commands.iter().find(|c| std::ptr::eq(*c, wanted)) {
+                if let Some(reply) = settle(
+                    self.try_data_reply(command, bytes),
+                    &mut best,
+                    &mut incomplete,
+                ) {
                     return Ok(Found::Frame {
-                        frame: Reply::Error {
-                            address: values.get(layout, Role::Address).map(|a| a as u8),
-                            tripped: self.is_tripped(code),
-                            code,
-                            error,
-                            info: self.error_code(error),
-                            values,
-                            len,
-                        },
+                        frame: reply,
                         skipped: 0,
                     });
                 }
-                Ok(DecodeStatus::Incomplete) => incomplete = true,
-                Err(error) => best = Some(furthest(best, error)),
             }
         }
-        for command in self.commands.iter() {
-            if expected.is_some_and(|wanted| !std::ptr::eq(wanted, command) && wanted != command) {
-                continue;
-            }
-            let layout = &command.reply;
-            match codec::decode(layout, bytes) {
-                Ok(DecodeStatus::Complete { values, len }) => {
-                    let code = values.get(layout, Role::Command);
-                    if code.is_some_and(|code| !self.reply_code_matches(command, code)) {
-                        continue;
-                    }
-                    let text = layout.index_of(Role::Text).map(|index| {
-                        let slot = values.parts[index];
-                        (slot.value as usize, usize::from(slot.width))
-                    });
+        if let Some(reply) = settle(self.try_error_reply(bytes), &mut best, &mut incomplete) {
+            return Ok(Found::Frame {
+                frame: reply,
+                skipped: 0,
+            });
+        }
+        if expected.is_none() {
+            for command in self.commands.iter() {
+                if let Some(reply) = settle(
+                    self.try_data_reply(command, bytes),
+                    &mut best,
+                    &mut incomplete,
+                ) {
                     return Ok(Found::Frame {
-                        frame: Reply::Data {
-                            command,
-                            code: code.unwrap_or(command.code),
-                            address: values.get(layout, Role::Address).map(|a| a as u8),
-                            tripped: code.is_some_and(|code| self.is_tripped(code)),
-                            wire_register: values.get(layout, Role::Register).map(|r| r as u16),
-                            index: values.get(layout, Role::Index).map(|i| i as u16),
-                            data: values.get(layout, Role::Data).unwrap_or(0),
-                            process: process_of(layout, &values),
-                            text,
-                            values,
-                            len,
-                        },
+                        frame: reply,
                         skipped: 0,
                     });
                 }
-                Ok(DecodeStatus::Incomplete) => incomplete = true,
-                Err(error) => best = Some(furthest(best, error)),
             }
         }
         if incomplete {
             return Ok(Found::Incomplete);
         }
         Err(self.no_match("reply", best))
+    }
+
+    /// The error reply, if `bytes` hold one; `Ok(None)` while more bytes are needed;
+    /// `Err` also when the bytes are a complete frame of another kind.
+    fn try_error_reply(&self, bytes: &[u8]) -> Result<Option<Reply<'_>>, DecodeError> {
+        let Some(layout) = &self.error_reply else {
+            return Err(DecodeError::NoLayoutMatches {
+                protocol: self.id.clone(),
+                what: "error reply",
+                closest: Box::new(DecodeError::Truncated {
+                    layout: self.id.clone(),
+                    len: bytes.len(),
+                }),
+            });
+        };
+        match codec::decode(layout, bytes)? {
+            DecodeStatus::Incomplete => Ok(None),
+            DecodeStatus::Complete { values, len } => {
+                let roles = values.roles(layout);
+                let code = roles.command.unwrap_or(0);
+                let error = roles.error_code.unwrap_or(0) as u16;
+                Ok(Some(Reply::Error {
+                    address: roles.address.map(|a| a as u8),
+                    tripped: self.is_tripped(code),
+                    code,
+                    error,
+                    info: self.error_code(error),
+                    values,
+                    len,
+                }))
+            }
+        }
+    }
+
+    /// `command`'s normal reply, if `bytes` hold one (see [`Protocol::try_error_reply`]).
+    fn try_data_reply<'p>(
+        &'p self,
+        command: &'p CommandSpec,
+        bytes: &[u8],
+    ) -> Result<Option<Reply<'p>>, DecodeError> {
+        let layout = &command.reply;
+        match codec::decode(layout, bytes)? {
+            DecodeStatus::Incomplete => Ok(None),
+            DecodeStatus::Complete { values, len } => {
+                let roles = values.roles(layout);
+                let code = roles.command;
+                if let Some(code) = code.filter(|code| !self.reply_code_matches(command, *code)) {
+                    return Err(DecodeError::NotAllowed {
+                        layout: layout.name.clone(),
+                        part: "command".into(),
+                        offset: 0,
+                        value: code,
+                        format: crate::layout::Format::U8,
+                    });
+                }
+                let text = layout.index_of(Role::Text).map(|index| {
+                    let slot = values.parts[index];
+                    (slot.value as usize, usize::from(slot.width))
+                });
+                Ok(Some(Reply::Data {
+                    command,
+                    code: code.unwrap_or(command.code),
+                    address: roles.address.map(|a| a as u8),
+                    tripped: code.is_some_and(|code| self.is_tripped(code)),
+                    wire_register: roles.register.map(|r| r as u16),
+                    index: roles.index.map(|i| i as u16),
+                    data: roles.data.unwrap_or(0),
+                    process: match (roles.process_1, roles.process_2) {
+                        (Some(first), Some(second)) => Some([first as u16, second as u16]),
+                        _ => None,
+                    },
+                    text,
+                    values,
+                    len,
+                }))
+            }
+        }
     }
 
     fn is_tripped(&self, code: u32) -> bool {
@@ -876,6 +935,25 @@ fn is_optional(part: &Part) -> bool {
     match part {
         Part::Field(field) => field.optional.is_some(),
         _ => false,
+    }
+}
+
+/// Sorts one decoding attempt: a reply is returned, "more bytes needed" and errors are noted.
+fn settle<'p>(
+    attempt: Result<Option<Reply<'p>>, DecodeError>,
+    best: &mut Option<DecodeError>,
+    incomplete: &mut bool,
+) -> Option<Reply<'p>> {
+    match attempt {
+        Ok(Some(reply)) => Some(reply),
+        Ok(None) => {
+            *incomplete = true;
+            None
+        }
+        Err(error) => {
+            *best = Some(furthest(best.take(), error));
+            None
+        }
     }
 }
 

@@ -113,6 +113,16 @@ impl PtyTransport {
         }
     }
 
+    /// A second handle on the same terminal (for a thread reading while another writes).
+    /// The clone does not keep the slave side open; the original does.
+    pub fn try_clone(&self) -> io::Result<PtyTransport> {
+        Ok(PtyTransport {
+            file: self.file.try_clone()?,
+            side: self.side,
+            _slave: None,
+        })
+    }
+
     /// Opens an existing terminal device (for example a [`PseudoTerminal::slave_path`])
     /// for reading and writing without making it the controlling terminal, and puts it
     /// in raw mode.
