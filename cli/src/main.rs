@@ -196,17 +196,25 @@ fn registers(drive: &DriveInfo) -> Result<(), String> {
     );
     for r in drive.registers {
         let unit = r.unit_symbol();
+        let address = if r.space == Space::Coil {
+            format!("coil {}", r.address)
+        } else if r.code.parse::<u16>().ok() == Some(r.address) {
+            r.address.to_string()
+        } else {
+            format!("{:04X}", r.address)
+        };
         println!(
-            "  {:04X}  {:<6} {:<44} {:<12} {:<10} {}{}",
-            r.address,
+            "  {:<8} {:<6} {:<44} {:<12} {:<10} {}{}{}",
+            address,
             r.code,
             r.name,
             r.name_zh,
             r.access.as_str(),
+            r.data_type.as_str(),
             if unit.is_empty() {
                 String::new()
             } else {
-                format!("{} ({} {unit} steps)", unit, r.scale)
+                format!(", {} ({} {unit} steps)", unit, r.scale)
             },
             if r.ram_only { ", RAM only" } else { "" }
         );

@@ -225,6 +225,8 @@ pub enum ValueKind {
 pub struct RegisterIr {
     pub address: u16,
     pub address_hex: String,
+    /// How the manual numbers it: `FA01`, `303` (decimal parameter) or `coil 17`.
+    pub address_display: String,
     pub id: String,
     pub type_name: String,
     pub code: String,
@@ -504,7 +506,7 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
             let frame = |direction, frame: &Option<FrameModel>| {
                 frame
                     .as_ref()
-                    .and_then(|f| protocol.map(|p| lower_frame(p, direction, f)))
+                    .and_then(|f| protocol.map(|p| lower_frame(drive, p, direction, f)))
             };
             let register = protocol
                 .and_then(|p| example_register(drive, p, example))
@@ -672,6 +674,7 @@ fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
     RegisterIr {
         address: register.address as u16,
         address_hex: format!("{:04X}", register.address),
+        address_display: address_display(register),
         id: register.id.clone(),
         type_name: type_name(&register.id),
         code: register.code.clone(),
@@ -986,6 +989,18 @@ fn describe_format(format: Format) -> String {
     }
 }
 
+/// How the manual numbers a register: coils by number, decimal parameters (FC 303) as
+/// written, communication numbers in hex (FA01).
+pub fn address_display(register: &RegisterModel) -> String {
+    if register.space.as_deref() == Some("coil") {
+        format!("coil {}", register.address)
+    } else if register.code.parse::<u32>().ok() == Some(register.address) {
+        register.address.to_string()
+    } else {
+        format!("{:04X}", register.address)
+    }
+}
+
 /// Shows frame bytes for people: text with `\r` as `<CR>`, or hex pairs.
 pub fn shown_bytes(bytes: &[u8]) -> String {
     if bytes
@@ -1020,7 +1035,12 @@ fn example_register<'d>(
     })
 }
 
-fn lower_frame(protocol: &LoadedProtocol, direction: Direction, frame: &FrameModel) -> FrameIr {
+fn lower_frame(
+    drive: &LoadedDrive,
+    protocol: &LoadedProtocol,
+    direction: Direction,
+    frame: &FrameModel,
+) -> FrameIr {
     let bytes = validate::frame_bytes(&frame.ascii, &frame.hex).unwrap_or_default();
     let decoded = validate::decode_frame(protocol, direction, &bytes).unwrap_or_default();
     let label = |code: u32| vfd_runtime::protocol::code_label(code);
@@ -1048,22 +1068,41 @@ fn lower_frame(protocol: &LoadedProtocol, direction: Direction, frame: &FrameMod
             if let Some(address) = decoded.address {
                 parts.push(format!("station {address}"));
             }
-            match (decoded.register, decoded.wire_register, decoded.space) {
-                (Some(register), _, Some(vfd_runtime::Space::Coil)) => {
-                    parts.push(format!("coil {register}"))
+            let described = validate::register_of(drive, &decoded);
+            match (described, decoded.register, decoded.wire_register) {
+                (Some(register), _, Some(wire))
+                    if address_display(register) != format!("{wire:04X}") =>
+                {
+                    parts.push(
+                        format!(
+                            "{} {} (wire {wire:04X}h)",
+                            if register.space.as_deref() == Some("coil") {
+                                ""
+                            } else {
+                                "register"
+                            },
+                            address_display(register)
+                        )
+                        .trim()
+                        .to_owned(),
+                    )
                 }
-                (Some(register), Some(wire), _) if u32::from(register as u16) != wire => {
-                    parts.push(format!("register {register} (wire {wire:04X}h)"))
+                (Some(register), _, _) => {
+                    parts.push(format!("register {}", address_display(register)))
                 }
-                (Some(register), _, _) => parts.push(format!("register {register:04X}")),
-                (None, Some(wire), _) => parts.push(format!("wire register {wire:04X}h")),
+                (None, Some(register), _) => parts.push(format!("register {register}")),
+                (None, None, Some(wire)) => parts.push(format!("wire register {wire:04X}h")),
                 _ => {}
             }
             if let Some(index) = decoded.index {
                 parts.push(format!("index {index}"));
             }
             if let Some(data) = decoded.data {
-                parts.push(format!("data {data:04X}h"));
+                parts.push(if data > 9 {
+                    format!("data {data:04X}h ({data})")
+                } else {
+                    format!("data {data}")
+                });
             }
             if let Some([first, second]) = decoded.process {
                 parts.push(format!("process words {first:04X}h {second:04X}h"));

@@ -311,7 +311,7 @@ pub enum TransactionError {
         source: Box<DecodeError>,
     },
     /// The drive answered with an error reply.
-    #[error("drive rejected {request}: error {code:04X}h {meaning}{tripped}", meaning = info.map(|i| format!("{} ({}): {}", i.name, i.name_zh, i.meaning)).unwrap_or_else(|| "(code not in the manual's table)".into()), tripped = if *tripped { "; the drive reports it is tripped" } else { "" })]
+    #[error("drive rejected {request}: error {code} ({code:04X}h) {meaning}{tripped}", meaning = info.map(|i| format!("{} ({}): {}", i.name, i.name_zh, i.meaning)).unwrap_or_else(|| "(code not in the manual's table)".into()), tripped = if *tripped { "; the drive reports it is tripped" } else { "" })]
     Rejected {
         /// What was asked.
         request: String,
