@@ -44,9 +44,9 @@ fn every_drive_has_a_page_and_an_index_entry() {
         );
         for register in drive.registers {
             assert!(
-                page.contains(&format!("`{:04X}`", register.address)),
-                "register {:04X} missing from {}.md",
-                register.address,
+                page.contains(&format!("| {} |", register.code)),
+                "register {} missing from {}.md",
+                register.code,
                 drive.id
             );
             assert!(
