@@ -337,6 +337,26 @@ pub fn build_protocol(
                 PartRefModel::Inline(_) => entry_name(entry, i) == *name,
             })
         });
+        let required = file.layouts.values().flatten().any(|entry| match entry {
+            PartRefModel::Named(key) => {
+                key == name
+                    && file.parts.get(key).is_some_and(|p| {
+                        matches!(p.optional, None | Some(OptionalModel::Flag(false)))
+                            && p.field.is_none()
+                    })
+            }
+            PartRefModel::Inline(_) => false,
+        });
+        if known && required {
+            problems.push(
+                source
+                    .error(
+                        &format!("protocol.default_optional_parts[{index}]"),
+                        format!("part `{name}` is not optional; it is always sent"),
+                    )
+                    .hint("list only parts marked `optional: true`"),
+            );
+        }
         if !known {
             problems.push(
                 source
@@ -554,6 +574,16 @@ fn build_part(
     }
     let optional_flag = match &model.optional {
         None | Some(OptionalModel::Flag(false)) => false,
+        Some(OptionalModel::Flag(true)) => true,
+        // Presence rules only make sense for fields, which are decided by their value.
+        Some(rule) if model.field.is_none() => {
+            return Err(context
+                .error("optional", format!("`optional: {}` is a rule for fields; a literal or checksum is optional with `optional: true`", match rule {
+                    OptionalModel::Rule(text) => text.clone(),
+                    _ => "{ if_byte_at_most: ... }".to_owned(),
+                }))
+                .hint("write optional: true"))
+        }
         Some(_) => true,
     };
     if let Some(text) = &model.literal {
@@ -719,7 +749,11 @@ fn build_part(
             per: model.per.unwrap_or(1).max(1),
         }));
     }
-    let format_name = model.format.as_deref().unwrap_or("");
+    let Some(format_name) = model.format.as_deref() else {
+        return Err(context.error("", "this part needs a `format`").hint(
+            "use decimal, hex, char, u8, u16be, u16le, u32be, u32le, uint_be, uint_le or bytes",
+        ));
+    };
     let format = format_from_name(format_name).ok_or_else(|| {
         context
             .error("format", format!("unknown format `{format_name}`"))
@@ -803,6 +837,11 @@ fn build_part(
             } else {
                 4
             }
+        }
+        (None, Some(width)) => {
+            return Err(context
+                .error("width", format!("`width: {width}` is out of range for {}", format.as_str()))
+                .hint("ASCII digit fields take 1 to 10 digits; uint_be/uint_le up to 4 bytes; bytes up to 255"))
         }
         (None, _) => {
             return Err(context
