@@ -399,8 +399,14 @@ fn part_tokens(part: &Part) -> TokenStream {
     }
 }
 
-/// The Rust type a register's values have.
+/// The Rust type a register's values have, as seen from inside the drive module.
 pub fn value_type(kind: &ValueKind) -> TokenStream {
+    value_type_at(kind, &quote!(super))
+}
+
+/// The Rust type a register's values have, with generated types reached through `module`
+/// (`super` inside the drive module, `vfd_drives::yd1000` from outside).
+pub fn value_type_at(kind: &ValueKind, module: &TokenStream) -> TokenStream {
     match kind {
         ValueKind::Quantity(name) => {
             let name = ident(name);
@@ -408,11 +414,11 @@ pub fn value_type(kind: &ValueKind) -> TokenStream {
         }
         ValueKind::CodeTable(name) => {
             let name = ident(name);
-            quote!(super::codes::#name)
+            quote!(#module::codes::#name)
         }
         ValueKind::Bitfield(name) => {
             let name = ident(name);
-            quote!(super::bits::#name)
+            quote!(#module::bits::#name)
         }
         ValueKind::Raw => quote!(u16),
         ValueKind::RawSigned => quote!(i16),

@@ -76,26 +76,7 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
 
 /// The value type of a register, as a path usable outside the drive module.
 fn value_type_at(kind: &ValueKind, root: &syn::Path) -> TokenStream {
-    match kind {
-        ValueKind::Quantity(name) => {
-            let name = Ident::new(name, Span::call_site());
-            quote!(::vfd_runtime::units::#name)
-        }
-        ValueKind::CodeTable(name) => {
-            let name = Ident::new(name, Span::call_site());
-            quote!(#root::codes::#name)
-        }
-        ValueKind::Bitfield(name) => {
-            let name = Ident::new(name, Span::call_site());
-            quote!(#root::bits::#name)
-        }
-        ValueKind::Raw => quote!(u16),
-        ValueKind::RawSigned => quote!(i16),
-        ValueKind::Scaled => quote!(f64),
-        ValueKind::RawDouble => quote!(u32),
-        ValueKind::RawSignedDouble => quote!(i32),
-        ValueKind::Text => quote!(::std::string::String),
-    }
+    crate::emit_rust::value_type_at(kind, &quote!(#root))
 }
 
 fn construct_value(kind: &ValueKind, value: f64, ty: &TokenStream) -> TokenStream {
