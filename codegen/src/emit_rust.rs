@@ -582,7 +582,7 @@ fn registers_module(drive: &DriveIr) -> TokenStream {
         }
         items.push(quote! {
             #(#[doc = #docs])*
-            #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+            #[derive(Debug, Clone, Copy)]
             pub struct #name;
 
             impl #name {
