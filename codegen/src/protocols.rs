@@ -241,6 +241,20 @@ pub fn build_protocol(
             );
         }
     }
+    check_commands(file, source, &commands, &mut problems);
+    if file.protocol.id != reference.uses {
+        problems.push(
+            source
+                .error(
+                    "protocol.id",
+                    format!(
+                        "the file is `{}.yaml` but says `id: {}`",
+                        reference.uses, file.protocol.id
+                    ),
+                )
+                .hint("make the id match the file name, which is how drive files refer to it"),
+        );
+    }
     let mut pre_steps = Vec::new();
     let steps = file
         .protocol
@@ -952,4 +966,117 @@ pub fn parse_hex(text: &str) -> Result<Vec<u8>, String> {
                 .map_err(|_| format!("`{}` in `{text}` is not a hex byte", &digits[i..i + 2]))
         })
         .collect()
+}
+
+/// Commands that cannot work as written: a code the layout refuses, a read or write with
+/// nowhere to put the register, the same command twice, frames longer than `max_frame_len`.
+fn check_commands(
+    file: &ProtocolFile,
+    source: &SourceFile,
+    commands: &[CommandSpec],
+    problems: &mut Vec<Diagnostic>,
+) {
+    let paths: Vec<usize> = file
+        .commands
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.code.as_ref().is_none_or(|code| code.value().is_some()))
+        .map(|(index, _)| index)
+        .collect();
+    for (position, command) in commands.iter().enumerate() {
+        let index = paths.get(position).copied().unwrap_or(position);
+        let path = format!("commands[{index}]");
+        if command.request.has(Role::Command) {
+            let allowed: Vec<u32> = command
+                .request
+                .parts
+                .iter()
+                .flat_map(|part| match part {
+                    Part::Field(field) if field.role == Role::Command => field.allowed.to_vec(),
+                    Part::Word(word) => word
+                        .fields
+                        .iter()
+                        .filter(|b| b.role == Role::Command)
+                        .flat_map(|b| b.allowed.to_vec())
+                        .collect(),
+                    _ => Vec::new(),
+                })
+                .collect();
+            if !allowed.is_empty() && !allowed.contains(&command.code) {
+                problems.push(
+                    source
+                        .error(
+                            &format!("{path}.code"),
+                            format!(
+                                "code {} is not among the codes layout `{}` allows",
+                                command.code_label(),
+                                command.request.name
+                            ),
+                        )
+                        .hint("add it to the layout's `allowed` list, or use another layout"),
+                );
+            }
+        }
+        let needs_register = matches!(
+            command.kind,
+            CommandKind::Read
+                | CommandKind::ReadText
+                | CommandKind::WriteRam
+                | CommandKind::WritePersistent
+        );
+        if needs_register && !command.request.has(Role::Register) {
+            problems.push(
+                source
+                    .error(
+                        &format!("{path}.request"),
+                        format!(
+                            "a {} command needs a register field, and layout `{}` has none",
+                            command.kind.as_str(),
+                            command.request.name
+                        ),
+                    )
+                    .hint("add a `field: register` part to the request layout"),
+            );
+        }
+        if let Some(first) = commands[..position].iter().position(|other| {
+            other.code == command.code
+                && other.kind == command.kind
+                && other.space == command.space
+                && other.data_types == command.data_types
+        }) {
+            problems.push(
+                source
+                    .error(
+                        &path,
+                        format!(
+                            "the same command as commands[{}] (code {}, {})",
+                            paths.get(first).copied().unwrap_or(first),
+                            command.code_label(),
+                            command.kind.as_str()
+                        ),
+                    )
+                    .hint("remove one of them"),
+            );
+        }
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    for layout in commands.iter().flat_map(|c| [&c.request, &c.reply]) {
+        if !seen.insert(layout.name.clone()) {
+            continue;
+        }
+        let fixed: Option<usize> = layout.parts.iter().map(|p| p.fixed_size()).sum();
+        if let Some(size) = fixed.filter(|size| *size > usize::from(file.protocol.max_frame_len)) {
+            problems.push(
+                source
+                    .error(
+                        "protocol.max_frame_len",
+                        format!(
+                            "layout `{}` is {size} bytes, longer than max_frame_len {}",
+                            layout.name, file.protocol.max_frame_len
+                        ),
+                    )
+                    .hint("raise max_frame_len: it sizes buffers and reply timeouts"),
+            );
+        }
+    }
 }
