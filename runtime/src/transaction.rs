@@ -284,7 +284,7 @@ impl<T: Transport> Master<T> {
                 Ok(Found::Incomplete) => continue,
                 Ok(Found::Frame { frame, skipped }) => {
                     self.reply_len = filled;
-                    let answer = check_reply(protocol, request, self.address, frame)?;
+                    let answer = check_reply(request, self.address, frame)?;
                     return Ok(Answer {
                         text: answer.text.map(|(start, len)| (start + skipped, len)),
                         ..answer
@@ -350,7 +350,6 @@ fn rename(error: TransactionError, request: &Request) -> TransactionError {
 }
 
 fn check_reply(
-    protocol: &'static Protocol,
     request: &Request,
     address: Option<u8>,
     reply: Reply<'static>,
@@ -409,7 +408,6 @@ fn check_reply(
             if request.data_type == DataType::Text && text.is_none() {
                 return Err(mismatch("text", 1, 0));
             }
-            let _ = protocol;
             Ok(Answer {
                 data,
                 tripped,
