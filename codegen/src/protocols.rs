@@ -242,6 +242,9 @@ pub fn build_protocol(
         }
     }
     check_commands(file, source, &commands, &mut problems);
+    if file.protocol.text {
+        check_text_protocol(&layouts, source, &mut problems);
+    }
     if file.protocol.id != reference.uses {
         problems.push(
             source
@@ -1077,6 +1080,36 @@ fn check_commands(
                     )
                     .hint("raise max_frame_len: it sizes buffers and reply timeouts"),
             );
+        }
+    }
+}
+
+/// A protocol declared `text: true` carries printable ASCII only: no binary fields and no
+/// non-printable literals other than line ends.
+fn check_text_protocol(
+    layouts: &[(String, FrameLayout)],
+    source: &SourceFile,
+    problems: &mut Vec<Diagnostic>,
+) {
+    for (name, layout) in layouts {
+        for (index, part) in layout.parts.iter().enumerate() {
+            let binary = match part {
+                Part::Literal { bytes, .. } => bytes
+                    .iter()
+                    .any(|b| !(b.is_ascii_graphic() || *b == b' ' || *b == b'\r' || *b == b'\n')),
+                Part::Field(field) => {
+                    !matches!(field.format, Format::Decimal | Format::Hex | Format::Char)
+                }
+                Part::Checksum(spec) => spec.format != Format::Hex,
+                Part::Word(_) | Part::Length(_) => true,
+            };
+            if binary {
+                problems.push(
+                    source
+                        .error(&format!("layouts.{name}[{index}]"), format!("part `{}` of layout `{name}` is binary, but the protocol says `text: true`", part.name()))
+                        .hint("use decimal, hex or char fields and hex checksums, or set `text: false`"),
+                );
+            }
         }
     }
 }
