@@ -17,6 +17,10 @@ pub fn header(drive: &DriveIr) -> String {
 
 /// The drive's module as tokens (`pub mod <id> { ... }`).
 pub fn drive_module(drive: &DriveIr) -> TokenStream {
+    escape_doc_brackets(drive_module_tokens(drive))
+}
+
+fn drive_module_tokens(drive: &DriveIr) -> TokenStream {
     let module = ident(&drive.module);
     let title = format!(
         " {} ({}): typed registers, protocols and code tables.",
@@ -75,6 +79,35 @@ pub fn drive_module(drive: &DriveIr) -> TokenStream {
             #scaling
         }
     }
+}
+
+/// Escapes `[` and `]` in every `doc = "..."` attribute, so that manual text such as
+/// "310[0]" is not read by rustdoc as an intra-doc link.
+pub fn escape_doc_brackets(tokens: TokenStream) -> TokenStream {
+    use proc_macro2::{Group, TokenTree};
+    let trees: Vec<TokenTree> = tokens.into_iter().collect();
+    let mut out = Vec::with_capacity(trees.len());
+    for (index, tree) in trees.iter().enumerate() {
+        let is_doc_value = index >= 2
+            && matches!(&trees[index - 2], TokenTree::Ident(ident) if ident == "doc")
+            && matches!(&trees[index - 1], TokenTree::Punct(punct) if punct.as_char() == '=');
+        match tree {
+            TokenTree::Group(group) => {
+                let mut inner = Group::new(group.delimiter(), escape_doc_brackets(group.stream()));
+                inner.set_span(group.span());
+                out.push(TokenTree::Group(inner));
+            }
+            TokenTree::Literal(literal) if is_doc_value => {
+                let escaped =
+                    syn::parse2::<syn::LitStr>(TokenTree::Literal(literal.clone()).into())
+                        .map(|text| text.value().replace('[', "\\[").replace(']', "\\]"))
+                        .map(|text| TokenTree::Literal(Literal::string(&text)));
+                out.push(escaped.unwrap_or_else(|_| tree.clone()));
+            }
+            other => out.push(other.clone()),
+        }
+    }
+    out.into_iter().collect()
 }
 
 /// Formats tokens as a Rust file with the `@generated` header.
