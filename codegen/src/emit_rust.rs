@@ -82,7 +82,7 @@ fn drive_module_tokens(drive: &DriveIr) -> TokenStream {
 }
 
 /// Escapes `[` and `]` in every `doc = "..."` attribute, so that manual text such as
-/// "310[0]" is not read by rustdoc as an intra-doc link.
+/// `310[0]` is not read by rustdoc as an intra-doc link.
 pub fn escape_doc_brackets(tokens: TokenStream) -> TokenStream {
     use proc_macro2::{Group, TokenTree};
     let trees: Vec<TokenTree> = tokens.into_iter().collect();
