@@ -1085,12 +1085,12 @@ fn check_example_value(
         return;
     };
     let scale = ranges::scale_of(register);
-    let double = register.data_type.as_deref() == Some("double_word");
-    let raw = match (register.signed, double) {
-        (true, true) => f64::from(data as i32),
-        (true, false) => f64::from(data as u16 as i16),
-        (false, _) => f64::from(data),
-    };
+    let data_type = register
+        .data_type
+        .as_deref()
+        .and_then(crate::protocols::data_type_from_name)
+        .unwrap_or(vfd_runtime::DataType::Word);
+    let raw = vfd_runtime::units::raw_to_number(data, register.signed, data_type);
     if (raw * scale - value).abs() > scale / 2.0 {
         out.push(
             drive

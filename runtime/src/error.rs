@@ -283,8 +283,13 @@ pub enum TransactionError {
     #[error("transport error: {0}")]
     Io(#[from] std::io::Error),
     /// The request could not be built.
-    #[error(transparent)]
-    Encode(#[from] EncodeError),
+    #[error("cannot send {request}: {source}")]
+    Encode {
+        /// What was asked.
+        request: String,
+        /// Why it cannot be built.
+        source: EncodeError,
+    },
     /// The value could not be sent.
     #[error(transparent)]
     Value(#[from] ValueError),

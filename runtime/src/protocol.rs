@@ -535,6 +535,17 @@ impl Protocol {
             .find(|c| c.kind == kind && c.space == space && c.carries(data_type))
     }
 
+    /// The command that carries `request`, or the typed reason there is none.
+    pub fn command_for_request(&self, request: &Request) -> Result<&CommandSpec, EncodeError> {
+        self.command_for(request.kind, request.space, request.data_type)
+            .ok_or_else(|| EncodeError::UnsupportedCommand {
+                protocol: self.id.clone(),
+                kind: request.kind.as_str(),
+                space: request.space.as_str(),
+                data_type: request.data_type.as_str(),
+            })
+    }
+
     /// The first command of the given kind.
     pub fn command(&self, kind: CommandKind) -> Option<&CommandSpec> {
         self.commands.iter().find(|command| command.kind == kind)
@@ -561,14 +572,7 @@ impl Protocol {
         request: &Request,
         address: Option<u8>,
     ) -> Result<(&FrameLayout, FrameValues), EncodeError> {
-        let command = self
-            .command_for(request.kind, request.space, request.data_type)
-            .ok_or_else(|| EncodeError::UnsupportedCommand {
-                protocol: self.id.clone(),
-                kind: request.kind.as_str(),
-                space: request.space.as_str(),
-                data_type: request.data_type.as_str(),
-            })?;
+        let command = self.command_for_request(request)?;
         self.request_values_for(command, request, address)
     }
 

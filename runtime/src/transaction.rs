@@ -238,15 +238,14 @@ impl<T: Transport> Master<T> {
     /// One request frame, one reply frame.
     fn exchange(&mut self, request: &Request) -> Result<Answer, TransactionError> {
         let protocol = self.protocol;
-        let command = protocol
-            .command_for(request.kind, request.space, request.data_type)
-            .ok_or_else(|| crate::error::EncodeError::UnsupportedCommand {
-                protocol: protocol.id.clone(),
-                kind: request.kind.as_str(),
-                space: request.space.as_str(),
-                data_type: request.data_type.as_str(),
-            })?;
-        let len = protocol.encode_request(request, self.address, &mut self.request)?;
+        let cannot_send = |source| TransactionError::Encode {
+            request: request.describe(),
+            source,
+        };
+        let command = protocol.command_for_request(request).map_err(cannot_send)?;
+        let len = protocol
+            .encode_request(request, self.address, &mut self.request)
+            .map_err(cannot_send)?;
         if let Some(last) = self.last_activity {
             let gap = self.frame_gap();
             let since = last.elapsed();
@@ -333,6 +332,10 @@ fn rename(error: TransactionError, request: &Request) -> TransactionError {
             code,
             info,
             tripped,
+        },
+        TransactionError::Encode { source, .. } => TransactionError::Encode {
+            request: name,
+            source,
         },
         TransactionError::Mismatch {
             field,

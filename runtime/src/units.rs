@@ -118,13 +118,19 @@ fn rounded(value: f64, info: &RegisterInfo) -> f64 {
     (value * factor).round() / factor
 }
 
-/// Converts a raw value to its engineering value.
-pub fn raw_to_scaled(raw: u32, info: &RegisterInfo) -> f64 {
-    let raw = match (info.signed, info.data_type) {
+/// A raw value as a number: two's complement when `signed`, over 32 bits for double
+/// words and 16 bits otherwise.
+pub fn raw_to_number(raw: u32, signed: bool, data_type: crate::protocol::DataType) -> f64 {
+    match (signed, data_type) {
         (true, crate::protocol::DataType::DoubleWord) => f64::from(raw as i32),
         (true, _) => f64::from(raw as u16 as i16),
         (false, _) => f64::from(raw),
-    };
+    }
+}
+
+/// Converts a raw value to its engineering value.
+pub fn raw_to_scaled(raw: u32, info: &RegisterInfo) -> f64 {
+    let raw = raw_to_number(raw, info.signed, info.data_type);
     // Round away binary noise such as 0.1 * 3 = 0.30000000000000004.
     rounded(raw * info.scale, info)
 }

@@ -238,3 +238,22 @@ fn a_bad_bcc_is_a_typed_error() {
         "{error:?}"
     );
 }
+
+#[test]
+fn a_request_the_protocol_cannot_carry_names_the_register() {
+    // Modbus has no text function: the error must say which parameter was asked for.
+    let (mut modbus, peer) = master(&protocols::MODBUS, &[]);
+    let error = modbus.read_text::<registers::OrderingNumber>().unwrap_err();
+    assert!(
+        matches!(error, TransactionError::Encode { .. }),
+        "{error:?}"
+    );
+    let message = error.to_string();
+    for needle in ["1546", "参数 1546", "read_text", "modbus"] {
+        assert!(
+            message.contains(needle),
+            "`{message}` should contain {needle}"
+        );
+    }
+    assert!(peer.join().unwrap().is_empty(), "nothing may be sent");
+}
