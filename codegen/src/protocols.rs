@@ -63,6 +63,45 @@ pub fn data_type_from_name(name: &str) -> Option<DataType> {
     DataType::ALL.into_iter().find(|t| t.as_str() == name)
 }
 
+/// Reads an optional address-space name (default: parameters), reporting an unknown one at `path`.
+fn space_at(
+    name: Option<&str>,
+    source: &SourceFile,
+    path: &str,
+    problems: &mut Vec<Diagnostic>,
+) -> Option<Space> {
+    let Some(name) = name else {
+        return Some(Space::Parameter);
+    };
+    let space = space_from_name(name);
+    if space.is_none() {
+        problems.push(
+            source
+                .error(path, format!("unknown address space `{name}`"))
+                .hint("use parameter or coil"),
+        );
+    }
+    space
+}
+
+/// Reads a data-type name, reporting an unknown one at `path`.
+fn data_type_at(
+    name: &str,
+    source: &SourceFile,
+    path: &str,
+    problems: &mut Vec<Diagnostic>,
+) -> Option<DataType> {
+    let data_type = data_type_from_name(name);
+    if data_type.is_none() {
+        problems.push(
+            source
+                .error(path, format!("unknown data type `{name}`"))
+                .hint("use word, double_word, bit or text"),
+        );
+    }
+    data_type
+}
+
 /// Parses an address space.
 pub fn space_from_name(name: &str) -> Option<Space> {
     [Space::Parameter, Space::Coil]
@@ -138,37 +177,25 @@ pub fn build_protocol(
                     .hint("use read, write_ram, write_persistent, read_text or process"),
             );
         }
-        let mut data_types = Vec::new();
-        for (i, name) in command.data_types.iter().enumerate() {
-            match data_type_from_name(name) {
-                Some(data_type) => data_types.push(data_type),
-                None => problems.push(
-                    source
-                        .error(
-                            &format!("{path}.data_types[{i}]"),
-                            format!("unknown data type `{name}`"),
-                        )
-                        .hint("use word, double_word, bit or text"),
-                ),
-            }
-        }
-        let space = match command.space.as_deref() {
-            None => Some(Space::Parameter),
-            Some(name) => {
-                let space = space_from_name(name);
-                if space.is_none() {
-                    problems.push(
-                        source
-                            .error(
-                                &format!("{path}.space"),
-                                format!("unknown address space `{name}`"),
-                            )
-                            .hint("use parameter or coil"),
-                    );
-                }
-                space
-            }
-        };
+        let data_types: Vec<DataType> = command
+            .data_types
+            .iter()
+            .enumerate()
+            .filter_map(|(i, name)| {
+                data_type_at(
+                    name,
+                    source,
+                    &format!("{path}.data_types[{i}]"),
+                    &mut problems,
+                )
+            })
+            .collect();
+        let space = space_at(
+            command.space.as_deref(),
+            source,
+            &format!("{path}.space"),
+            &mut problems,
+        );
         let reply_codes: Vec<u32> = command
             .reply_codes
             .iter()
@@ -278,33 +305,17 @@ pub fn build_protocol(
                 register: step.register,
             }),
             "persistence" => {
-                let space = match step.space.as_deref() {
-                    None => Some(Space::Parameter),
-                    Some(name) => space_from_name(name).or_else(|| {
-                        problems.push(
-                            source
-                                .error(
-                                    &format!("{path}.space"),
-                                    format!("unknown address space `{name}`"),
-                                )
-                                .hint("use parameter or coil"),
-                        );
-                        None
-                    }),
-                };
+                let space = space_at(
+                    step.space.as_deref(),
+                    source,
+                    &format!("{path}.space"),
+                    &mut problems,
+                );
                 let data_type = match step.data_type.as_deref() {
                     None => Some(DataType::Word),
-                    Some(name) => data_type_from_name(name).or_else(|| {
-                        problems.push(
-                            source
-                                .error(
-                                    &format!("{path}.data_type"),
-                                    format!("unknown data type `{name}`"),
-                                )
-                                .hint("use word, double_word, bit or text"),
-                        );
-                        None
-                    }),
+                    Some(name) => {
+                        data_type_at(name, source, &format!("{path}.data_type"), &mut problems)
+                    }
                 };
                 let missing: Vec<&str> = [
                     ("ram", step.ram.is_none()),
