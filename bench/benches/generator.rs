@@ -5,7 +5,7 @@
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
 use std::path::Path;
 use vfd_bench::synthetic_drive;
-use vfd_codegen::{emit_markdown, emit_rust};
+use vfd_codegen::emit::{markdown as emit_markdown, rust as emit_rust};
 
 fn generate(path: &Path, text: &str) -> (usize, usize) {
     let drive = vfd_codegen::compile_text(

@@ -1,9 +1,17 @@
 //! Problems found in a description, each with file, line, column, YAML path and a hint,
 //! rendered the way compilers render errors.
 
-use crate::positions::Position;
 use std::fmt;
 use std::path::{Path, PathBuf};
+
+/// A 1-based line and column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Position {
+    /// Line, from 1.
+    pub line: usize,
+    /// Column, from 1.
+    pub column: usize,
+}
 
 /// One problem in a drive or protocol file.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -116,10 +124,10 @@ impl Diagnostics {
         self.items.is_empty()
     }
 
-    /// Fills in source lines from the files named, and sorts by file and position.
-    pub fn attach_sources(&mut self, read: impl Fn(&Path) -> Option<String>) {
+    /// Fills in source lines from the files read, and sorts by file and position.
+    pub fn attach_sources<'t>(&mut self, text_of: impl Fn(&Path) -> Option<&'t str>) {
         for item in &mut self.items {
-            if let Some(text) = read(&item.file) {
+            if let Some(text) = text_of(&item.file) {
                 item.source_line = text
                     .lines()
                     .nth(item.position.line.saturating_sub(1))

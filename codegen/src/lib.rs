@@ -33,18 +33,14 @@
 #![allow(clippy::result_large_err)]
 
 pub mod diagnostics;
-pub mod emit_markdown;
-pub mod emit_rust;
-pub mod emit_tests;
+pub mod emit;
+mod frames;
 pub mod ir;
-pub mod load;
-pub mod model;
-pub mod naming;
+mod load;
+mod naming;
 pub mod parse;
-pub mod positions;
-pub mod protocols;
-pub mod ranges;
-pub mod validate;
+mod protocols;
+mod validate;
 
 pub use diagnostics::{Diagnostic, Diagnostics};
 pub use ir::DriveIr;
@@ -55,8 +51,10 @@ use std::path::{Path, PathBuf};
 /// Reads, validates and lowers one drive file. `protocols_dir` defaults to the
 /// `protocols/` folder next to the drive file.
 pub fn compile(path: &Path, protocols_dir: Option<&Path>) -> Result<DriveIr, Diagnostics> {
-    let drive = load::load_drive(path, protocols_dir)?;
-    Ok(ir::lower(&drive))
+    let source = parse::SourceFile::read(path).map_err(|problem| Diagnostics {
+        items: vec![problem],
+    })?;
+    compile_source(source, protocols_dir)
 }
 
 /// Like [`compile`], for a drive file already in memory.
@@ -65,8 +63,40 @@ pub fn compile_text(
     text: String,
     protocols_dir: Option<&Path>,
 ) -> Result<DriveIr, Diagnostics> {
-    let drive = load::load_source(parse::SourceFile::from_text(path, text), protocols_dir)?;
-    Ok(ir::lower(&drive))
+    compile_source(parse::SourceFile::from_text(path, text), protocols_dir)
+}
+
+/// The pipeline, stage by stage: parse and load, lower protocols, decode examples,
+/// validate, lower to the IR. Every problem of every stage is collected; the IR is built
+/// only from a description without problems.
+fn compile_source(
+    source: parse::SourceFile,
+    protocols_dir: Option<&Path>,
+) -> Result<DriveIr, Diagnostics> {
+    let mut diagnostics = Diagnostics::default();
+    let Some(drive) = load::load(source, protocols_dir, &mut diagnostics) else {
+        return Err(diagnostics);
+    };
+    let protocols = protocols::lower(&drive, &mut diagnostics);
+    let frames = frames::decode_examples(&drive.model, &protocols);
+    let context = validate::Context {
+        source: drive.source,
+        model: drive.model,
+        protocols,
+        frames,
+    };
+    validate::check(&context, &mut diagnostics);
+    if !diagnostics.is_empty() {
+        diagnostics.attach_sources(|path| {
+            drive
+                .sources
+                .iter()
+                .find(|file| file.path == path)
+                .map(|file| file.text.as_str())
+        });
+        return Err(diagnostics);
+    }
+    Ok(ir::lower(&context))
 }
 
 /// The files a drive's output depends on: the drive file and its protocol files.
@@ -285,8 +315,8 @@ impl Builder {
                 }
             }
             let rust =
-                emit_rust::format_file(&ir, emit_rust::drive_module(&ir)).map_err(Error::Emit)?;
-            let markdown = emit_markdown::drive_page(&ir).map_err(Error::Emit)?;
+                emit::rust::format_file(&ir, emit::rust::drive_module(&ir)).map_err(Error::Emit)?;
+            let markdown = emit::markdown::drive_page(&ir).map_err(Error::Emit)?;
             drives.push(GeneratedDrive {
                 ir,
                 rust,
@@ -295,7 +325,7 @@ impl Builder {
             });
         }
         let irs: Vec<DriveIr> = drives.iter().map(|d| d.ir.clone()).collect();
-        let index = emit_markdown::index_page(&irs).map_err(Error::Emit)?;
+        let index = emit::markdown::index_page(&irs).map_err(Error::Emit)?;
         Ok(Generated { drives, index })
     }
 }
@@ -321,12 +351,12 @@ pub fn write_if_changed(path: &Path, contents: &str) -> Result<bool, Error> {
 
 /// Golden tests for one drive as a formatted Rust file (for the workspace test crate).
 pub fn golden_tests_file(drive: &DriveIr, drive_path: &str) -> Result<String, Error> {
-    let tokens = emit_tests::golden_tests(drive, drive_path);
+    let tokens = emit::tests::golden_tests(drive, drive_path);
     let file: syn::File =
         syn::parse2(tokens).map_err(|e| Error::Emit(format!("golden tests do not parse: {e}")))?;
     Ok(format!(
         "{}{}",
-        emit_rust::header(drive),
+        emit::rust::header(drive),
         prettyplease::unparse(&file)
     ))
 }

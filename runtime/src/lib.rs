@@ -17,6 +17,7 @@ pub mod codec;
 pub mod drive;
 pub mod error;
 pub mod layout;
+pub mod meaning;
 pub mod protocol;
 pub mod register;
 pub mod scaling;

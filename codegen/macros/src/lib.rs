@@ -26,7 +26,7 @@ pub fn include_drive(input: TokenStream) -> TokenStream {
     let path = manifest.join(literal.value());
     match vfd_codegen::compile(&path, None) {
         Ok(drive) => {
-            let module = vfd_codegen::emit_rust::drive_module(&drive);
+            let module = vfd_codegen::emit::rust::drive_module(&drive);
             let inputs: Vec<String> = vfd_codegen::inputs_of(&drive, None)
                 .iter()
                 .map(|p| {

@@ -2,11 +2,12 @@
 //! in a fixed order (file order), as plain serialisable data: ranges as raw bounds, Rust
 //! names chosen, example frames decoded. Dump it with [`DriveIr::to_yaml`].
 
-use crate::load::{LoadedDrive, LoadedProtocol};
-use crate::model::{FrameModel, RegisterModel};
+use crate::frames::{register_of, DecodedFrame};
 use crate::naming::{const_name, method_name, type_name};
-use crate::ranges;
-use crate::validate::{self, bit_span, Direction};
+use crate::parse::model::{FrameModel, RegisterModel};
+use crate::protocols::LoweredProtocol;
+use crate::validate::ranges;
+use crate::validate::{bit_span, Context};
 use serde::Serialize;
 use vfd_runtime::layout::{Format, Part, Presence};
 use vfd_runtime::units::Unit;
@@ -33,7 +34,7 @@ pub struct DriveIr {
     pub bitfields: Vec<BitfieldIr>,
     pub registers: Vec<RegisterIr>,
     pub value_examples: Vec<ValueExampleIr>,
-    pub reference_scaling: Option<crate::model::ReferenceScalingModel>,
+    pub reference_scaling: Option<crate::parse::model::ReferenceScalingModel>,
     pub manual_errata: Vec<ManualErratumIr>,
     pub examples: Vec<ExampleIr>,
 }
@@ -355,7 +356,7 @@ impl DriveIr {
 }
 
 /// Lowers a validated drive into its IR.
-pub fn lower(drive: &LoadedDrive) -> DriveIr {
+pub(crate) fn lower(drive: &Context) -> DriveIr {
     let model = &drive.model;
     let serial = &model.serial;
     let parity = |name: &str| match name {
@@ -501,15 +502,21 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
     let examples: Vec<ExampleIr> = model
         .examples
         .iter()
-        .map(|example| {
-            let protocol = drive.protocols.iter().find(|p| p.id == example.protocol);
-            let frame = |direction, frame: &Option<FrameModel>| {
-                frame
-                    .as_ref()
-                    .and_then(|f| protocol.map(|p| lower_frame(drive, p, direction, f)))
+        .zip(&drive.frames)
+        .map(|(example, decoded)| {
+            let protocol = decoded.protocol.map(|index| &drive.protocols[index]);
+            let frame = |model: &Option<FrameModel>, frame: &Option<DecodedFrame>| match (
+                model, frame, protocol,
+            ) {
+                (Some(model), Some(frame), Some(protocol)) => {
+                    Some(lower_frame(drive, protocol, model, frame))
+                }
+                _ => None,
             };
-            let register = protocol
-                .and_then(|p| example_register(drive, p, example))
+            let register = decoded
+                .reply_then_request()
+                .filter_map(DecodedFrame::decoded)
+                .find_map(|meaning| register_of(&drive.model, meaning))
                 .and_then(|found| registers.iter().find(|r| r.id == found.id));
             ExampleIr {
                 id: example.id.clone(),
@@ -518,8 +525,8 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
                 source: example.source.clone(),
                 description: example.description.clone(),
                 description_zh: example.description_zh.clone(),
-                request: frame(Direction::Request, &example.request),
-                reply: frame(Direction::Reply, &example.reply),
+                request: frame(&example.request, &decoded.request),
+                reply: frame(&example.reply, &decoded.reply),
                 value: example.value,
                 value_display: match (example.value, register) {
                     (Some(value), Some(r)) => {
@@ -608,7 +615,7 @@ pub fn lower(drive: &LoadedDrive) -> DriveIr {
     }
 }
 
-fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
+fn lower_register(drive: &Context, register: &RegisterModel) -> RegisterIr {
     let model = &drive.model;
     let unit = register
         .unit
@@ -646,13 +653,17 @@ fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
     let range_display = match &register.range {
         None => "—".to_owned(),
         Some(range) => {
-            let end = |bound: &crate::model::BoundModel, raw: i64| match bound {
-                crate::model::BoundModel::Register(name) => format!("{name} (≤ {})", show(raw)),
-                crate::model::BoundModel::Number(_) => show(raw),
+            let end = |bound: &crate::parse::model::BoundModel, raw: i64| match bound {
+                crate::parse::model::BoundModel::Register(name) => {
+                    format!("{name} (≤ {})", show(raw))
+                }
+                crate::parse::model::BoundModel::Number(_) => show(raw),
             };
             let low = match &range.min {
-                crate::model::BoundModel::Register(name) => format!("{name} (≥ {})", show(raw_min)),
-                crate::model::BoundModel::Number(_) => show(raw_min),
+                crate::parse::model::BoundModel::Register(name) => {
+                    format!("{name} (≥ {})", show(raw_min))
+                }
+                crate::parse::model::BoundModel::Number(_) => show(raw_min),
             };
             format!("{low} … {}", end(&range.max, raw_max))
         }
@@ -721,7 +732,7 @@ fn lower_register(drive: &LoadedDrive, register: &RegisterModel) -> RegisterIr {
     }
 }
 
-fn lower_protocol(protocol: &LoadedProtocol) -> ProtocolIr {
+fn lower_protocol(protocol: &LoweredProtocol) -> ProtocolIr {
     let runtime = &protocol.runtime;
     let mut layouts: Vec<LayoutIr> = Vec::new();
     let mut add = |layout: &vfd_runtime::FrameLayout| {
@@ -1016,41 +1027,23 @@ pub fn shown_bytes(bytes: &[u8]) -> String {
     }
 }
 
-/// The described register an example's data belongs to (reply first, then request).
-fn example_register<'d>(
-    drive: &'d LoadedDrive,
-    protocol: &LoadedProtocol,
-    example: &crate::model::ExampleModel,
-) -> Option<&'d RegisterModel> {
-    [
-        (Direction::Reply, &example.reply),
-        (Direction::Request, &example.request),
-    ]
-    .into_iter()
-    .find_map(|(direction, frame)| {
-        let frame = frame.as_ref()?;
-        let bytes = validate::frame_bytes(&frame.ascii, &frame.hex).ok()?;
-        let decoded = validate::decode_frame(protocol, direction, &bytes).ok()?;
-        validate::register_of(drive, &decoded)
-    })
-}
-
 fn lower_frame(
-    drive: &LoadedDrive,
-    protocol: &LoadedProtocol,
-    direction: Direction,
-    frame: &FrameModel,
+    drive: &Context,
+    protocol: &LoweredProtocol,
+    model: &FrameModel,
+    frame: &DecodedFrame,
 ) -> FrameIr {
-    let bytes = validate::frame_bytes(&frame.ascii, &frame.hex).unwrap_or_default();
-    let decoded = validate::decode_frame(protocol, direction, &bytes).unwrap_or_default();
+    // Validation has passed, so the bytes are there and decode.
+    let bytes = frame.bytes.clone().unwrap_or_default();
+    let decoded = frame.decoded().cloned().unwrap_or_default();
     let label = |code: u32| vfd_runtime::protocol::code_label(code);
     let meaning = match decoded.error_code {
         Some(code) => {
-            let entry = protocol.runtime.error_code(code as u16);
+            let entry = protocol.runtime.error_code(code);
             format!(
                 "error reply{}: error {code}{}",
                 decoded
-                    .command
+                    .code
                     .map(|c| format!(" `{}`", label(c)))
                     .unwrap_or_default(),
                 entry
@@ -1061,14 +1054,14 @@ fn lower_frame(
         None => {
             let mut parts = Vec::new();
             let kind = decoded.kind.map(|k| k.as_str()).unwrap_or("?");
-            match decoded.command {
+            match decoded.code {
                 Some(code) => parts.push(format!("`{}` ({kind})", label(code))),
                 None => parts.push(kind.to_owned()),
             }
             if let Some(address) = decoded.address {
                 parts.push(format!("station {address}"));
             }
-            let described = validate::register_of(drive, &decoded);
+            let described = register_of(&drive.model, &decoded);
             match (described, decoded.register, decoded.wire_register) {
                 (Some(register), _, Some(wire))
                     if address_display(register) != format!("{wire:04X}") =>
@@ -1117,36 +1110,36 @@ fn lower_frame(
         }
     };
     let printed = frame.printed.as_ref().map(|printed| {
-        let printed_bytes = validate::frame_bytes(&printed.ascii, &printed.hex).unwrap_or_default();
-        let rejection = validate::decode_frame(protocol, direction, &printed_bytes)
-            .err()
-            .map(|e| e.to_string())
-            .unwrap_or_default();
+        let printed_bytes = printed.bytes.clone().unwrap_or_default();
+        let rejection = match &printed.meaning {
+            Some(Err(error)) => error.to_string(),
+            _ => String::new(),
+        };
         PrintedIr {
             shown: shown_bytes(&printed_bytes),
             hex: vfd_runtime::error::hex(&printed_bytes),
             bytes: printed_bytes,
-            erratum: frame.erratum.clone().unwrap_or_default(),
-            rejected_as: frame.printed_rejected_as.clone().unwrap_or_default(),
+            erratum: model.erratum.clone().unwrap_or_default(),
+            rejected_as: model.printed_rejected_as.clone().unwrap_or_default(),
             rejection,
         }
     });
     FrameIr {
         shown: shown_bytes(&bytes),
         hex: vfd_runtime::error::hex(&bytes),
-        text: frame.ascii.is_some(),
+        text: model.ascii.is_some(),
         bytes,
         expect: ExpectIr {
             address: decoded.address,
-            code: decoded.command,
+            code: decoded.code,
             command_kind: decoded.kind.map(|k| k.as_str().to_owned()),
             space: decoded.space.map(|s| s.as_str().to_owned()),
-            register: decoded.register,
-            wire_register: decoded.wire_register,
-            index: decoded.index,
+            register: decoded.register.map(u32::from),
+            wire_register: decoded.wire_register.map(u32::from),
+            index: decoded.index.map(u32::from),
             data: decoded.data,
-            error_code: decoded.error_code,
-            process: decoded.process,
+            error_code: decoded.error_code.map(u32::from),
+            process: decoded.process.map(|[a, b]| [u32::from(a), u32::from(b)]),
             text: decoded.text,
             tripped: decoded.tripped,
         },

@@ -1,8 +1,11 @@
-//! Turns a protocol file plus a drive's error table and addressing into the runtime's
-//! [`Protocol`]: the layouts the generated code embeds and the validator decodes examples with.
+//! Stage 3a, protocol lowering: turns each protocol file a drive uses, plus the drive's
+//! error table, addressing, address maps and pre-steps, into the runtime's [`Protocol`]:
+//! the value the generated code embeds and the example frames are decoded with. Problems in
+//! a protocol file are reported here, with the protocol file's positions.
 
-use crate::diagnostics::Diagnostic;
-use crate::model::{
+use crate::diagnostics::{Diagnostic, Diagnostics};
+use crate::load::LoadedDrive;
+use crate::parse::model::{
     CodeModel, CountsModel, DriveFile, OptionalModel, PartModel, PartRefModel, ProtocolFile,
     ProtocolRef,
 };
@@ -109,8 +112,51 @@ pub fn space_from_name(name: &str) -> Option<Space> {
         .find(|s| s.as_str() == name)
 }
 
+/// A protocol as one drive uses it, lowered into the runtime's terms.
+#[derive(Debug, Clone)]
+pub(crate) struct LoweredProtocol {
+    /// Id within the drive (`ascii`).
+    pub id: String,
+    /// Protocol file id (`toshiba-ascii`).
+    pub uses: String,
+    /// Manual section describing it.
+    pub source_section: String,
+    /// Its parsed protocol file.
+    pub file: ProtocolFile,
+    /// The runtime protocol built from it.
+    pub runtime: Protocol,
+}
+
+/// Lowers every protocol file the drive refers to; problems go to `out`, and a protocol
+/// with problems is left out.
+pub(crate) fn lower(drive: &LoadedDrive, out: &mut Diagnostics) -> Vec<LoweredProtocol> {
+    let mut lowered = Vec::new();
+    for protocol in &drive.protocol_files {
+        let reference = &drive.model.protocols[protocol.reference];
+        let reference_path = format!("protocols[{}]", protocol.reference);
+        match build_protocol(
+            reference,
+            &reference_path,
+            &protocol.file,
+            &protocol.source,
+            &drive.source,
+            &drive.model,
+        ) {
+            Ok(runtime) => lowered.push(LoweredProtocol {
+                id: reference.id.clone(),
+                uses: reference.uses.clone(),
+                source_section: reference.source.clone(),
+                file: protocol.file.clone(),
+                runtime,
+            }),
+            Err(problems) => problems.into_iter().for_each(|p| out.push(p)),
+        }
+    }
+    lowered
+}
+
 /// Builds the runtime protocol; every problem in the protocol file is reported.
-pub fn build_protocol(
+fn build_protocol(
     reference: &ProtocolRef,
     reference_path: &str,
     file: &ProtocolFile,

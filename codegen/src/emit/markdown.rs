@@ -3,8 +3,8 @@
 use crate::ir::DriveIr;
 use minijinja::{context, Environment};
 
-const DRIVE_TEMPLATE: &str = include_str!("../templates/drive.md.j2");
-const INDEX_TEMPLATE: &str = include_str!("../templates/index.md.j2");
+const DRIVE_TEMPLATE: &str = include_str!("../../templates/drive.md.j2");
+const INDEX_TEMPLATE: &str = include_str!("../../templates/index.md.j2");
 
 fn environment() -> Result<Environment<'static>, String> {
     let mut env = Environment::new();

@@ -1048,12 +1048,12 @@ fn reference_scaling(drive: &DriveIr) -> TokenStream {
     let full = scaling.full_scale_raw;
     let applies = scaling.applies_to.iter().map(String::as_str);
     let selector = &scaling.selector;
-    let end = |bound: &crate::model::BoundModel| match bound {
-        crate::model::BoundModel::Number(value) => {
+    let end = |bound: &crate::parse::model::BoundModel| match bound {
+        crate::parse::model::BoundModel::Number(value) => {
             let value = f64_literal(*value);
             quote!(::vfd_runtime::scaling::SpanEnd::Number(#value))
         }
-        crate::model::BoundModel::Register(id) => {
+        crate::parse::model::BoundModel::Register(id) => {
             quote!(::vfd_runtime::scaling::SpanEnd::Register(#id))
         }
     };

@@ -1,8 +1,11 @@
-//! Stage 1: reads YAML files into the [`crate::model`] types, turning syntax and type
+//! Stage 1: reads YAML files into the [`crate::parse::model`] types, turning syntax and type
 //! errors into diagnostics with file, line, column and YAML path.
 
 use crate::diagnostics::Diagnostic;
-use crate::positions::{Position, PositionIndex};
+pub mod model;
+pub mod positions;
+
+use positions::{Position, PositionIndex};
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
 

@@ -1,7 +1,7 @@
 //! Resolves register ranges: bounds that are numbers or that name another register
 //! ("0.5~FH"), turned into static raw bounds the generated code checks before sending.
 
-use crate::model::{BoundModel, DriveFile, RegisterModel};
+use crate::parse::model::{BoundModel, DriveFile, RegisterModel};
 
 /// Which end of a range.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

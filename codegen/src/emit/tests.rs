@@ -76,7 +76,7 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
 
 /// The value type of a register, as a path usable outside the drive module.
 fn value_type_at(kind: &ValueKind, root: &syn::Path) -> TokenStream {
-    crate::emit_rust::value_type_at(kind, &quote!(#root))
+    crate::emit::rust::value_type_at(kind, &quote!(#root))
 }
 
 fn construct_value(kind: &ValueKind, value: f64, ty: &TokenStream) -> TokenStream {

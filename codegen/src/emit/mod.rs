@@ -1,0 +1,7 @@
+//! Stage 6: emitters. Each reads only the IR ([`crate::ir::DriveIr`]): Rust with `quote!`
+//! and prettyplease ([`rust`]), Markdown with minijinja ([`markdown`]), golden-frame tests
+//! ([`tests`]).
+
+pub mod markdown;
+pub mod rust;
+pub mod tests;

@@ -1,0 +1,132 @@
+//! Stage 3: decodes every example frame of a drive exactly once, with the runtime's own
+//! decoder ([`vfd_runtime::meaning::decode_meaning`]).
+//!
+//! Validation checks these results against what the description says (`expect:`,
+//! `printed_rejected_as:`); the IR reads the same results. Nothing decodes a frame again.
+
+use crate::parse::model::{BytesModel, DriveFile, ExampleModel, FrameModel, RegisterModel};
+use crate::protocols::LoweredProtocol;
+use vfd_runtime::meaning::{decode_meaning, Direction, FrameMeaning};
+use vfd_runtime::{DecodeError, Space};
+
+/// One example's frames, decoded.
+#[derive(Debug, Clone)]
+pub(crate) struct DecodedExample {
+    /// Index of the example's protocol among the drive's lowered protocols; `None` when the
+    /// protocol is unknown or failed to lower (both reported elsewhere).
+    pub protocol: Option<usize>,
+    /// The request frame, when the example has one.
+    pub request: Option<DecodedFrame>,
+    /// The reply frame, when the example has one.
+    pub reply: Option<DecodedFrame>,
+}
+
+impl DecodedExample {
+    /// The frames that are present, reply first (the value an example states belongs to the
+    /// reply's data when the reply carries data).
+    pub fn reply_then_request(&self) -> impl Iterator<Item = &DecodedFrame> {
+        self.reply.iter().chain(self.request.iter())
+    }
+}
+
+/// One frame: its bytes and what they decode to.
+#[derive(Debug, Clone)]
+pub(crate) struct DecodedFrame {
+    /// The bytes, or why the description gives none.
+    pub bytes: Result<Vec<u8>, String>,
+    /// What the bytes mean; `None` when there are no bytes or no protocol to decode with.
+    pub meaning: Option<Result<FrameMeaning, DecodeError>>,
+    /// The manual's misprinted bytes, when the description records an erratum.
+    pub printed: Option<PrintedFrame>,
+}
+
+impl DecodedFrame {
+    /// The meaning, when the frame decoded.
+    pub fn decoded(&self) -> Option<&FrameMeaning> {
+        self.meaning.as_ref().and_then(|m| m.as_ref().ok())
+    }
+}
+
+/// The bytes a manual printed for a frame it got wrong, and how the decoder takes them.
+#[derive(Debug, Clone)]
+pub(crate) struct PrintedFrame {
+    /// The printed bytes, or why the description gives none.
+    pub bytes: Result<Vec<u8>, String>,
+    /// What the decoder says about them; `None` when there are no bytes or no protocol.
+    pub meaning: Option<Result<FrameMeaning, DecodeError>>,
+}
+
+/// Decodes every example frame of `drive` once.
+pub(crate) fn decode_examples(
+    drive: &DriveFile,
+    protocols: &[LoweredProtocol],
+) -> Vec<DecodedExample> {
+    drive
+        .examples
+        .iter()
+        .map(|example| decode_example(example, protocols))
+        .collect()
+}
+
+fn decode_example(example: &ExampleModel, protocols: &[LoweredProtocol]) -> DecodedExample {
+    let protocol = protocols.iter().position(|p| p.id == example.protocol);
+    let runtime = protocol.map(|index| &protocols[index].runtime);
+    let frame = |direction: Direction, model: &Option<FrameModel>| {
+        model.as_ref().map(|model| {
+            let bytes = frame_bytes(&model.ascii, &model.hex);
+            let decode = |bytes: &Result<Vec<u8>, String>| match (bytes, runtime) {
+                (Ok(bytes), Some(runtime)) => Some(decode_meaning(runtime, direction, bytes)),
+                _ => None,
+            };
+            let printed = model.printed.as_ref().map(|BytesModel { ascii, hex }| {
+                let bytes = frame_bytes(ascii, hex);
+                PrintedFrame {
+                    meaning: decode(&bytes),
+                    bytes,
+                }
+            });
+            DecodedFrame {
+                meaning: decode(&bytes),
+                bytes,
+                printed,
+            }
+        })
+    };
+    DecodedExample {
+        protocol,
+        request: frame(Direction::Request, &example.request),
+        reply: frame(Direction::Reply, &example.reply),
+    }
+}
+
+/// The bytes a frame holds (`ascii:` text or `hex:` pairs), or a message saying why there
+/// are none.
+pub(crate) fn frame_bytes(ascii: &Option<String>, hex: &Option<String>) -> Result<Vec<u8>, String> {
+    match (ascii, hex) {
+        (Some(text), None) => Ok(text.as_bytes().to_vec()),
+        (None, Some(hex)) => crate::protocols::parse_hex(hex),
+        _ => Err("give exactly one of `ascii` and `hex`".to_owned()),
+    }
+}
+
+/// The described register a frame's data belongs to.
+pub(crate) fn register_of<'d>(
+    drive: &'d DriveFile,
+    meaning: &FrameMeaning,
+) -> Option<&'d RegisterModel> {
+    let address = u32::from(meaning.register?);
+    let space = meaning.space.unwrap_or(Space::Parameter);
+    drive
+        .registers
+        .iter()
+        .find(|r| r.address == address && space_of(r) == space)
+}
+
+/// A register's address space.
+pub(crate) fn space_of(register: &RegisterModel) -> Space {
+    register
+        .space
+        .as_deref()
+        .and_then(crate::protocols::space_from_name)
+        .unwrap_or(Space::Parameter)
+}

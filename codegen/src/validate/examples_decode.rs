@@ -1,0 +1,275 @@
+//! Check: every example frame decodes to what it says; printed errata are rejected for the stated reason.
+
+use crate::diagnostics::Diagnostics;
+
+use crate::frames::{register_of, DecodedExample, DecodedFrame};
+use crate::parse::model::{ExpectModel, FrameModel};
+use crate::validate::{decimals, ranges, with_unit, Context};
+use vfd_runtime::meaning::FrameMeaning;
+
+/// Every example frame decodes to what it says; printed errata are rejected for the stated reason.
+pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
+    for (index, example) in drive.model.examples.iter().enumerate() {
+        let base = format!("examples[{index}]");
+        if drive.frames[index].protocol.is_none() {
+            if drive
+                .model
+                .protocols
+                .iter()
+                .any(|p| p.id == example.protocol)
+            {
+                continue; // The protocol is declared but failed to load; that is reported already.
+            }
+            let known: Vec<&str> = drive
+                .model
+                .protocols
+                .iter()
+                .map(|p| p.id.as_str())
+                .collect();
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("{base}.protocol"),
+                        format!("unknown protocol `{}`", example.protocol),
+                    )
+                    .hint(format!(
+                        "use one of the drive's protocols: {}",
+                        known.join(", ")
+                    )),
+            );
+            continue;
+        }
+        if example.request.is_none() && example.reply.is_none() {
+            out.push(
+                drive
+                    .source
+                    .error(&base, "an example needs a `request`, a `reply` or both")
+                    .hint("copy the frames from the manual"),
+            );
+        }
+        let decoded = &drive.frames[index];
+        for (key, model, frame) in [
+            ("request", &example.request, &decoded.request),
+            ("reply", &example.reply, &decoded.reply),
+        ] {
+            if let (Some(model), Some(frame)) = (model, frame) {
+                check_frame(drive, &format!("{base}.{key}"), model, frame, out);
+            }
+        }
+        if let Some(value) = example.value {
+            check_example_value(drive, &base, value, decoded, out);
+        }
+    }
+}
+
+fn check_frame(
+    drive: &Context,
+    path: &str,
+    model: &FrameModel,
+    frame: &DecodedFrame,
+    out: &mut Diagnostics,
+) {
+    if let Err(message) = &frame.bytes {
+        out.push(drive.source.error(path, message.clone()).hint(
+            "write text frames as ascii: \"(R0501)\\r\" and binary ones as hex: \"2F 52 05 01 87\"",
+        ));
+        return;
+    }
+    let expect = &model.expect;
+    let expected_code = match &expect.command {
+        Some(code) => match code.value() {
+            Some(value) => Some(value),
+            None => {
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("{path}.expect.command"),
+                            format!("`{}` is not one character or a number", code.shown()),
+                        )
+                        .hint("e.g. command: R, or command: 0x03"),
+                );
+                None
+            }
+        },
+        None => None,
+    };
+    match &frame.meaning {
+        None => {}
+        Some(Err(error)) => out.push(
+            drive
+                .source
+                .error(path, format!("the frame does not decode: {error}"))
+                .hint(match error.kind() {
+                    "checksum_mismatch" => "if the manual prints a wrong checksum, put the corrected bytes here and the printed ones under `printed:` with an `erratum:`",
+                    _ => "check the bytes against the manual; record a manual mistake as `printed:` + `erratum:`",
+                }),
+        ),
+        Some(Ok(decoded)) => {
+            let mismatches = mismatches(expect, expected_code, decoded);
+            if !mismatches.is_empty() {
+                out.push(drive.source.error(&format!("{path}.expect"), format!("the frame decodes differently: {}", mismatches.join("; "))).hint("`expect` states what the manual says the frame means (register numbers before the protocol's address map)"));
+            }
+        }
+    }
+    match (&model.printed, &model.erratum, &model.printed_rejected_as, &frame.printed) {
+        (None, None, None, _) => {}
+        (Some(_), Some(_), Some(reason), Some(printed)) => match (&printed.bytes, &printed.meaning) {
+            (Err(message), _) => out.push(drive.source.error(&format!("{path}.printed"), message.clone()).hint("give the bytes exactly as printed")),
+            (Ok(_), None) => {}
+            (Ok(_), Some(Ok(_))) => out.push(
+                drive
+                    .source
+                    .error(&format!("{path}.printed"), "the printed frame decodes without error, so the decoder cannot tell it is wrong")
+                    .hint("an erratum records bytes the decoder rejects; describe meaning-only mistakes under manual_errata"),
+            ),
+            (Ok(_), Some(Err(error))) if error.kind() != reason => out.push(
+                drive
+                    .source
+                    .error(&format!("{path}.printed_rejected_as"), format!("the printed frame is rejected as {}, not {reason}: {error}", error.kind()))
+                    .hint("state the reason the decoder gives"),
+            ),
+            (Ok(_), Some(Err(_))) => {}
+        },
+        _ => out.push(
+            drive
+                .source
+                .error(path, "an erratum needs `printed`, `erratum` and `printed_rejected_as` together")
+                .hint("printed: the manual's bytes; erratum: why they are wrong; printed_rejected_as: the decoder's reason (checksum_mismatch, length_mismatch, not_allowed, unexpected_byte, truncated, trailing_bytes)"),
+        ),
+    }
+}
+
+/// How a decoded frame differs from what `expect:` says, field by field.
+fn mismatches(
+    expect: &ExpectModel,
+    expected_code: Option<u32>,
+    decoded: &FrameMeaning,
+) -> Vec<String> {
+    let mut mismatches = Vec::new();
+    let show = |v: Option<u32>| v.map_or("absent".to_owned(), |v| format!("{v:04X}h"));
+    if expected_code != decoded.code {
+        let label =
+            |c: Option<u32>| c.map_or("absent".to_owned(), vfd_runtime::protocol::code_label);
+        mismatches.push(format!(
+            "command is {}, expected {}",
+            label(decoded.code),
+            label(expected_code)
+        ));
+    }
+    let wide = |v: Option<u16>| v.map(u32::from);
+    for (name, wanted, got) in [
+        ("register", expect.register, wide(decoded.register)),
+        (
+            "wire_register",
+            expect.wire_register,
+            if expect.wire_register.is_some() {
+                wide(decoded.wire_register)
+            } else {
+                None
+            },
+        ),
+        ("index", expect.index, wide(decoded.index)),
+        ("data", expect.data, decoded.data),
+        ("error_code", expect.error_code, wide(decoded.error_code)),
+        (
+            "address",
+            expect.address.map(u32::from),
+            decoded.address.map(u32::from),
+        ),
+    ] {
+        if wanted != got {
+            mismatches.push(format!(
+                "{name} is {}, expected {}",
+                show(got),
+                show(wanted)
+            ));
+        }
+    }
+    let process = decoded.process.map(|[a, b]| [u32::from(a), u32::from(b)]);
+    if expect.process != process {
+        mismatches.push(format!(
+            "process words are {:X?}, expected {:X?}",
+            process, expect.process
+        ));
+    }
+    if expect.text != decoded.text {
+        mismatches.push(format!(
+            "text is {:?}, expected {:?}",
+            decoded.text, expect.text
+        ));
+    }
+    if expect.tripped != decoded.tripped {
+        mismatches.push(format!(
+            "tripped is {}, expected {}",
+            decoded.tripped, expect.tripped
+        ));
+    }
+    mismatches
+}
+
+fn check_example_value(
+    drive: &Context,
+    base: &str,
+    value: f64,
+    example: &DecodedExample,
+    out: &mut Diagnostics,
+) {
+    let path = format!("{base}.value");
+    // The value belongs to the data of the reply, else of the request.
+    let mut register = None;
+    let mut data = None;
+    for decoded in example
+        .reply_then_request()
+        .filter_map(DecodedFrame::decoded)
+    {
+        if register.is_none() {
+            register = register_of(&drive.model, decoded);
+        }
+        if data.is_none() {
+            data = decoded.data;
+        }
+    }
+    let Some(register) = register else {
+        out.push(
+            drive
+                .source
+                .error(&path, "`value` needs a frame naming a described register")
+                .hint("describe the register, or drop `value`"),
+        );
+        return;
+    };
+    let Some(data) = data else {
+        out.push(
+            drive
+                .source
+                .error(&path, "`value` needs a frame carrying data")
+                .hint("the value is the data in engineering units"),
+        );
+        return;
+    };
+    let scale = ranges::scale_of(register);
+    let data_type = register
+        .data_type
+        .as_deref()
+        .and_then(crate::protocols::data_type_from_name)
+        .unwrap_or(vfd_runtime::DataType::Word);
+    let raw = vfd_runtime::units::raw_to_number(data, register.signed, data_type);
+    if (raw * scale - value).abs() > scale / 2.0 {
+        out.push(
+            drive
+                .source
+                .error(
+                    &path,
+                    format!(
+                        "data {data:04X}h is {} in `{}`, not {}",
+                        with_unit(register, format!("{:.*}", decimals(scale), raw * scale)),
+                        register.code,
+                        with_unit(register, value.to_string())
+                    ),
+                )
+                .hint("check the register's scale and the example"),
+        );
+    }
+}

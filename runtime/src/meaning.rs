@@ -1,0 +1,129 @@
+//! What a whole frame means, in protocol-neutral terms: the one record that the generator's
+//! example checks, the golden-frame tests and the command-line decoder all compare.
+//!
+//! [`decode_meaning`] runs the protocol's own decoder ([`Protocol::decode_request_exact`] or
+//! [`Protocol::decode_reply_exact`]) and keeps only what a manual states about a frame:
+//! station, command code, register, index, data, error code, process words, text and the
+//! tripped flag. Fields a frame does not carry are `None`.
+
+use crate::error::DecodeError;
+use crate::layout::Role;
+use crate::protocol::{CommandKind, Protocol, Reply, Space};
+
+/// Whether a frame goes from master to drive or back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Direction {
+    /// Master to drive.
+    Request,
+    /// Drive to master.
+    Reply,
+}
+
+impl Direction {
+    /// `request` or `reply`, as description files and messages write it.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Direction::Request => "request",
+            Direction::Reply => "reply",
+        }
+    }
+}
+
+/// What a frame says, field by field (`None`: the frame does not carry it).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct FrameMeaning {
+    /// Station address.
+    pub address: Option<u8>,
+    /// Command code as on the wire (the letter in its case, the AK nibble, the function code).
+    pub code: Option<u32>,
+    /// Kind of the command the frame belongs to (absent for error replies).
+    pub kind: Option<CommandKind>,
+    /// Address space of that command.
+    pub space: Option<Space>,
+    /// Register number after undoing the command's address map.
+    pub register: Option<u16>,
+    /// Register number on the wire.
+    pub wire_register: Option<u16>,
+    /// Array index.
+    pub index: Option<u16>,
+    /// Data word or double word.
+    pub data: Option<u32>,
+    /// Error code of an error reply.
+    pub error_code: Option<u16>,
+    /// Process words (control word and reference out; status word and output value back).
+    pub process: Option<[u16; 2]>,
+    /// Text carried by a text reply.
+    pub text: Option<String>,
+    /// The drive answered with a lower-case command: it is tripped.
+    pub tripped: bool,
+}
+
+/// Decodes exactly one whole frame going in `direction` and says what it means.
+pub fn decode_meaning(
+    protocol: &Protocol,
+    direction: Direction,
+    bytes: &[u8],
+) -> Result<FrameMeaning, DecodeError> {
+    match direction {
+        Direction::Request => {
+            let request = protocol.decode_request_exact(bytes)?;
+            let command = request.command;
+            Ok(FrameMeaning {
+                address: request.address,
+                code: command.request.has(Role::Command).then_some(command.code),
+                kind: Some(command.kind),
+                space: Some(command.space),
+                register: request.register,
+                wire_register: request.wire_register,
+                index: request.index,
+                data: command.request.has(Role::Data).then_some(request.data),
+                error_code: None,
+                process: request.process,
+                text: None,
+                tripped: false,
+            })
+        }
+        Direction::Reply => match protocol.decode_reply_exact(None, bytes)? {
+            Reply::Data {
+                command,
+                code,
+                address,
+                tripped,
+                wire_register,
+                index,
+                data,
+                process,
+                text,
+                ..
+            } => Ok(FrameMeaning {
+                address,
+                code: command.reply.has(Role::Command).then_some(code),
+                kind: Some(command.kind),
+                space: Some(command.space),
+                register: wire_register.and_then(|wire| command.address_map.from_wire(wire)),
+                wire_register,
+                index,
+                data: command.reply.has(Role::Data).then_some(data),
+                error_code: None,
+                process,
+                text: text.map(|(start, len)| {
+                    String::from_utf8_lossy(&bytes[start..start + len]).into_owned()
+                }),
+                tripped,
+            }),
+            Reply::Error {
+                address,
+                tripped,
+                code,
+                error,
+                ..
+            } => Ok(FrameMeaning {
+                address,
+                code: Some(code),
+                error_code: Some(error),
+                tripped,
+                ..FrameMeaning::default()
+            }),
+        },
+    }
+}
