@@ -10,6 +10,17 @@
 //! * [`register`] holds register metadata and the typed value conversions (units, scaling, ranges);
 //! * [`transaction`] runs request/reply exchanges with timeouts derived from the baud rate;
 //! * [`transport`] moves bytes: serial ports, pseudo-terminals and in-memory pipes.
+//!
+//! # Features
+//!
+//! * `serial` (default): `transport::SerialTransport`, over the `serialport` crate.
+//! * `pty` (default, Unix only): `transport::PseudoTerminal` and `transport::PtyTransport`,
+//!   over the `nix` crate.
+//! * `serde`: `Serialize` and `Deserialize` for the enumerations description files name,
+//!   spelled as in those files, and `Serialize` for layout and protocol data.
+//!
+//! Without default features the crate is portable and needs no operating-system crate:
+//! the code generator uses it that way.
 #![warn(missing_docs)]
 
 pub mod checksum;
