@@ -1,8 +1,7 @@
 //! Typed errors: frames that do not fit, values that must not be sent, and failed transactions.
 
+use crate::info::{ErrorCodeInfo, RegisterInfo};
 use crate::layout::{ChecksumAlgorithm, Format, Text};
-use crate::protocol::ErrorCodeInfo;
-use crate::register::RegisterInfo;
 use std::time::Duration;
 
 /// Renders bytes for people: printable ASCII as text, the rest as hex.

@@ -4,12 +4,20 @@
 //! Nothing here names a drive. A generated drive module supplies `static` data (frame
 //! layouts, register tables, error tables) and this crate does the work:
 //!
+//! * [`kinds`] holds the enumerations descriptions name (access, command kinds, data types,
+//!   address spaces, units) and [`info`] the register and error-code table entries;
 //! * [`layout`] describes a frame as a list of parts (literals, fields, checksums);
 //! * [`codec`] encodes and decodes any such layout without heap allocation;
 //! * [`protocol`] ties layouts to commands (read, RAM write, persistent write) and error replies;
 //! * [`register`] holds register metadata and the typed value conversions (units, scaling, ranges);
 //! * [`transaction`] runs request/reply exchanges with timeouts derived from the baud rate;
 //! * [`transport`] moves bytes: serial ports, pseudo-terminals and in-memory pipes.
+//!
+//! Modules only use modules below them (a test in the workspace keeps it so): `layout`,
+//! `kinds`, `serial` and `scaling` use nothing; `info` the first two; then `error`, `codec`,
+//! `register`, `units`, `protocol`, `drive`, `transport` and `transaction`. Types are
+//! re-exported where they used to live (`protocol::DataType`, `register::RegisterInfo`,
+//! `units::Unit`) and at the crate root.
 //!
 //! # Features
 //!
@@ -27,6 +35,8 @@ pub mod checksum;
 pub mod codec;
 pub mod drive;
 pub mod error;
+pub mod info;
+pub mod kinds;
 pub mod layout;
 pub mod protocol;
 pub mod register;
@@ -39,12 +49,11 @@ pub mod units;
 pub use codec::{FieldValue, FrameValues, Roles};
 pub use drive::DriveInfo;
 pub use error::{DecodeError, EncodeError, TransactionError, ValueError};
+pub use info::{ErrorCodeInfo, RegisterInfo};
+pub use kinds::{Access, CommandKind, DataType, Space};
 pub use layout::{
     BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,
     Part, Presence, Role, SizedBy, WordSpec,
 };
-pub use protocol::{
-    AddressMap, CommandKind, CommandSpec, DataType, ErrorCodeInfo, PreStep, Protocol, Reply,
-    Request, Space,
-};
-pub use register::{Access, Persistable, Register, RegisterInfo, RegisterValue, Writable};
+pub use protocol::{AddressMap, CommandSpec, PreStep, Protocol, Reply, Request};
+pub use register::{Persistable, Register, RegisterValue, Writable};
