@@ -9,7 +9,7 @@ use crate::model::{BoundModel, FrameModel};
 use crate::ranges::{self, BoundProblem, End};
 use std::collections::HashMap;
 use vfd_runtime::units::Unit;
-use vfd_runtime::{CommandKind, DecodeError, Role, Space};
+use vfd_runtime::{CommandKind, DecodeError, DecodeErrorKind, Role, Space};
 
 /// Runs every check.
 pub fn check(drive: &LoadedDrive) -> Vec<Diagnostic> {
@@ -973,7 +973,7 @@ fn check_frame(
                 .source
                 .error(path, format!("the frame does not decode: {error}"))
                 .hint(match error.kind() {
-                    "checksum_mismatch" => "if the manual prints a wrong checksum, put the corrected bytes here and the printed ones under `printed:` with an `erratum:`",
+                    DecodeErrorKind::ChecksumMismatch => "if the manual prints a wrong checksum, put the corrected bytes here and the printed ones under `printed:` with an `erratum:`",
                     _ => "check the bytes against the manual; record a manual mistake as `printed:` + `erratum:`",
                 }),
         ),
@@ -1021,7 +1021,7 @@ fn check_frame(
                         .error(&format!("{path}.printed"), "the printed frame decodes without error, so the decoder cannot tell it is wrong")
                         .hint("an erratum records bytes the decoder rejects; describe meaning-only mistakes under manual_errata"),
                 ),
-                Err(error) if error.kind() != reason => out.push(
+                Err(error) if DecodeErrorKind::from_name(reason) != Some(error.kind()) => out.push(
                     drive
                         .source
                         .error(&format!("{path}.printed_rejected_as"), format!("the printed frame is rejected as {}, not {reason}: {error}", error.kind()))

@@ -48,7 +48,7 @@ pub mod units;
 
 pub use codec::{FieldValue, FrameValues, Roles};
 pub use drive::DriveInfo;
-pub use error::{DecodeError, EncodeError, TransactionError, ValueError};
+pub use error::{DecodeError, DecodeErrorKind, EncodeError, TransactionError, ValueError};
 pub use info::{ErrorCodeInfo, RegisterInfo};
 pub use kinds::{Access, CommandKind, DataType, Space};
 pub use layout::{

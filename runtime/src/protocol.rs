@@ -424,9 +424,9 @@ impl Protocol {
         self.command_for(request.kind, request.space, request.data_type)
             .ok_or_else(|| EncodeError::UnsupportedCommand {
                 protocol: self.id.clone(),
-                kind: request.kind.as_str(),
-                space: request.space.as_str(),
-                data_type: request.data_type.as_str(),
+                kind: request.kind,
+                space: request.space,
+                data_type: request.data_type,
             })
     }
 

@@ -2,7 +2,7 @@
 //! reply within a timeout derived from the baud rate, check it answers the request, and
 //! map error replies to typed errors.
 
-use crate::error::{hex, TransactionError};
+use crate::error::{hex, DecodeErrorKind, TransactionError};
 use crate::kinds::{CommandKind, DataType, Space};
 use crate::protocol::{Found, PreStep, Protocol, Reply, Request};
 use crate::register::{Persistable, Register, RegisterValue, Writable};
@@ -289,7 +289,7 @@ impl<T: Transport> Master<T> {
                         ..answer
                     });
                 }
-                Err(error) if error.kind() == "checksum_mismatch" => {
+                Err(error) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
                     return Err(TransactionError::Decode {
                         request: request.describe(),
                         source: Box::new(error),
