@@ -130,6 +130,8 @@ fn show_value(value: u32, format: Format) -> String {
 /// Why a byte sequence is not a frame, without the details: what drive files name in
 /// `printed_rejected_as` and what callers branch on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum DecodeErrorKind {
     /// See [`DecodeError::UnexpectedByte`].
     UnexpectedByte,

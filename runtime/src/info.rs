@@ -98,6 +98,7 @@ impl RegisterInfo {
 
 /// One entry of a drive's error-code table.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ErrorCodeInfo {
     /// The code carried by the error reply.
     pub code: u16,

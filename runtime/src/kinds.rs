@@ -5,6 +5,8 @@
 
 /// Whether a register can be read, written or both over the serial link.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Access {
     /// Read only (monitors, status words).
     ReadOnly,
@@ -15,6 +17,9 @@ pub enum Access {
 }
 
 impl Access {
+    /// Every access.
+    pub const ALL: [Access; 3] = [Access::ReadOnly, Access::ReadWrite, Access::WriteOnly];
+
     /// Name as written in drive files.
     pub const fn as_str(self) -> &'static str {
         match self {
@@ -27,6 +32,8 @@ impl Access {
 
 /// What a command does, independent of its code on the wire.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum CommandKind {
     /// Read one register or parameter.
     Read,
@@ -70,6 +77,8 @@ impl CommandKind {
 
 /// The shape of a register's value on the wire.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum DataType {
     /// 16 bits.
     Word,
@@ -112,6 +121,8 @@ impl DataType {
 
 /// Which numbering a register address belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Space {
     /// Parameters and communication numbers (the default).
     Parameter,
@@ -120,6 +131,9 @@ pub enum Space {
 }
 
 impl Space {
+    /// Every address space.
+    pub const ALL: [Space; 2] = [Space::Parameter, Space::Coil];
+
     /// Name as written in description files.
     pub const fn as_str(self) -> &'static str {
         match self {
@@ -131,24 +145,34 @@ impl Space {
 
 /// A unit a register's value is expressed in, after scaling.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum Unit {
     /// A plain number (counts, codes, raw words).
+    #[cfg_attr(feature = "serde", serde(rename = ""))]
     None,
     /// Hertz.
+    #[cfg_attr(feature = "serde", serde(rename = "Hz"))]
     Hertz,
     /// Seconds.
+    #[cfg_attr(feature = "serde", serde(rename = "s"))]
     Second,
     /// Percent.
+    #[cfg_attr(feature = "serde", serde(rename = "%"))]
     Percent,
     /// Amperes.
+    #[cfg_attr(feature = "serde", serde(rename = "A"))]
     Ampere,
     /// Volts.
+    #[cfg_attr(feature = "serde", serde(rename = "V"))]
     Volt,
     /// Hours.
+    #[cfg_attr(feature = "serde", serde(rename = "h"))]
     Hour,
     /// Kilowatts.
+    #[cfg_attr(feature = "serde", serde(rename = "kW"))]
     Kilowatt,
     /// Revolutions per minute.
+    #[cfg_attr(feature = "serde", serde(rename = "rpm"))]
     Rpm,
 }
 

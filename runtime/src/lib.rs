@@ -41,6 +41,8 @@ pub mod layout;
 pub mod protocol;
 pub mod register;
 pub mod scaling;
+#[cfg(all(test, feature = "serde"))]
+mod serde_names;
 pub mod serial;
 pub mod transaction;
 pub mod transport;

@@ -13,6 +13,7 @@ use crate::register::{Persistable, Register, RegisterValue, Writable};
 /// How a command turns a register number into the number on the wire:
 /// `wire = number * multiply + offset` (Modbus holding register = parameter x 10 - 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AddressMap {
     /// Factor.
     pub multiply: u16,
@@ -44,6 +45,7 @@ impl AddressMap {
 
 /// One command of a protocol: its code and the layouts of its request and reply.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct CommandSpec {
     /// Code on the wire: a letter (`b'R'`), an AK nibble or a function code. Unused by
     /// layouts without a command field (process telegrams).
@@ -86,6 +88,8 @@ pub fn code_label(code: u32) -> String {
 
 /// Something a request needs done first, in another exchange.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum PreStep {
     /// Before an indexed access, write the index to this wire register (FC Modbus: 0008h).
     Index {
@@ -111,6 +115,7 @@ pub enum PreStep {
 
 /// A protocol as one drive speaks it.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Protocol {
     /// Identifier within the drive (`ascii`).
     pub id: Text,
