@@ -1,8 +1,8 @@
 //! What a generated drive module exposes about itself, so tools can work with any
 //! described drive without naming it.
 
+use crate::info::RegisterInfo;
 use crate::protocol::Protocol;
-use crate::register::RegisterInfo;
 use crate::serial::SerialSpec;
 
 /// One described drive.

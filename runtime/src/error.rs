@@ -1,8 +1,8 @@
 //! Typed errors: frames that do not fit, values that must not be sent, and failed transactions.
 
+use crate::info::{ErrorCodeInfo, RegisterInfo};
+use crate::kinds::{CommandKind, DataType, Space};
 use crate::layout::{ChecksumAlgorithm, Format, Text};
-use crate::protocol::ErrorCodeInfo;
-use crate::register::RegisterInfo;
 use std::time::Duration;
 
 /// Renders bytes for people: printable ASCII as text, the rest as hex.
@@ -127,16 +127,74 @@ fn show_value(value: u32, format: Format) -> String {
     }
 }
 
-impl DecodeError {
-    /// Short machine-friendly kind name, as used by `printed_rejected_as` in drive files.
-    pub fn kind(&self) -> &'static str {
+/// Why a byte sequence is not a frame, without the details: what drive files name in
+/// `printed_rejected_as` and what callers branch on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum DecodeErrorKind {
+    /// See [`DecodeError::UnexpectedByte`].
+    UnexpectedByte,
+    /// See [`DecodeError::NotAllowed`].
+    NotAllowed,
+    /// See [`DecodeError::ChecksumMismatch`].
+    ChecksumMismatch,
+    /// See [`DecodeError::LengthMismatch`].
+    LengthMismatch,
+    /// See [`DecodeError::Truncated`].
+    Truncated,
+    /// See [`DecodeError::TrailingBytes`].
+    TrailingBytes,
+}
+
+impl DecodeErrorKind {
+    /// Every kind, in the order of [`DecodeError`]'s variants.
+    pub const ALL: [DecodeErrorKind; 6] = [
+        DecodeErrorKind::UnexpectedByte,
+        DecodeErrorKind::NotAllowed,
+        DecodeErrorKind::ChecksumMismatch,
+        DecodeErrorKind::LengthMismatch,
+        DecodeErrorKind::Truncated,
+        DecodeErrorKind::TrailingBytes,
+    ];
+
+    /// Name as written in drive files (`checksum_mismatch`).
+    pub const fn as_str(self) -> &'static str {
         match self {
-            DecodeError::UnexpectedByte { .. } => "unexpected_byte",
-            DecodeError::NotAllowed { .. } => "not_allowed",
-            DecodeError::ChecksumMismatch { .. } => "checksum_mismatch",
-            DecodeError::LengthMismatch { .. } => "length_mismatch",
-            DecodeError::Truncated { .. } => "truncated",
-            DecodeError::TrailingBytes { .. } => "trailing_bytes",
+            DecodeErrorKind::UnexpectedByte => "unexpected_byte",
+            DecodeErrorKind::NotAllowed => "not_allowed",
+            DecodeErrorKind::ChecksumMismatch => "checksum_mismatch",
+            DecodeErrorKind::LengthMismatch => "length_mismatch",
+            DecodeErrorKind::Truncated => "truncated",
+            DecodeErrorKind::TrailingBytes => "trailing_bytes",
+        }
+    }
+
+    /// The kind with this name as written in drive files.
+    pub fn from_name(name: &str) -> Option<DecodeErrorKind> {
+        DecodeErrorKind::ALL
+            .into_iter()
+            .find(|kind| kind.as_str() == name)
+    }
+}
+
+impl std::fmt::Display for DecodeErrorKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl DecodeError {
+    /// What went wrong, without the details. For [`DecodeError::NoLayoutMatches`], the
+    /// kind of the closest attempt's error.
+    pub fn kind(&self) -> DecodeErrorKind {
+        match self {
+            DecodeError::UnexpectedByte { .. } => DecodeErrorKind::UnexpectedByte,
+            DecodeError::NotAllowed { .. } => DecodeErrorKind::NotAllowed,
+            DecodeError::ChecksumMismatch { .. } => DecodeErrorKind::ChecksumMismatch,
+            DecodeError::LengthMismatch { .. } => DecodeErrorKind::LengthMismatch,
+            DecodeError::Truncated { .. } => DecodeErrorKind::Truncated,
+            DecodeError::TrailingBytes { .. } => DecodeErrorKind::TrailingBytes,
             DecodeError::NoLayoutMatches { closest, .. } => closest.kind(),
         }
     }
@@ -186,16 +244,16 @@ pub enum EncodeError {
         layout: Text,
     },
     /// The protocol has no command for this kind of request.
-    #[error("protocol {protocol} has no command to {kind} a {data_type} in the {space} space")]
+    #[error("protocol {protocol} has no command to {kind} a {data_type} in the {space} space", kind = kind.as_str(), data_type = data_type.as_str(), space = space.as_str())]
     UnsupportedCommand {
         /// Protocol id.
         protocol: Text,
         /// Requested kind.
-        kind: &'static str,
+        kind: CommandKind,
         /// Address space.
-        space: &'static str,
+        space: Space,
         /// Data type.
-        data_type: &'static str,
+        data_type: DataType,
     },
     /// The register number does not fit the protocol's wire numbering.
     #[error("protocol {protocol}: register {register} has no wire address (its address map leaves 0..=65535)")]
@@ -339,4 +397,31 @@ pub enum TransactionError {
         /// Value found.
         found: u32,
     },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_decode_error_kind_is_found_by_its_name() {
+        for kind in DecodeErrorKind::ALL {
+            assert_eq!(DecodeErrorKind::from_name(kind.as_str()), Some(kind));
+            assert_eq!(kind.to_string(), kind.as_str());
+        }
+        assert_eq!(DecodeErrorKind::from_name("checksum"), None);
+    }
+
+    #[test]
+    fn no_layout_matches_has_the_kind_of_the_closest_attempt() {
+        let error = DecodeError::NoLayoutMatches {
+            protocol: "ascii".into(),
+            what: "reply",
+            closest: Box::new(DecodeError::Truncated {
+                layout: "read_reply".into(),
+                len: 3,
+            }),
+        };
+        assert_eq!(error.kind(), DecodeErrorKind::Truncated);
+    }
 }

@@ -57,6 +57,7 @@ pub const MAX_PARTS: usize = 16;
 
 /// One frame layout, for example "ASCII read request" or "binary error reply".
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct FrameLayout {
     /// Name used in error messages, e.g. `read_request`.
     pub name: Text,
@@ -66,6 +67,8 @@ pub struct FrameLayout {
 
 /// One part of a frame.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Part {
     /// Fixed bytes, such as a start character or a terminator.
     Literal {
@@ -88,6 +91,8 @@ pub enum Part {
 
 /// What a field means to the transaction engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Role {
     /// Station (inverter) address.
     Address,
@@ -102,14 +107,29 @@ pub enum Role {
     /// Array index of an indexed parameter.
     Index,
     /// First process word (control word out, status word back).
+    #[cfg_attr(feature = "serde", serde(rename = "process_1"))]
     Process1,
     /// Second process word (reference out, output value back).
+    #[cfg_attr(feature = "serde", serde(rename = "process_2"))]
     Process2,
     /// Text carried by the frame (raw bytes).
     Text,
 }
 
 impl Role {
+    /// Every role, in the order the description format documents them.
+    pub const ALL: [Role; 9] = [
+        Role::Address,
+        Role::Command,
+        Role::Register,
+        Role::Data,
+        Role::ErrorCode,
+        Role::Index,
+        Role::Process1,
+        Role::Process2,
+        Role::Text,
+    ];
+
     /// The role's name as written in protocol description files.
     pub const fn as_str(self) -> &'static str {
         match self {
@@ -128,6 +148,8 @@ impl Role {
 
 /// How a field's value is written on the wire.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Format {
     /// ASCII decimal digits, most significant first (`"31"`).
     Decimal,
@@ -147,14 +169,31 @@ pub enum Format {
     U32Le,
     /// An unsigned integer of `min_width..=width` bytes (at most 4), most significant first;
     /// its size comes from a length part or from the value's data type.
+    #[cfg_attr(feature = "serde", serde(rename = "uint_be"))]
     UintBe,
     /// Like [`Format::UintBe`], least significant byte first (FC coil data).
+    #[cfg_attr(feature = "serde", serde(rename = "uint_le"))]
     UintLe,
     /// Raw bytes (text); the value is their offset in the frame, the width their count.
     Bytes,
 }
 
 impl Format {
+    /// Every format, in the order the description format documents them.
+    pub const ALL: [Format; 11] = [
+        Format::Decimal,
+        Format::Hex,
+        Format::Char,
+        Format::U8,
+        Format::U16Be,
+        Format::U16Le,
+        Format::U32Be,
+        Format::U32Le,
+        Format::UintBe,
+        Format::UintLe,
+        Format::Bytes,
+    ];
+
     /// Name as written in protocol description files.
     pub const fn as_str(self) -> &'static str {
         match self {
@@ -200,6 +239,8 @@ impl Format {
 
 /// How a decoder decides whether an optional field is present.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Presence {
     /// Present when the next byte can start a value of the field's format
     /// (a digit for decimal fields).
@@ -211,6 +252,8 @@ pub enum Presence {
 
 /// Where a variable-size field's size comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum SizedBy {
     /// The format: fixed bytes, or as many digits as are there (`min_width..=width`).
     Format,
@@ -221,8 +264,24 @@ pub enum SizedBy {
     Length,
 }
 
+impl SizedBy {
+    /// Every rule.
+    pub const ALL: [SizedBy; 3] = [SizedBy::Format, SizedBy::Rest, SizedBy::Length];
+
+    /// Name of the rule: `rest` and `length` as written under `size:` in protocol
+    /// description files; `format` is what leaving `size` out means.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            SizedBy::Format => "format",
+            SizedBy::Rest => "rest",
+            SizedBy::Length => "length",
+        }
+    }
+}
+
 /// A value field.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct FieldSpec {
     /// Field name, e.g. `register`.
     pub name: Text,
@@ -246,6 +305,7 @@ pub struct FieldSpec {
 
 /// A word whose bits hold several fields (the FC PKE: command nibble + parameter number).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct WordSpec {
     /// Name used in error messages, e.g. `pke`.
     pub name: Text,
@@ -257,6 +317,7 @@ pub struct WordSpec {
 
 /// A run of bits inside a [`WordSpec`].
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct BitsSpec {
     /// Field name, e.g. `ak`.
     pub name: Text,
@@ -280,6 +341,7 @@ impl BitsSpec {
 /// A length computed on encode and checked on decode: the byte count of a run of parts
 /// (FC LGE, Modbus byte count), or the size of the request's data (Modbus quantity).
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct LengthSpec {
     /// Name used in error messages, e.g. `lge`.
     pub name: Text,
@@ -296,6 +358,8 @@ pub struct LengthSpec {
 
 /// What a [`LengthSpec`] counts.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Counts {
     /// The bytes of parts `from..=through` (indexes into the layout).
     Parts {
@@ -310,6 +374,8 @@ pub enum Counts {
 
 /// Checksum algorithms the runtime supplies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum ChecksumAlgorithm {
     /// Low byte of the arithmetic sum of the covered bytes.
     Sum8,
@@ -323,6 +389,14 @@ pub enum ChecksumAlgorithm {
 }
 
 impl ChecksumAlgorithm {
+    /// Every algorithm.
+    pub const ALL: [ChecksumAlgorithm; 4] = [
+        ChecksumAlgorithm::Sum8,
+        ChecksumAlgorithm::Xor8,
+        ChecksumAlgorithm::Crc16Modbus,
+        ChecksumAlgorithm::Lrc8,
+    ];
+
     /// Name as written in protocol description files.
     pub const fn as_str(self) -> &'static str {
         match self {
@@ -336,6 +410,7 @@ impl ChecksumAlgorithm {
 
 /// A checksum part.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ChecksumSpec {
     /// Name used in error messages, e.g. `sum`.
     pub name: Text,

@@ -4,23 +4,46 @@
 //! Nothing here names a drive. A generated drive module supplies `static` data (frame
 //! layouts, register tables, error tables) and this crate does the work:
 //!
+//! * [`kinds`] holds the enumerations descriptions name (access, command kinds, data types,
+//!   address spaces, units) and [`info`] the register and error-code table entries;
 //! * [`layout`] describes a frame as a list of parts (literals, fields, checksums);
 //! * [`codec`] encodes and decodes any such layout without heap allocation;
 //! * [`protocol`] ties layouts to commands (read, RAM write, persistent write) and error replies;
 //! * [`register`] holds register metadata and the typed value conversions (units, scaling, ranges);
 //! * [`transaction`] runs request/reply exchanges with timeouts derived from the baud rate;
 //! * [`transport`] moves bytes: serial ports, pseudo-terminals and in-memory pipes.
+//!
+//! Modules only use modules below them (a test in the workspace keeps it so): `layout`,
+//! `kinds`, `serial` and `scaling` use nothing; `info` the first two; then `error`, `codec`,
+//! `register`, `units`, `protocol`, `drive`, `transport` and `transaction`. Types are
+//! re-exported where they used to live (`protocol::DataType`, `register::RegisterInfo`,
+//! `units::Unit`) and at the crate root.
+//!
+//! # Features
+//!
+//! * `serial` (default): `transport::SerialTransport`, over the `serialport` crate.
+//! * `pty` (default, Unix only): `transport::PseudoTerminal` and `transport::PtyTransport`,
+//!   over the `nix` crate.
+//! * `serde`: `Serialize` and `Deserialize` for the enumerations description files name,
+//!   spelled as in those files, and `Serialize` for layout and protocol data.
+//!
+//! Without default features the crate is portable and needs no operating-system crate:
+//! the code generator uses it that way.
 #![warn(missing_docs)]
 
 pub mod checksum;
 pub mod codec;
 pub mod drive;
 pub mod error;
+pub mod info;
+pub mod kinds;
 pub mod layout;
 pub mod meaning;
 pub mod protocol;
 pub mod register;
 pub mod scaling;
+#[cfg(all(test, feature = "serde"))]
+mod serde_names;
 pub mod serial;
 pub mod transaction;
 pub mod transport;
@@ -28,13 +51,12 @@ pub mod units;
 
 pub use codec::{FieldValue, FrameValues, Roles};
 pub use drive::DriveInfo;
-pub use error::{DecodeError, EncodeError, TransactionError, ValueError};
+pub use error::{DecodeError, DecodeErrorKind, EncodeError, TransactionError, ValueError};
+pub use info::{ErrorCodeInfo, RegisterInfo};
+pub use kinds::{Access, CommandKind, DataType, Space};
 pub use layout::{
     BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,
     Part, Presence, Role, SizedBy, WordSpec,
 };
-pub use protocol::{
-    AddressMap, CommandKind, CommandSpec, DataType, ErrorCodeInfo, PreStep, Protocol, Reply,
-    Request, Space,
-};
-pub use register::{Access, Persistable, Register, RegisterInfo, RegisterValue, Writable};
+pub use protocol::{AddressMap, CommandSpec, PreStep, Protocol, Reply, Request};
+pub use register::{Persistable, Register, RegisterValue, Writable};

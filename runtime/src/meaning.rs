@@ -8,7 +8,8 @@
 
 use crate::error::DecodeError;
 use crate::layout::Role;
-use crate::protocol::{CommandKind, Protocol, Reply, Space};
+use crate::kinds::{CommandKind, Space};
+use crate::protocol::{Protocol, Reply};
 
 /// Whether a frame goes from master to drive or back.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -4,116 +4,16 @@
 
 use crate::codec::{self, DecodeStatus, FrameValues, Roles};
 use crate::error::{DecodeError, EncodeError, ValueError};
+pub use crate::info::ErrorCodeInfo;
+use crate::info::RegisterInfo;
+pub use crate::kinds::{CommandKind, DataType, Space};
 use crate::layout::{FrameLayout, List, Part, Role, Text};
-use crate::register::{Persistable, Register, RegisterInfo, RegisterValue, Writable};
-
-/// What a command does, independent of its code on the wire.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum CommandKind {
-    /// Read one register or parameter.
-    Read,
-    /// Write in RAM only (lost at power-off).
-    WriteRam,
-    /// Write in RAM and EEPROM (persistent; EEPROM wears out).
-    WritePersistent,
-    /// Read a text parameter.
-    ReadText,
-    /// Exchange process words only (control word and reference out, status word and
-    /// output value back).
-    Process,
-}
-
-impl CommandKind {
-    /// Every kind, in the order the description format documents them.
-    pub const ALL: [CommandKind; 5] = [
-        CommandKind::Read,
-        CommandKind::WriteRam,
-        CommandKind::WritePersistent,
-        CommandKind::ReadText,
-        CommandKind::Process,
-    ];
-
-    /// Name as written in protocol description files.
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            CommandKind::Read => "read",
-            CommandKind::WriteRam => "write_ram",
-            CommandKind::WritePersistent => "write_persistent",
-            CommandKind::ReadText => "read_text",
-            CommandKind::Process => "process",
-        }
-    }
-
-    /// Whether the command writes.
-    pub const fn is_write(self) -> bool {
-        matches!(self, CommandKind::WriteRam | CommandKind::WritePersistent)
-    }
-}
-
-/// The shape of a register's value on the wire.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum DataType {
-    /// 16 bits.
-    Word,
-    /// 32 bits.
-    DoubleWord,
-    /// One coil, written as FF00h (on) or 0000h (off).
-    Bit,
-    /// Text (read as bytes).
-    Text,
-}
-
-impl DataType {
-    /// Every data type.
-    pub const ALL: [DataType; 4] = [
-        DataType::Word,
-        DataType::DoubleWord,
-        DataType::Bit,
-        DataType::Text,
-    ];
-
-    /// Name as written in description files.
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            DataType::Word => "word",
-            DataType::DoubleWord => "double_word",
-            DataType::Bit => "bit",
-            DataType::Text => "text",
-        }
-    }
-
-    /// Bytes the value takes in a frame (text: 0, it has no fixed size).
-    pub const fn size(self) -> u8 {
-        match self {
-            DataType::Word | DataType::Bit => 2,
-            DataType::DoubleWord => 4,
-            DataType::Text => 0,
-        }
-    }
-}
-
-/// Which numbering a register address belongs to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Space {
-    /// Parameters and communication numbers (the default).
-    Parameter,
-    /// Coils (bit addresses; 16 make a word).
-    Coil,
-}
-
-impl Space {
-    /// Name as written in description files.
-    pub const fn as_str(self) -> &'static str {
-        match self {
-            Space::Parameter => "parameter",
-            Space::Coil => "coil",
-        }
-    }
-}
+use crate::register::{Persistable, Register, RegisterValue, Writable};
 
 /// How a command turns a register number into the number on the wire:
 /// `wire = number * multiply + offset` (Modbus holding register = parameter x 10 - 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct AddressMap {
     /// Factor.
     pub multiply: u16,
@@ -145,6 +45,7 @@ impl AddressMap {
 
 /// One command of a protocol: its code and the layouts of its request and reply.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct CommandSpec {
     /// Code on the wire: a letter (`b'R'`), an AK nibble or a function code. Unused by
     /// layouts without a command field (process telegrams).
@@ -187,6 +88,8 @@ pub fn code_label(code: u32) -> String {
 
 /// Something a request needs done first, in another exchange.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum PreStep {
     /// Before an indexed access, write the index to this wire register (FC Modbus: 0008h).
     Index {
@@ -210,23 +113,9 @@ pub enum PreStep {
     },
 }
 
-/// One entry of a drive's error-code table.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ErrorCodeInfo {
-    /// The code carried by the error reply.
-    pub code: u16,
-    /// Identifier (`data_error`).
-    pub id: Text,
-    /// English name.
-    pub name: Text,
-    /// The manual's Chinese name.
-    pub name_zh: Text,
-    /// The manual's explanation.
-    pub meaning: Text,
-}
-
 /// A protocol as one drive speaks it.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Protocol {
     /// Identifier within the drive (`ascii`).
     pub id: Text,
@@ -540,9 +429,9 @@ impl Protocol {
         self.command_for(request.kind, request.space, request.data_type)
             .ok_or_else(|| EncodeError::UnsupportedCommand {
                 protocol: self.id.clone(),
-                kind: request.kind.as_str(),
-                space: request.space.as_str(),
-                data_type: request.data_type.as_str(),
+                kind: request.kind,
+                space: request.space,
+                data_type: request.data_type,
             })
     }
 

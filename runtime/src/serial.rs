@@ -5,6 +5,8 @@ use std::time::Duration;
 
 /// Parity bit setting.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Parity {
     /// No parity bit.
     None,
@@ -15,6 +17,9 @@ pub enum Parity {
 }
 
 impl Parity {
+    /// Every parity setting.
+    pub const ALL: [Parity; 3] = [Parity::None, Parity::Even, Parity::Odd];
+
     /// Name as written in drive files.
     pub const fn as_str(self) -> &'static str {
         match self {

@@ -2,8 +2,9 @@
 //! reply within a timeout derived from the baud rate, check it answers the request, and
 //! map error replies to typed errors.
 
-use crate::error::{hex, TransactionError};
-use crate::protocol::{CommandKind, DataType, Found, PreStep, Protocol, Reply, Request};
+use crate::error::{hex, DecodeErrorKind, TransactionError};
+use crate::kinds::{CommandKind, DataType, Space};
+use crate::protocol::{Found, PreStep, Protocol, Reply, Request};
 use crate::register::{Persistable, Register, RegisterValue, Writable};
 use crate::serial::{DriveTiming, SerialSettings};
 use crate::transport::Transport;
@@ -182,8 +183,7 @@ impl<T: Transport> Master<T> {
                     persistent,
                 } => {
                     // Coil writes (process data) are not parameter writes: no selector for them.
-                    if request.kind.is_write() && request.space == crate::protocol::Space::Parameter
-                    {
+                    if request.kind.is_write() && request.space == Space::Parameter {
                         let value = if request.kind == CommandKind::WritePersistent {
                             persistent
                         } else {
@@ -208,7 +208,7 @@ impl<T: Transport> Master<T> {
         };
         let main = if self.has_persistence_step()
             && request.kind == CommandKind::WritePersistent
-            && request.space == crate::protocol::Space::Parameter
+            && request.space == Space::Parameter
         {
             Request {
                 kind: CommandKind::WriteRam,
@@ -289,7 +289,7 @@ impl<T: Transport> Master<T> {
                         ..answer
                     });
                 }
-                Err(error) if error.kind() == "checksum_mismatch" => {
+                Err(error) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
                     return Err(TransactionError::Decode {
                         request: request.describe(),
                         source: Box::new(error),

@@ -1,91 +1,11 @@
 //! Engineering units and the quantity types typed register APIs take and return.
 
 use crate::error::ValueError;
-use crate::register::{RegisterInfo, RegisterValue};
-
-/// A unit a register's value is expressed in, after scaling.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Unit {
-    /// A plain number (counts, codes, raw words).
-    None,
-    /// Hertz.
-    Hertz,
-    /// Seconds.
-    Second,
-    /// Percent.
-    Percent,
-    /// Amperes.
-    Ampere,
-    /// Volts.
-    Volt,
-    /// Hours.
-    Hour,
-    /// Kilowatts.
-    Kilowatt,
-    /// Revolutions per minute.
-    Rpm,
-}
-
-impl Unit {
-    /// Every unit, in the order the description format documents them.
-    pub const ALL: [Unit; 9] = [
-        Unit::None,
-        Unit::Hertz,
-        Unit::Second,
-        Unit::Percent,
-        Unit::Ampere,
-        Unit::Volt,
-        Unit::Hour,
-        Unit::Kilowatt,
-        Unit::Rpm,
-    ];
-
-    /// The symbol written in drive files and shown to people (`Hz`); empty for [`Unit::None`].
-    pub const fn symbol(self) -> &'static str {
-        match self {
-            Unit::None => "",
-            Unit::Hertz => "Hz",
-            Unit::Second => "s",
-            Unit::Percent => "%",
-            Unit::Ampere => "A",
-            Unit::Volt => "V",
-            Unit::Hour => "h",
-            Unit::Kilowatt => "kW",
-            Unit::Rpm => "rpm",
-        }
-    }
-
-    /// The unit for a symbol as written in drive files.
-    pub fn from_symbol(symbol: &str) -> Option<Unit> {
-        Unit::ALL.into_iter().find(|unit| unit.symbol() == symbol)
-    }
-
-    /// Name of the quantity type in this module (`Hertz`), `None` for plain numbers.
-    pub const fn quantity_type(self) -> Option<&'static str> {
-        match self {
-            Unit::None => None,
-            Unit::Hertz => Some("Hertz"),
-            Unit::Second => Some("Seconds"),
-            Unit::Percent => Some("Percent"),
-            Unit::Ampere => Some("Amperes"),
-            Unit::Volt => Some("Volts"),
-            Unit::Hour => Some("Hours"),
-            Unit::Kilowatt => Some("Kilowatts"),
-            Unit::Rpm => Some("Rpm"),
-        }
-    }
-}
-
-/// Decimal places a scale implies: 0.01 gives 2, 1 gives 0 (at most 6).
-pub fn decimals_of(scale: f64) -> u8 {
-    let mut decimals = 0u8;
-    let mut step = scale;
-    while decimals < 6 && (step - step.round()).abs() > 1e-9 {
-        step *= 10.0;
-        decimals += 1;
-    }
-    decimals
-}
+pub use crate::info::decimals_of;
+use crate::info::RegisterInfo;
+use crate::kinds::DataType;
+pub use crate::kinds::Unit;
+use crate::register::RegisterValue;
 
 /// Converts an engineering value to the raw value, checking finiteness and the register's range.
 pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u32, ValueError> {
@@ -107,7 +27,7 @@ pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u32, Val
     // The range check above keeps `raw` within the register's word or double word.
     let raw = raw as i64;
     Ok(match (info.signed, info.data_type) {
-        (true, crate::protocol::DataType::DoubleWord) => raw as i32 as u32,
+        (true, DataType::DoubleWord) => raw as i32 as u32,
         (true, _) => u32::from(raw as i16 as u16),
         (false, _) => raw as u32,
     })
@@ -120,9 +40,9 @@ fn rounded(value: f64, info: &RegisterInfo) -> f64 {
 
 /// A raw value as a number: two's complement when `signed`, over 32 bits for double
 /// words and 16 bits otherwise.
-pub fn raw_to_number(raw: u32, signed: bool, data_type: crate::protocol::DataType) -> f64 {
+pub fn raw_to_number(raw: u32, signed: bool, data_type: DataType) -> f64 {
     match (signed, data_type) {
-        (true, crate::protocol::DataType::DoubleWord) => f64::from(raw as i32),
+        (true, DataType::DoubleWord) => f64::from(raw as i32),
         (true, _) => f64::from(raw as u16 as i16),
         (false, _) => f64::from(raw),
     }

@@ -4,7 +4,7 @@
 use vfd_runtime::codec::{self, FrameValues};
 use vfd_runtime::layout::{FrameLayout, Part};
 use vfd_runtime::protocol::DecodedRequest;
-use vfd_runtime::{DataType, Protocol, Reply, Request, Role};
+use vfd_runtime::{DataType, DecodeErrorKind, Protocol, Reply, Request, Role};
 
 /// What a frame should decode to (fields the manual states; `None` means "not in the frame").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -238,5 +238,7 @@ pub fn printed_is_rejected(
             vfd_runtime::error::hex(bytes)
         )
     });
+    let reason = DecodeErrorKind::from_name(reason)
+        .unwrap_or_else(|| panic!("`{reason}` is not a decode error kind"));
     assert_eq!(error.kind(), reason, "rejected for another reason: {error}");
 }

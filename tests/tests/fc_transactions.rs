@@ -7,7 +7,7 @@ use vfd_runtime::serial::DriveTiming;
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{memory_pair, MemoryTransport};
 use vfd_runtime::units::Percent;
-use vfd_runtime::TransactionError;
+use vfd_runtime::{DecodeErrorKind, TransactionError};
 use vfd_tests::scripted_peer::answer;
 
 fn hex(text: &str) -> Vec<u8> {
@@ -234,7 +234,7 @@ fn a_bad_bcc_is_a_typed_error() {
     let (mut fc, _peer) = master(&protocols::FC, &["02 06 01 00 03 20 00 06"]);
     let error = fc.exchange_process(0x043C, 0x2000).unwrap_err();
     assert!(
-        matches!(&error, TransactionError::Decode { source, .. } if source.kind() == "checksum_mismatch"),
+        matches!(&error, TransactionError::Decode { source, .. } if source.kind() == DecodeErrorKind::ChecksumMismatch),
         "{error:?}"
     );
 }

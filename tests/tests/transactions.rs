@@ -7,7 +7,7 @@ use vfd_runtime::serial::DriveTiming;
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{memory_pair, PseudoTerminal};
 use vfd_runtime::units::Hertz;
-use vfd_runtime::{Request, TransactionError};
+use vfd_runtime::{DecodeErrorKind, Request, TransactionError};
 use vfd_tests::scripted_peer::answer;
 
 /// The drive's timing with a short allowance, so the silence tests end quickly.
@@ -128,7 +128,9 @@ fn a_wrong_checksum_is_a_typed_error_without_waiting_for_the_timeout() {
     );
     let error = master.transact(&registers::AlarmCode::read()).unwrap_err();
     match &error {
-        TransactionError::Decode { source, .. } => assert_eq!(source.kind(), "checksum_mismatch"),
+        TransactionError::Decode { source, .. } => {
+            assert_eq!(source.kind(), DecodeErrorKind::ChecksumMismatch)
+        }
         other => panic!("expected a decode error, got {other:?}"),
     }
     assert!(error.to_string().contains("FC90"), "{error}");

@@ -6,6 +6,7 @@ use crate::frames::{register_of, DecodedExample, DecodedFrame};
 use crate::parse::model::{ExpectModel, FrameModel};
 use crate::validate::{decimals, ranges, with_unit, Context};
 use vfd_runtime::meaning::FrameMeaning;
+use vfd_runtime::DecodeErrorKind;
 
 /// Every example frame decodes to what it says; printed errata are rejected for the stated reason.
 pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
@@ -102,7 +103,7 @@ fn check_frame(
                 .source
                 .error(path, format!("the frame does not decode: {error}"))
                 .hint(match error.kind() {
-                    "checksum_mismatch" => "if the manual prints a wrong checksum, put the corrected bytes here and the printed ones under `printed:` with an `erratum:`",
+                    DecodeErrorKind::ChecksumMismatch => "if the manual prints a wrong checksum, put the corrected bytes here and the printed ones under `printed:` with an `erratum:`",
                     _ => "check the bytes against the manual; record a manual mistake as `printed:` + `erratum:`",
                 }),
         ),
@@ -124,7 +125,7 @@ fn check_frame(
                     .error(&format!("{path}.printed"), "the printed frame decodes without error, so the decoder cannot tell it is wrong")
                     .hint("an erratum records bytes the decoder rejects; describe meaning-only mistakes under manual_errata"),
             ),
-            (Ok(_), Some(Err(error))) if error.kind() != reason => out.push(
+            (Ok(_), Some(Err(error))) if DecodeErrorKind::from_name(reason) != Some(error.kind()) => out.push(
                 drive
                     .source
                     .error(&format!("{path}.printed_rejected_as"), format!("the printed frame is rejected as {}, not {reason}: {error}", error.kind()))

@@ -1,15 +1,22 @@
 //! Byte transports a transaction runs over: real serial ports, pseudo-terminals and
 //! in-memory pipes.
+//!
+//! The in-memory pipe is always there. The serial port needs the `serial` feature and the
+//! pseudo-terminal the `pty` feature on a Unix system (both features are on by default).
 
 use std::io;
 use std::time::Instant;
 
 mod memory;
+#[cfg(all(unix, feature = "pty"))]
 mod pty;
+#[cfg(feature = "serial")]
 mod serial_port;
 
 pub use memory::{memory_pair, MemoryTransport};
+#[cfg(all(unix, feature = "pty"))]
 pub use pty::{PseudoTerminal, PtyTransport};
+#[cfg(feature = "serial")]
 pub use serial_port::SerialTransport;
 
 /// A half-duplex byte pipe to one or more drives.

@@ -205,7 +205,6 @@ fn invalid_setting(path: &str, message: String) -> io::Error {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::transport::PseudoTerminal;
 
     fn settings(data_bits: u8, parity: Parity, stop_bits: u8) -> SerialSettings {
         SerialSettings {
@@ -216,6 +215,7 @@ mod tests {
         }
     }
 
+    #[cfg(all(unix, feature = "pty"))]
     fn receive_exact(transport: &mut dyn Transport, len: usize) -> Vec<u8> {
         let deadline = Instant::now() + Duration::from_secs(5);
         let mut out = Vec::new();
@@ -250,8 +250,9 @@ mod tests {
     }
 
     #[test]
+    #[cfg(all(unix, feature = "pty"))]
     fn talks_over_a_pseudo_terminal() {
-        let pty = PseudoTerminal::open().unwrap();
+        let pty = crate::transport::PseudoTerminal::open().unwrap();
         let path = pty.slave_path().to_str().unwrap().to_string();
         let mut master = pty.master().unwrap();
         let mut port = SerialTransport::open(&path, &settings(8, Parity::Odd, 2)).unwrap();

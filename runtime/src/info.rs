@@ -1,0 +1,124 @@
+//! Static metadata a generated drive module supplies: one entry per register and one per
+//! error code of the manual's tables.
+//!
+//! Below everything that works with registers or protocols: it imports only [`crate::kinds`]
+//! and [`crate::layout`], so error types can name a register or an error code.
+
+use crate::kinds::{Access, DataType, Space, Unit};
+use crate::layout::Text;
+
+/// Everything the manual says about one register, as static data.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegisterInfo {
+    /// Communication number, parameter number or coil number (before any protocol's address map).
+    pub address: u16,
+    /// Identifier in the drive file (`deceleration_time_1`).
+    pub id: &'static str,
+    /// The manual's code or mnemonic (`Dec`, `F800`, `FA01`).
+    pub code: &'static str,
+    /// English name.
+    pub name: &'static str,
+    /// The manual's Chinese name.
+    pub name_zh: &'static str,
+    /// Engineering unit.
+    pub unit: Unit,
+    /// Engineering value of one raw step (0.01 for 0.01 Hz).
+    pub scale: f64,
+    /// Whether the raw word is two's-complement signed.
+    pub signed: bool,
+    /// Lowest raw value accepted (static bound).
+    pub raw_min: i64,
+    /// Highest raw value accepted (static bound).
+    pub raw_max: i64,
+    /// Shape on the wire (word, double word, text).
+    pub data_type: DataType,
+    /// Address space of `address` (parameters, coils).
+    pub space: Space,
+    /// Number of array elements for indexed parameters; 0 when it is not an array.
+    pub array_len: u8,
+    /// Code of the register that bounds the value from below at run time (`LL`), if any.
+    pub min_bound: Option<&'static str>,
+    /// Code of the register that bounds the value from above at run time (`FH`), if any.
+    pub max_bound: Option<&'static str>,
+    /// Access over the serial link.
+    pub access: Access,
+    /// Writes go to RAM only; a persistent (EEPROM) write is not allowed.
+    pub ram_only: bool,
+    /// May be written while the motor runs.
+    pub writable_while_running: bool,
+    /// Only effective when set from the operator panel.
+    pub panel_only: bool,
+}
+
+impl RegisterInfo {
+    /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.
+    /// The code is left out when it only repeats the address (`FA01`).
+    pub fn label(&self) -> String {
+        if self.space == Space::Coil {
+            return format!(
+                "coil {} {} ({} / {})",
+                self.address, self.code, self.name, self.name_zh
+            );
+        }
+        if self.code.parse::<u16>().ok() == Some(self.address) {
+            // Parameters numbered in decimal (FC 303).
+            return format!("parameter {} ({} / {})", self.code, self.name, self.name_zh);
+        }
+        let address = format!("{:04X}", self.address);
+        if self.code.eq_ignore_ascii_case(&address) {
+            format!("register {address} ({} / {})", self.name, self.name_zh)
+        } else {
+            format!(
+                "register {address} {} ({} / {})",
+                self.code, self.name, self.name_zh
+            )
+        }
+    }
+
+    /// The unit's symbol.
+    pub fn unit_symbol(&self) -> &'static str {
+        self.unit.symbol()
+    }
+
+    /// Decimal places implied by the scale (0.01 -> 2).
+    pub fn decimals(&self) -> u8 {
+        decimals_of(self.scale)
+    }
+
+    /// Explains run-time bounds named after other registers, for error messages.
+    pub fn bound_note(&self) -> String {
+        match (self.min_bound, self.max_bound) {
+            (None, None) => String::new(),
+            (Some(low), None) => format!(" (at run time the lower bound is {low})"),
+            (None, Some(high)) => format!(" (at run time the upper bound is {high})"),
+            (Some(low), Some(high)) => format!(" (at run time the bounds are {low} and {high})"),
+        }
+    }
+}
+
+/// One entry of a drive's error-code table.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct ErrorCodeInfo {
+    /// The code carried by the error reply.
+    pub code: u16,
+    /// Identifier (`data_error`).
+    pub id: Text,
+    /// English name.
+    pub name: Text,
+    /// The manual's Chinese name.
+    pub name_zh: Text,
+    /// The manual's explanation.
+    pub meaning: Text,
+}
+
+/// Decimal places a scale implies: 0.01 gives 2, 1 gives 0 (at most 6).
+pub fn decimals_of(scale: f64) -> u8 {
+    let mut decimals = 0u8;
+    let mut step = scale;
+    while decimals < 6 && (step - step.round()).abs() > 1e-9 {
+        step *= 10.0;
+        decimals += 1;
+    }
+    decimals
+}

@@ -1,0 +1,227 @@
+//! The enumerations description files name above the frame level: register access, the
+//! kinds of command, a value's shape on the wire, address spaces and engineering units.
+//!
+//! This module imports nothing from the rest of the crate, so every other module may use it.
+
+/// Whether a register can be read, written or both over the serial link.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
+pub enum Access {
+    /// Read only (monitors, status words).
+    ReadOnly,
+    /// Read and write.
+    ReadWrite,
+    /// Write only.
+    WriteOnly,
+}
+
+impl Access {
+    /// Every access.
+    pub const ALL: [Access; 3] = [Access::ReadOnly, Access::ReadWrite, Access::WriteOnly];
+
+    /// Name as written in drive files.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Access::ReadOnly => "read-only",
+            Access::ReadWrite => "read-write",
+            Access::WriteOnly => "write-only",
+        }
+    }
+}
+
+/// What a command does, independent of its code on the wire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum CommandKind {
+    /// Read one register or parameter.
+    Read,
+    /// Write in RAM only (lost at power-off).
+    WriteRam,
+    /// Write in RAM and EEPROM (persistent; EEPROM wears out).
+    WritePersistent,
+    /// Read a text parameter.
+    ReadText,
+    /// Exchange process words only (control word and reference out, status word and
+    /// output value back).
+    Process,
+}
+
+impl CommandKind {
+    /// Every kind, in the order the description format documents them.
+    pub const ALL: [CommandKind; 5] = [
+        CommandKind::Read,
+        CommandKind::WriteRam,
+        CommandKind::WritePersistent,
+        CommandKind::ReadText,
+        CommandKind::Process,
+    ];
+
+    /// Name as written in protocol description files.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            CommandKind::Read => "read",
+            CommandKind::WriteRam => "write_ram",
+            CommandKind::WritePersistent => "write_persistent",
+            CommandKind::ReadText => "read_text",
+            CommandKind::Process => "process",
+        }
+    }
+
+    /// Whether the command writes.
+    pub const fn is_write(self) -> bool {
+        matches!(self, CommandKind::WriteRam | CommandKind::WritePersistent)
+    }
+}
+
+/// The shape of a register's value on the wire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum DataType {
+    /// 16 bits.
+    Word,
+    /// 32 bits.
+    DoubleWord,
+    /// One coil, written as FF00h (on) or 0000h (off).
+    Bit,
+    /// Text (read as bytes).
+    Text,
+}
+
+impl DataType {
+    /// Every data type.
+    pub const ALL: [DataType; 4] = [
+        DataType::Word,
+        DataType::DoubleWord,
+        DataType::Bit,
+        DataType::Text,
+    ];
+
+    /// Name as written in description files.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            DataType::Word => "word",
+            DataType::DoubleWord => "double_word",
+            DataType::Bit => "bit",
+            DataType::Text => "text",
+        }
+    }
+
+    /// Bytes the value takes in a frame (text: 0, it has no fixed size).
+    pub const fn size(self) -> u8 {
+        match self {
+            DataType::Word | DataType::Bit => 2,
+            DataType::DoubleWord => 4,
+            DataType::Text => 0,
+        }
+    }
+}
+
+/// Which numbering a register address belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum Space {
+    /// Parameters and communication numbers (the default).
+    Parameter,
+    /// Coils (bit addresses; 16 make a word).
+    Coil,
+}
+
+impl Space {
+    /// Every address space.
+    pub const ALL: [Space; 2] = [Space::Parameter, Space::Coil];
+
+    /// Name as written in description files.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Space::Parameter => "parameter",
+            Space::Coil => "coil",
+        }
+    }
+}
+
+/// A unit a register's value is expressed in, after scaling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Unit {
+    /// A plain number (counts, codes, raw words).
+    #[cfg_attr(feature = "serde", serde(rename = ""))]
+    None,
+    /// Hertz.
+    #[cfg_attr(feature = "serde", serde(rename = "Hz"))]
+    Hertz,
+    /// Seconds.
+    #[cfg_attr(feature = "serde", serde(rename = "s"))]
+    Second,
+    /// Percent.
+    #[cfg_attr(feature = "serde", serde(rename = "%"))]
+    Percent,
+    /// Amperes.
+    #[cfg_attr(feature = "serde", serde(rename = "A"))]
+    Ampere,
+    /// Volts.
+    #[cfg_attr(feature = "serde", serde(rename = "V"))]
+    Volt,
+    /// Hours.
+    #[cfg_attr(feature = "serde", serde(rename = "h"))]
+    Hour,
+    /// Kilowatts.
+    #[cfg_attr(feature = "serde", serde(rename = "kW"))]
+    Kilowatt,
+    /// Revolutions per minute.
+    #[cfg_attr(feature = "serde", serde(rename = "rpm"))]
+    Rpm,
+}
+
+impl Unit {
+    /// Every unit, in the order the description format documents them.
+    pub const ALL: [Unit; 9] = [
+        Unit::None,
+        Unit::Hertz,
+        Unit::Second,
+        Unit::Percent,
+        Unit::Ampere,
+        Unit::Volt,
+        Unit::Hour,
+        Unit::Kilowatt,
+        Unit::Rpm,
+    ];
+
+    /// The symbol written in drive files and shown to people (`Hz`); empty for [`Unit::None`].
+    pub const fn symbol(self) -> &'static str {
+        match self {
+            Unit::None => "",
+            Unit::Hertz => "Hz",
+            Unit::Second => "s",
+            Unit::Percent => "%",
+            Unit::Ampere => "A",
+            Unit::Volt => "V",
+            Unit::Hour => "h",
+            Unit::Kilowatt => "kW",
+            Unit::Rpm => "rpm",
+        }
+    }
+
+    /// The unit for a symbol as written in drive files.
+    pub fn from_symbol(symbol: &str) -> Option<Unit> {
+        Unit::ALL.into_iter().find(|unit| unit.symbol() == symbol)
+    }
+
+    /// Name of the quantity type in this module (`Hertz`), `None` for plain numbers.
+    pub const fn quantity_type(self) -> Option<&'static str> {
+        match self {
+            Unit::None => None,
+            Unit::Hertz => Some("Hertz"),
+            Unit::Second => Some("Seconds"),
+            Unit::Percent => Some("Percent"),
+            Unit::Ampere => Some("Amperes"),
+            Unit::Volt => Some("Volts"),
+            Unit::Hour => Some("Hours"),
+            Unit::Kilowatt => Some("Kilowatts"),
+            Unit::Rpm => Some("Rpm"),
+        }
+    }
+}
