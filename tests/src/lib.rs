@@ -1,7 +1,6 @@
-//! Shared support for the workspace-level tests: the golden-frame assertions that the
-//! generated tests (one per manual example) call, expectation files for diagnostics, and a
-//! scripted peer for exchanges.
+//! Shared support for the workspace-level tests: expectation files for diagnostics and a
+//! scripted peer for exchanges. The generated golden-frame tests call
+//! `vfd_runtime::testing` (the runtime's `testing` feature).
 
 pub mod expectations;
-pub mod golden;
 pub mod scripted_peer;
