@@ -14,7 +14,10 @@ fn main() {
         Ok(builder) => builder
             .out_dir(&out_dir)
             .cargo_metadata(true)
-            .display_root(manifest.join("..")),
+            .display_root(manifest.join(".."))
+            .regenerate_command("cargo run -p vfd-cli -- generate")
+            .crate_path("vfd_drives")
+            .manuals_location("shared/seeds"),
         Err(error) => vfd_codegen::fail_build(&error),
     };
     // The committed pages are refreshed by every local build; in CI they are only

@@ -104,7 +104,10 @@ fn generate(args: &[&str]) -> Result<(), String> {
     let builder = vfd_codegen::Builder::new()
         .drives_in(root.join("drives"))
         .map_err(|e| e.to_string())?
-        .display_root(&root);
+        .display_root(&root)
+        .regenerate_command("cargo run -p vfd-cli -- generate")
+        .crate_path("vfd_drives")
+        .manuals_location("shared/seeds");
     let generated = builder.generate_in_memory().map_err(|e| e.to_string())?;
     let mut pages: Vec<(String, &str)> = generated
         .drives

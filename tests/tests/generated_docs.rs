@@ -7,6 +7,10 @@ fn committed_reference_pages_are_current() {
         .drives_in("../drives")
         .expect("drives/ is readable")
         .display_root("..")
+        // As `vfd generate` (cli/src/main.rs) makes them.
+        .regenerate_command("cargo run -p vfd-cli -- generate")
+        .crate_path("vfd_drives")
+        .manuals_location("shared/seeds")
         .generate_in_memory()
         .unwrap_or_else(|error| panic!("the drive files do not generate:\n{error}"));
     let mut stale = Vec::new();
