@@ -101,6 +101,7 @@ fn generate(args: &[&str]) -> Result<(), String> {
     let root_arg = args.windows(2).find(|w| w[0] == "--root").map(|w| w[1]);
     let root = workspace_root(root_arg)?;
     let docs = root.join("generated-docs");
+    // tests/tests/generated_docs.rs makes the same pages with the same options.
     let builder = vfd_codegen::Builder::new()
         .drives_in(root.join("drives"))
         .map_err(|e| e.to_string())?
@@ -108,23 +109,42 @@ fn generate(args: &[&str]) -> Result<(), String> {
         .regenerate_command("cargo run -p vfd-cli -- generate")
         .crate_path("vfd_drives")
         .manuals_location("shared/seeds");
-    let generated = builder.generate_in_memory().map_err(|e| e.to_string())?;
-    let mut pages: Vec<(String, &str)> = generated
-        .drives
-        .iter()
-        .map(|d| (format!("{}.md", d.ir.id), d.markdown.as_str()))
-        .collect();
-    pages.push(("README.md".to_owned(), &generated.index));
-    let mut stale = Vec::new();
-    for (name, text) in &pages {
-        let path = docs.join(name);
-        if std::fs::read_to_string(&path).ok().as_deref() != Some(*text) {
-            stale.push(name.clone());
-            if !check_only {
-                vfd_codegen::write_if_changed(&path, text).map_err(|e| e.to_string())?;
-            }
-        }
-    }
+    // Only this command writes generated-docs/ (builds never do), so what it reports as
+    // changed is what it changed.
+    let (generated, changed) = if check_only {
+        let generated = builder.generate_in_memory().map_err(|e| e.to_string())?;
+        let mut pages: Vec<(String, &str)> = generated
+            .drives
+            .iter()
+            .map(|d| (format!("{}.md", d.ir.id), d.markdown.as_str()))
+            .collect();
+        pages.push(("README.md".to_owned(), &generated.index));
+        let stale: Vec<String> = pages
+            .iter()
+            .filter(|(name, text)| {
+                std::fs::read_to_string(docs.join(name)).ok().as_deref() != Some(*text)
+            })
+            .map(|(name, _)| name.clone())
+            .collect();
+        (generated, stale)
+    } else {
+        let generated = builder
+            .docs_dir(&docs)
+            .generate()
+            .map_err(|e| e.to_string())?;
+        let written = generated
+            .written
+            .iter()
+            .map(|path| {
+                path.strip_prefix(&docs)
+                    .unwrap_or(path)
+                    .display()
+                    .to_string()
+            })
+            .collect();
+        (generated, written)
+    };
+    let pages = generated.drives.len() + 1;
     println!(
         "{:<8} {:<28} {:>9} {:>9} {:>6} {:>8} {:>7}  protocols",
         "drive", "model", "registers", "bitfields", "codes", "examples", "errata"
@@ -154,13 +174,16 @@ fn generate(args: &[&str]) -> Result<(), String> {
             drive.rust.lines().count()
         );
     }
-    match (check_only, stale.is_empty()) {
-        (_, true) => println!("generated-docs/ is up to date ({} pages)", pages.len()),
-        (false, false) => println!("refreshed generated-docs/: {}", stale.join(", ")),
+    match (check_only, changed.is_empty()) {
+        (_, true) => println!("generated-docs/ is up to date ({pages} pages)"),
+        (false, false) => println!(
+            "changed in generated-docs/: {} (of {pages} pages)",
+            changed.join(", ")
+        ),
         (true, false) => {
             return Err(format!(
                 "stale pages in generated-docs/: {}; run `cargo run -p vfd-cli -- generate`",
-                stale.join(", ")
+                changed.join(", ")
             ))
         }
     }
