@@ -15,7 +15,9 @@ vfd: tools for RS-485 frequency inverters described in drives/*.yaml
 USAGE:
   vfd generate [--check] [--root DIR]      regenerate generated-docs/ and print a summary
                                            (--check: only report stale pages, exit 1 if any)
-  vfd check FILE.yaml...                   validate drive files, print every problem
+  vfd check [--protocols DIR] FILE.yaml... validate drive files, print every problem
+                                           (DIR: protocol files, default protocols/ next
+                                           to each drive file)
   vfd registers DRIVE                      list a drive's registers
   vfd encode DRIVE PROTOCOL read REG [--address N]
   vfd encode DRIVE PROTOCOL write-ram REG VALUE [--address N]
@@ -42,7 +44,10 @@ fn run(args: &[String]) -> Result<(), String> {
     let words: Vec<&str> = args.iter().map(String::as_str).collect();
     match words.as_slice() {
         ["generate", rest @ ..] => generate(rest),
-        ["check", files @ ..] if !files.is_empty() => check(files),
+        ["check", "--protocols", dir, files @ ..] if !files.is_empty() => {
+            check(files, Some(Path::new(dir)))
+        }
+        ["check", files @ ..] if !files.is_empty() => check(files, None),
         ["registers", drive] => registers(find_drive(drive)?),
         ["encode", drive, protocol, rest @ ..] => encode(find_drive(drive)?, protocol, rest),
         ["decode", drive, protocol, frame] => decode(find_drive(drive)?, protocol, frame),
@@ -190,10 +195,10 @@ fn generate(args: &[&str]) -> Result<(), String> {
     Ok(())
 }
 
-fn check(files: &[&str]) -> Result<(), String> {
+fn check(files: &[&str], protocols: Option<&Path>) -> Result<(), String> {
     let mut failed = 0;
     for file in files {
-        match vfd_codegen::compile(Path::new(file), None) {
+        match vfd_codegen::compile(Path::new(file), protocols) {
             Ok(drive) => println!(
                 "{file}: ok ({} registers, {} examples)",
                 drive.registers.len(),
