@@ -15,7 +15,9 @@ vfd: tools for RS-485 frequency inverters described in drives/*.yaml
 USAGE:
   vfd generate [--check] [--root DIR]      regenerate generated-docs/ and print a summary
                                            (--check: only report stale pages, exit 1 if any)
-  vfd check FILE.yaml...                   validate drive files, print every problem
+  vfd check [--protocols DIR] FILE.yaml... validate drive files, print every problem
+                                           (DIR: protocol files, default protocols/ next
+                                           to each drive file)
   vfd registers DRIVE                      list a drive's registers
   vfd encode DRIVE PROTOCOL read REG [--address N]
   vfd encode DRIVE PROTOCOL write-ram REG VALUE [--address N]
@@ -42,7 +44,10 @@ fn run(args: &[String]) -> Result<(), String> {
     let words: Vec<&str> = args.iter().map(String::as_str).collect();
     match words.as_slice() {
         ["generate", rest @ ..] => generate(rest),
-        ["check", files @ ..] if !files.is_empty() => check(files),
+        ["check", "--protocols", dir, files @ ..] if !files.is_empty() => {
+            check(files, Some(Path::new(dir)))
+        }
+        ["check", files @ ..] if !files.is_empty() => check(files, None),
         ["registers", drive] => registers(find_drive(drive)?),
         ["encode", drive, protocol, rest @ ..] => encode(find_drive(drive)?, protocol, rest),
         ["decode", drive, protocol, frame] => decode(find_drive(drive)?, protocol, frame),
@@ -101,27 +106,50 @@ fn generate(args: &[&str]) -> Result<(), String> {
     let root_arg = args.windows(2).find(|w| w[0] == "--root").map(|w| w[1]);
     let root = workspace_root(root_arg)?;
     let docs = root.join("generated-docs");
+    // tests/tests/generated_docs.rs makes the same pages with the same options.
     let builder = vfd_codegen::Builder::new()
         .drives_in(root.join("drives"))
         .map_err(|e| e.to_string())?
-        .display_root(&root);
-    let generated = builder.generate_in_memory().map_err(|e| e.to_string())?;
-    let mut pages: Vec<(String, &str)> = generated
-        .drives
-        .iter()
-        .map(|d| (format!("{}.md", d.ir.id), d.markdown.as_str()))
-        .collect();
-    pages.push(("README.md".to_owned(), &generated.index));
-    let mut stale = Vec::new();
-    for (name, text) in &pages {
-        let path = docs.join(name);
-        if std::fs::read_to_string(&path).ok().as_deref() != Some(*text) {
-            stale.push(name.clone());
-            if !check_only {
-                vfd_codegen::write_if_changed(&path, text).map_err(|e| e.to_string())?;
-            }
-        }
-    }
+        .display_root(&root)
+        .regenerate_command("cargo run -p vfd-cli -- generate")
+        .crate_path("vfd_drives")
+        .manuals_location("shared/seeds");
+    // Only this command writes generated-docs/ (builds never do), so what it reports as
+    // changed is what it changed.
+    let (generated, changed) = if check_only {
+        let generated = builder.generate_in_memory().map_err(|e| e.to_string())?;
+        let mut pages: Vec<(String, &str)> = generated
+            .drives
+            .iter()
+            .map(|d| (format!("{}.md", d.ir.id), d.markdown.as_str()))
+            .collect();
+        pages.push(("README.md".to_owned(), &generated.index));
+        let stale: Vec<String> = pages
+            .iter()
+            .filter(|(name, text)| {
+                std::fs::read_to_string(docs.join(name)).ok().as_deref() != Some(*text)
+            })
+            .map(|(name, _)| name.clone())
+            .collect();
+        (generated, stale)
+    } else {
+        let generated = builder
+            .docs_dir(&docs)
+            .generate()
+            .map_err(|e| e.to_string())?;
+        let written = generated
+            .written
+            .iter()
+            .map(|path| {
+                path.strip_prefix(&docs)
+                    .unwrap_or(path)
+                    .display()
+                    .to_string()
+            })
+            .collect();
+        (generated, written)
+    };
+    let pages = generated.drives.len() + 1;
     println!(
         "{:<8} {:<28} {:>9} {:>9} {:>6} {:>8} {:>7}  protocols",
         "drive", "model", "registers", "bitfields", "codes", "examples", "errata"
@@ -151,23 +179,26 @@ fn generate(args: &[&str]) -> Result<(), String> {
             drive.rust.lines().count()
         );
     }
-    match (check_only, stale.is_empty()) {
-        (_, true) => println!("generated-docs/ is up to date ({} pages)", pages.len()),
-        (false, false) => println!("refreshed generated-docs/: {}", stale.join(", ")),
+    match (check_only, changed.is_empty()) {
+        (_, true) => println!("generated-docs/ is up to date ({pages} pages)"),
+        (false, false) => println!(
+            "changed in generated-docs/: {} (of {pages} pages)",
+            changed.join(", ")
+        ),
         (true, false) => {
             return Err(format!(
                 "stale pages in generated-docs/: {}; run `cargo run -p vfd-cli -- generate`",
-                stale.join(", ")
+                changed.join(", ")
             ))
         }
     }
     Ok(())
 }
 
-fn check(files: &[&str]) -> Result<(), String> {
+fn check(files: &[&str], protocols: Option<&Path>) -> Result<(), String> {
     let mut failed = 0;
     for file in files {
-        match vfd_codegen::compile(Path::new(file), None) {
+        match vfd_codegen::compile(Path::new(file), protocols) {
             Ok(drive) => println!(
                 "{file}: ok ({} registers, {} examples)",
                 drive.registers.len(),

@@ -115,6 +115,68 @@ pub fn inputs_of(drive: &DriveIr, protocols_dir: Option<&Path>) -> Vec<PathBuf> 
     inputs
 }
 
+/// How generated output refers to anything outside the drive description: the command that
+/// regenerates it, the Rust path of the generated modules, where manuals and protocol files
+/// are. Set through the [`Builder`]; the defaults name nothing but the description itself.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct OutputNames {
+    /// Command that regenerates the output, named in `@generated` headers (`None`: "regenerate
+    /// with vfd-codegen").
+    pub regenerate_command: Option<String>,
+    /// Rust path of the module holding the generated drive modules, as golden tests and
+    /// reference pages reach them (`crate`, or `my_drives` from another crate).
+    pub crate_path: String,
+    /// Folder shown in front of manual file names (`None`: the file name alone).
+    pub manuals_location: Option<String>,
+    /// Folder shown in front of protocol file names (`None`: the file name alone). The
+    /// [`Builder`] sets it per drive when the protocol folder lies under its display root.
+    pub protocols_location: Option<String>,
+}
+
+impl Default for OutputNames {
+    fn default() -> Self {
+        OutputNames {
+            regenerate_command: None,
+            crate_path: "crate".to_owned(),
+            manuals_location: None,
+            protocols_location: None,
+        }
+    }
+}
+
+impl OutputNames {
+    /// How to regenerate, completing "Do not edit: change the YAML and ...":
+    /// "run `<command>`", or "regenerate with vfd-codegen".
+    pub fn regenerate_hint(&self) -> String {
+        match &self.regenerate_command {
+            Some(command) => format!("run `{command}`"),
+            None => "regenerate with vfd-codegen".to_owned(),
+        }
+    }
+
+    /// The Rust path of a generated drive module (`crate::yd1000`).
+    pub fn module_path(&self, module: &str) -> String {
+        format!("{}::{module}", self.crate_path)
+    }
+
+    /// A manual's file name with its folder, when one is configured.
+    pub fn manual_shown(&self, manual: &str) -> String {
+        shown_in(self.manuals_location.as_deref(), manual)
+    }
+
+    /// A protocol file's name (`<uses>.yaml`) with its folder, when one is known.
+    pub fn protocol_file_shown(&self, uses: &str) -> String {
+        shown_in(self.protocols_location.as_deref(), &format!("{uses}.yaml"))
+    }
+}
+
+fn shown_in(folder: Option<&str>, file: &str) -> String {
+    match folder.map(|f| f.trim_end_matches('/')) {
+        Some(folder) if !folder.is_empty() => format!("{folder}/{file}"),
+        _ => file.to_owned(),
+    }
+}
+
 /// Everything generated for one drive.
 #[derive(Debug, Clone)]
 pub struct GeneratedDrive {
@@ -124,6 +186,8 @@ pub struct GeneratedDrive {
     pub rust: String,
     /// The Markdown reference page.
     pub markdown: String,
+    /// Golden-frame tests, formatted (only when [`Builder::golden_tests`] is on).
+    pub golden_tests: Option<String>,
     /// Files the output depends on.
     pub inputs: Vec<PathBuf>,
 }
@@ -135,6 +199,9 @@ pub struct Generated {
     pub drives: Vec<GeneratedDrive>,
     /// The Markdown index page.
     pub index: String,
+    /// Files [`Builder::generate`] wrote because their contents changed, in writing order
+    /// (files already up to date are left alone and not listed).
+    pub written: Vec<PathBuf>,
 }
 
 /// Why generation failed.
@@ -184,6 +251,8 @@ pub struct Builder {
     docs_dir: Option<PathBuf>,
     cargo_metadata: bool,
     display_root: Option<PathBuf>,
+    names: OutputNames,
+    golden_tests: bool,
 }
 
 impl Builder {
@@ -239,16 +308,69 @@ impl Builder {
         self
     }
 
+    /// The command that regenerates the output, named in `@generated` headers (Rust files,
+    /// reference pages, golden tests), e.g. `cargo run -p my-cli -- generate`. Default: the
+    /// headers say "regenerate with vfd-codegen".
+    pub fn regenerate_command(mut self, command: impl Into<String>) -> Self {
+        self.names.regenerate_command = Some(command.into());
+        self
+    }
+
+    /// The Rust path through which golden tests and reference pages reach the generated drive
+    /// modules (like prost's `extern_path`). Default `crate`: the including crate's root holds
+    /// them. Give the crate's name (`my_drives`) when the golden tests are compiled in another
+    /// crate, e.g. its integration tests.
+    pub fn crate_path(mut self, path: impl Into<String>) -> Self {
+        self.names.crate_path = path.into();
+        self
+    }
+
+    /// The folder shown in front of manual file names on reference pages, e.g.
+    /// `docs/manuals` (nothing is read from it). Default: the file name alone.
+    pub fn manuals_location(mut self, folder: impl Into<String>) -> Self {
+        self.names.manuals_location = Some(folder.into());
+        self
+    }
+
+    /// Also generates golden-frame tests, one `#[test]` per example of the manual. With
+    /// [`out_dir`](Self::out_dir), writes `<id>_golden.rs` per drive and `golden.rs`, which
+    /// wraps each in `mod <id>`; include that in a module of its own, in a crate that depends
+    /// on `vfd-runtime` with its `testing` feature (they call `vfd_runtime::testing`):
+    ///
+    /// ```ignore
+    /// // tests/golden.rs
+    /// mod golden { include!(concat!(env!("OUT_DIR"), "/golden.rs")); }
+    /// ```
+    ///
+    /// The tests reach the drive modules through [`crate_path`](Self::crate_path).
+    pub fn golden_tests(mut self, on: bool) -> Self {
+        self.golden_tests = on;
+        self
+    }
+
+    /// The names generated output uses for anything outside the descriptions.
+    pub fn output_names(&self) -> &OutputNames {
+        &self.names
+    }
+
     /// Prints `cargo:rerun-if-changed` for every input (for build scripts).
     pub fn cargo_metadata(mut self, on: bool) -> Self {
         self.cargo_metadata = on;
         self
     }
 
-    /// Generates everything in memory, then writes files that changed. When any
-    /// description is invalid, every problem is returned and nothing is written.
+    /// Generates everything in memory, then writes files that changed (listed in
+    /// [`Generated::written`]). When any description is invalid, every problem is returned
+    /// and nothing is written.
     pub fn generate(&self) -> Result<Generated, Error> {
-        let generated = self.generate_in_memory()?;
+        let mut generated = self.generate_in_memory()?;
+        let mut written = Vec::new();
+        let mut write = |path: PathBuf, contents: &str| -> Result<(), Error> {
+            if write_if_changed(&path, contents)? {
+                written.push(path);
+            }
+            Ok(())
+        };
         if self.cargo_metadata {
             for drive in &generated.drives {
                 for input in &drive.inputs {
@@ -264,7 +386,7 @@ impl Builder {
                 String::from("// @generated by vfd-codegen: one include per described drive.\n");
             for drive in &generated.drives {
                 let name = format!("{}.rs", drive.ir.id);
-                write_if_changed(&dir.join(&name), &drive.rust)?;
+                write(dir.join(&name), &drive.rust)?;
                 includes.push_str(&format!(
                     "include!(concat!(env!(\"OUT_DIR\"), \"/{name}\"));\n"
                 ));
@@ -279,14 +401,31 @@ impl Builder {
                 all.len(),
                 all.join(", ")
             ));
-            write_if_changed(&dir.join("drives.rs"), &includes)?;
+            write(dir.join("drives.rs"), &includes)?;
+            if self.golden_tests {
+                let mut modules = String::from(
+                    "// @generated by vfd-codegen: golden-frame tests, one module per described drive.\n",
+                );
+                for drive in &generated.drives {
+                    let name = format!("{}_golden.rs", drive.ir.id);
+                    let tests = drive.golden_tests.as_deref().unwrap_or_default();
+                    write(dir.join(&name), tests)?;
+                    modules.push_str(&format!(
+                        "/// Golden frames of `{}`.\nmod {} {{\n    include!(concat!(env!(\"OUT_DIR\"), \"/{name}\"));\n}}\n",
+                        drive.ir.file.replace('\\', "/"),
+                        drive.ir.module
+                    ));
+                }
+                write(dir.join("golden.rs"), &modules)?;
+            }
         }
         if let Some(dir) = &self.docs_dir {
             for drive in &generated.drives {
-                write_if_changed(&dir.join(format!("{}.md", drive.ir.id)), &drive.markdown)?;
+                write(dir.join(format!("{}.md", drive.ir.id)), &drive.markdown)?;
             }
-            write_if_changed(&dir.join("README.md"), &generated.index)?;
+            write(dir.join("README.md"), &generated.index)?;
         }
+        generated.written = written;
         Ok(generated)
     }
 
@@ -306,6 +445,10 @@ impl Builder {
         let mut drives = Vec::new();
         for mut ir in irs {
             let inputs = inputs_of(&ir, self.protocols_dir.as_deref());
+            let names = OutputNames {
+                protocols_location: self.protocols_location(Path::new(&ir.file)),
+                ..self.names.clone()
+            };
             if let Some(root) = &self.display_root {
                 let root = root.canonicalize().unwrap_or_else(|_| root.clone());
                 let file = PathBuf::from(&ir.file);
@@ -314,19 +457,45 @@ impl Builder {
                     ir.file = relative.display().to_string().replace('\\', "/");
                 }
             }
-            let rust =
-                emit::rust::format_file(&ir, emit::rust::drive_module(&ir)).map_err(Error::Emit)?;
-            let markdown = emit::markdown::drive_page(&ir).map_err(Error::Emit)?;
+            let rust = emit::rust::format_file_with(&ir, emit::rust::drive_module(&ir), &names)
+                .map_err(Error::Emit)?;
+            let markdown = emit::markdown::drive_page_with(&ir, &names).map_err(Error::Emit)?;
+            let golden_tests = if self.golden_tests {
+                Some(golden_tests_file(&ir, &names)?)
+            } else {
+                None
+            };
             drives.push(GeneratedDrive {
                 ir,
                 rust,
                 markdown,
+                golden_tests,
                 inputs,
             });
         }
         let irs: Vec<DriveIr> = drives.iter().map(|d| d.ir.clone()).collect();
-        let index = emit::markdown::index_page(&irs).map_err(Error::Emit)?;
-        Ok(Generated { drives, index })
+        let index = emit::markdown::index_page_with(&irs, &self.names).map_err(Error::Emit)?;
+        Ok(Generated {
+            drives,
+            index,
+            written: Vec::new(),
+        })
+    }
+}
+
+impl Builder {
+    /// The protocol folder of the drive at `drive_file` relative to the display root, when
+    /// it lies under it.
+    fn protocols_location(&self, drive_file: &Path) -> Option<String> {
+        let root = self.display_root.as_ref()?;
+        let root = root.canonicalize().unwrap_or_else(|_| root.clone());
+        let dir = match &self.protocols_dir {
+            Some(dir) => dir.clone(),
+            None => load::default_protocols_dir(drive_file),
+        };
+        let dir = dir.canonicalize().unwrap_or(dir);
+        let relative = dir.strip_prefix(&root).ok()?;
+        Some(relative.display().to_string().replace('\\', "/"))
     }
 }
 
@@ -349,14 +518,15 @@ pub fn write_if_changed(path: &Path, contents: &str) -> Result<bool, Error> {
     Ok(true)
 }
 
-/// Golden tests for one drive as a formatted Rust file (for the workspace test crate).
-pub fn golden_tests_file(drive: &DriveIr, drive_path: &str) -> Result<String, Error> {
-    let tokens = emit::tests::golden_tests(drive, drive_path);
+/// Golden tests for one drive as a formatted Rust file, reaching the drive module through
+/// `names.crate_path` (see [`Builder::golden_tests`]).
+pub fn golden_tests_file(drive: &DriveIr, names: &OutputNames) -> Result<String, Error> {
+    let tokens = emit::tests::golden_tests(drive, &names.module_path(&drive.module));
     let file: syn::File =
         syn::parse2(tokens).map_err(|e| Error::Emit(format!("golden tests do not parse: {e}")))?;
     Ok(format!(
         "{}{}",
-        emit::rust::header(drive),
+        emit::rust::header_with(drive, names),
         prettyplease::unparse(&file)
     ))
 }

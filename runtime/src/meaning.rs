@@ -7,8 +7,8 @@
 //! tripped flag. Fields a frame does not carry are `None`.
 
 use crate::error::DecodeError;
-use crate::layout::Role;
 use crate::kinds::{CommandKind, Space};
+use crate::layout::Role;
 use crate::protocol::{Protocol, Reply};
 
 /// Whether a frame goes from master to drive or back.

@@ -1,7 +1,71 @@
-//! Expectation files for diagnostics: compile a description, compare the rendered messages
-//! with a committed file, or rewrite the file when `UPDATE_EXPECT` is set.
+//! Expectation files: committed files (expected diagnostics, generated pages) compared with
+//! what the code makes now, or rewritten when `UPDATE_EXPECT` is set, in the manner of
+//! rust-analyzer's `ensure_file_contents`.
 
 use std::path::{Path, PathBuf};
+
+/// A committed file whose contents differ from what they should be.
+#[derive(Debug)]
+pub struct Outdated<'a> {
+    /// The file.
+    pub path: &'a Path,
+    /// What it holds (empty when missing).
+    pub committed: String,
+    /// What it should hold.
+    pub fresh: &'a str,
+}
+
+impl Outdated<'_> {
+    /// The first line that differs, as `path:line`, with both versions of it.
+    pub fn first_difference(&self) -> String {
+        let mut committed = self.committed.lines();
+        let mut fresh = self.fresh.lines();
+        let mut line = 1;
+        loop {
+            match (committed.next(), fresh.next()) {
+                (Some(old), Some(new)) if old == new => line += 1,
+                (old, new) => {
+                    return format!(
+                        "{}:{line}\n  committed: {}\n  now:       {}",
+                        self.path.display(),
+                        old.unwrap_or("(end of file)"),
+                        new.unwrap_or("(end of file)")
+                    )
+                }
+            }
+        }
+    }
+}
+
+/// Whether `UPDATE_EXPECT` is set: rewrite expectation files instead of comparing.
+pub fn update_requested() -> bool {
+    std::env::var_os("UPDATE_EXPECT").is_some()
+}
+
+/// Compares each file with the contents it should have and returns those that differ.
+/// Under `UPDATE_EXPECT=1` it rewrites them instead and returns nothing.
+#[track_caller]
+pub fn outdated_files(files: &[(PathBuf, String)]) -> Vec<Outdated<'_>> {
+    let update = update_requested();
+    let mut outdated = Vec::new();
+    for (path, fresh) in files {
+        let committed = std::fs::read_to_string(path).unwrap_or_default();
+        if committed == *fresh {
+            continue;
+        }
+        if update {
+            std::fs::write(path, fresh)
+                .unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
+        } else {
+            outdated.push(Outdated {
+                path,
+                committed,
+                fresh,
+            });
+        }
+    }
+    outdated
+}
 
 /// One broken description and the file holding its expected messages.
 pub struct Case {
@@ -28,22 +92,21 @@ pub fn render(case: &Case) -> String {
 /// `UPDATE_EXPECT=1`) and reports every difference at once.
 #[track_caller]
 pub fn check_all(cases: &[Case]) {
-    let update = std::env::var_os("UPDATE_EXPECT").is_some();
-    let mut failures = Vec::new();
-    for case in cases {
-        let actual = render(case);
-        if update {
-            std::fs::write(&case.expected, &actual).expect("write expectation");
-            continue;
-        }
-        let expected = std::fs::read_to_string(&case.expected).unwrap_or_default();
-        if expected != actual {
-            failures.push(format!(
-                "--- {} (expected)\n{expected}\n+++ actual\n{actual}",
-                case.expected.display()
-            ));
-        }
-    }
+    let files: Vec<(PathBuf, String)> = cases
+        .iter()
+        .map(|case| (case.expected.clone(), render(case)))
+        .collect();
+    let failures: Vec<String> = outdated_files(&files)
+        .iter()
+        .map(|file| {
+            format!(
+                "--- {} (expected)\n{}\n+++ actual\n{}",
+                file.path.display(),
+                file.committed,
+                file.fresh
+            )
+        })
+        .collect();
     assert!(
         failures.is_empty(),
         "messages changed (rerun with UPDATE_EXPECT=1 if intended):\n{}",

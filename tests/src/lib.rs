@@ -1,9 +1,8 @@
-//! Shared support for the workspace-level tests: the golden-frame assertions that the
-//! generated tests (one per manual example) call, expectation files for diagnostics, and a
+//! Shared support for the workspace-level tests: expectation files for diagnostics, a
 //! scripted peer for exchanges, and the module-graph check that keeps each crate free of
-//! import circles.
+//! import circles. The generated golden-frame tests call `vfd_runtime::testing` (the
+//! runtime's `testing` feature).
 
 pub mod expectations;
-pub mod golden;
 pub mod module_graph;
 pub mod scripted_peer;

@@ -1,5 +1,11 @@
 //! The committed reference pages in `generated-docs/` must equal what the generator makes
-//! from `drives/*.yaml` now.
+//! from `drives/*.yaml` now. Builds never write them: `cargo run -p vfd-cli -- generate`
+//! refreshes them, and so does this test under `UPDATE_EXPECT=1`.
+
+use std::path::PathBuf;
+use vfd_tests::expectations::{entries, outdated_files, update_requested};
+
+const REFRESH: &str = "cargo run -p vfd-cli -- generate";
 
 #[test]
 fn committed_reference_pages_are_current() {
@@ -7,26 +13,36 @@ fn committed_reference_pages_are_current() {
         .drives_in("../drives")
         .expect("drives/ is readable")
         .display_root("..")
+        // As `vfd generate` (cli/src/main.rs) makes them.
+        .regenerate_command(REFRESH)
+        .crate_path("vfd_drives")
+        .manuals_location("shared/seeds")
         .generate_in_memory()
         .unwrap_or_else(|error| panic!("the drive files do not generate:\n{error}"));
-    let mut stale = Vec::new();
-    let mut pages: Vec<(String, &str)> = generated
+    let docs = PathBuf::from("../generated-docs");
+    let mut pages: Vec<(PathBuf, String)> = generated
         .drives
         .iter()
-        .map(|d| (format!("{}.md", d.ir.id), d.markdown.as_str()))
+        .map(|d| (docs.join(format!("{}.md", d.ir.id)), d.markdown.clone()))
         .collect();
-    pages.push(("README.md".to_owned(), generated.index.as_str()));
-    for (name, fresh) in pages {
-        let committed =
-            std::fs::read_to_string(format!("../generated-docs/{name}")).unwrap_or_default();
-        if committed != fresh {
-            stale.push(format!("generated-docs/{name}"));
+    pages.push((docs.join("README.md"), generated.index.clone()));
+    let mut problems: Vec<String> = outdated_files(&pages)
+        .iter()
+        .map(|page| format!("stale: {}", page.first_difference()))
+        .collect();
+    for stray in entries(&docs, |path| {
+        path.extension().is_some_and(|ext| ext == "md") && !pages.iter().any(|(p, _)| p == path)
+    }) {
+        if update_requested() {
+            std::fs::remove_file(&stray).expect("remove a page no drive makes");
+        } else {
+            problems.push(format!("no drive makes {} (delete it)", stray.display()));
         }
     }
     assert!(
-        stale.is_empty(),
-        "stale reference pages: {}. Refresh them with `cargo run -p vfd-cli -- generate` and commit the result.",
-        stale.join(", ")
+        problems.is_empty(),
+        "generated-docs/ differs from what the drive files give now:\n{}\nRefresh it with `{REFRESH}` (or rerun this test with UPDATE_EXPECT=1) and commit the result.",
+        problems.join("\n")
     );
 }
 

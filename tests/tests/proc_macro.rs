@@ -16,3 +16,19 @@ fn the_macro_expands_to_the_drive_module() {
         vfd_drives::yd1000::registers::ALL.len()
     );
 }
+
+/// An explicit protocol folder (here the default one, named from another place).
+mod explicit_protocols {
+    vfd_macros::include_drive!(
+        "../drives/fc51.yaml",
+        protocols = "../drives/../drives/protocols"
+    );
+}
+
+#[test]
+fn the_macro_takes_a_protocol_folder() {
+    assert_eq!(
+        explicit_protocols::fc51::registers::ALL.len(),
+        vfd_drives::fc51::registers::ALL.len()
+    );
+}

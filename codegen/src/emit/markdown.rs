@@ -1,6 +1,7 @@
 //! Stage 4b: renders the Markdown reference pages from the IR with minijinja templates.
 
 use crate::ir::DriveIr;
+use crate::OutputNames;
 use minijinja::{context, Environment};
 
 const DRIVE_TEMPLATE: &str = include_str!("../../templates/drive.md.j2");
@@ -19,22 +20,44 @@ fn environment() -> Result<Environment<'static>, String> {
     Ok(env)
 }
 
-/// The reference page of one drive.
+/// The reference page of one drive (default names).
 pub fn drive_page(drive: &DriveIr) -> Result<String, String> {
+    drive_page_with(drive, &OutputNames::default())
+}
+
+/// The reference page of one drive, naming the module, manual, protocol files and
+/// regenerate command as `names` says.
+pub fn drive_page_with(drive: &DriveIr, names: &OutputNames) -> Result<String, String> {
     let env = environment()?;
     let template = env.get_template("drive.md").map_err(|e| e.to_string())?;
+    let protocol_files: std::collections::BTreeMap<&str, String> = drive
+        .protocols
+        .iter()
+        .map(|p| (p.uses.as_str(), names.protocol_file_shown(&p.uses)))
+        .collect();
     let text = template
-        .render(context! { drive => drive })
+        .render(context! {
+            drive => drive,
+            regenerate => names.regenerate_hint(),
+            module_path => names.module_path(&drive.module),
+            manual_shown => names.manual_shown(&drive.manual),
+            protocol_files => protocol_files,
+        })
         .map_err(|e| format!("rendering {}: {e:#}", drive.id))?;
     Ok(tidy(&text))
 }
 
-/// The index page listing every drive.
+/// The index page listing every drive (default names).
 pub fn index_page(drives: &[DriveIr]) -> Result<String, String> {
+    index_page_with(drives, &OutputNames::default())
+}
+
+/// The index page listing every drive, naming the regenerate command as `names` says.
+pub fn index_page_with(drives: &[DriveIr], names: &OutputNames) -> Result<String, String> {
     let env = environment()?;
     let template = env.get_template("index.md").map_err(|e| e.to_string())?;
     let text = template
-        .render(context! { drives => drives })
+        .render(context! { drives => drives, regenerate => names.regenerate_hint() })
         .map_err(|e| format!("rendering the index: {e:#}"))?;
     Ok(tidy(&text))
 }

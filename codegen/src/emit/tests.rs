@@ -1,15 +1,16 @@
 //! Stage 4c: emits golden-frame tests from a drive's examples, one `#[test]` per example,
-//! calling the checks in the workspace test crate (`vfd_tests::golden`).
+//! calling the checks in `vfd_runtime::testing` (the runtime's `testing` feature), so they
+//! compile in any crate that depends on `vfd-runtime` with that feature.
 
 use crate::ir::{DriveIr, ExampleIr, ExpectIr, FrameIr, ValueKind};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
 /// Golden tests for every example, bit-field example and value example of `drive`.
-/// `drive_path` is the path of the generated drive module, e.g. `vfd_drives::yd1000`.
+/// `drive_path` is the path of the generated drive module as seen from the tests, e.g.
+/// `crate::yd1000` or `my_drives::yd1000`.
 pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
-    let root: syn::Path =
-        syn::parse_str(drive_path).unwrap_or_else(|_| syn::parse_quote!(vfd_drives));
+    let root: syn::Path = syn::parse_str(drive_path).unwrap_or_else(|_| syn::parse_quote!(crate));
     let mut tests = Vec::new();
     for example in &drive.examples {
         tests.push(example_test(&root, example));
@@ -136,7 +137,7 @@ fn expect_tokens(expect: &ExpectIr) -> TokenStream {
     let text = option(expect.text.as_deref());
     let tripped = expect.tripped;
     quote! {
-        ::vfd_tests::golden::Expect {
+        ::vfd_runtime::testing::Expect {
             address: #address,
             code: #code,
             register: #register,
@@ -164,16 +165,16 @@ fn frame_checks(protocol: &TokenStream, frame: &FrameIr, request: bool) -> Token
     let bytes = bytes_tokens(&frame.bytes);
     let expect = expect_tokens(&frame.expect);
     let check = if request {
-        quote!(::vfd_tests::golden::request_round_trips(#protocol, #bytes, #expect);)
+        quote!(::vfd_runtime::testing::request_round_trips(#protocol, #bytes, #expect);)
     } else {
-        quote!(::vfd_tests::golden::reply_round_trips(#protocol, #bytes, #expect);)
+        quote!(::vfd_runtime::testing::reply_round_trips(#protocol, #bytes, #expect);)
     };
     let printed = frame.printed.as_ref().map(|printed| {
         let bytes = bytes_tokens(&printed.bytes);
         let reason = &printed.rejected_as;
         let direction = if request { quote!(Request) } else { quote!(Reply) };
         quote! {
-            ::vfd_tests::golden::printed_is_rejected(#protocol, ::vfd_tests::golden::Direction::#direction, #bytes, #reason);
+            ::vfd_runtime::testing::printed_is_rejected(#protocol, ::vfd_runtime::testing::Direction::#direction, #bytes, #reason);
         }
     });
     quote! { #check #printed }
@@ -236,7 +237,7 @@ fn example_test(root: &syn::Path, example: &ExampleIr) -> TokenStream {
                     {
                         #build
                         #at_index
-                        ::vfd_tests::golden::typed_request_encodes(#protocol, &request, #bytes);
+                        ::vfd_runtime::testing::typed_request_encodes(#protocol, &request, #bytes);
                     }
                 });
             }

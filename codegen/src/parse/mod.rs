@@ -31,7 +31,7 @@ impl SourceFile {
                 format!("cannot read the file: {error}"),
             )
             .hint(
-                "check the path; drive files live in drives/, protocol files in drives/protocols/",
+                "check the path; a relative path starts at the current folder (a build script's is its crate's folder)",
             )
         })?;
         Ok(SourceFile::from_text(path, text))

@@ -143,7 +143,7 @@ fn protocol_items(protocol: &ProtocolIr) -> TokenStream {
     let [first, second] = runtime.default_process;
     let gap = runtime.frame_gap_chars;
     let doc = format!(
-        " {} ({}), described in `drives/protocols/{}.yaml`; manual section {}.",
+        " {} ({}), described in the protocol file `{}.yaml`; manual section {}.",
         protocol.name, protocol.name_zh, protocol.uses, protocol.source
     );
     let description = format!(" {}", protocol.description);

@@ -1,10 +1,21 @@
-//! Golden-frame checks: a manual's bytes decode to what the manual says, re-encode to the
-//! same bytes, and a misprinted frame is rejected for the stated reason.
+//! Golden-frame checks for generated tests (cargo feature `testing`, off by default).
+//!
+//! `vfd-codegen` turns every example frame of a drive description into a `#[test]` that
+//! calls these functions: a manual's bytes decode to what the manual says, re-encode to the
+//! same bytes, and a misprinted frame is rejected for the stated reason. A crate that runs
+//! generated golden tests enables the feature for its tests only:
+//!
+//! ```toml
+//! [dev-dependencies]
+//! vfd-runtime = { version = "0.1", features = ["testing"] }
+//! ```
+//!
+//! The functions panic with a message naming the mismatch, like `assert_eq!`.
 
-use vfd_runtime::codec::{self, FrameValues};
-use vfd_runtime::layout::{FrameLayout, Part};
-use vfd_runtime::protocol::DecodedRequest;
-use vfd_runtime::{DataType, DecodeErrorKind, Protocol, Reply, Request, Role};
+use crate::codec::{self, FrameValues};
+use crate::layout::{FrameLayout, Part};
+use crate::protocol::DecodedRequest;
+use crate::{DataType, DecodeErrorKind, Protocol, Reply, Request, Role};
 
 /// What a frame should decode to (fields the manual states; `None` means "not in the frame").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -135,8 +146,8 @@ fn encodes_like(
     let len =
         codec::encode(layout, &values, &mut out).unwrap_or_else(|e| panic!("cannot encode: {e}"));
     assert_eq!(
-        vfd_runtime::error::hex(&out[..len]),
-        vfd_runtime::error::hex(bytes),
+        crate::error::hex(&out[..len]),
+        crate::error::hex(bytes),
         "encoded request differs from the manual"
     );
 }
@@ -214,8 +225,8 @@ pub fn reply_round_trips(protocol: &'static Protocol, bytes: &[u8], expect: Expe
     let len = codec::encode_with_payload(layout, &values, payload, &mut out)
         .unwrap_or_else(|e| panic!("cannot re-encode: {e}"));
     assert_eq!(
-        vfd_runtime::error::hex(&out[..len]),
-        vfd_runtime::error::hex(bytes),
+        crate::error::hex(&out[..len]),
+        crate::error::hex(bytes),
         "re-encoded reply differs"
     );
 }
@@ -235,7 +246,7 @@ pub fn printed_is_rejected(
     let error = error.unwrap_or_else(|| {
         panic!(
             "the misprinted frame {} decodes without error",
-            vfd_runtime::error::hex(bytes)
+            crate::error::hex(bytes)
         )
     });
     let reason = DecodeErrorKind::from_name(reason)
