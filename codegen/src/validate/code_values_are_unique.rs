@@ -55,3 +55,59 @@ pub fn code_values_are_unique(drive: &Context, out: &mut Diagnostics) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::code_values_are_unique as check;
+    use crate::validate::testing::{assert_at, check_yaml, only, valid_with, VALID};
+
+    #[test]
+    fn accepts_distinct_codes() {
+        assert!(check_yaml(check, VALID).is_empty());
+    }
+
+    #[test]
+    fn reports_a_code_used_twice_in_a_table() {
+        let yaml = valid_with(&[("{ value: 1, id: even_parity", "{ value: 0, id: even_parity")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "codes[0].values[1].value",
+            "code 0 appears twice in `parity` (first at values[0])",
+            "id: even_parity",
+        );
+    }
+
+    #[test]
+    fn reports_a_code_beyond_16_bits() {
+        let yaml = valid_with(&[(
+            "{ value: 1, id: even_parity",
+            "{ value: 0x10000, id: even_parity",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "codes[0].values[1].value",
+            "code 0x10000 does not fit in 16 bits",
+            "id: even_parity",
+        );
+    }
+
+    #[test]
+    fn reports_an_error_code_used_twice() {
+        let yaml = valid_with(&[(
+            "code: 0x0001, id: data_error",
+            "code: 0x0000, id: data_error",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "error_codes.codes[1].code",
+            "error code 0000h appears twice (first at error_codes.codes[0])",
+            "id: data_error",
+        );
+    }
+}

@@ -92,3 +92,113 @@ pub fn identifiers_are_snake_case(drive: &Context, out: &mut Diagnostics) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::identifiers_are_snake_case as check;
+    use crate::validate::testing::{assert_at, check_yaml, only, valid_with, VALID};
+
+    #[test]
+    fn accepts_snake_case_identifiers() {
+        assert!(check_yaml(check, VALID).is_empty());
+    }
+
+    #[test]
+    fn reports_upper_case_and_dashes_wherever_an_identifier_is() {
+        let cases = [
+            (
+                "id: test_drive",
+                "id: test-drive",
+                "drive.id",
+                "test-drive",
+                "id: test-drive",
+            ),
+            (
+                "id: maximum_frequency,",
+                "id: MaximumFrequency,",
+                "registers[1].id",
+                "MaximumFrequency",
+                "code: FH,",
+            ),
+            (
+                "- id: command_word",
+                "- id: commandWord",
+                "bitfields[0].id",
+                "commandWord",
+                "- id: commandWord",
+            ),
+            (
+                "id: run,",
+                "id: Run,",
+                "bitfields[0].fields[2].id",
+                "Run",
+                "bit: 10,",
+            ),
+            (
+                "- id: parity",
+                "- id: Parity",
+                "codes[0].id",
+                "Parity",
+                "- id: Parity",
+            ),
+            (
+                "id: even_parity",
+                "id: even parity",
+                "codes[0].values[1].id",
+                "even parity",
+                "value: 1,",
+            ),
+            (
+                "id: data_error",
+                "id: DataError",
+                "error_codes.codes[1].id",
+                "DataError",
+                "code: 0x0001",
+            ),
+            (
+                "id: read_maximum_frequency",
+                "id: read.maximum",
+                "examples[0].id",
+                "read.maximum",
+                "id: read.maximum",
+            ),
+        ];
+        for (from, to, path, id, line) in cases {
+            let yaml = valid_with(&[(from, to)]);
+            let found = check_yaml(check, &yaml);
+            assert_at(
+                only(&found),
+                &yaml,
+                path,
+                &format!("identifier `{id}` is not lower-case snake case"),
+                line,
+            );
+        }
+    }
+
+    #[test]
+    fn reports_an_identifier_starting_with_a_digit() {
+        let yaml = valid_with(&[("id: no_parity", "id: 0_none")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "codes[0].values[0].id",
+            "identifier `0_none` is not lower-case snake case",
+            "value: 0,",
+        );
+    }
+
+    #[test]
+    fn reports_a_field_that_is_neither_named_nor_reserved() {
+        let yaml = valid_with(&[("{ bit: 10, id: run, name: Run }", "{ bit: 10, name: Run }")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "bitfields[0].fields[2]",
+            "a bit field that is not reserved needs an `id`",
+            "bit: 10,",
+        );
+    }
+}
