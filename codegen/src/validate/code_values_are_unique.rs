@@ -1,10 +1,10 @@
-//! Check: code-table values are unique and fit 16 bits.
+//! Check: code-table values and error codes are unique and fit 16 bits.
 
 use crate::diagnostics::Diagnostics;
 use crate::validate::Context;
 use std::collections::HashMap;
 
-/// Code-table values are unique and fit 16 bits.
+/// Code-table values and error codes are unique and fit 16 bits.
 pub fn code_values_are_unique(drive: &Context, out: &mut Diagnostics) {
     for (i, table) in drive.model.codes.iter().enumerate() {
         let mut seen: HashMap<u32, usize> = HashMap::new();
@@ -39,6 +39,17 @@ pub fn code_values_are_unique(drive: &Context, out: &mut Diagnostics) {
     }
     let mut seen: HashMap<u32, usize> = HashMap::new();
     for (j, code) in drive.model.error_codes.codes.iter().enumerate() {
+        if code.code > 0xFFFF {
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("error_codes.codes[{j}].code"),
+                        format!("error code {:#X} does not fit in 16 bits", code.code),
+                    )
+                    .hint("error codes are the data word of an error reply"),
+            );
+        }
         if let Some(first) = seen.insert(code.code, j) {
             out.push(
                 drive
@@ -92,6 +103,22 @@ mod tests {
             "codes[0].values[1].value",
             "code 0x10000 does not fit in 16 bits",
             "id: even_parity",
+        );
+    }
+
+    #[test]
+    fn reports_an_error_code_beyond_16_bits() {
+        let yaml = valid_with(&[(
+            "code: 0x0001, id: data_error",
+            "code: 0x10001, id: data_error",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "error_codes.codes[1].code",
+            "error code 0x10001 does not fit in 16 bits",
+            "id: data_error",
         );
     }
 

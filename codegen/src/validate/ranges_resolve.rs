@@ -22,12 +22,17 @@ pub fn ranges_resolve(drive: &Context, out: &mut Diagnostics) {
             match ranges::resolve_bound(&drive.model, bound, end) {
                 Ok(value) => {
                     let (word_min, word_max) = ranges::word_limits(register);
+                    let word = if register.data_type.as_deref() == Some("double_word") {
+                        "32-bit double word"
+                    } else {
+                        "16-bit word"
+                    };
                     match ranges::to_raw(register, value) {
                         None => out.push(drive.source.error(&path, format!("bound {} is not a whole number of {} steps", with_unit(register, value.to_string()), with_unit(register, ranges::scale_of(register).to_string()))).hint("check the scale, or the bound's decimals")),
                         Some(raw) if raw < word_min || raw > word_max => out.push(
                             drive
                                 .source
-                                .error(&path, format!("bound {value} is raw {raw}, outside the 16-bit word ({word_min}..={word_max})"))
+                                .error(&path, format!("bound {value} is raw {raw}, outside the {word} ({word_min}..={word_max})"))
                                 .hint("check the scale and `signed`"),
                         ),
                         Some(_) => resolved[slot] = Some(value),
@@ -176,6 +181,18 @@ mod tests {
             "registers[0].range.min",
             "bound -0.1 is raw -1, outside the 16-bit word (0..=65535)",
             "code: Acc,",
+        );
+        let yaml = valid_with(&[(
+            "min: 30.0, max: 320.0 }",
+            "min: 30.0, max: 50000000.0 }, data_type: double_word",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            &found[0],
+            &yaml,
+            "registers[1].range.max",
+            "bound 50000000 is raw 5000000000, outside the 32-bit double word (0..=4294967295)",
+            "code: FH,",
         );
         // Signed registers take negative bounds (and a signed word ends at raw 32767).
         let yaml = valid_with(&[(
