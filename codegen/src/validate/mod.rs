@@ -17,6 +17,7 @@ mod ranges_resolve;
 mod reference_scaling_resolves;
 mod references_resolve;
 mod register_addresses_are_unique;
+mod rust_names_are_unique;
 mod scales_are_positive;
 mod serial_settings_are_consistent;
 mod units_are_known;
@@ -44,10 +45,11 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 15] = [
+    let checks: [fn(&Context, &mut Diagnostics); 16] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
+        rust_names_are_unique::rust_names_are_unique,
         units_are_known::units_are_known,
         scales_are_positive::scales_are_positive,
         ranges_resolve::ranges_resolve,
