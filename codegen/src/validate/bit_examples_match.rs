@@ -48,3 +48,43 @@ pub fn bit_examples_match(drive: &Context, out: &mut Diagnostics) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::bit_examples_match as check;
+    use crate::validate::testing::{assert_at, check_yaml, only, valid_with, VALID};
+
+    #[test]
+    fn accepts_an_example_that_matches_the_bits() {
+        assert!(check_yaml(check, VALID).is_empty());
+    }
+
+    #[test]
+    fn reports_a_value_the_fields_do_not_give() {
+        let yaml = valid_with(&[("value: 0x8400, set", "value: 0x8000, set")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "bitfields[0].examples[0].value",
+            "the fields set give 8400h, not 8000h",
+            "Forward run",
+        );
+    }
+
+    #[test]
+    fn reports_a_name_that_is_not_a_field() {
+        let yaml = valid_with(&[(
+            "set: [command_enabled, run]",
+            "set: [command_enabled, run, jog]",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "bitfields[0].examples[0].set",
+            "`jog` is not a field of `command_word`",
+            "Forward run",
+        );
+    }
+}

@@ -36,3 +36,72 @@ pub fn bit_fields_do_not_overlap(drive: &Context, out: &mut Diagnostics) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::bit_fields_do_not_overlap as check;
+    use crate::validate::testing::{assert_at, assert_column, check_yaml, only, valid_with, VALID};
+
+    #[test]
+    fn accepts_fields_that_tile_the_word() {
+        assert!(check_yaml(check, VALID).is_empty());
+    }
+
+    #[test]
+    fn reports_the_later_of_two_overlapping_fields() {
+        let yaml = valid_with(&[(
+            r#"{ bits: "9:0", reserved: true }"#,
+            r#"{ bits: "10:0", reserved: true }"#,
+        )]);
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_at(
+            diagnostic,
+            &yaml,
+            "bitfields[0].fields[3]",
+            "bit 10 of `command_word` is already used by `run` (fields[2])",
+            r#"bits: "10:0""#,
+        );
+        assert_column(diagnostic, &yaml, r#"bits: "10:0""#);
+    }
+
+    #[test]
+    fn names_a_reserved_owner_as_reserved() {
+        let yaml = valid_with(&[("{ bit: 10, id: run,", "{ bit: 12, id: run,")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "bitfields[0].fields[2]",
+            "bit 12 of `command_word` is already used by `reserved` (fields[1])",
+            "bit: 12,",
+        );
+    }
+
+    #[test]
+    fn reports_spans_that_do_not_fit_or_are_malformed() {
+        let cases = [
+            ("{ bit: 16, id: run,", "bit 16 is outside a 16-bit word"),
+            (r#"{ bits: "10", id: run,"#, "`bits: 10` is not \"msb:lsb\""),
+            (
+                r#"{ bits: "9:10", id: run,"#,
+                "`bits: 9:10` needs 15 >= msb >= lsb",
+            ),
+            (
+                r#"{ bit: 10, bits: "10:10", id: run,"#,
+                "give exactly one of `bit` and `bits`",
+            ),
+        ];
+        for (to, message) in cases {
+            let yaml = valid_with(&[("{ bit: 10, id: run,", to)]);
+            let found = check_yaml(check, &yaml);
+            assert_at(
+                only(&found),
+                &yaml,
+                "bitfields[0].fields[2]",
+                message,
+                "id: run,",
+            );
+        }
+    }
+}

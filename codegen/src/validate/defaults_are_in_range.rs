@@ -46,3 +46,76 @@ pub fn defaults_are_in_range(drive: &Context, out: &mut Diagnostics) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::defaults_are_in_range as check;
+    use crate::validate::testing::{assert_at, assert_column, check_yaml, only, valid_with, VALID};
+
+    #[test]
+    fn accepts_defaults_within_their_ranges() {
+        assert!(check_yaml(check, VALID).is_empty());
+    }
+
+    #[test]
+    fn reports_a_default_outside_a_numeric_range() {
+        let yaml = valid_with(&[(
+            "max: 320.0 }, default: 80.0",
+            "max: 320.0 }, default: 400.0",
+        )]);
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_at(
+            diagnostic,
+            &yaml,
+            "registers[1].default",
+            "default 400 Hz is outside the range 30.00 Hz to 320.00 Hz",
+            "code: FH,",
+        );
+        assert_column(diagnostic, &yaml, "400.0");
+    }
+
+    #[test]
+    fn takes_a_named_bound_at_its_widest() {
+        let yaml = valid_with(&[("max: FH }, default: 80.0", "max: FH }, default: 320.0")]);
+        assert!(check_yaml(check, &yaml).is_empty());
+        let yaml = valid_with(&[("max: FH }, default: 80.0", "max: FH }, default: 320.01")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "registers[2].default",
+            "default 320.01 Hz is outside the range 0.50 Hz to 320.00 Hz",
+            "code: UL,",
+        );
+    }
+
+    #[test]
+    fn checks_a_register_without_a_range_against_its_word() {
+        let yaml = valid_with(&[(
+            "code_table: parity, default: 1",
+            "code_table: parity, default: 70000",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "registers[3].default",
+            "default 70000 is outside the range 0 to 65535",
+            "code: F601,",
+        );
+    }
+
+    #[test]
+    fn reports_a_default_that_is_not_a_whole_number_of_steps() {
+        let yaml = valid_with(&[("default: 10.0", "default: 10.05")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "registers[0].default",
+            "default 10.05 s is not a whole number of 0.1 s steps",
+            "code: Acc,",
+        );
+    }
+}

@@ -274,3 +274,228 @@ fn check_example_value(
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::examples_decode as check;
+    use crate::validate::testing::{assert_at, check_yaml, only, valid_with, VALID};
+
+    const REQUEST: &str =
+        r#"request: { ascii: "(R0011)\r", expect: { command: R, register: 0x0011 } }"#;
+    const REPLY: &str = r#"reply: { ascii: "(R00111F40)\r", expect: { command: R, register: 0x0011, data: 0x1F40 } }"#;
+
+    #[test]
+    fn accepts_frames_that_decode_as_stated() {
+        assert!(check_yaml(check, VALID).is_empty());
+    }
+
+    #[test]
+    fn reports_an_unknown_protocol_and_lists_the_known_ones() {
+        let yaml = valid_with(&[("protocol: ascii", "protocol: binary")]);
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_at(
+            diagnostic,
+            &yaml,
+            "examples[0].protocol",
+            "unknown protocol `binary`",
+            "protocol: binary",
+        );
+        assert_eq!(
+            diagnostic.hint.as_deref(),
+            Some("use one of the drive's protocols: ascii")
+        );
+    }
+
+    #[test]
+    fn reports_an_example_without_frames() {
+        let yaml = valid_with(&[(REQUEST, ""), (REPLY, ""), ("    value: 80.0\n", "")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "examples[0]",
+            "an example needs a `request`, a `reply` or both",
+            "id: read_maximum_frequency",
+        );
+    }
+
+    #[test]
+    fn reports_frame_bytes_that_are_missing_or_not_hex() {
+        let yaml = valid_with(&[(r#"ascii: "(R0011)\r","#, r#"hex: "2F 5G","#)]);
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_eq!(diagnostic.path, "examples[0].request");
+        assert!(diagnostic.message.contains("5G"), "{}", diagnostic.message);
+        let yaml = valid_with(&[(
+            r#"ascii: "(R0011)\r","#,
+            r#"ascii: "(R0011)\r", hex: "28","#,
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "examples[0].request",
+            "give exactly one of `ascii` and `hex`",
+            "request:",
+        );
+    }
+
+    #[test]
+    fn reports_a_frame_that_does_not_decode() {
+        let yaml = valid_with(&[(r#""(R0011)\r""#, r#""(R0011&00)\r""#)]);
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_at(
+            diagnostic,
+            &yaml,
+            "examples[0].request",
+            "the frame does not decode: ascii: no request layout matches; the closest attempt failed with: read_request: sum8 checksum `sum` at byte 7 is 00h, but the covered bytes give 62h",
+            "request:",
+        );
+        assert!(diagnostic
+            .hint
+            .as_deref()
+            .is_some_and(|hint| hint.contains("printed:")));
+    }
+
+    #[test]
+    fn reports_every_field_that_decodes_differently() {
+        let yaml = valid_with(&[(
+            "expect: { command: R, register: 0x0011, data: 0x1F40 }",
+            "expect: { command: W, register: 0x0012, data: 0x1F41, tripped: true }",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "examples[0].reply.expect",
+            "the frame decodes differently: command is R, expected W; register is 0011h, expected 0012h; data is 1F40h, expected 1F41h; tripped is false, expected true",
+            "reply:",
+        );
+    }
+
+    #[test]
+    fn reports_a_command_that_is_not_one_character() {
+        let yaml = valid_with(&[(
+            "expect: { command: R, register: 0x0011 }",
+            "expect: { command: RD, register: 0x0011 }",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_eq!(found.len(), 2, "{found:#?}");
+        assert_at(
+            &found[0],
+            &yaml,
+            "examples[0].request.expect.command",
+            "`RD` is not one character or a number",
+            "request:",
+        );
+        assert_eq!(found[1].path, "examples[0].request.expect");
+    }
+
+    fn with_erratum(printed: &str, rest: &str) -> String {
+        valid_with(&[(
+            "expect: { command: R, register: 0x0011 } }",
+            &format!("expect: {{ command: R, register: 0x0011 }}, {printed}{rest} }}"),
+        )])
+    }
+
+    #[test]
+    fn accepts_an_erratum_rejected_for_the_stated_reason() {
+        let yaml = with_erratum(
+            r#"printed: { ascii: "(R0011&00)\r" }"#,
+            ", erratum: Wrong sum., printed_rejected_as: checksum_mismatch",
+        );
+        assert!(check_yaml(check, &yaml).is_empty());
+    }
+
+    #[test]
+    fn reports_an_erratum_rejected_for_another_reason() {
+        let yaml = with_erratum(
+            r#"printed: { ascii: "(R0011&00)\r" }"#,
+            ", erratum: Wrong sum., printed_rejected_as: truncated",
+        );
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_eq!(diagnostic.path, "examples[0].request.printed_rejected_as");
+        assert!(
+            diagnostic
+                .message
+                .starts_with("the printed frame is rejected as checksum_mismatch, not truncated: "),
+            "{}",
+            diagnostic.message
+        );
+    }
+
+    #[test]
+    fn reports_an_erratum_whose_printed_frame_decodes() {
+        let yaml = with_erratum(
+            r#"printed: { ascii: "(R0012)\r" }"#,
+            ", erratum: Wrong register., printed_rejected_as: checksum_mismatch",
+        );
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "examples[0].request.printed",
+            "the printed frame decodes without error, so the decoder cannot tell it is wrong",
+            "request:",
+        );
+    }
+
+    #[test]
+    fn reports_an_incomplete_erratum() {
+        let yaml = with_erratum(
+            r#"printed: { ascii: "(R0011&00)\r" }"#,
+            ", erratum: Wrong sum.",
+        );
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "examples[0].request",
+            "an erratum needs `printed`, `erratum` and `printed_rejected_as` together",
+            "request:",
+        );
+    }
+
+    #[test]
+    fn reports_a_value_the_data_does_not_give() {
+        let yaml = valid_with(&[("    value: 80.0", "    value: 60.0")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "examples[0].value",
+            "data 1F40h is 80.00 Hz in `FH`, not 60 Hz",
+            "value: 60.0",
+        );
+    }
+
+    #[test]
+    fn reports_a_value_without_a_described_register_or_data() {
+        let yaml = valid_with(&[
+            ("(R0011)", "(R0013)"),
+            ("register: 0x0011 } }", "register: 0x0013 } }"),
+            ("(R00111F40)", "(R00131F40)"),
+            ("register: 0x0011, data", "register: 0x0013, data"),
+        ]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "examples[0].value",
+            "`value` needs a frame naming a described register",
+            "    value: 80.0",
+        );
+        let yaml = valid_with(&[(REPLY, "")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "examples[0].value",
+            "`value` needs a frame carrying data",
+            "    value: 80.0",
+        );
+    }
+}

@@ -108,3 +108,104 @@ pub fn names_are_unique(drive: &Context, out: &mut Diagnostics) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::names_are_unique as check;
+    use crate::validate::testing::{assert_at, check_yaml, only, valid_with, VALID};
+
+    #[test]
+    fn accepts_unique_names() {
+        assert!(check_yaml(check, VALID).is_empty());
+    }
+
+    #[test]
+    fn reports_the_second_of_two_register_ids_and_codes() {
+        let yaml = valid_with(&[("id: upper_limit_frequency", "id: maximum_frequency")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "registers[2].id",
+            "duplicate register id `maximum_frequency` (first at registers[1].id)",
+            "code: UL,",
+        );
+        let yaml = valid_with(&[("code: UL,", "code: FH,")]);
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_at(
+            diagnostic,
+            &yaml,
+            "registers[2].code",
+            "duplicate register code `FH` (first at registers[1].code)",
+            "upper_limit_frequency",
+        );
+        assert_eq!(
+            diagnostic.hint.as_deref(),
+            Some("each register code must be unique")
+        );
+    }
+
+    #[test]
+    fn reports_duplicates_within_one_bit_field_word_and_one_code_table() {
+        let yaml = valid_with(&[
+            ("{ bit: 10, id: run,", "{ bit: 10, id: command_enabled,"),
+            ("id: even_parity", "id: no_parity"),
+        ]);
+        let found = check_yaml(check, &yaml);
+        assert_eq!(found.len(), 2, "{found:#?}");
+        assert_at(
+            &found[0],
+            &yaml,
+            "bitfields[0].fields[2].id",
+            "duplicate bit field id `command_enabled` (first at bitfields[0].fields[0].id)",
+            "bit: 10,",
+        );
+        assert_at(
+            &found[1],
+            &yaml,
+            "codes[0].values[1].id",
+            "duplicate code id `no_parity` (first at codes[0].values[0].id)",
+            "value: 1,",
+        );
+    }
+
+    #[test]
+    fn reports_duplicate_error_code_and_example_ids() {
+        let yaml = valid_with(&[("id: data_error", "id: cannot_execute")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "error_codes.codes[1].id",
+            "duplicate error code id `cannot_execute` (first at error_codes.codes[0].id)",
+            "code: 0x0001",
+        );
+        let second = "  - id: read_maximum_frequency\n    protocol: ascii\n    source: \"5.1\"\n    description: Again.\n    request: { ascii: \"(R0012)\\r\", expect: { command: R, register: 0x0012 } }\n";
+        let yaml = format!("{VALID}{second}");
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_eq!(diagnostic.path, "examples[1].id");
+        assert_eq!(
+            diagnostic.message,
+            "duplicate example id `read_maximum_frequency` (first at examples[0].id)"
+        );
+    }
+
+    #[test]
+    fn kinds_and_words_are_separate_namespaces() {
+        // A bit-field word may share its id with a code table and a register; two words
+        // may have fields of the same name.
+        let yaml = valid_with(&[
+            ("- id: command_word", "- id: parity"),
+            ("bitfield: command_word", "bitfield: parity"),
+            ("id: parity_setting", "id: parity"),
+        ]);
+        assert!(check_yaml(check, &yaml).is_empty());
+        let second = valid_with(&[(
+            "\nregisters:",
+            "  - id: status_word\n    name: Status word\n    source: \"7.2\"\n    fields:\n      - { bit: 10, id: run, name: Running }\n\nregisters:",
+        )]);
+        assert!(check_yaml(check, &second).is_empty());
+    }
+}

@@ -113,3 +113,119 @@ pub fn raw_range(
         .min(word_max);
     (min, max, name(&range.min), name(&range.max))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::validate::testing::{context, valid_with, VALID};
+
+    fn named(name: &str) -> BoundModel {
+        BoundModel::Register(name.to_owned())
+    }
+
+    #[test]
+    fn finds_registers_by_code_before_id() {
+        let drive = context(VALID).model;
+        assert_eq!(find_register(&drive, "FH").map(|r| r.address), Some(0x11));
+        assert_eq!(
+            find_register(&drive, "maximum_frequency").map(|r| r.address),
+            Some(0x11)
+        );
+        assert!(find_register(&drive, "fh").is_none());
+        // A code wins over another register's id.
+        let drive = context(&valid_with(&[("code: Acc,", "code: command,")])).model;
+        assert_eq!(
+            find_register(&drive, "command").map(|r| r.address),
+            Some(0x09)
+        );
+    }
+
+    #[test]
+    fn resolves_numbers_and_named_bounds() {
+        let drive = context(VALID).model;
+        assert_eq!(
+            resolve_bound(&drive, &BoundModel::Number(2.5), End::Min),
+            Ok(2.5)
+        );
+        assert_eq!(resolve_bound(&drive, &named("FH"), End::Max), Ok(320.0));
+        assert_eq!(resolve_bound(&drive, &named("FH"), End::Min), Ok(30.0));
+        // Through UL (max: FH) to FH's maximum; UL's own minimum is a number.
+        assert_eq!(resolve_bound(&drive, &named("UL"), End::Max), Ok(320.0));
+        assert_eq!(
+            resolve_bound(&drive, &named("upper_limit_frequency"), End::Min),
+            Ok(0.5)
+        );
+    }
+
+    #[test]
+    fn reports_unknown_unbounded_and_circular_bounds() {
+        let drive = context(VALID).model;
+        assert_eq!(
+            resolve_bound(&drive, &named("XX"), End::Max),
+            Err(BoundProblem::Unknown("XX".to_owned()))
+        );
+        assert_eq!(
+            resolve_bound(&drive, &named("F601"), End::Max),
+            Err(BoundProblem::Unbounded("F601".to_owned()))
+        );
+        let drive = context(&valid_with(&[(
+            "min: 30.0, max: 320.0",
+            "min: 30.0, max: UL",
+        )]))
+        .model;
+        assert!(matches!(
+            resolve_bound(&drive, &named("UL"), End::Max),
+            Err(BoundProblem::Cycle(_))
+        ));
+        // The other end of the same registers is numeric, so it still resolves.
+        assert_eq!(resolve_bound(&drive, &named("UL"), End::Min), Ok(0.5));
+    }
+
+    #[test]
+    fn converts_to_whole_raw_steps() {
+        let drive = context(VALID).model;
+        let frequency = &drive.registers[1];
+        assert_eq!(scale_of(frequency), 0.01);
+        assert_eq!(to_raw(frequency, 80.0), Some(8000));
+        assert_eq!(to_raw(frequency, 0.29), Some(29));
+        assert_eq!(to_raw(frequency, 0.005), None);
+        assert_eq!(to_raw(frequency, 1e20), None);
+        assert_eq!(scale_of(&drive.registers[3]), 1.0);
+    }
+
+    #[test]
+    fn word_limits_follow_sign_and_width() {
+        let yaml = valid_with(&[(
+            "code: F601, name: Parity,",
+            "code: F601, name: Parity, signed: true,",
+        )]);
+        let drive = context(&yaml).model;
+        assert_eq!(word_limits(&drive.registers[1]), (0, 65535));
+        assert_eq!(word_limits(&drive.registers[3]), (-32768, 32767));
+        let yaml = valid_with(&[(
+            "code: F601, name: Parity,",
+            "code: F601, name: Parity, data_type: double_word,",
+        )]);
+        let drive = context(&yaml).model;
+        assert_eq!(word_limits(&drive.registers[3]), (0, i64::from(u32::MAX)));
+    }
+
+    #[test]
+    fn raw_ranges_take_static_bounds_and_name_run_time_ones() {
+        let drive = context(VALID).model;
+        assert_eq!(
+            raw_range(&drive, &drive.registers[2]),
+            (50, 32000, None, Some("FH".to_owned()))
+        );
+        assert_eq!(
+            raw_range(&drive, &drive.registers[3]),
+            (0, 65535, None, None)
+        );
+        // An unresolvable bound falls back to the word's limit.
+        let drive = context(&valid_with(&[("max: FH }", "max: XX }")])).model;
+        assert_eq!(
+            raw_range(&drive, &drive.registers[2]),
+            (50, 65535, None, Some("XX".to_owned()))
+        );
+    }
+}

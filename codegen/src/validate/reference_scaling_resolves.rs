@@ -50,3 +50,83 @@ pub fn reference_scaling_resolves(drive: &Context, out: &mut Diagnostics) {
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::reference_scaling_resolves as check;
+    use crate::validate::testing::{assert_at, assert_column, check_yaml, only, valid_with, VALID};
+
+    const SCALING: &str = "reference_scaling:
+  source: \"7.1\"
+  full_scale_raw: 0x4000
+  applies_to: [upper_limit_frequency]
+  selector: parity_setting
+  modes:
+    - { selector: 0, low: 0, high: maximum_frequency, description: Percent of FH }
+
+value_examples:";
+
+    fn with_scaling(edits: &[(&str, &str)]) -> String {
+        let mut yaml = valid_with(&[("value_examples:", SCALING)]);
+        for (from, to) in edits {
+            assert_eq!(yaml.matches(from).count(), 1, "{from}");
+            yaml = yaml.replacen(from, to, 1);
+        }
+        yaml
+    }
+
+    #[test]
+    fn accepts_no_scaling_and_a_scaling_naming_registers() {
+        assert!(check_yaml(check, VALID).is_empty());
+        assert!(check_yaml(check, &with_scaling(&[])).is_empty());
+    }
+
+    #[test]
+    fn reports_every_name_that_is_not_a_register_id() {
+        let yaml = with_scaling(&[
+            ("selector: parity_setting", "selector: F601"),
+            (
+                "applies_to: [upper_limit_frequency]",
+                "applies_to: [upper_limit_frequency, speed]",
+            ),
+            ("low: 0,", "low: minimum_frequency,"),
+        ]);
+        let found = check_yaml(check, &yaml);
+        assert_eq!(found.len(), 3, "{found:#?}");
+        assert_at(
+            &found[0],
+            &yaml,
+            "reference_scaling.selector",
+            "`F601` is not the id of a register",
+            "selector: F601",
+        );
+        assert_at(
+            &found[1],
+            &yaml,
+            "reference_scaling.applies_to[1]",
+            "`speed` is not the id of a register",
+            "applies_to:",
+        );
+        assert_column(&found[1], &yaml, "speed");
+        assert_at(
+            &found[2],
+            &yaml,
+            "reference_scaling.modes[0].low",
+            "`minimum_frequency` is not the id of a register",
+            "low: minimum_frequency",
+        );
+    }
+
+    #[test]
+    fn reports_a_zero_full_scale() {
+        let yaml = with_scaling(&[("full_scale_raw: 0x4000", "full_scale_raw: 0")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "reference_scaling.full_scale_raw",
+            "full scale must be above 0",
+            "full_scale_raw",
+        );
+    }
+}

@@ -122,3 +122,135 @@ pub fn references_resolve(drive: &Context, out: &mut Diagnostics) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::references_resolve as check;
+    use crate::validate::testing::{assert_at, check_yaml, only, valid_with, VALID};
+
+    #[test]
+    fn accepts_references_to_defined_things() {
+        assert!(check_yaml(check, VALID).is_empty());
+        let yaml = valid_with(&[
+            (
+                "ram_only: true,",
+                "ram_only: true, access: write-only, takes_effect: after_reset,",
+            ),
+            ("register: FH, value", "register: maximum_frequency, value"),
+        ]);
+        assert!(check_yaml(check, &yaml).is_empty());
+    }
+
+    #[test]
+    fn reports_an_undefined_bit_field_word_and_code_table() {
+        let yaml = valid_with(&[
+            ("bitfield: command_word", "bitfield: status_word"),
+            ("code_table: parity", "code_table: baud_rate"),
+        ]);
+        let found = check_yaml(check, &yaml);
+        assert_eq!(found.len(), 2, "{found:#?}");
+        assert_at(
+            &found[0],
+            &yaml,
+            "registers[3].code_table",
+            "code table `baud_rate` is not defined",
+            "code: F601,",
+        );
+        assert_at(
+            &found[1],
+            &yaml,
+            "registers[4].bitfield",
+            "bit-field word `status_word` is not defined",
+            "code: FA00,",
+        );
+    }
+
+    #[test]
+    fn reports_a_bit_field_register_with_a_unit_scale_or_code_table() {
+        let yaml = valid_with(&[(
+            "bitfield: command_word,",
+            "bitfield: command_word, unit: Hz,",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "registers[4].unit",
+            "a bit-field register cannot also have `unit`",
+            "code: FA00,",
+        );
+        let yaml = valid_with(&[(
+            "bitfield: command_word,",
+            "bitfield: command_word, code_table: parity, scale: 0.1,",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_eq!(found.len(), 2, "{found:#?}");
+        assert_at(
+            &found[0],
+            &yaml,
+            "registers[4].code_table",
+            "a bit-field register cannot also have `code_table` or `scale`",
+            "code: FA00,",
+        );
+        assert_at(
+            &found[1],
+            &yaml,
+            "registers[4].code_table",
+            "a code-table register cannot also have a unit or a scale",
+            "code: FA00,",
+        );
+    }
+
+    #[test]
+    fn reports_unknown_access_and_takes_effect() {
+        let yaml = valid_with(&[(
+            "ram_only: true,",
+            "ram_only: true, access: readonly, takes_effect: later,",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_eq!(found.len(), 2, "{found:#?}");
+        assert_at(
+            &found[0],
+            &yaml,
+            "registers[4].access",
+            "unknown access `readonly`",
+            "code: FA00,",
+        );
+        assert_at(
+            &found[1],
+            &yaml,
+            "registers[4].takes_effect",
+            "unknown takes_effect `later`",
+            "code: FA00,",
+        );
+    }
+
+    #[test]
+    fn reports_a_value_example_naming_no_register() {
+        let yaml = valid_with(&[("register: FH, value", "register: XY, value")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "value_examples[0].register",
+            "register `XY` is not defined",
+            "register: XY",
+        );
+    }
+
+    #[test]
+    fn reports_a_bit_field_naming_an_undefined_code_table() {
+        let yaml = valid_with(&[(
+            r#"{ bits: "14:11", reserved: true }"#,
+            r#"{ bits: "14:11", id: mode, code_table: modes }"#,
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "bitfields[0].fields[1].code_table",
+            "code table `modes` is not defined",
+            "id: mode,",
+        );
+    }
+}

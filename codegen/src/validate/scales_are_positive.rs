@@ -21,3 +21,34 @@ pub fn scales_are_positive(drive: &Context, out: &mut Diagnostics) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::scales_are_positive as check;
+    use crate::validate::testing::{assert_at, check_yaml, only, valid_with, VALID};
+
+    #[test]
+    fn accepts_positive_scales() {
+        assert!(check_yaml(check, VALID).is_empty());
+    }
+
+    #[test]
+    fn reports_zero_negative_and_non_finite_scales() {
+        for (scale, shown) in [
+            ("0", "0"),
+            ("-0.1", "-0.1"),
+            (".nan", "NaN"),
+            (".inf", "inf"),
+        ] {
+            let yaml = valid_with(&[("unit: s, scale: 0.1", &format!("unit: s, scale: {scale}"))]);
+            let found = check_yaml(check, &yaml);
+            assert_at(
+                only(&found),
+                &yaml,
+                "registers[0].scale",
+                &format!("scale {shown} must be a positive number"),
+                "code: Acc,",
+            );
+        }
+    }
+}

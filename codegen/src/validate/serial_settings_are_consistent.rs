@@ -68,3 +68,84 @@ pub fn serial_settings_are_consistent(drive: &Context, out: &mut Diagnostics) {
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::serial_settings_are_consistent as check;
+    use crate::validate::testing::{assert_at, assert_column, check_yaml, only, valid_with, VALID};
+
+    #[test]
+    fn accepts_consistent_settings() {
+        assert!(check_yaml(check, VALID).is_empty());
+    }
+
+    #[test]
+    fn reports_an_unknown_parity() {
+        let yaml = valid_with(&[("parities: [even, odd]", "parities: [even, odd, mark]")]);
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_at(
+            diagnostic,
+            &yaml,
+            "serial.parities[2]",
+            "unknown parity `mark`",
+            "parities:",
+        );
+        assert_column(diagnostic, &yaml, "mark");
+    }
+
+    #[test]
+    fn reports_defaults_missing_from_the_lists() {
+        let yaml = valid_with(&[
+            ("baud_rates: [4800, 9600]", "baud_rates: [4800, 19200]"),
+            ("parities: [even, odd]", "parities: [odd]"),
+        ]);
+        let found = check_yaml(check, &yaml);
+        assert_eq!(found.len(), 2, "{found:#?}");
+        assert_at(
+            &found[0],
+            &yaml,
+            "serial.default.baud",
+            "default baud rate 9600 is not in `baud_rates`",
+            "default: { baud",
+        );
+        assert_at(
+            &found[1],
+            &yaml,
+            "serial.default.parity",
+            "default parity `even` is not in `parities`",
+            "default: { baud",
+        );
+    }
+
+    #[test]
+    fn reports_impossible_data_or_stop_bits() {
+        for (data, stop) in [(9, 1), (8, 3), (6, 1)] {
+            let yaml = valid_with(&[(
+                "data_bits: 8, stop_bits: 1",
+                &format!("data_bits: {data}, stop_bits: {stop}"),
+            )]);
+            let found = check_yaml(check, &yaml);
+            assert_at(
+                only(&found),
+                &yaml,
+                "serial.default",
+                "default needs 7 or 8 data bits and 1 or 2 stop bits",
+                "default: { baud",
+            );
+        }
+    }
+
+    #[test]
+    fn reports_station_numbers_in_the_wrong_order() {
+        let yaml = valid_with(&[("min: 0\n  max: 31", "min: 32\n  max: 31")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "addressing",
+            "addressing.min is above addressing.max",
+            "addressing:",
+        );
+    }
+}

@@ -32,3 +32,39 @@ pub fn value_examples_match(drive: &Context, out: &mut Diagnostics) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::value_examples_match as check;
+    use crate::validate::testing::{assert_at, check_yaml, only, valid_with, VALID};
+
+    #[test]
+    fn accepts_an_example_that_matches_the_scale() {
+        assert!(check_yaml(check, VALID).is_empty());
+        // The register may be named by id, and the value needs only round to the raw count.
+        let yaml = valid_with(&[(
+            "register: FH, value: 80.0",
+            "register: maximum_frequency, value: 80.004",
+        )]);
+        assert!(check_yaml(check, &yaml).is_empty());
+    }
+
+    #[test]
+    fn reports_a_raw_value_the_scale_does_not_give() {
+        let yaml = valid_with(&[("raw: 0x1F40", "raw: 0x1F41")]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "value_examples[0].raw",
+            "80 Hz in `FH` is not raw 1F41h with a step of 0.01 Hz",
+            "raw: 0x1F41",
+        );
+    }
+
+    #[test]
+    fn leaves_unknown_registers_to_references_resolve() {
+        let yaml = valid_with(&[("register: FH, value", "register: XY, value")]);
+        assert!(check_yaml(check, &yaml).is_empty());
+    }
+}
