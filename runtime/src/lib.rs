@@ -50,7 +50,7 @@ pub mod units;
 
 pub use codec::{FieldValue, FrameValues, Roles};
 pub use drive::DriveInfo;
-pub use error::{DecodeError, DecodeErrorKind, EncodeError, TransactionError, ValueError};
+pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
 pub use info::{ErrorCodeInfo, RegisterInfo};
 pub use kinds::{Access, CommandKind, DataType, Space};
 pub use layout::{
@@ -59,3 +59,4 @@ pub use layout::{
 };
 pub use protocol::{AddressMap, CommandSpec, PreStep, Protocol, Reply, Request};
 pub use register::{Persistable, Register, RegisterValue, Writable};
+pub use transaction::{TransactionError, TransactionErrorKind};

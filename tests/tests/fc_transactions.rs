@@ -7,7 +7,7 @@ use vfd_runtime::serial::DriveTiming;
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{memory_pair, MemoryTransport};
 use vfd_runtime::units::Percent;
-use vfd_runtime::{DecodeErrorKind, TransactionError};
+use vfd_runtime::{DecodeErrorKind, TransactionErrorKind};
 use vfd_tests::scripted_peer::answer;
 
 fn hex(text: &str) -> Vec<u8> {
@@ -210,7 +210,7 @@ fn error_replies_name_the_manual_error() {
         .write_ram::<registers::MaximumReference>(99.0)
         .unwrap_err();
     assert!(
-        matches!(error, TransactionError::Rejected { code: 2, .. }),
+        matches!(error.kind, TransactionErrorKind::Rejected { code: 2, .. }),
         "{error:?}"
     );
     let message = error.to_string();
@@ -234,7 +234,7 @@ fn a_bad_bcc_is_a_typed_error() {
     let (mut fc, _peer) = master(&protocols::FC, &["02 06 01 00 03 20 00 06"]);
     let error = fc.exchange_process(0x043C, 0x2000).unwrap_err();
     assert!(
-        matches!(&error, TransactionError::Decode { source, .. } if source.kind() == DecodeErrorKind::ChecksumMismatch),
+        matches!(&error.kind, TransactionErrorKind::Decode(source) if source.kind() == DecodeErrorKind::ChecksumMismatch),
         "{error:?}"
     );
 }
@@ -245,7 +245,7 @@ fn a_request_the_protocol_cannot_carry_names_the_register() {
     let (mut modbus, peer) = master(&protocols::MODBUS, &[]);
     let error = modbus.read_text::<registers::OrderingNumber>().unwrap_err();
     assert!(
-        matches!(error, TransactionError::Encode { .. }),
+        matches!(error.kind, TransactionErrorKind::Encode(_)),
         "{error:?}"
     );
     let message = error.to_string();
