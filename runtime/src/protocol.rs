@@ -242,7 +242,9 @@ impl Request {
         }
     }
 
-    /// The same request for array element `index`. Refuses indexes beyond the register's array.
+    /// The same request for array element `index`. Refuses indexes beyond the register's
+    /// array. (A [`crate::transaction::Master`] does the same with `read_at`, `write_ram_at`
+    /// and `write_persistent_at`; generated registers with `read_at` and `write_ram_at`.)
     pub fn at_index(mut self, index: u16) -> Result<Request, ValueError> {
         if let Some(info) = self.info {
             if u32::from(index) >= u32::from(info.array_len) {

@@ -99,8 +99,8 @@ impl<T: Transport> Master<T> {
         Ok(R::Value::from_raw(answer.data, R::INFO)?)
     }
 
-    /// Reads element `index` of the array register `R`.
-    pub fn read_indexed<R: Register>(&mut self, index: u16) -> Result<R::Value, TransactionError> {
+    /// Reads element `index` of the array register `R`. Refuses indexes beyond the array.
+    pub fn read_at<R: Register>(&mut self, index: u16) -> Result<R::Value, TransactionError> {
         let answer = self.transact(&Request::read::<R>().at_index(index)?)?;
         Ok(R::Value::from_raw(answer.data, R::INFO)?)
     }
@@ -122,7 +122,7 @@ impl<T: Transport> Master<T> {
     }
 
     /// Writes `value` to element `index` of the array register `R` in RAM only.
-    pub fn write_ram_indexed<R: Writable>(
+    pub fn write_ram_at<R: Writable>(
         &mut self,
         index: u16,
         value: R::Value,
@@ -137,6 +137,18 @@ impl<T: Transport> Master<T> {
         value: R::Value,
     ) -> Result<R::Value, TransactionError> {
         let answer = self.transact(&Request::write_persistent::<R>(value)?)?;
+        self.written::<R>(answer)
+    }
+
+    /// Writes `value` to element `index` of the array register `R` in RAM and EEPROM
+    /// (persistent; EEPROM wears out).
+    pub fn write_persistent_at<R: Persistable>(
+        &mut self,
+        index: u16,
+        value: R::Value,
+    ) -> Result<R::Value, TransactionError> {
+        let request = Request::write_persistent::<R>(value)?.at_index(index)?;
+        let answer = self.transact(&request)?;
         self.written::<R>(answer)
     }
 

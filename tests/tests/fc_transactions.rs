@@ -68,12 +68,7 @@ fn array_parameters_select_the_index_first_on_modbus() {
         &protocols::MODBUS,
         &["01 06 00 08 00 02 89 C9", "01 03 02 00 00 B8 44"],
     );
-    assert_eq!(
-        modbus
-            .read_indexed::<registers::PresetReference>(2)
-            .unwrap(),
-        0
-    );
+    assert_eq!(modbus.read_at::<registers::PresetReference>(2).unwrap(), 0);
     // Exactly the manual's two frames (with the CRC it leaves out).
     assert_eq!(
         shown(&peer.join().unwrap()),
@@ -87,15 +82,53 @@ fn array_parameters_carry_the_index_in_fc_telegrams() {
         &protocols::FC,
         &["02 0E 01 11 36 00 02 00 00 00 00 00 03 00 00 2B"],
     );
-    assert_eq!(fc.read_indexed::<registers::PresetReference>(2).unwrap(), 0);
+    assert_eq!(fc.read_at::<registers::PresetReference>(2).unwrap(), 0);
     let sent = peer.join().unwrap();
     assert_eq!(
         &sent[0][3..7],
         [0x11, 0x36, 0x00, 0x02],
         "PKE 1136h, IND 0002h"
     );
-    let error = fc
-        .read_indexed::<registers::PresetReference>(4)
+    let error = fc.read_at::<registers::PresetReference>(4).unwrap_err();
+    assert!(
+        error.to_string().contains("outside the array of 4"),
+        "{error}"
+    );
+}
+
+/// A Modbus RTU frame from its bytes without the CRC, with the CRC appended.
+fn with_crc(text: &str) -> String {
+    let mut bytes = hex(text);
+    let crc = vfd_runtime::checksum::crc16_modbus(&bytes);
+    bytes.extend(crc.to_le_bytes());
+    vfd_runtime::error::hex(&bytes)
+}
+
+#[test]
+fn array_elements_are_written_after_selecting_the_index() {
+    // The drive echoes each 05 and 06 request.
+    let select_index = with_crc("01 06 00 08 00 03");
+    let write = with_crc("01 06 0C 1B 00 05");
+    for (persistent, coil_65) in [
+        (false, "01 05 00 40 00 00 CC 1E"),
+        (true, "01 05 00 40 FF 00 8D EE"),
+    ] {
+        let (mut modbus, peer) = master(&protocols::MODBUS, &[&select_index, coil_65, &write]);
+        let written = if persistent {
+            modbus.write_persistent_at::<registers::PresetReference>(3, 5)
+        } else {
+            modbus.write_ram_at::<registers::PresetReference>(3, 5)
+        };
+        assert_eq!(written.unwrap(), 5);
+        assert_eq!(
+            shown(&peer.join().unwrap()),
+            [select_index.as_str(), coil_65, write.as_str()],
+            "persistent: {persistent}"
+        );
+    }
+    let (mut modbus, _peer) = master(&protocols::MODBUS, &[]);
+    let error = modbus
+        .write_ram_at::<registers::PresetReference>(4, 5)
         .unwrap_err();
     assert!(
         error.to_string().contains("outside the array of 4"),

@@ -96,12 +96,7 @@ fn the_fc_modbus_api_works_against_pymodbus() {
     assert_eq!(master.read::<registers::MaximumReference>().unwrap(), 55.5);
 
     // Indexed read: register 0008h = 2 (06), then 03 at 310 x 10 - 1.
-    assert_eq!(
-        master
-            .read_indexed::<registers::PresetReference>(2)
-            .unwrap(),
-        42
-    );
+    assert_eq!(master.read_at::<registers::PresetReference>(2).unwrap(), 42);
 
     // Coils: the control word as 16 coils from coil 1 (0F), read back with 01.
     let run = bits::ControlWord(0x047C);
