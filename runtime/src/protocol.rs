@@ -259,12 +259,6 @@ impl Request {
         Ok(self)
     }
 
-    /// The same request with these process words (control word, reference) sent along.
-    pub fn with_process(mut self, control: u16, reference: u16) -> Request {
-        self.process = Some([control, reference]);
-        self
-    }
-
     /// The same request with another data type.
     pub fn with_data_type(mut self, data_type: DataType) -> Request {
         self.data_type = data_type;
@@ -435,19 +429,6 @@ impl Protocol {
                 space: request.space,
                 data_type: request.data_type,
             })
-    }
-
-    /// The first command of the given kind.
-    pub fn command(&self, kind: CommandKind) -> Option<&CommandSpec> {
-        self.commands.iter().find(|command| command.kind == kind)
-    }
-
-    /// The command with this code (either case when lower case means "tripped").
-    pub fn command_by_code(&self, code: u32) -> Option<&CommandSpec> {
-        let folded = u8::try_from(code).map_or(code, |b| u32::from(b.to_ascii_uppercase()));
-        self.commands.iter().find(|command| {
-            command.code == code || (self.lowercase_means_tripped && command.code == folded)
-        })
     }
 
     /// The error-code table entry for `code`.
@@ -814,15 +795,6 @@ impl Protocol {
             what,
             closest: Box::new(closest),
         }
-    }
-
-    /// Whether any layout of the protocol has a part with this name.
-    pub fn has_part(&self, name: &str) -> bool {
-        self.commands
-            .iter()
-            .flat_map(|c| [&c.request, &c.reply])
-            .chain(self.error_reply.as_ref())
-            .any(|layout| layout.parts.iter().any(|part: &Part| part.name() == name))
     }
 }
 

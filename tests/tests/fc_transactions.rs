@@ -189,6 +189,20 @@ fn text_parameters_read_as_text() {
 }
 
 #[test]
+fn a_decoded_text_reply_gives_its_bytes() {
+    let frame = hex("02 12 01 F6 0A 00 00 31 33 32 46 30 30 30 32 00 03 00 00 9A");
+    let reply = protocols::FC.decode_reply_exact(None, &frame).unwrap();
+    let vfd_runtime::Reply::Data {
+        command, values, ..
+    } = reply
+    else {
+        panic!("a data reply: {reply:?}")
+    };
+    let text = values.bytes(&command.reply, vfd_runtime::Role::Text, &frame);
+    assert_eq!(text, Some(&b"132F0002"[..]));
+}
+
+#[test]
 fn process_words_go_out_and_come_back() {
     let (mut fc, peer) = master(&protocols::FC, &["02 06 01 0D 07 20 00 2F"]);
     let control = bits::ControlWord::new()
