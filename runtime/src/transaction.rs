@@ -5,8 +5,8 @@
 use crate::error::{hex, DecodeError, DecodeErrorKind, EncodeError, ValueError};
 use crate::info::ErrorCodeInfo;
 use crate::kinds::{CommandKind, DataType, Space};
-use crate::protocol::{Found, PreStep, Protocol, Reply, Request};
-use crate::register::{Persistable, Register, RegisterValue, Writable};
+use crate::protocol::{Found, PreStep, Protocol, Reply};
+use crate::register::{Persistable, Register, RegisterValue, Request, Writable};
 use crate::serial::{DriveTiming, SerialSettings};
 use crate::transport::Transport;
 use std::fmt;
