@@ -162,7 +162,7 @@ fn whole_transactions_allocate_nothing() {
     .with_address(Some(1));
     let count = allocations(200, || {
         modbus
-            .read_indexed::<fc51::registers::PresetReference>(2)
+            .read_at::<fc51::registers::PresetReference>(2)
             .expect("exchange");
     });
     assert_eq!(count, 0, "Modbus indexed reads");

@@ -1,9 +1,9 @@
-//! Typed errors: frames that do not fit, values that must not be sent, and failed transactions.
+//! Typed errors: frames that do not fit and values that must not be sent. Failed exchanges
+//! are [`crate::transaction::TransactionError`]s.
 
-use crate::info::{ErrorCodeInfo, RegisterInfo};
+use crate::info::RegisterInfo;
 use crate::kinds::{CommandKind, DataType, Space};
 use crate::layout::{ChecksumAlgorithm, Format, Text};
-use std::time::Duration;
 
 /// Renders bytes for people: printable ASCII as text, the rest as hex.
 pub fn describe_bytes(bytes: &[u8]) -> String {
@@ -331,71 +331,6 @@ pub enum ValueError {
         table: &'static str,
         /// Raw value.
         raw: u32,
-    },
-}
-
-/// A request/reply exchange that failed.
-#[derive(Debug, thiserror::Error)]
-pub enum TransactionError {
-    /// The transport failed.
-    #[error("transport error: {0}")]
-    Io(#[from] std::io::Error),
-    /// The request could not be built.
-    #[error("cannot send {request}: {source}")]
-    Encode {
-        /// What was asked.
-        request: String,
-        /// Why it cannot be built.
-        source: EncodeError,
-    },
-    /// The value could not be sent.
-    #[error(transparent)]
-    Value(#[from] ValueError),
-    /// No complete reply arrived in time.
-    #[error("no complete reply to {request} within {waited:?}; received {received_len} byte(s): {received}{last}", last = last_error.as_ref().map(|e| format!("; last decode error: {e}")).unwrap_or_default())]
-    Timeout {
-        /// What was asked.
-        request: String,
-        /// The timeout that elapsed.
-        waited: Duration,
-        /// Bytes received (hex, at most 64 shown).
-        received: String,
-        /// Number of bytes received.
-        received_len: usize,
-        /// The last decode error seen while waiting, if any.
-        last_error: Option<Box<DecodeError>>,
-    },
-    /// The reply is not a valid frame.
-    #[error("invalid reply to {request}: {source}")]
-    Decode {
-        /// What was asked.
-        request: String,
-        /// Why it is invalid.
-        source: Box<DecodeError>,
-    },
-    /// The drive answered with an error reply.
-    #[error("drive rejected {request}: error {code} ({code:04X}h) {meaning}{tripped}", meaning = info.map(|i| format!("{} ({}): {}", i.name, i.name_zh, i.meaning)).unwrap_or_else(|| "(code not in the manual's table)".into()), tripped = if *tripped { "; the drive reports it is tripped" } else { "" })]
-    Rejected {
-        /// What was asked.
-        request: String,
-        /// Error code received.
-        code: u16,
-        /// The manual's entry for the code.
-        info: Option<&'static ErrorCodeInfo>,
-        /// Whether the reply said the drive is tripped (lower-case command).
-        tripped: bool,
-    },
-    /// The reply does not answer the request (wrong address, command or register).
-    #[error("reply to {request} does not match: {field} is {found:#X}, expected {expected:#X}")]
-    Mismatch {
-        /// What was asked.
-        request: String,
-        /// Which field differs.
-        field: &'static str,
-        /// Value expected.
-        expected: u32,
-        /// Value found.
-        found: u32,
     },
 }
 

@@ -51,6 +51,32 @@ pub struct RegisterInfo {
 }
 
 impl RegisterInfo {
+    /// A read-write, unsigned, unscaled word parameter without unit, array or run-time
+    /// bounds, over the whole word range; address 0 and empty names. A literal can write
+    /// only the fields that differ: `RegisterInfo { address: 0x0011, id: "maximum_frequency",
+    /// ..RegisterInfo::DEFAULT }`.
+    pub const DEFAULT: RegisterInfo = RegisterInfo {
+        address: 0,
+        id: "",
+        code: "",
+        name: "",
+        name_zh: "",
+        unit: Unit::None,
+        scale: 1.0,
+        signed: false,
+        raw_min: 0,
+        raw_max: 0xFFFF,
+        data_type: DataType::Word,
+        space: Space::Parameter,
+        array_len: 0,
+        min_bound: None,
+        max_bound: None,
+        access: Access::ReadWrite,
+        ram_only: false,
+        writable_while_running: false,
+        panel_only: false,
+    };
+
     /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.
     /// The code is left out when it only repeats the address (`FA01`).
     pub fn label(&self) -> String {

@@ -9,15 +9,19 @@
 //! * [`layout`] describes a frame as a list of parts (literals, fields, checksums);
 //! * [`codec`] encodes and decodes any such layout without heap allocation;
 //! * [`protocol`] ties layouts to commands (read, RAM write, persistent write) and error replies;
-//! * [`register`] holds register metadata and the typed value conversions (units, scaling, ranges);
+//! * [`register`] holds the traits that make register access typed (each register gets
+//!   `R::read()`, `R::write_ram(value)`, ... from them) and the protocol-independent
+//!   [`Request`]; [`units`] the quantities and value conversions (scaling, ranges);
 //! * [`transaction`] runs request/reply exchanges with timeouts derived from the baud rate;
 //! * [`transport`] moves bytes: serial ports, pseudo-terminals and in-memory pipes.
 //!
+//! `use vfd_runtime::prelude::*` brings the register traits and the common types into scope.
+//!
 //! Modules only use modules below them (a test in the workspace keeps it so): `layout`,
 //! `kinds`, `serial` and `scaling` use nothing; `info` the first two; then `error`, `codec`,
-//! `register`, `units`, `protocol`, `drive`, `transport` and `transaction`. Types are
-//! re-exported where they used to live (`protocol::DataType`, `register::RegisterInfo`,
-//! `units::Unit`) and at the crate root.
+//! `register`, `units`, `protocol`, `drive`, `transport`, `transaction` and `prelude`.
+//! Types are re-exported where they used to live (`protocol::DataType`,
+//! `protocol::Request`, `register::RegisterInfo`, `units::Unit`) and at the crate root.
 //!
 //! # Features
 //!
@@ -42,6 +46,7 @@ pub mod info;
 pub mod kinds;
 pub mod layout;
 pub mod meaning;
+pub mod prelude;
 pub mod protocol;
 pub mod register;
 pub mod scaling;
@@ -56,12 +61,13 @@ pub mod units;
 
 pub use codec::{FieldValue, FrameValues, Roles};
 pub use drive::DriveInfo;
-pub use error::{DecodeError, DecodeErrorKind, EncodeError, TransactionError, ValueError};
+pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
 pub use info::{ErrorCodeInfo, RegisterInfo};
 pub use kinds::{Access, CommandKind, DataType, Space};
 pub use layout::{
     BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,
     Part, Presence, Role, SizedBy, WordSpec,
 };
-pub use protocol::{AddressMap, CommandSpec, PreStep, Protocol, Reply, Request};
-pub use register::{Persistable, Register, RegisterValue, Writable};
+pub use protocol::{AddressMap, CommandSpec, PreStep, Protocol, Reply};
+pub use register::{Persistable, Register, RegisterValue, Request, Writable};
+pub use transaction::{TransactionError, TransactionErrorKind};

@@ -3,12 +3,11 @@
 //! requests and decodes replies with it.
 
 use crate::codec::{self, DecodeStatus, FrameValues, Roles};
-use crate::error::{DecodeError, EncodeError, ValueError};
+use crate::error::{DecodeError, EncodeError};
 pub use crate::info::ErrorCodeInfo;
-use crate::info::RegisterInfo;
 pub use crate::kinds::{CommandKind, DataType, Space};
 use crate::layout::{FrameLayout, List, Part, Role, Text};
-use crate::register::{Persistable, Register, RegisterValue, Writable};
+pub use crate::register::Request;
 
 /// How a command turns a register number into the number on the wire:
 /// `wire = number * multiply + offset` (Modbus holding register = parameter x 10 - 1).
@@ -144,165 +143,6 @@ pub struct Protocol {
     pub frame_gap_chars: f32,
 }
 
-/// A request, independent of the protocol that will carry it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Request {
-    /// What to do.
-    pub kind: CommandKind,
-    /// Register or parameter number (before the protocol's address map).
-    pub register: u16,
-    /// Address space of `register`.
-    pub space: Space,
-    /// `register` is already a wire number: do not map it.
-    pub wire_register: bool,
-    /// Array index, for indexed parameters.
-    pub index: Option<u16>,
-    /// Data (ignored for reads).
-    pub data: u32,
-    /// Shape of the data.
-    pub data_type: DataType,
-    /// Process words to send along (control word, reference), where the protocol carries them.
-    pub process: Option<[u16; 2]>,
-    /// The register's metadata, when the request was built from a typed register.
-    pub info: Option<&'static RegisterInfo>,
-}
-
-impl Request {
-    /// A request for the register `info` describes, with raw `data` (no range check; the
-    /// typed constructors check). Tools that pick registers at run time use this.
-    pub fn for_register(kind: CommandKind, info: &'static RegisterInfo, data: u32) -> Request {
-        Request {
-            kind,
-            register: info.address,
-            space: info.space,
-            wire_register: false,
-            index: None,
-            data,
-            data_type: info.data_type,
-            process: None,
-            info: Some(info),
-        }
-    }
-
-    /// Reads register `R`.
-    pub fn read<R: Register>() -> Request {
-        let kind = if R::INFO.data_type == DataType::Text {
-            CommandKind::ReadText
-        } else {
-            CommandKind::Read
-        };
-        Request::for_register(kind, R::INFO, 0)
-    }
-
-    /// Writes `value` to register `R` in RAM only. Refuses values outside the register's range.
-    pub fn write_ram<R: Writable>(value: R::Value) -> Result<Request, ValueError> {
-        let data = value.to_raw(R::INFO)?;
-        Ok(Request::for_register(CommandKind::WriteRam, R::INFO, data))
-    }
-
-    /// Writes `value` to register `R` in RAM and EEPROM. EEPROM endures a limited number of
-    /// writes (the manuals say 1,000 to 10,000): use [`Request::write_ram`] for values that
-    /// change often.
-    pub fn write_persistent<R: Persistable>(value: R::Value) -> Result<Request, ValueError> {
-        let data = value.to_raw(R::INFO)?;
-        Ok(Request::for_register(
-            CommandKind::WritePersistent,
-            R::INFO,
-            data,
-        ))
-    }
-
-    /// Exchanges process words: `control` and `reference` out, status and output value back.
-    pub fn process(control: u16, reference: u16) -> Request {
-        Request {
-            kind: CommandKind::Process,
-            register: 0,
-            space: Space::Parameter,
-            wire_register: false,
-            index: None,
-            data: 0,
-            data_type: DataType::Word,
-            process: Some([control, reference]),
-            info: None,
-        }
-    }
-
-    /// A request built from raw numbers (a word in the parameter space), with no range checks.
-    pub fn raw(kind: CommandKind, register: u16, data: u32) -> Request {
-        Request {
-            kind,
-            register,
-            space: Space::Parameter,
-            wire_register: false,
-            index: None,
-            data,
-            data_type: DataType::Word,
-            process: None,
-            info: None,
-        }
-    }
-
-    /// The same request for array element `index`. Refuses indexes beyond the register's array.
-    pub fn at_index(mut self, index: u16) -> Result<Request, ValueError> {
-        if let Some(info) = self.info {
-            if u32::from(index) >= u32::from(info.array_len) {
-                return Err(ValueError::IndexOutOfRange {
-                    register: info,
-                    index,
-                    len: info.array_len,
-                });
-            }
-        }
-        self.index = Some(index);
-        Ok(self)
-    }
-
-    /// The same request with these process words (control word, reference) sent along.
-    pub fn with_process(mut self, control: u16, reference: u16) -> Request {
-        self.process = Some([control, reference]);
-        self
-    }
-
-    /// The same request with another data type.
-    pub fn with_data_type(mut self, data_type: DataType) -> Request {
-        self.data_type = data_type;
-        self
-    }
-
-    /// The same request in another address space.
-    pub fn in_space(mut self, space: Space) -> Request {
-        self.space = space;
-        self
-    }
-
-    /// Describes the request for error messages.
-    pub fn describe(&self) -> String {
-        let target = match self.info {
-            Some(info) => info.label(),
-            None if self.space == Space::Coil => format!("coil {}", self.register),
-            None => format!("register {:04X}", self.register),
-        };
-        let target = match self.index {
-            Some(index) => format!("{target}[{index}]"),
-            None => target,
-        };
-        match self.kind {
-            CommandKind::Read => format!("read of {target}"),
-            CommandKind::ReadText => format!("text read of {target}"),
-            CommandKind::WriteRam => format!("RAM write of {:04X}h to {target}", self.data),
-            CommandKind::WritePersistent => {
-                format!("persistent write of {:04X}h to {target}", self.data)
-            }
-            CommandKind::Process => match self.process {
-                Some([control, reference]) => {
-                    format!("process exchange (control {control:04X}h, reference {reference:04X}h)")
-                }
-                None => "process exchange".to_owned(),
-            },
-        }
-    }
-}
-
 /// A decoded request (what a drive, or the simulator, receives).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DecodedRequest<'p> {
@@ -433,19 +273,6 @@ impl Protocol {
                 space: request.space,
                 data_type: request.data_type,
             })
-    }
-
-    /// The first command of the given kind.
-    pub fn command(&self, kind: CommandKind) -> Option<&CommandSpec> {
-        self.commands.iter().find(|command| command.kind == kind)
-    }
-
-    /// The command with this code (either case when lower case means "tripped").
-    pub fn command_by_code(&self, code: u32) -> Option<&CommandSpec> {
-        let folded = u8::try_from(code).map_or(code, |b| u32::from(b.to_ascii_uppercase()));
-        self.commands.iter().find(|command| {
-            command.code == code || (self.lowercase_means_tripped && command.code == folded)
-        })
     }
 
     /// The error-code table entry for `code`.
@@ -812,15 +639,6 @@ impl Protocol {
             what,
             closest: Box::new(closest),
         }
-    }
-
-    /// Whether any layout of the protocol has a part with this name.
-    pub fn has_part(&self, name: &str) -> bool {
-        self.commands
-            .iter()
-            .flat_map(|c| [&c.request, &c.reply])
-            .chain(self.error_reply.as_ref())
-            .any(|layout| layout.parts.iter().any(|part: &Part| part.name() == name))
     }
 }
 

@@ -1,9 +1,15 @@
-//! The traits that make register access typed. The metadata they carry lives in
-//! [`crate::info`] and [`crate::kinds`] and is re-exported here.
+//! The traits that make register access typed, and the protocol-independent [`Request`]
+//! they build. The metadata they carry lives in [`crate::info`] and [`crate::kinds`] and
+//! is re-exported here.
+//!
+//! Every register gets its requests from the traits' provided functions
+//! (`R::read()`, `R::write_ram(value)`, `R::write_persistent(value)` and the `_at` forms for
+//! array elements); bring them into scope with `use vfd_runtime::prelude::*`.
 
 use crate::error::ValueError;
 pub use crate::info::RegisterInfo;
 pub use crate::kinds::Access;
+use crate::kinds::{CommandKind, DataType, Space};
 
 /// A value that can be stored in a register: a quantity, a code-table enum, a bit-field
 /// word or a raw number.
@@ -21,12 +27,317 @@ pub trait Register {
     const INFO: &'static RegisterInfo;
     /// The typed value read from and written to it.
     type Value: RegisterValue;
+
+    /// A request reading this register (a text read for text parameters).
+    fn read() -> Request
+    where
+        Self: Sized,
+    {
+        Request::read::<Self>()
+    }
+
+    /// A request reading element `index` of this array register. Refuses indexes beyond
+    /// the array.
+    fn read_at(index: u16) -> Result<Request, ValueError>
+    where
+        Self: Sized,
+    {
+        Request::read::<Self>().at_index(index)
+    }
 }
 
 /// A register that may be written (implemented only for writable registers, so writing a
 /// read-only register does not compile).
-pub trait Writable: Register {}
+pub trait Writable: Register {
+    /// A request writing `value` in RAM only (lost at power-off). Refuses values outside
+    /// the register's range.
+    fn write_ram(value: Self::Value) -> Result<Request, ValueError>
+    where
+        Self: Sized,
+    {
+        Request::write_ram::<Self>(value)
+    }
+
+    /// A request writing `value` to element `index` of this array register, in RAM only.
+    fn write_ram_at(index: u16, value: Self::Value) -> Result<Request, ValueError>
+    where
+        Self: Sized,
+    {
+        Request::write_ram::<Self>(value)?.at_index(index)
+    }
+}
 
 /// A register whose value may be written persistently (EEPROM); not implemented for
 /// RAM-only registers.
-pub trait Persistable: Writable {}
+pub trait Persistable: Writable {
+    /// A request writing `value` in RAM and EEPROM. EEPROM endures a limited number of
+    /// writes: prefer [`Writable::write_ram`] for values that change often.
+    fn write_persistent(value: Self::Value) -> Result<Request, ValueError>
+    where
+        Self: Sized,
+    {
+        Request::write_persistent::<Self>(value)
+    }
+
+    /// A request writing `value` to element `index` of this array register, in RAM and
+    /// EEPROM.
+    fn write_persistent_at(index: u16, value: Self::Value) -> Result<Request, ValueError>
+    where
+        Self: Sized,
+    {
+        Request::write_persistent::<Self>(value)?.at_index(index)
+    }
+}
+
+/// A request, independent of the protocol that will carry it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Request {
+    /// What to do.
+    pub kind: CommandKind,
+    /// Register or parameter number (before the protocol's address map).
+    pub register: u16,
+    /// Address space of `register`.
+    pub space: Space,
+    /// `register` is already a wire number: do not map it.
+    pub wire_register: bool,
+    /// Array index, for indexed parameters.
+    pub index: Option<u16>,
+    /// Data (ignored for reads).
+    pub data: u32,
+    /// Shape of the data.
+    pub data_type: DataType,
+    /// Process words to send along (control word, reference), where the protocol carries them.
+    pub process: Option<[u16; 2]>,
+    /// The register's metadata, when the request was built from a typed register.
+    pub info: Option<&'static RegisterInfo>,
+}
+
+impl Request {
+    /// A request for the register `info` describes, with raw `data` (no range check; the
+    /// typed constructors check). Tools that pick registers at run time use this.
+    pub fn for_register(kind: CommandKind, info: &'static RegisterInfo, data: u32) -> Request {
+        Request {
+            kind,
+            register: info.address,
+            space: info.space,
+            wire_register: false,
+            index: None,
+            data,
+            data_type: info.data_type,
+            process: None,
+            info: Some(info),
+        }
+    }
+
+    /// Reads register `R`.
+    pub fn read<R: Register>() -> Request {
+        let kind = if R::INFO.data_type == DataType::Text {
+            CommandKind::ReadText
+        } else {
+            CommandKind::Read
+        };
+        Request::for_register(kind, R::INFO, 0)
+    }
+
+    /// Writes `value` to register `R` in RAM only. Refuses values outside the register's range.
+    pub fn write_ram<R: Writable>(value: R::Value) -> Result<Request, ValueError> {
+        let data = value.to_raw(R::INFO)?;
+        Ok(Request::for_register(CommandKind::WriteRam, R::INFO, data))
+    }
+
+    /// Writes `value` to register `R` in RAM and EEPROM. EEPROM endures a limited number of
+    /// writes (the manuals say 1,000 to 10,000): use [`Request::write_ram`] for values that
+    /// change often.
+    pub fn write_persistent<R: Persistable>(value: R::Value) -> Result<Request, ValueError> {
+        let data = value.to_raw(R::INFO)?;
+        Ok(Request::for_register(
+            CommandKind::WritePersistent,
+            R::INFO,
+            data,
+        ))
+    }
+
+    /// Exchanges process words: `control` and `reference` out, status and output value back.
+    pub fn process(control: u16, reference: u16) -> Request {
+        Request {
+            kind: CommandKind::Process,
+            register: 0,
+            space: Space::Parameter,
+            wire_register: false,
+            index: None,
+            data: 0,
+            data_type: DataType::Word,
+            process: Some([control, reference]),
+            info: None,
+        }
+    }
+
+    /// A request built from raw numbers (a word in the parameter space), with no range checks.
+    pub fn raw(kind: CommandKind, register: u16, data: u32) -> Request {
+        Request {
+            kind,
+            register,
+            space: Space::Parameter,
+            wire_register: false,
+            index: None,
+            data,
+            data_type: DataType::Word,
+            process: None,
+            info: None,
+        }
+    }
+
+    /// The same request for array element `index`. Refuses indexes beyond the register's
+    /// array. (A [`crate::transaction::Master`] does the same with `read_at`, `write_ram_at`
+    /// and `write_persistent_at`; generated registers with `read_at` and `write_ram_at`.)
+    pub fn at_index(mut self, index: u16) -> Result<Request, ValueError> {
+        if let Some(info) = self.info {
+            if u32::from(index) >= u32::from(info.array_len) {
+                return Err(ValueError::IndexOutOfRange {
+                    register: info,
+                    index,
+                    len: info.array_len,
+                });
+            }
+        }
+        self.index = Some(index);
+        Ok(self)
+    }
+
+    /// The same request with another data type.
+    pub fn with_data_type(mut self, data_type: DataType) -> Request {
+        self.data_type = data_type;
+        self
+    }
+
+    /// The same request in another address space.
+    pub fn in_space(mut self, space: Space) -> Request {
+        self.space = space;
+        self
+    }
+
+    /// Describes the request for error messages.
+    pub fn describe(&self) -> String {
+        let target = match self.info {
+            Some(info) => info.label(),
+            None if self.space == Space::Coil => format!("coil {}", self.register),
+            None => format!("register {:04X}", self.register),
+        };
+        let target = match self.index {
+            Some(index) => format!("{target}[{index}]"),
+            None => target,
+        };
+        match self.kind {
+            CommandKind::Read => format!("read of {target}"),
+            CommandKind::ReadText => format!("text read of {target}"),
+            CommandKind::WriteRam => format!("RAM write of {:04X}h to {target}", self.data),
+            CommandKind::WritePersistent => {
+                format!("persistent write of {:04X}h to {target}", self.data)
+            }
+            CommandKind::Process => match self.process {
+                Some([control, reference]) => {
+                    format!("process exchange (control {control:04X}h, reference {reference:04X}h)")
+                }
+                None => "process exchange".to_owned(),
+            },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinds::Unit;
+
+    /// A register written the way generated code may write it: only what differs from
+    /// [`RegisterInfo::DEFAULT`].
+    struct MaximumFrequency;
+    impl Register for MaximumFrequency {
+        const INFO: &'static RegisterInfo = &RegisterInfo {
+            address: 0x0011,
+            id: "maximum_frequency",
+            code: "FH",
+            name: "Maximum frequency",
+            name_zh: "最高频率",
+            unit: Unit::Hertz,
+            scale: 0.01,
+            raw_min: 3000,
+            raw_max: 40000,
+            ..RegisterInfo::DEFAULT
+        };
+        type Value = f64;
+    }
+    impl Writable for MaximumFrequency {}
+    impl Persistable for MaximumFrequency {}
+
+    struct Presets;
+    impl Register for Presets {
+        const INFO: &'static RegisterInfo = &RegisterInfo {
+            address: 310,
+            code: "310",
+            array_len: 4,
+            ..RegisterInfo::DEFAULT
+        };
+        type Value = u16;
+    }
+    impl Writable for Presets {}
+    impl Persistable for Presets {}
+
+    #[test]
+    fn every_register_gets_its_requests_from_the_traits() {
+        assert_eq!(
+            MaximumFrequency::read(),
+            Request::for_register(CommandKind::Read, MaximumFrequency::INFO, 0)
+        );
+        let ram = MaximumFrequency::write_ram(60.0).unwrap();
+        assert_eq!((ram.kind, ram.data), (CommandKind::WriteRam, 6000));
+        let persistent = MaximumFrequency::write_persistent(60.0).unwrap();
+        assert_eq!(persistent.kind, CommandKind::WritePersistent);
+        assert!(matches!(
+            MaximumFrequency::write_ram(500.0),
+            Err(ValueError::OutOfRange { max: 400.0, .. })
+        ));
+    }
+
+    #[test]
+    fn array_elements_are_addressed_with_the_at_functions() {
+        assert_eq!(Presets::read_at(3).unwrap().index, Some(3));
+        let write = Presets::write_ram_at(2, 7).unwrap();
+        assert_eq!(
+            (write.kind, write.index, write.data),
+            (CommandKind::WriteRam, Some(2), 7)
+        );
+        let write = Presets::write_persistent_at(1, 7).unwrap();
+        assert_eq!(
+            (write.kind, write.index),
+            (CommandKind::WritePersistent, Some(1))
+        );
+        assert!(matches!(
+            Presets::read_at(4),
+            Err(ValueError::IndexOutOfRange {
+                index: 4,
+                len: 4,
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn the_default_register_is_a_plain_read_write_word() {
+        let info = Presets::INFO;
+        assert_eq!(
+            (info.access, info.data_type, info.space, info.unit),
+            (
+                Access::ReadWrite,
+                DataType::Word,
+                Space::Parameter,
+                Unit::None
+            )
+        );
+        assert_eq!((info.scale, info.raw_min, info.raw_max), (1.0, 0, 0xFFFF));
+        assert_eq!(
+            MaximumFrequency::INFO.label(),
+            "register 0011 FH (Maximum frequency / 最高频率)"
+        );
+    }
+}

@@ -2,12 +2,14 @@
 //! reply within a timeout derived from the baud rate, check it answers the request, and
 //! map error replies to typed errors.
 
-use crate::error::{hex, DecodeErrorKind, TransactionError};
+use crate::error::{hex, DecodeError, DecodeErrorKind, EncodeError, ValueError};
+use crate::info::ErrorCodeInfo;
 use crate::kinds::{CommandKind, DataType, Space};
-use crate::protocol::{Found, PreStep, Protocol, Reply, Request};
-use crate::register::{Persistable, Register, RegisterValue, Writable};
+use crate::protocol::{Found, PreStep, Protocol, Reply};
+use crate::register::{Persistable, Register, RegisterValue, Request, Writable};
 use crate::serial::{DriveTiming, SerialSettings};
 use crate::transport::Transport;
+use std::fmt;
 use std::time::{Duration, Instant};
 
 /// Largest frame the master buffers; longer noise is dropped from the front.
@@ -97,8 +99,8 @@ impl<T: Transport> Master<T> {
         Ok(R::Value::from_raw(answer.data, R::INFO)?)
     }
 
-    /// Reads element `index` of the array register `R`.
-    pub fn read_indexed<R: Register>(&mut self, index: u16) -> Result<R::Value, TransactionError> {
+    /// Reads element `index` of the array register `R`. Refuses indexes beyond the array.
+    pub fn read_at<R: Register>(&mut self, index: u16) -> Result<R::Value, TransactionError> {
         let answer = self.transact(&Request::read::<R>().at_index(index)?)?;
         Ok(R::Value::from_raw(answer.data, R::INFO)?)
     }
@@ -120,7 +122,7 @@ impl<T: Transport> Master<T> {
     }
 
     /// Writes `value` to element `index` of the array register `R` in RAM only.
-    pub fn write_ram_indexed<R: Writable>(
+    pub fn write_ram_at<R: Writable>(
         &mut self,
         index: u16,
         value: R::Value,
@@ -138,6 +140,18 @@ impl<T: Transport> Master<T> {
         self.written::<R>(answer)
     }
 
+    /// Writes `value` to element `index` of the array register `R` in RAM and EEPROM
+    /// (persistent; EEPROM wears out).
+    pub fn write_persistent_at<R: Persistable>(
+        &mut self,
+        index: u16,
+        value: R::Value,
+    ) -> Result<R::Value, TransactionError> {
+        let request = Request::write_persistent::<R>(value)?.at_index(index)?;
+        let answer = self.transact(&request)?;
+        self.written::<R>(answer)
+    }
+
     fn written<R: Register>(&self, answer: Answer) -> Result<R::Value, TransactionError> {
         Ok(R::Value::from_raw(answer.data, R::INFO)?)
     }
@@ -151,11 +165,15 @@ impl<T: Transport> Master<T> {
     ) -> Result<[u16; 2], TransactionError> {
         let request = Request::process(control, reference);
         let answer = self.transact(&request)?;
-        answer.process.ok_or_else(|| TransactionError::Mismatch {
-            request: request.describe(),
-            field: "process words",
-            expected: 2,
-            found: 0,
+        answer.process.ok_or_else(|| {
+            TransactionError::new(
+                Some(&request),
+                TransactionErrorKind::Mismatch {
+                    field: ReplyField::ProcessWords,
+                    expected: 2,
+                    found: 0,
+                },
+            )
         })
     }
 
@@ -217,8 +235,11 @@ impl<T: Transport> Master<T> {
         } else {
             main
         };
-        let answer = self.exchange(&main);
-        answer.map_err(|error| rename(error, request))
+        // Errors of the main exchange name the caller's request, not the adjusted one.
+        self.exchange(&main).map_err(|error| TransactionError {
+            request: Some(*request),
+            ..error
+        })
     }
 
     fn has_index_step(&self) -> bool {
@@ -238,10 +259,9 @@ impl<T: Transport> Master<T> {
     /// One request frame, one reply frame.
     fn exchange(&mut self, request: &Request) -> Result<Answer, TransactionError> {
         let protocol = self.protocol;
-        let cannot_send = |source| TransactionError::Encode {
-            request: request.describe(),
-            source,
-        };
+        let fail = |kind| TransactionError::new(Some(request), kind);
+        let io = |error| fail(TransactionErrorKind::Io(error));
+        let cannot_send = |error| fail(TransactionErrorKind::Encode(error));
         let command = protocol.command_for_request(request).map_err(cannot_send)?;
         let len = protocol
             .encode_request(request, self.address, &mut self.request)
@@ -253,8 +273,8 @@ impl<T: Transport> Master<T> {
                 std::thread::sleep(gap - since);
             }
         }
-        self.transport.clear_input()?;
-        self.transport.send(&self.request[..len])?;
+        self.transport.clear_input().map_err(io)?;
+        self.transport.send(&self.request[..len]).map_err(io)?;
         let timeout = self.reply_timeout(len);
         let deadline = Instant::now() + timeout;
         let mut filled = 0usize;
@@ -267,16 +287,16 @@ impl<T: Transport> Master<T> {
             }
             let got = self
                 .transport
-                .receive(&mut self.reply[filled..], deadline)?;
+                .receive(&mut self.reply[filled..], deadline)
+                .map_err(io)?;
             self.last_activity = Some(Instant::now());
             if got == 0 {
-                return Err(TransactionError::Timeout {
-                    request: request.describe(),
+                return Err(fail(TransactionErrorKind::Timeout {
                     waited: timeout,
-                    received: hex(&self.reply[..filled.min(64)]),
+                    received: self.reply[..filled.min(64)].to_vec(),
                     received_len: filled,
                     last_error,
-                });
+                }));
             }
             filled += got;
             match protocol.find_reply(Some(command), &self.reply[..filled]) {
@@ -290,65 +310,11 @@ impl<T: Transport> Master<T> {
                     });
                 }
                 Err(error) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
-                    return Err(TransactionError::Decode {
-                        request: request.describe(),
-                        source: Box::new(error),
-                    });
+                    return Err(fail(TransactionErrorKind::Decode(Box::new(error))));
                 }
                 Err(error) => last_error = Some(Box::new(error)),
             }
         }
-    }
-}
-
-/// Names the caller's request (not the internal step) in errors about the main exchange.
-fn rename(error: TransactionError, request: &Request) -> TransactionError {
-    let name = request.describe();
-    match error {
-        TransactionError::Timeout {
-            waited,
-            received,
-            received_len,
-            last_error,
-            ..
-        } => TransactionError::Timeout {
-            request: name,
-            waited,
-            received,
-            received_len,
-            last_error,
-        },
-        TransactionError::Decode { source, .. } => TransactionError::Decode {
-            request: name,
-            source,
-        },
-        TransactionError::Rejected {
-            code,
-            info,
-            tripped,
-            ..
-        } => TransactionError::Rejected {
-            request: name,
-            code,
-            info,
-            tripped,
-        },
-        TransactionError::Encode { source, .. } => TransactionError::Encode {
-            request: name,
-            source,
-        },
-        TransactionError::Mismatch {
-            field,
-            expected,
-            found,
-            ..
-        } => TransactionError::Mismatch {
-            request: name,
-            field,
-            expected,
-            found,
-        },
-        other => other,
     }
 }
 
@@ -363,12 +329,14 @@ fn check_reply(
             info,
             tripped,
             ..
-        } => Err(TransactionError::Rejected {
-            request: request.describe(),
-            code: error,
-            info,
-            tripped,
-        }),
+        } => Err(TransactionError::new(
+            Some(request),
+            TransactionErrorKind::Rejected {
+                code: error,
+                info,
+                tripped,
+            },
+        )),
         Reply::Data {
             command,
             address: reply_address,
@@ -380,15 +348,19 @@ fn check_reply(
             text,
             ..
         } => {
-            let mismatch = |field, expected: u32, found: u32| TransactionError::Mismatch {
-                request: request.describe(),
-                field,
-                expected,
-                found,
+            let mismatch = |field, expected: u32, found: u32| {
+                TransactionError::new(
+                    Some(request),
+                    TransactionErrorKind::Mismatch {
+                        field,
+                        expected,
+                        found,
+                    },
+                )
             };
             if let (Some(sent), Some(got)) = (address, reply_address) {
                 if sent != got {
-                    return Err(mismatch("address", sent.into(), got.into()));
+                    return Err(mismatch(ReplyField::Address, sent.into(), got.into()));
                 }
             }
             if let Some(got) = wire_register {
@@ -399,17 +371,17 @@ fn check_reply(
                 };
                 if let Some(sent) = sent {
                     if sent != got {
-                        return Err(mismatch("register", sent.into(), got.into()));
+                        return Err(mismatch(ReplyField::Register, sent.into(), got.into()));
                     }
                 }
             }
             if let (Some(sent), Some(got)) = (request.index, index) {
                 if sent != got {
-                    return Err(mismatch("index", sent.into(), got.into()));
+                    return Err(mismatch(ReplyField::Index, sent.into(), got.into()));
                 }
             }
             if request.data_type == DataType::Text && text.is_none() {
-                return Err(mismatch("text", 1, 0));
+                return Err(mismatch(ReplyField::Text, 1, 0));
             }
             Ok(Answer {
                 data,
@@ -418,5 +390,280 @@ fn check_reply(
                 text,
             })
         }
+    }
+}
+
+/// A request/reply exchange that failed: the request it concerns (stored once) and what
+/// went wrong.
+#[derive(Debug)]
+pub struct TransactionError {
+    /// The request the error is about: the caller's request for failures of the exchange
+    /// itself, or the step's request when a step the protocol needs first failed
+    /// (selecting an array index, choosing RAM or EEPROM). `None` when no request was sent:
+    /// a value is refused before anything goes on the line, or a value read back does not
+    /// convert (the value error names the register).
+    pub request: Option<Request>,
+    /// What went wrong.
+    pub kind: TransactionErrorKind,
+}
+
+/// What went wrong in a failed exchange.
+#[derive(Debug)]
+pub enum TransactionErrorKind {
+    /// The transport failed.
+    Io(std::io::Error),
+    /// The request could not be built.
+    Encode(EncodeError),
+    /// The value cannot be sent, or the value read back cannot be converted.
+    Value(ValueError),
+    /// No complete reply arrived in time.
+    Timeout {
+        /// The timeout that elapsed.
+        waited: Duration,
+        /// The first bytes received (at most 64).
+        received: Vec<u8>,
+        /// Number of bytes received.
+        received_len: usize,
+        /// The last decode error seen while waiting, if any.
+        last_error: Option<Box<DecodeError>>,
+    },
+    /// The reply is not a valid frame.
+    Decode(Box<DecodeError>),
+    /// The drive answered with an error reply.
+    Rejected {
+        /// Error code received.
+        code: u16,
+        /// The manual's entry for the code.
+        info: Option<&'static ErrorCodeInfo>,
+        /// Whether the reply said the drive is tripped (lower-case command).
+        tripped: bool,
+    },
+    /// The reply does not answer the request (wrong address, register or index).
+    Mismatch {
+        /// Which part of the reply differs.
+        field: ReplyField,
+        /// Value expected.
+        expected: u32,
+        /// Value found.
+        found: u32,
+    },
+}
+
+/// A part of a reply the master checks against its request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ReplyField {
+    /// The station address.
+    Address,
+    /// The register number on the wire.
+    Register,
+    /// The array index.
+    Index,
+    /// The text of a text read (expected 1: present; found 0: absent).
+    Text,
+    /// The process words (expected 2, found 0: absent).
+    ProcessWords,
+}
+
+impl ReplyField {
+    /// Name used in messages (`register`, `process words`).
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            ReplyField::Address => "address",
+            ReplyField::Register => "register",
+            ReplyField::Index => "index",
+            ReplyField::Text => "text",
+            ReplyField::ProcessWords => "process words",
+        }
+    }
+}
+
+impl TransactionError {
+    /// An error about `request` (`None`: no request was sent).
+    pub fn new(request: Option<&Request>, kind: TransactionErrorKind) -> TransactionError {
+        TransactionError {
+            request: request.copied(),
+            kind,
+        }
+    }
+}
+
+impl From<std::io::Error> for TransactionError {
+    fn from(error: std::io::Error) -> Self {
+        TransactionError::new(None, TransactionErrorKind::Io(error))
+    }
+}
+
+impl From<ValueError> for TransactionError {
+    fn from(error: ValueError) -> Self {
+        TransactionError::new(None, TransactionErrorKind::Value(error))
+    }
+}
+
+impl fmt::Display for TransactionError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let request = || {
+            self.request
+                .as_ref()
+                .map_or_else(|| "the request".to_owned(), Request::describe)
+        };
+        match &self.kind {
+            TransactionErrorKind::Io(error) if self.request.is_some() => {
+                write!(f, "transport error during {}: {error}", request())
+            }
+            TransactionErrorKind::Io(error) => write!(f, "transport error: {error}"),
+            TransactionErrorKind::Encode(error) => write!(f, "cannot send {}: {error}", request()),
+            TransactionErrorKind::Value(error) => write!(f, "{error}"),
+            TransactionErrorKind::Timeout {
+                waited,
+                received,
+                received_len,
+                last_error,
+            } => {
+                let waited = for_people(*waited);
+                if *received_len == 0 {
+                    write!(f, "no reply to {} within {waited}", request())?;
+                } else {
+                    write!(
+                        f,
+                        "no complete reply to {} within {waited}; received {received_len} byte(s): {}",
+                        request(),
+                        hex(received)
+                    )?;
+                    if *received_len > received.len() {
+                        f.write_str(" ...")?;
+                    }
+                }
+                if let Some(error) = last_error {
+                    write!(f, "; last decode error: {error}")?;
+                }
+                Ok(())
+            }
+            TransactionErrorKind::Decode(error) => {
+                write!(f, "invalid reply to {}: {error}", request())
+            }
+            TransactionErrorKind::Rejected {
+                code,
+                info,
+                tripped,
+            } => {
+                write!(
+                    f,
+                    "drive rejected {}: error {code} ({code:04X}h) ",
+                    request()
+                )?;
+                match info {
+                    Some(info) => write!(f, "{} ({}): {}", info.name, info.name_zh, info.meaning)?,
+                    None => f.write_str("(code not in the manual's table)")?,
+                }
+                if *tripped {
+                    f.write_str("; the drive reports it is tripped")?;
+                }
+                Ok(())
+            }
+            TransactionErrorKind::Mismatch {
+                field,
+                expected,
+                found,
+            } => write!(
+                f,
+                "reply to {} does not match: {} is {found:#X}, expected {expected:#X}",
+                request(),
+                field.as_str()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for TransactionError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match &self.kind {
+            TransactionErrorKind::Io(error) => Some(error),
+            TransactionErrorKind::Encode(error) => Some(error),
+            TransactionErrorKind::Decode(error) => Some(error.as_ref()),
+            // The message is the value error's own, so it is not repeated as a source.
+            TransactionErrorKind::Value(error) => error.source(),
+            TransactionErrorKind::Timeout { .. }
+            | TransactionErrorKind::Rejected { .. }
+            | TransactionErrorKind::Mismatch { .. } => None,
+        }
+    }
+}
+
+/// A duration as people read it: `850 µs`, `120 ms`, `12.5 s`.
+fn for_people(duration: Duration) -> String {
+    let micros = duration.as_micros();
+    if micros < 1_000 {
+        format!("{micros} µs")
+    } else if micros < 10_000_000 {
+        format!("{} ms", (micros + 500) / 1_000)
+    } else {
+        format!("{:.1} s", duration.as_secs_f64())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::error::Error as _;
+
+    #[test]
+    fn durations_read_as_people_write_them() {
+        assert_eq!(for_people(Duration::from_micros(850)), "850 µs");
+        assert_eq!(for_people(Duration::from_micros(120_400)), "120 ms");
+        assert_eq!(for_people(Duration::from_micros(1_999_600)), "2000 ms");
+        assert_eq!(for_people(Duration::from_millis(12_500)), "12.5 s");
+    }
+
+    #[test]
+    fn a_silent_timeout_says_so_without_a_dangling_colon() {
+        let request = Request::raw(CommandKind::Read, 0xFD00, 0);
+        let error = TransactionError::new(
+            Some(&request),
+            TransactionErrorKind::Timeout {
+                waited: Duration::from_micros(120_300),
+                received: Vec::new(),
+                received_len: 0,
+                last_error: None,
+            },
+        );
+        assert_eq!(
+            error.to_string(),
+            "no reply to read of register FD00 within 120 ms"
+        );
+        let error = TransactionError {
+            kind: TransactionErrorKind::Timeout {
+                waited: Duration::from_millis(40),
+                received: b"garbage".to_vec(),
+                received_len: 70,
+                last_error: None,
+            },
+            ..error
+        };
+        assert_eq!(
+            error.to_string(),
+            "no complete reply to read of register FD00 within 40 ms; \
+             received 70 byte(s): 67 61 72 62 61 67 65 ..."
+        );
+    }
+
+    #[test]
+    fn the_source_is_the_underlying_error() {
+        let io = std::io::Error::new(std::io::ErrorKind::BrokenPipe, "gone");
+        let error = TransactionError::from(io);
+        assert_eq!(error.to_string(), "transport error: gone");
+        assert_eq!(error.source().unwrap().to_string(), "gone");
+        let request = Request::raw(CommandKind::Read, 1, 0);
+        let decode = DecodeError::Truncated {
+            layout: "reply".into(),
+            len: 2,
+        };
+        let error = TransactionError::new(
+            Some(&request),
+            TransactionErrorKind::Decode(Box::new(decode.clone())),
+        );
+        assert_eq!(error.source().unwrap().to_string(), decode.to_string());
+        assert!(error
+            .to_string()
+            .starts_with("invalid reply to read of register 0001: "));
     }
 }

@@ -7,7 +7,7 @@ use vfd_runtime::serial::DriveTiming;
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{memory_pair, MemoryTransport};
 use vfd_runtime::units::Percent;
-use vfd_runtime::{DecodeErrorKind, TransactionError};
+use vfd_runtime::{DecodeErrorKind, TransactionErrorKind};
 use vfd_tests::scripted_peer::answer;
 
 fn hex(text: &str) -> Vec<u8> {
@@ -68,12 +68,7 @@ fn array_parameters_select_the_index_first_on_modbus() {
         &protocols::MODBUS,
         &["01 06 00 08 00 02 89 C9", "01 03 02 00 00 B8 44"],
     );
-    assert_eq!(
-        modbus
-            .read_indexed::<registers::PresetReference>(2)
-            .unwrap(),
-        0
-    );
+    assert_eq!(modbus.read_at::<registers::PresetReference>(2).unwrap(), 0);
     // Exactly the manual's two frames (with the CRC it leaves out).
     assert_eq!(
         shown(&peer.join().unwrap()),
@@ -87,15 +82,53 @@ fn array_parameters_carry_the_index_in_fc_telegrams() {
         &protocols::FC,
         &["02 0E 01 11 36 00 02 00 00 00 00 00 03 00 00 2B"],
     );
-    assert_eq!(fc.read_indexed::<registers::PresetReference>(2).unwrap(), 0);
+    assert_eq!(fc.read_at::<registers::PresetReference>(2).unwrap(), 0);
     let sent = peer.join().unwrap();
     assert_eq!(
         &sent[0][3..7],
         [0x11, 0x36, 0x00, 0x02],
         "PKE 1136h, IND 0002h"
     );
-    let error = fc
-        .read_indexed::<registers::PresetReference>(4)
+    let error = fc.read_at::<registers::PresetReference>(4).unwrap_err();
+    assert!(
+        error.to_string().contains("outside the array of 4"),
+        "{error}"
+    );
+}
+
+/// A Modbus RTU frame from its bytes without the CRC, with the CRC appended.
+fn with_crc(text: &str) -> String {
+    let mut bytes = hex(text);
+    let crc = vfd_runtime::checksum::crc16_modbus(&bytes);
+    bytes.extend(crc.to_le_bytes());
+    vfd_runtime::error::hex(&bytes)
+}
+
+#[test]
+fn array_elements_are_written_after_selecting_the_index() {
+    // The drive echoes each 05 and 06 request.
+    let select_index = with_crc("01 06 00 08 00 03");
+    let write = with_crc("01 06 0C 1B 00 05");
+    for (persistent, coil_65) in [
+        (false, "01 05 00 40 00 00 CC 1E"),
+        (true, "01 05 00 40 FF 00 8D EE"),
+    ] {
+        let (mut modbus, peer) = master(&protocols::MODBUS, &[&select_index, coil_65, &write]);
+        let written = if persistent {
+            modbus.write_persistent_at::<registers::PresetReference>(3, 5)
+        } else {
+            modbus.write_ram_at::<registers::PresetReference>(3, 5)
+        };
+        assert_eq!(written.unwrap(), 5);
+        assert_eq!(
+            shown(&peer.join().unwrap()),
+            [select_index.as_str(), coil_65, write.as_str()],
+            "persistent: {persistent}"
+        );
+    }
+    let (mut modbus, _peer) = master(&protocols::MODBUS, &[]);
+    let error = modbus
+        .write_ram_at::<registers::PresetReference>(4, 5)
         .unwrap_err();
     assert!(
         error.to_string().contains("outside the array of 4"),
@@ -156,6 +189,20 @@ fn text_parameters_read_as_text() {
 }
 
 #[test]
+fn a_decoded_text_reply_gives_its_bytes() {
+    let frame = hex("02 12 01 F6 0A 00 00 31 33 32 46 30 30 30 32 00 03 00 00 9A");
+    let reply = protocols::FC.decode_reply_exact(None, &frame).unwrap();
+    let vfd_runtime::Reply::Data {
+        command, values, ..
+    } = reply
+    else {
+        panic!("a data reply: {reply:?}")
+    };
+    let text = values.bytes(&command.reply, vfd_runtime::Role::Text, &frame);
+    assert_eq!(text, Some(&b"132F0002"[..]));
+}
+
+#[test]
 fn process_words_go_out_and_come_back() {
     let (mut fc, peer) = master(&protocols::FC, &["02 06 01 0D 07 20 00 2F"]);
     let control = bits::ControlWord::new()
@@ -210,7 +257,7 @@ fn error_replies_name_the_manual_error() {
         .write_ram::<registers::MaximumReference>(99.0)
         .unwrap_err();
     assert!(
-        matches!(error, TransactionError::Rejected { code: 2, .. }),
+        matches!(error.kind, TransactionErrorKind::Rejected { code: 2, .. }),
         "{error:?}"
     );
     let message = error.to_string();
@@ -234,7 +281,7 @@ fn a_bad_bcc_is_a_typed_error() {
     let (mut fc, _peer) = master(&protocols::FC, &["02 06 01 00 03 20 00 06"]);
     let error = fc.exchange_process(0x043C, 0x2000).unwrap_err();
     assert!(
-        matches!(&error, TransactionError::Decode { source, .. } if source.kind() == DecodeErrorKind::ChecksumMismatch),
+        matches!(&error.kind, TransactionErrorKind::Decode(source) if source.kind() == DecodeErrorKind::ChecksumMismatch),
         "{error:?}"
     );
 }
@@ -245,7 +292,7 @@ fn a_request_the_protocol_cannot_carry_names_the_register() {
     let (mut modbus, peer) = master(&protocols::MODBUS, &[]);
     let error = modbus.read_text::<registers::OrderingNumber>().unwrap_err();
     assert!(
-        matches!(error, TransactionError::Encode { .. }),
+        matches!(error.kind, TransactionErrorKind::Encode(_)),
         "{error:?}"
     );
     let message = error.to_string();

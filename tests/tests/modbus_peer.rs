@@ -12,7 +12,7 @@ use vfd_drives::fc51::{bits, protocols, registers};
 use vfd_runtime::serial::{DriveTiming, Parity, SerialSettings};
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{PseudoTerminal, PtyTransport};
-use vfd_runtime::TransactionError;
+use vfd_runtime::TransactionErrorKind;
 
 struct Server(Child);
 
@@ -96,12 +96,7 @@ fn the_fc_modbus_api_works_against_pymodbus() {
     assert_eq!(master.read::<registers::MaximumReference>().unwrap(), 55.5);
 
     // Indexed read: register 0008h = 2 (06), then 03 at 310 x 10 - 1.
-    assert_eq!(
-        master
-            .read_indexed::<registers::PresetReference>(2)
-            .unwrap(),
-        42
-    );
+    assert_eq!(master.read_at::<registers::PresetReference>(2).unwrap(), 42);
 
     // Coils: the control word as 16 coils from coil 1 (0F), read back with 01.
     let run = bits::ControlWord(0x047C);
@@ -111,12 +106,12 @@ fn the_fc_modbus_api_works_against_pymodbus() {
     // An address the server does not have: exception 83h, error number 2.
     let error = master.read_text::<registers::OrderingNumber>().unwrap_err();
     assert!(
-        matches!(error, TransactionError::Encode { .. }),
+        matches!(error.kind, TransactionErrorKind::Encode(_)),
         "Modbus carries no text: {error:?}"
     );
     let error = master.read::<registers::SetupSelect>().unwrap_err();
     assert!(
-        matches!(error, TransactionError::Rejected { code: 2, .. }),
+        matches!(error.kind, TransactionErrorKind::Rejected { code: 2, .. }),
         "{error:?}"
     );
 }

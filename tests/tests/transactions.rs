@@ -5,9 +5,10 @@ use std::time::Duration;
 use vfd_drives::yd1000::{self, protocols, registers};
 use vfd_runtime::serial::DriveTiming;
 use vfd_runtime::transaction::Master;
+use vfd_runtime::transaction::ReplyField;
 use vfd_runtime::transport::{memory_pair, PseudoTerminal};
 use vfd_runtime::units::Hertz;
-use vfd_runtime::{DecodeErrorKind, Request, TransactionError};
+use vfd_runtime::{DecodeErrorKind, Request, TransactionErrorKind};
 use vfd_tests::scripted_peer::answer;
 
 /// The drive's timing with a short allowance, so the silence tests end quickly.
@@ -73,8 +74,8 @@ fn an_error_reply_names_the_code_and_its_meaning() {
         .unwrap_err();
     assert!(
         matches!(
-            &error,
-            TransactionError::Rejected {
+            &error.kind,
+            TransactionErrorKind::Rejected {
                 code: 1,
                 tripped: false,
                 info: Some(_),
@@ -127,8 +128,8 @@ fn a_wrong_checksum_is_a_typed_error_without_waiting_for_the_timeout() {
         &protocols::BINARY,
     );
     let error = master.transact(&registers::AlarmCode::read()).unwrap_err();
-    match &error {
-        TransactionError::Decode { source, .. } => {
+    match &error.kind {
+        TransactionErrorKind::Decode(source) => {
             assert_eq!(source.kind(), DecodeErrorKind::ChecksumMismatch)
         }
         other => panic!("expected a decode error, got {other:?}"),
@@ -142,8 +143,8 @@ fn silence_is_a_timeout_not_a_hang() {
     let error = master.read::<registers::OutputFrequencyNow>().unwrap_err();
     assert!(
         matches!(
-            error,
-            TransactionError::Timeout {
+            error.kind,
+            TransactionErrorKind::Timeout {
                 received_len: 0,
                 ..
             }
@@ -159,8 +160,8 @@ fn garbage_without_a_frame_times_out_and_reports_what_arrived() {
     let error = master.read::<registers::OutputFrequencyNow>().unwrap_err();
     assert!(
         matches!(
-            error,
-            TransactionError::Timeout {
+            error.kind,
+            TransactionErrorKind::Timeout {
                 received_len: 7,
                 ..
             }
@@ -176,9 +177,9 @@ fn a_reply_for_another_register_is_a_mismatch() {
     let error = master.read::<registers::OutputFrequencyNow>().unwrap_err();
     assert!(
         matches!(
-            error,
-            TransactionError::Mismatch {
-                field: "register",
+            error.kind,
+            TransactionErrorKind::Mismatch {
+                field: ReplyField::Register,
                 expected: 0xFD00,
                 found: 0xFE00,
                 ..
@@ -200,7 +201,10 @@ fn an_out_of_range_write_sends_nothing() {
     let error = master
         .write_ram::<registers::FrequencyCommand>(Hertz(400.0))
         .unwrap_err();
-    assert!(matches!(error, TransactionError::Value(_)), "{error:?}");
+    assert!(
+        matches!(error.kind, TransactionErrorKind::Value(_)),
+        "{error:?}"
+    );
     assert_eq!(theirs.pending(), 0, "no byte may reach the line");
 }
 
@@ -220,9 +224,9 @@ fn station_numbers_are_sent_and_checked() {
         .unwrap_err();
     assert!(
         matches!(
-            error,
-            TransactionError::Mismatch {
-                field: "address",
+            error.kind,
+            TransactionErrorKind::Mismatch {
+                field: ReplyField::Address,
                 expected: 7,
                 found: 8,
                 ..

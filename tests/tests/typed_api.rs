@@ -154,3 +154,39 @@ fn station_numbers_outside_the_drive_range_are_refused() {
         .unwrap_err();
     assert!(error.to_string().contains("64"), "{error}");
 }
+
+/// The requests every register gets from the runtime's traits, used generically.
+fn requests_through_the_traits<R: vfd_runtime::Persistable>(
+    ram: R::Value,
+    persistent: R::Value,
+) -> [vfd_runtime::Request; 3] {
+    [
+        R::read(),
+        R::write_ram(ram).unwrap(),
+        R::write_persistent(persistent).unwrap(),
+    ]
+}
+
+#[test]
+fn the_runtime_traits_build_the_same_requests_as_the_generated_functions() {
+    use vfd_runtime::prelude::*;
+    type Dec2 = registers::DecelerationTime2;
+    assert_eq!(
+        requests_through_the_traits::<Dec2>(Seconds(30.0), Seconds(30.0)),
+        [
+            Dec2::read(),
+            Dec2::write_ram(Seconds(30.0)).unwrap(),
+            Dec2::write_persistent(Seconds(30.0)).unwrap(),
+        ]
+    );
+    // Fully qualified, the trait's function is the one called.
+    assert_eq!(
+        <Dec2 as Writable>::write_ram(Seconds(30.0)).unwrap(),
+        Dec2::write_ram(Seconds(30.0)).unwrap()
+    );
+    let fc51_preset = <vfd_drives::fc51::registers::PresetReference as Register>::read_at(3);
+    assert_eq!(
+        fc51_preset.unwrap(),
+        vfd_drives::fc51::registers::PresetReference::read_at(3).unwrap()
+    );
+}
