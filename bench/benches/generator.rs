@@ -5,7 +5,7 @@
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
 use std::path::Path;
 use vfd_bench::synthetic_drive;
-use vfd_codegen::emit::{markdown as emit_markdown, rust as emit_rust};
+use vfd_codegen::OutputNames;
 
 fn generate(path: &Path, text: &str) -> (usize, usize) {
     let drive = vfd_codegen::compile_text(
@@ -14,8 +14,9 @@ fn generate(path: &Path, text: &str) -> (usize, usize) {
         Some(Path::new("../drives/protocols")),
     )
     .expect("valid");
-    let rust = emit_rust::format_file(&drive, emit_rust::drive_module(&drive)).expect("formats");
-    let markdown = emit_markdown::drive_page(&drive).expect("renders");
+    let names = OutputNames::default();
+    let rust = vfd_codegen::rust_file(&drive, &names).expect("formats");
+    let markdown = vfd_codegen::markdown_page(&drive, &names).expect("renders");
     (rust.len(), markdown.len())
 }
 

@@ -124,9 +124,5 @@ pub(crate) fn register_of<'d>(
 
 /// A register's address space.
 pub(crate) fn space_of(register: &RegisterModel) -> Space {
-    register
-        .space
-        .as_deref()
-        .and_then(crate::protocols::space_from_name)
-        .unwrap_or(Space::Parameter)
+    register.space.unwrap_or(Space::Parameter)
 }

@@ -32,8 +32,9 @@
 // Diagnostics are the error path of a build-time tool; their size does not matter.
 #![allow(clippy::result_large_err)]
 
+mod builder;
 pub mod diagnostics;
-pub mod emit;
+mod emit;
 mod frames;
 pub mod ir;
 mod load;
@@ -42,10 +43,13 @@ pub mod parse;
 mod protocols;
 mod validate;
 
+pub use builder::{
+    fail_build, golden_tests_file, write_if_changed, Builder, Error, Generated, GeneratedDrive,
+    OutputNames,
+};
 pub use diagnostics::{Diagnostic, Diagnostics};
 pub use ir::DriveIr;
 
-use std::fmt;
 use std::path::{Path, PathBuf};
 
 /// Reads, validates and lowers one drive file. `protocols_dir` defaults to the
@@ -99,6 +103,24 @@ fn compile_source(
     Ok(ir::lower(&context))
 }
 
+/// One drive's Rust module as tokens, holding its own frame layouts: what
+/// `vfd_macros::include_drive!` expands to.
+pub fn rust_tokens(drive: &DriveIr) -> proc_macro2::TokenStream {
+    emit::rust::drive_module(drive, emit::rust::Layouts::Inside)
+}
+
+/// One drive's Rust module as a formatted file with its own frame layouts and an
+/// `@generated` header naming `names`' regenerate command.
+pub fn rust_file(drive: &DriveIr, names: &OutputNames) -> Result<String, Error> {
+    emit::rust::format_file(&builder::header(&drive.file, names), rust_tokens(drive))
+        .map_err(Error::Emit)
+}
+
+/// One drive's Markdown reference page.
+pub fn markdown_page(drive: &DriveIr, names: &OutputNames) -> Result<String, Error> {
+    emit::markdown::drive_page_with(drive, names).map_err(Error::Emit)
+}
+
 /// The files a drive's output depends on: the drive file and its protocol files.
 pub fn inputs_of(drive: &DriveIr, protocols_dir: Option<&Path>) -> Vec<PathBuf> {
     let path = PathBuf::from(&drive.file);
@@ -113,420 +135,4 @@ pub fn inputs_of(drive: &DriveIr, protocols_dir: Option<&Path>) -> Vec<PathBuf> 
             .map(|p| dir.join(format!("{}.yaml", p.uses))),
     );
     inputs
-}
-
-/// How generated output refers to anything outside the drive description: the command that
-/// regenerates it, the Rust path of the generated modules, where manuals and protocol files
-/// are. Set through the [`Builder`]; the defaults name nothing but the description itself.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct OutputNames {
-    /// Command that regenerates the output, named in `@generated` headers (`None`: "regenerate
-    /// with vfd-codegen").
-    pub regenerate_command: Option<String>,
-    /// Rust path of the module holding the generated drive modules, as golden tests and
-    /// reference pages reach them (`crate`, or `my_drives` from another crate).
-    pub crate_path: String,
-    /// Folder shown in front of manual file names (`None`: the file name alone).
-    pub manuals_location: Option<String>,
-    /// Folder shown in front of protocol file names (`None`: the file name alone). The
-    /// [`Builder`] sets it per drive when the protocol folder lies under its display root.
-    pub protocols_location: Option<String>,
-}
-
-impl Default for OutputNames {
-    fn default() -> Self {
-        OutputNames {
-            regenerate_command: None,
-            crate_path: "crate".to_owned(),
-            manuals_location: None,
-            protocols_location: None,
-        }
-    }
-}
-
-impl OutputNames {
-    /// How to regenerate, completing "Do not edit: change the YAML and ...":
-    /// "run `<command>`", or "regenerate with vfd-codegen".
-    pub fn regenerate_hint(&self) -> String {
-        match &self.regenerate_command {
-            Some(command) => format!("run `{command}`"),
-            None => "regenerate with vfd-codegen".to_owned(),
-        }
-    }
-
-    /// The Rust path of a generated drive module (`crate::yd1000`).
-    pub fn module_path(&self, module: &str) -> String {
-        format!("{}::{module}", self.crate_path)
-    }
-
-    /// A manual's file name with its folder, when one is configured.
-    pub fn manual_shown(&self, manual: &str) -> String {
-        shown_in(self.manuals_location.as_deref(), manual)
-    }
-
-    /// A protocol file's name (`<uses>.yaml`) with its folder, when one is known.
-    pub fn protocol_file_shown(&self, uses: &str) -> String {
-        shown_in(self.protocols_location.as_deref(), &format!("{uses}.yaml"))
-    }
-}
-
-fn shown_in(folder: Option<&str>, file: &str) -> String {
-    match folder.map(|f| f.trim_end_matches('/')) {
-        Some(folder) if !folder.is_empty() => format!("{folder}/{file}"),
-        _ => file.to_owned(),
-    }
-}
-
-/// Everything generated for one drive.
-#[derive(Debug, Clone)]
-pub struct GeneratedDrive {
-    /// The IR.
-    pub ir: DriveIr,
-    /// The Rust module, formatted, with its `@generated` header.
-    pub rust: String,
-    /// The Markdown reference page.
-    pub markdown: String,
-    /// Golden-frame tests, formatted (only when [`Builder::golden_tests`] is on).
-    pub golden_tests: Option<String>,
-    /// Files the output depends on.
-    pub inputs: Vec<PathBuf>,
-}
-
-/// Everything generated in one run.
-#[derive(Debug, Clone)]
-pub struct Generated {
-    /// Per drive, in the order given.
-    pub drives: Vec<GeneratedDrive>,
-    /// The Markdown index page.
-    pub index: String,
-    /// Files [`Builder::generate`] wrote because their contents changed, in writing order
-    /// (files already up to date are left alone and not listed).
-    pub written: Vec<PathBuf>,
-}
-
-/// Why generation failed.
-#[derive(Debug)]
-pub enum Error {
-    /// The descriptions have problems; nothing was written.
-    Invalid(Diagnostics),
-    /// A file could not be read or written.
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The error.
-        source: std::io::Error,
-    },
-    /// An emitter failed (a bug in the generator, not in the description).
-    Emit(String),
-}
-
-impl fmt::Display for Error {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Error::Invalid(diagnostics) => write!(f, "{diagnostics}"),
-            Error::Io { path, source } => write!(f, "{}: {source}", path.display()),
-            Error::Emit(message) => write!(f, "internal generator error: {message}"),
-        }
-    }
-}
-
-impl std::error::Error for Error {}
-
-/// Fails a build script with the error's messages as `cargo:warning` lines (so they show
-/// in the build output with their file:line:column) and a non-zero exit.
-pub fn fail_build(error: &Error) -> ! {
-    for line in error.to_string().lines() {
-        println!("cargo:warning={line}");
-    }
-    eprintln!("{error}");
-    std::process::exit(1)
-}
-
-/// Configures and runs generation, for build scripts and tools.
-#[derive(Debug, Clone, Default)]
-pub struct Builder {
-    drives: Vec<PathBuf>,
-    protocols_dir: Option<PathBuf>,
-    out_dir: Option<PathBuf>,
-    docs_dir: Option<PathBuf>,
-    cargo_metadata: bool,
-    display_root: Option<PathBuf>,
-    names: OutputNames,
-    golden_tests: bool,
-}
-
-impl Builder {
-    /// A builder with no drives.
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// Adds one drive file.
-    pub fn drive(mut self, path: impl Into<PathBuf>) -> Self {
-        self.drives.push(path.into());
-        self
-    }
-
-    /// Adds every `*.yaml` file directly inside `dir`, in name order.
-    pub fn drives_in(mut self, dir: impl AsRef<Path>) -> Result<Self, Error> {
-        let dir = dir.as_ref();
-        let entries = std::fs::read_dir(dir).map_err(|source| Error::Io {
-            path: dir.to_owned(),
-            source,
-        })?;
-        let mut found: Vec<PathBuf> = entries
-            .filter_map(|entry| entry.ok().map(|e| e.path()))
-            .filter(|path| path.extension().is_some_and(|ext| ext == "yaml") && path.is_file())
-            .collect();
-        found.sort();
-        self.drives.extend(found);
-        Ok(self)
-    }
-
-    /// Where protocol files are found (default: `protocols/` next to each drive file).
-    pub fn protocols_dir(mut self, dir: impl Into<PathBuf>) -> Self {
-        self.protocols_dir = Some(dir.into());
-        self
-    }
-
-    /// Writes `<id>.rs` per drive and `drives.rs` (which includes them all) into `dir`.
-    pub fn out_dir(mut self, dir: impl Into<PathBuf>) -> Self {
-        self.out_dir = Some(dir.into());
-        self
-    }
-
-    /// Writes `<id>.md` per drive and `README.md` (the index) into `dir`.
-    pub fn docs_dir(mut self, dir: impl Into<PathBuf>) -> Self {
-        self.docs_dir = Some(dir.into());
-        self
-    }
-
-    /// Shows drive file paths relative to `root` in generated output (headers, docs), so
-    /// the output does not depend on where the repository is checked out.
-    pub fn display_root(mut self, root: impl Into<PathBuf>) -> Self {
-        self.display_root = Some(root.into());
-        self
-    }
-
-    /// The command that regenerates the output, named in `@generated` headers (Rust files,
-    /// reference pages, golden tests), e.g. `cargo run -p my-cli -- generate`. Default: the
-    /// headers say "regenerate with vfd-codegen".
-    pub fn regenerate_command(mut self, command: impl Into<String>) -> Self {
-        self.names.regenerate_command = Some(command.into());
-        self
-    }
-
-    /// The Rust path through which golden tests and reference pages reach the generated drive
-    /// modules (like prost's `extern_path`). Default `crate`: the including crate's root holds
-    /// them. Give the crate's name (`my_drives`) when the golden tests are compiled in another
-    /// crate, e.g. its integration tests.
-    pub fn crate_path(mut self, path: impl Into<String>) -> Self {
-        self.names.crate_path = path.into();
-        self
-    }
-
-    /// The folder shown in front of manual file names on reference pages, e.g.
-    /// `docs/manuals` (nothing is read from it). Default: the file name alone.
-    pub fn manuals_location(mut self, folder: impl Into<String>) -> Self {
-        self.names.manuals_location = Some(folder.into());
-        self
-    }
-
-    /// Also generates golden-frame tests, one `#[test]` per example of the manual. With
-    /// [`out_dir`](Self::out_dir), writes `<id>_golden.rs` per drive and `golden.rs`, which
-    /// wraps each in `mod <id>`; include that in a module of its own, in a crate that depends
-    /// on `vfd-runtime` with its `testing` feature (they call `vfd_runtime::testing`):
-    ///
-    /// ```ignore
-    /// // tests/golden.rs
-    /// mod golden { include!(concat!(env!("OUT_DIR"), "/golden.rs")); }
-    /// ```
-    ///
-    /// The tests reach the drive modules through [`crate_path`](Self::crate_path).
-    pub fn golden_tests(mut self, on: bool) -> Self {
-        self.golden_tests = on;
-        self
-    }
-
-    /// The names generated output uses for anything outside the descriptions.
-    pub fn output_names(&self) -> &OutputNames {
-        &self.names
-    }
-
-    /// Prints `cargo:rerun-if-changed` for every input (for build scripts).
-    pub fn cargo_metadata(mut self, on: bool) -> Self {
-        self.cargo_metadata = on;
-        self
-    }
-
-    /// Generates everything in memory, then writes files that changed (listed in
-    /// [`Generated::written`]). When any description is invalid, every problem is returned
-    /// and nothing is written.
-    pub fn generate(&self) -> Result<Generated, Error> {
-        let mut generated = self.generate_in_memory()?;
-        let mut written = Vec::new();
-        let mut write = |path: PathBuf, contents: &str| -> Result<(), Error> {
-            if write_if_changed(&path, contents)? {
-                written.push(path);
-            }
-            Ok(())
-        };
-        if self.cargo_metadata {
-            for drive in &generated.drives {
-                for input in &drive.inputs {
-                    println!("cargo:rerun-if-changed={}", input.display());
-                }
-            }
-            if let Some(dir) = &self.protocols_dir {
-                println!("cargo:rerun-if-changed={}", dir.display());
-            }
-        }
-        if let Some(dir) = &self.out_dir {
-            let mut includes =
-                String::from("// @generated by vfd-codegen: one include per described drive.\n");
-            for drive in &generated.drives {
-                let name = format!("{}.rs", drive.ir.id);
-                write(dir.join(&name), &drive.rust)?;
-                includes.push_str(&format!(
-                    "include!(concat!(env!(\"OUT_DIR\"), \"/{name}\"));\n"
-                ));
-            }
-            let all: Vec<String> = generated
-                .drives
-                .iter()
-                .map(|d| format!("&{}::DRIVE", d.ir.module))
-                .collect();
-            includes.push_str(&format!(
-                "/// Every described drive.\npub static ALL_DRIVES: [&::vfd_runtime::DriveInfo; {}] = [{}];\n",
-                all.len(),
-                all.join(", ")
-            ));
-            write(dir.join("drives.rs"), &includes)?;
-            if self.golden_tests {
-                let mut modules = String::from(
-                    "// @generated by vfd-codegen: golden-frame tests, one module per described drive.\n",
-                );
-                for drive in &generated.drives {
-                    let name = format!("{}_golden.rs", drive.ir.id);
-                    let tests = drive.golden_tests.as_deref().unwrap_or_default();
-                    write(dir.join(&name), tests)?;
-                    modules.push_str(&format!(
-                        "/// Golden frames of `{}`.\nmod {} {{\n    include!(concat!(env!(\"OUT_DIR\"), \"/{name}\"));\n}}\n",
-                        drive.ir.file.replace('\\', "/"),
-                        drive.ir.module
-                    ));
-                }
-                write(dir.join("golden.rs"), &modules)?;
-            }
-        }
-        if let Some(dir) = &self.docs_dir {
-            for drive in &generated.drives {
-                write(dir.join(format!("{}.md", drive.ir.id)), &drive.markdown)?;
-            }
-            write(dir.join("README.md"), &generated.index)?;
-        }
-        generated.written = written;
-        Ok(generated)
-    }
-
-    /// Generates everything without writing files.
-    pub fn generate_in_memory(&self) -> Result<Generated, Error> {
-        let mut diagnostics = Diagnostics::default();
-        let mut irs = Vec::new();
-        for path in &self.drives {
-            match compile(path, self.protocols_dir.as_deref()) {
-                Ok(ir) => irs.push(ir),
-                Err(more) => diagnostics.items.extend(more.items),
-            }
-        }
-        if !diagnostics.is_empty() {
-            return Err(Error::Invalid(diagnostics));
-        }
-        let mut drives = Vec::new();
-        for mut ir in irs {
-            let inputs = inputs_of(&ir, self.protocols_dir.as_deref());
-            let names = OutputNames {
-                protocols_location: self.protocols_location(Path::new(&ir.file)),
-                ..self.names.clone()
-            };
-            if let Some(root) = &self.display_root {
-                let root = root.canonicalize().unwrap_or_else(|_| root.clone());
-                let file = PathBuf::from(&ir.file);
-                let file = file.canonicalize().unwrap_or(file);
-                if let Ok(relative) = file.strip_prefix(&root) {
-                    ir.file = relative.display().to_string().replace('\\', "/");
-                }
-            }
-            let rust = emit::rust::format_file_with(&ir, emit::rust::drive_module(&ir), &names)
-                .map_err(Error::Emit)?;
-            let markdown = emit::markdown::drive_page_with(&ir, &names).map_err(Error::Emit)?;
-            let golden_tests = if self.golden_tests {
-                Some(golden_tests_file(&ir, &names)?)
-            } else {
-                None
-            };
-            drives.push(GeneratedDrive {
-                ir,
-                rust,
-                markdown,
-                golden_tests,
-                inputs,
-            });
-        }
-        let irs: Vec<DriveIr> = drives.iter().map(|d| d.ir.clone()).collect();
-        let index = emit::markdown::index_page_with(&irs, &self.names).map_err(Error::Emit)?;
-        Ok(Generated {
-            drives,
-            index,
-            written: Vec::new(),
-        })
-    }
-}
-
-impl Builder {
-    /// The protocol folder of the drive at `drive_file` relative to the display root, when
-    /// it lies under it.
-    fn protocols_location(&self, drive_file: &Path) -> Option<String> {
-        let root = self.display_root.as_ref()?;
-        let root = root.canonicalize().unwrap_or_else(|_| root.clone());
-        let dir = match &self.protocols_dir {
-            Some(dir) => dir.clone(),
-            None => load::default_protocols_dir(drive_file),
-        };
-        let dir = dir.canonicalize().unwrap_or(dir);
-        let relative = dir.strip_prefix(&root).ok()?;
-        Some(relative.display().to_string().replace('\\', "/"))
-    }
-}
-
-/// Writes `contents` to `path` unless the file already holds exactly that (keeps builds
-/// incremental). Creates the parent folder.
-pub fn write_if_changed(path: &Path, contents: &str) -> Result<bool, Error> {
-    if std::fs::read_to_string(path).is_ok_and(|old| old == contents) {
-        return Ok(false);
-    }
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).map_err(|source| Error::Io {
-            path: parent.to_owned(),
-            source,
-        })?;
-    }
-    std::fs::write(path, contents).map_err(|source| Error::Io {
-        path: path.to_owned(),
-        source,
-    })?;
-    Ok(true)
-}
-
-/// Golden tests for one drive as a formatted Rust file, reaching the drive module through
-/// `names.crate_path` (see [`Builder::golden_tests`]).
-pub fn golden_tests_file(drive: &DriveIr, names: &OutputNames) -> Result<String, Error> {
-    let tokens = emit::tests::golden_tests(drive, &names.module_path(&drive.module));
-    let file: syn::File =
-        syn::parse2(tokens).map_err(|e| Error::Emit(format!("golden tests do not parse: {e}")))?;
-    Ok(format!(
-        "{}{}",
-        emit::rust::header_with(drive, names),
-        prettyplease::unparse(&file)
-    ))
 }

@@ -14,6 +14,11 @@ pub fn type_name(id: &str) -> String {
         .collect()
 }
 
+/// `vf-as1` -> `vf_as1`: a drive or protocol-file id as a Rust module name.
+pub fn module_name(id: &str) -> String {
+    id.replace('-', "_")
+}
+
 /// `toshiba-ascii` or `ascii` -> `ASCII` / `TOSHIBA_ASCII`.
 pub fn const_name(id: &str) -> String {
     id.replace('-', "_").to_ascii_uppercase()
@@ -43,6 +48,7 @@ mod tests {
         assert_eq!(type_name("deceleration_time_1"), "DecelerationTime1");
         assert_eq!(type_name("bps_1200"), "Bps1200");
         assert_eq!(const_name("ascii"), "ASCII");
+        assert_eq!(module_name("vf-as1"), "vf_as1");
         assert_eq!(method_name("run"), "run");
         assert_eq!(method_name("type"), "type_");
     }

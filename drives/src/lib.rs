@@ -6,7 +6,7 @@
 //!
 //! ```
 //! use vfd_drives::yd1000;
-//! use vfd_runtime::units::Hertz;
+//! use vfd_runtime::prelude::*;
 //!
 //! // "Set 60 Hz in RAM", binary protocol, no station number.
 //! let request = yd1000::registers::FrequencyCommand::write_ram(Hertz(60.0)).unwrap();
@@ -26,17 +26,20 @@ pub fn drive(id: &str) -> Option<&'static vfd_runtime::DriveInfo> {
 /// Writing a read-only register or writing a RAM-only register persistently does not compile:
 ///
 /// ```compile_fail,E0599
+/// use vfd_runtime::prelude::*;
 /// use vfd_drives::yd1000::registers::OutputFrequency;
 /// let _ = OutputFrequency::write_ram(vfd_runtime::units::Hertz(1.0));
 /// ```
 ///
 /// ```compile_fail,E0599
+/// use vfd_runtime::prelude::*;
 /// use vfd_drives::yd1000::registers::FrequencyCommand;
 /// let _ = FrequencyCommand::write_persistent(vfd_runtime::units::Hertz(1.0));
 /// ```
 ///
 /// ```compile_fail,E0308
 /// // Units are types: seconds are not hertz.
+/// use vfd_runtime::prelude::*;
 /// use vfd_drives::yd1000::registers::FrequencyCommand;
 /// let _ = FrequencyCommand::write_ram(vfd_runtime::units::Seconds(1.0));
 /// ```

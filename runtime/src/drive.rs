@@ -34,6 +34,18 @@ impl DriveInfo {
         self.protocols.iter().copied().find(|p| p.id == id)
     }
 
+    /// The register at `address` (before any protocol's address map), in `space`.
+    pub fn register_at(
+        &self,
+        space: crate::kinds::Space,
+        address: u16,
+    ) -> Option<&'static RegisterInfo> {
+        self.registers
+            .iter()
+            .copied()
+            .find(|r| r.space == space && r.address == address)
+    }
+
     /// The register with this manual code (case-insensitive) or identifier.
     pub fn register(&self, name: &str) -> Option<&'static RegisterInfo> {
         self.registers

@@ -4,8 +4,9 @@
 //! Below everything that works with registers or protocols: it imports only [`crate::kinds`]
 //! and [`crate::layout`], so error types can name a register or an error code.
 
-use crate::kinds::{Access, DataType, Space, Unit};
+use crate::kinds::{Access, DataType, Space, TakesEffect, Unit};
 use crate::layout::Text;
+use std::borrow::Cow;
 
 /// Everything the manual says about one register, as static data.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,6 +49,109 @@ pub struct RegisterInfo {
     pub writable_while_running: bool,
     /// Only effective when set from the operator panel.
     pub panel_only: bool,
+    /// When a written value takes effect.
+    pub takes_effect: TakesEffect,
+}
+
+/// Const builders: generated code writes a register as `RegisterInfo::new(..)` followed by
+/// the `with_*` calls for what differs from the defaults.
+impl RegisterInfo {
+    /// [`RegisterInfo::DEFAULT`] at this address, with this code and id.
+    pub const fn new(address: u16, code: &'static str, id: &'static str) -> Self {
+        RegisterInfo {
+            address,
+            id,
+            code,
+            ..Self::DEFAULT
+        }
+    }
+
+    /// With the English and the manual's Chinese name.
+    pub const fn with_names(mut self, name: &'static str, name_zh: &'static str) -> Self {
+        self.name = name;
+        self.name_zh = name_zh;
+        self
+    }
+
+    /// With a unit and the engineering value of one raw step.
+    pub const fn with_unit(mut self, unit: Unit, scale: f64) -> Self {
+        self.unit = unit;
+        self.scale = scale;
+        self
+    }
+
+    /// The raw value is two's-complement signed.
+    pub const fn with_signed(mut self) -> Self {
+        self.signed = true;
+        self
+    }
+
+    /// With static raw bounds.
+    pub const fn with_raw_range(mut self, min: i64, max: i64) -> Self {
+        self.raw_min = min;
+        self.raw_max = max;
+        self
+    }
+
+    /// The register with this code bounds the value from below at run time.
+    pub const fn with_min_bound(mut self, code: &'static str) -> Self {
+        self.min_bound = Some(code);
+        self
+    }
+
+    /// The register with this code bounds the value from above at run time.
+    pub const fn with_max_bound(mut self, code: &'static str) -> Self {
+        self.max_bound = Some(code);
+        self
+    }
+
+    /// With this access over the serial link.
+    pub const fn with_access(mut self, access: Access) -> Self {
+        self.access = access;
+        self
+    }
+
+    /// Writes go to RAM only.
+    pub const fn with_ram_only(mut self) -> Self {
+        self.ram_only = true;
+        self
+    }
+
+    /// May be written while the motor runs.
+    pub const fn with_writable_while_running(mut self) -> Self {
+        self.writable_while_running = true;
+        self
+    }
+
+    /// Only effective when set from the operator panel.
+    pub const fn with_panel_only(mut self) -> Self {
+        self.panel_only = true;
+        self
+    }
+
+    /// Takes effect as given.
+    pub const fn with_takes_effect(mut self, takes_effect: TakesEffect) -> Self {
+        self.takes_effect = takes_effect;
+        self
+    }
+
+    /// With this shape on the wire.
+    pub const fn with_data_type(mut self, data_type: DataType) -> Self {
+        self.data_type = data_type;
+        self
+    }
+
+    /// In this address space.
+    pub const fn with_space(mut self, space: Space) -> Self {
+        self.space = space;
+        self
+    }
+
+    /// An array (indexed) parameter of `len` elements.
+    pub const fn with_array(mut self, len: u8) -> Self {
+        self.array_len = len;
+        self
+    }
 }
 
 impl RegisterInfo {
@@ -75,6 +179,7 @@ impl RegisterInfo {
         ram_only: false,
         writable_while_running: false,
         panel_only: false,
+        takes_effect: TakesEffect::Immediately,
     };
 
     /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.
@@ -136,6 +241,25 @@ pub struct ErrorCodeInfo {
     pub name_zh: Text,
     /// The manual's explanation.
     pub meaning: Text,
+}
+
+impl ErrorCodeInfo {
+    /// An entry of a generated error-code table.
+    pub const fn new(
+        code: u16,
+        id: &'static str,
+        name: &'static str,
+        name_zh: &'static str,
+        meaning: &'static str,
+    ) -> ErrorCodeInfo {
+        ErrorCodeInfo {
+            code,
+            id: Cow::Borrowed(id),
+            name: Cow::Borrowed(name),
+            name_zh: Cow::Borrowed(name_zh),
+            meaning: Cow::Borrowed(meaning),
+        }
+    }
 }
 
 /// Decimal places a scale implies: 0.01 gives 2, 1 gives 0 (at most 6).

@@ -143,6 +143,31 @@ impl Space {
     }
 }
 
+/// When a written value takes effect.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum TakesEffect {
+    /// At once (the default).
+    #[default]
+    Immediately,
+    /// Only after the drive is reset or powered off and on.
+    AfterReset,
+}
+
+impl TakesEffect {
+    /// Every value.
+    pub const ALL: [TakesEffect; 2] = [TakesEffect::Immediately, TakesEffect::AfterReset];
+
+    /// Name as written in description files.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            TakesEffect::Immediately => "immediately",
+            TakesEffect::AfterReset => "after_reset",
+        }
+    }
+}
+
 /// A unit a register's value is expressed in, after scaling.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -488,3 +488,156 @@ impl Part {
         }
     }
 }
+
+/// Const constructors: generated code writes each part as one of these followed by the
+/// `with_*` calls for what differs from the defaults, so layouts stay short and readable.
+impl Part {
+    /// Fixed bytes that are always present.
+    pub const fn literal(name: &'static str, bytes: &'static [u8]) -> Part {
+        Part::Literal {
+            name: Cow::Borrowed(name),
+            bytes: Cow::Borrowed(bytes),
+            optional: false,
+        }
+    }
+
+    /// Fixed bytes that may be left out (present on decode when the next bytes equal them).
+    pub const fn optional_literal(name: &'static str, bytes: &'static [u8]) -> Part {
+        Part::Literal {
+            name: Cow::Borrowed(name),
+            bytes: Cow::Borrowed(bytes),
+            optional: true,
+        }
+    }
+}
+
+impl FieldSpec {
+    /// A field of exactly `width` digits or bytes, always present, any value, sized by its
+    /// format.
+    pub const fn new(name: &'static str, role: Role, format: Format, width: u8) -> FieldSpec {
+        FieldSpec {
+            name: Cow::Borrowed(name),
+            role,
+            format,
+            width,
+            min_width: width,
+            optional: None,
+            allowed: Cow::Borrowed(&[]),
+            fold_case: false,
+            sized_by: SizedBy::Format,
+        }
+    }
+
+    /// Accepts as few as `min_width` digits or bytes on decode.
+    pub const fn with_min_width(mut self, min_width: u8) -> FieldSpec {
+        self.min_width = min_width;
+        self
+    }
+
+    /// Present only when `presence` says so.
+    pub const fn with_optional(mut self, presence: Presence) -> FieldSpec {
+        self.optional = Some(presence);
+        self
+    }
+
+    /// Only these values are accepted.
+    pub const fn with_allowed(mut self, allowed: &'static [u32]) -> FieldSpec {
+        // A const fn cannot drop the old value, so it is forgotten: nothing to free when it
+        // is borrowed, as in generated code (an owned one would leak).
+        core::mem::forget(core::mem::replace(
+            &mut self.allowed,
+            Cow::Borrowed(allowed),
+        ));
+        self
+    }
+
+    /// A lower-case letter is accepted and means "tripped".
+    pub const fn with_fold_case(mut self) -> FieldSpec {
+        self.fold_case = true;
+        self
+    }
+
+    /// Sized other than by its format.
+    pub const fn with_sized_by(mut self, sized_by: SizedBy) -> FieldSpec {
+        self.sized_by = sized_by;
+        self
+    }
+}
+
+impl ChecksumSpec {
+    /// A checksum covering the parts from `covers_from` to the byte before it, always
+    /// present, with no marker.
+    pub const fn new(
+        name: &'static str,
+        algorithm: ChecksumAlgorithm,
+        format: Format,
+        covers_from: u8,
+    ) -> ChecksumSpec {
+        ChecksumSpec {
+            name: Cow::Borrowed(name),
+            algorithm,
+            format,
+            marker: Cow::Borrowed(&[]),
+            covers_from,
+            optional: false,
+        }
+    }
+
+    /// Announced by these bytes.
+    pub const fn with_marker(mut self, marker: &'static [u8]) -> ChecksumSpec {
+        // A const fn cannot drop the old value, so it is forgotten: nothing to free when it
+        // is borrowed, as in generated code (an owned one would leak).
+        core::mem::forget(core::mem::replace(&mut self.marker, Cow::Borrowed(marker)));
+        self
+    }
+
+    /// May be left out.
+    pub const fn with_optional(mut self) -> ChecksumSpec {
+        self.optional = true;
+        self
+    }
+}
+
+impl BitsSpec {
+    /// `width` bits from `lsb`, any value.
+    pub const fn new(name: &'static str, role: Role, lsb: u8, width: u8) -> BitsSpec {
+        BitsSpec {
+            name: Cow::Borrowed(name),
+            role,
+            lsb,
+            width,
+            allowed: Cow::Borrowed(&[]),
+        }
+    }
+
+    /// Only these values are accepted.
+    pub const fn with_allowed(mut self, allowed: &'static [u32]) -> BitsSpec {
+        // A const fn cannot drop the old value, so it is forgotten: nothing to free when it
+        // is borrowed, as in generated code (an owned one would leak).
+        core::mem::forget(core::mem::replace(
+            &mut self.allowed,
+            Cow::Borrowed(allowed),
+        ));
+        self
+    }
+}
+
+impl LengthSpec {
+    /// A length in `format` counting `counts` one for one.
+    pub const fn new(name: &'static str, format: Format, counts: Counts) -> LengthSpec {
+        LengthSpec {
+            name: Cow::Borrowed(name),
+            format,
+            counts,
+            times: 1,
+            per: 1,
+        }
+    }
+
+    /// The count is multiplied by `times` and divided by `per`.
+    pub const fn with_ratio(mut self, times: u8, per: u8) -> LengthSpec {
+        self.times = times;
+        self.per = per;
+        self
+    }
+}

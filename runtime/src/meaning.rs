@@ -13,6 +13,8 @@ use crate::protocol::{Protocol, Reply};
 
 /// Whether a frame goes from master to drive or back.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Direction {
     /// Master to drive.
     Request,
@@ -32,6 +34,7 @@ impl Direction {
 
 /// What a frame says, field by field (`None`: the frame does not carry it).
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct FrameMeaning {
     /// Station address.
     pub address: Option<u8>,

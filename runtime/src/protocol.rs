@@ -8,6 +8,7 @@ pub use crate::info::ErrorCodeInfo;
 pub use crate::kinds::{CommandKind, DataType, Space};
 use crate::layout::{FrameLayout, List, Part, Role, Text};
 pub use crate::register::Request;
+use std::borrow::Cow;
 
 /// How a command turns a register number into the number on the wire:
 /// `wire = number * multiply + offset` (Modbus holding register = parameter x 10 - 1).
@@ -63,6 +64,63 @@ pub struct CommandSpec {
     pub reply: FrameLayout,
     /// Codes a normal reply may carry; empty means the request's own code.
     pub reply_codes: List<u32>,
+}
+
+/// Const constructors for generated code.
+impl CommandSpec {
+    /// A command on parameters, carrying any data type, with the identity address map and
+    /// replies that carry the request's code.
+    pub const fn new(
+        code: u32,
+        kind: CommandKind,
+        request: FrameLayout,
+        reply: FrameLayout,
+    ) -> CommandSpec {
+        CommandSpec {
+            code,
+            kind,
+            data_types: Cow::Borrowed(&[]),
+            space: Space::Parameter,
+            address_map: AddressMap::IDENTITY,
+            request,
+            reply,
+            reply_codes: Cow::Borrowed(&[]),
+        }
+    }
+
+    /// Carries only these data types.
+    pub const fn with_data_types(mut self, data_types: &'static [DataType]) -> CommandSpec {
+        // A const fn cannot drop the old value, so it is forgotten: nothing to free when it
+        // is borrowed, as in generated code (an owned one would leak).
+        core::mem::forget(core::mem::replace(
+            &mut self.data_types,
+            Cow::Borrowed(data_types),
+        ));
+        self
+    }
+
+    /// Addresses this space.
+    pub const fn with_space(mut self, space: Space) -> CommandSpec {
+        self.space = space;
+        self
+    }
+
+    /// Numbers registers on the wire through `address_map`.
+    pub const fn with_address_map(mut self, address_map: AddressMap) -> CommandSpec {
+        self.address_map = address_map;
+        self
+    }
+
+    /// A normal reply carries one of these codes.
+    pub const fn with_reply_codes(mut self, codes: &'static [u32]) -> CommandSpec {
+        // A const fn cannot drop the old value, so it is forgotten: nothing to free when it
+        // is borrowed, as in generated code (an owned one would leak).
+        core::mem::forget(core::mem::replace(
+            &mut self.reply_codes,
+            Cow::Borrowed(codes),
+        ));
+        self
+    }
 }
 
 impl CommandSpec {

@@ -1,5 +1,7 @@
 //! The proc-macro front end yields the same API as the build script.
 
+use vfd_runtime::prelude::*;
+
 vfd_macros::include_drive!("../drives/yd1000.yaml");
 
 #[test]

@@ -3,6 +3,7 @@
 
 use std::time::Duration;
 use vfd_drives::yd1000::{self, protocols, registers};
+use vfd_runtime::prelude::*;
 use vfd_runtime::serial::DriveTiming;
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transaction::ReplyField;

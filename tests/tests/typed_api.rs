@@ -2,8 +2,9 @@
 //! ranges, bit fields, code tables and error codes.
 
 use vfd_drives::yd1000::{self, bits, codes, protocols, registers, ErrorCode};
+use vfd_runtime::prelude::*;
 use vfd_runtime::units::{Hertz, Seconds};
-use vfd_runtime::{Register, RegisterValue, ValueError};
+use vfd_runtime::{Register, RegisterValue, Space, ValueError};
 
 fn encode(
     protocol: &vfd_runtime::Protocol,
@@ -93,8 +94,16 @@ fn register_metadata_comes_from_the_yaml() {
     );
     assert!(!info.writable_while_running);
     assert!(<registers::FrequencyCommand as Register>::INFO.ram_only);
-    assert_eq!(registers::by_name("fh").map(|r| r.address), Some(0x0011));
-    assert_eq!(registers::by_address(0xFE01).map(|r| r.code), Some("FE01"));
+    assert_eq!(
+        yd1000::DRIVE.register("fh").map(|r| r.address),
+        Some(0x0011)
+    );
+    assert_eq!(
+        yd1000::DRIVE
+            .register_at(Space::Parameter, 0xFE01)
+            .map(|r| r.code),
+        Some("FE01")
+    );
     assert_eq!(
         yd1000::DRIVE.register("UL").and_then(|r| r.max_bound),
         Some("FH")

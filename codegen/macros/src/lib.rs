@@ -65,7 +65,7 @@ pub fn include_drive(input: TokenStream) -> TokenStream {
     let protocols = protocols.map(|dir| manifest.join(dir.value()));
     match vfd_codegen::compile(&path, protocols.as_deref()) {
         Ok(drive) => {
-            let module = vfd_codegen::emit::rust::drive_module(&drive);
+            let module = vfd_codegen::rust_tokens(&drive);
             let inputs: Vec<String> = vfd_codegen::inputs_of(&drive, protocols.as_deref())
                 .iter()
                 .map(|p| {

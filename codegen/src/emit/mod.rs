@@ -5,3 +5,4 @@
 pub mod markdown;
 pub mod rust;
 pub mod tests;
+pub mod words;

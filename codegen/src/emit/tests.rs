@@ -2,9 +2,12 @@
 //! calling the checks in `vfd_runtime::testing` (the runtime's `testing` feature), so they
 //! compile in any crate that depends on `vfd-runtime` with that feature.
 
-use crate::ir::{DriveIr, ExampleIr, ExpectIr, FrameIr, ValueKind};
+use crate::emit::rust::bake::{int_literal, Bake};
+use crate::ir::{DriveIr, ExampleIr, FrameIr, RegisterIr, ValueKind};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
+use vfd_runtime::meaning::Direction;
+use vfd_runtime::CommandKind;
 
 /// Golden tests for every example, bit-field example and value example of `drive`.
 /// `drive_path` is the path of the generated drive module as seen from the tests, e.g.
@@ -13,13 +16,13 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
     let root: syn::Path = syn::parse_str(drive_path).unwrap_or_else(|_| syn::parse_quote!(crate));
     let mut tests = Vec::new();
     for example in &drive.examples {
-        tests.push(example_test(&root, example));
+        tests.push(example_test(drive, &root, example));
     }
     for bitfield in &drive.bitfields {
         let ty = Ident::new(&bitfield.type_name, Span::call_site());
         for (index, example) in bitfield.examples.iter().enumerate() {
             let name = format_ident!("bits_{}_example_{}", bitfield.id, index + 1);
-            let value = example.value;
+            let value = int_literal(example.value);
             let setters = example.set.iter().map(|id| format_ident!("with_{}", id));
             let getters = example
                 .set
@@ -43,15 +46,18 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
         }
     }
     for (index, example) in drive.value_examples.iter().enumerate() {
+        let Some(register) = drive.registers.iter().find(|r| r.id == example.register) else {
+            continue;
+        };
         let name = format_ident!(
             "value_{}_example_{}",
-            example.register_code.to_ascii_lowercase(),
+            register.code.to_ascii_lowercase().replace('-', "_"),
             index + 1
         );
-        let register = Ident::new(&example.register_type, Span::call_site());
-        let value_ty = value_type_at(&example.value_kind, &root);
-        let construct = construct_value(&example.value_kind, example.value, &value_ty);
-        let raw = example.raw;
+        let value_ty = value_type_at(&register.value, &root);
+        let construct = construct_value(&register.value, example.value, &value_ty);
+        let register = Ident::new(&register.type_name, Span::call_site());
+        let raw = int_literal(example.raw);
         let doc = format!(
             " {} (manual section {}).",
             example.description, example.source
@@ -60,7 +66,6 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
             #[doc = #doc]
             #[test]
             fn #name() {
-                use ::vfd_runtime::{Register, RegisterValue};
                 type R = #root::registers::#register;
                 let value = #construct;
                 assert_eq!(value.to_raw(R::INFO).unwrap(), #raw, "the manual's value encodes to its raw word");
@@ -71,6 +76,12 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
         });
     }
     quote! {
+        #[allow(unused_imports)]
+        use ::vfd_runtime::meaning::{Direction, FrameMeaning};
+        #[allow(unused_imports)]
+        use ::vfd_runtime::prelude::*;
+        #[allow(unused_imports)]
+        use ::vfd_runtime::{CommandKind, Space};
         #(#tests)*
     }
 }
@@ -109,49 +120,6 @@ fn construct_value(kind: &ValueKind, value: f64, ty: &TokenStream) -> TokenStrea
     }
 }
 
-fn expect_tokens(expect: &ExpectIr) -> TokenStream {
-    fn option<T: quote::ToTokens>(value: Option<T>) -> TokenStream {
-        match value {
-            Some(value) => quote!(Some(#value)),
-            None => quote!(None),
-        }
-    }
-    let address = option(expect.address);
-    let code = option(expect.code);
-    let register = option(expect.register.map(|r| r as u16));
-    let wire_register = option(if expect.register.is_none() {
-        expect.wire_register.map(|r| r as u16)
-    } else {
-        None
-    });
-    let index = option(expect.index.map(|i| i as u16));
-    let data = option(expect.data);
-    let error_code = option(expect.error_code.map(|e| e as u16));
-    let process = match expect.process {
-        Some([first, second]) => {
-            let (first, second) = (first as u16, second as u16);
-            quote!(Some([#first, #second]))
-        }
-        None => quote!(None),
-    };
-    let text = option(expect.text.as_deref());
-    let tripped = expect.tripped;
-    quote! {
-        ::vfd_runtime::testing::Expect {
-            address: #address,
-            code: #code,
-            register: #register,
-            wire_register: #wire_register,
-            index: #index,
-            data: #data,
-            error_code: #error_code,
-            process: #process,
-            text: #text,
-            tripped: #tripped,
-        }
-    }
-}
-
 fn bytes_tokens(bytes: &[u8]) -> TokenStream {
     let bytes = bytes.iter().map(|b| {
         format!("0x{b:02X}")
@@ -161,51 +129,62 @@ fn bytes_tokens(bytes: &[u8]) -> TokenStream {
     quote!(&[#(#bytes),*])
 }
 
-fn frame_checks(protocol: &TokenStream, frame: &FrameIr, request: bool) -> TokenStream {
+fn frame_checks(protocol: &TokenStream, frame: &FrameIr, direction: Direction) -> TokenStream {
     let bytes = bytes_tokens(&frame.bytes);
-    let expect = expect_tokens(&frame.expect);
-    let check = if request {
-        quote!(::vfd_runtime::testing::request_round_trips(#protocol, #bytes, #expect);)
-    } else {
-        quote!(::vfd_runtime::testing::reply_round_trips(#protocol, #bytes, #expect);)
+    let expect = frame.meaning.bake();
+    let check = match direction {
+        Direction::Request => {
+            quote!(::vfd_runtime::testing::request_round_trips(#protocol, #bytes, &#expect);)
+        }
+        Direction::Reply => {
+            quote!(::vfd_runtime::testing::reply_round_trips(#protocol, #bytes, &#expect);)
+        }
     };
     let printed = frame.printed.as_ref().map(|printed| {
         let bytes = bytes_tokens(&printed.bytes);
-        let reason = &printed.rejected_as;
-        let direction = if request { quote!(Request) } else { quote!(Reply) };
+        let reason = printed.rejected_as.bake();
+        let direction = direction.bake();
         quote! {
-            ::vfd_runtime::testing::printed_is_rejected(#protocol, ::vfd_runtime::testing::Direction::#direction, #bytes, #reason);
+            ::vfd_runtime::testing::printed_is_rejected(#protocol, #direction, #bytes, ::vfd_runtime::#reason);
         }
     });
     quote! { #check #printed }
 }
 
-fn example_test(root: &syn::Path, example: &ExampleIr) -> TokenStream {
+fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> TokenStream {
     let name = format_ident!("example_{}", example.id);
-    let protocol_name = Ident::new(&example.protocol_const, Span::call_site());
+    let protocol_name = drive
+        .protocols
+        .iter()
+        .find(|p| p.id == example.protocol)
+        .map(|p| Ident::new(&p.const_name, Span::call_site()))
+        .unwrap_or_else(|| Ident::new("UNKNOWN_PROTOCOL", Span::call_site()));
     let protocol = quote!(&#root::protocols::#protocol_name);
     let mut body = Vec::new();
     if let Some(frame) = &example.request {
-        body.push(frame_checks(&protocol, frame, true));
+        body.push(frame_checks(&protocol, frame, Direction::Request));
     }
     if let Some(frame) = &example.reply {
-        body.push(frame_checks(&protocol, frame, false));
+        body.push(frame_checks(&protocol, frame, Direction::Reply));
     }
-    if let (Some(value), Some(register), Some(kind)) =
-        (example.value, &example.register_type, &example.value_kind)
-    {
-        let register = Ident::new(register, Span::call_site());
+    let register: Option<&RegisterIr> = example
+        .register
+        .as_ref()
+        .and_then(|id| drive.registers.iter().find(|r| &r.id == id));
+    if let (Some(value), Some(described)) = (example.value, register) {
+        let kind = &described.value;
+        let register = Ident::new(&described.type_name, Span::call_site());
         let ty = value_type_at(kind, root);
         let construct = construct_value(kind, value, &ty);
         let data = example
             .reply
             .as_ref()
-            .and_then(|f| f.expect.data)
-            .or(example.request.as_ref().and_then(|f| f.expect.data))
+            .and_then(|f| f.meaning.data)
+            .or(example.request.as_ref().and_then(|f| f.meaning.data))
             .unwrap_or(0);
+        let data = int_literal(data);
         body.push(quote! {
             {
-                use ::vfd_runtime::{Register, RegisterValue};
                 type R = #root::registers::#register;
                 let value = #construct;
                 assert_eq!(<R as Register>::Value::from_raw(#data, R::INFO).unwrap(), value, "decoded value");
@@ -213,21 +192,21 @@ fn example_test(root: &syn::Path, example: &ExampleIr) -> TokenStream {
         });
         if let Some(request) = &example.request {
             let bytes = bytes_tokens(&request.bytes);
-            let build = match request.expect.command_kind.as_deref() {
-                Some("write_ram") if example.register_writable => Some(quote! {
+            let build = match request.meaning.kind {
+                Some(CommandKind::WriteRam) if described.writable() => Some(quote! {
                     let request = #root::registers::#register::write_ram(#construct).expect("the manual's value is within range");
                 }),
-                Some("write_persistent") if example.register_persistable => Some(quote! {
+                Some(CommandKind::WritePersistent) if described.persistable() => Some(quote! {
                     let request = #root::registers::#register::write_persistent(#construct).expect("the manual's value is within range");
                 }),
-                Some("read") => Some(quote! {
+                Some(CommandKind::Read) => Some(quote! {
                     let request = #root::registers::#register::read();
                 }),
                 _ => None,
             };
-            let at_index = match request.expect.index {
-                Some(index) if index > 0 || example.register_array => {
-                    let index = index as u16;
+            let at_index = match request.meaning.index {
+                Some(index) if index > 0 || described.array_len > 0 => {
+                    let index = int_literal(index);
                     quote!(let request = request.at_index(#index).expect("the manual's index is within the array");)
                 }
                 _ => quote!(),

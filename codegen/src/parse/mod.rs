@@ -151,6 +151,8 @@ fn hint_for(message: &str) -> Option<&'static str> {
             .is_some_and(|field| field.contains(' '))
     {
         Some("inside `{ ... }` an unquoted comma ends the value: put text containing commas in quotes")
+    } else if message.contains("unknown variant") {
+        Some("use one of the values listed after \"expected\"")
     } else if message.contains("unknown field") {
         Some("remove the key or fix its spelling; drives/README.md lists every key")
     } else if message.contains("missing field") {

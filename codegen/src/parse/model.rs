@@ -5,6 +5,8 @@
 
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use vfd_runtime::serial::Parity;
+use vfd_runtime::{Access, DataType, DecodeErrorKind, Space, TakesEffect};
 
 /// A drive file (`drives/<id>.yaml`).
 #[derive(Debug, Clone, Deserialize)]
@@ -50,7 +52,7 @@ pub struct SerialModel {
     #[serde(default)]
     pub note: String,
     pub baud_rates: Vec<u32>,
-    pub parities: Vec<String>,
+    pub parities: Vec<Parity>,
     pub data_bits: u8,
     pub stop_bits_sent: u8,
     pub stop_bits_received: u8,
@@ -62,7 +64,7 @@ pub struct SerialModel {
 #[serde(deny_unknown_fields)]
 pub struct SerialDefaultModel {
     pub baud: u32,
-    pub parity: String,
+    pub parity: Parity,
     pub data_bits: u8,
     pub stop_bits: u8,
 }
@@ -235,7 +237,7 @@ pub struct RegisterModel {
     pub range: Option<RangeModel>,
     pub default: Option<f64>,
     #[serde(default)]
-    pub access: Option<String>,
+    pub access: Option<Access>,
     #[serde(default)]
     pub ram_only: bool,
     #[serde(default)]
@@ -243,13 +245,13 @@ pub struct RegisterModel {
     #[serde(default)]
     pub panel_only: bool,
     #[serde(default)]
-    pub takes_effect: Option<String>,
+    pub takes_effect: Option<TakesEffect>,
     pub bitfield: Option<String>,
     pub code_table: Option<String>,
     /// `word` (default), `double_word`, `bit` or `text`.
-    pub data_type: Option<String>,
+    pub data_type: Option<DataType>,
     /// `parameter` (default) or `coil`.
-    pub space: Option<String>,
+    pub space: Option<Space>,
     /// Number of elements of an array (indexed) parameter.
     pub array: Option<u8>,
     pub source: String,
@@ -330,7 +332,7 @@ pub struct FrameModel {
     /// What the manual prints, when it differs from the bytes above (an erratum).
     pub printed: Option<BytesModel>,
     pub erratum: Option<String>,
-    pub printed_rejected_as: Option<String>,
+    pub printed_rejected_as: Option<DecodeErrorKind>,
 }
 
 #[derive(Debug, Clone, Default, Deserialize, PartialEq)]

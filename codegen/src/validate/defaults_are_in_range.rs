@@ -11,7 +11,7 @@ pub fn defaults_are_in_range(drive: &Context, out: &mut Diagnostics) {
         let Some(default) = register.default else {
             continue;
         };
-        let (raw_min, raw_max, _, _) = ranges::raw_range(&drive.model, register);
+        let (raw_min, raw_max) = ranges::raw_range(&drive.model, register);
         let scale = ranges::scale_of(register);
         let path = format!("registers[{index}].default");
         match ranges::to_raw(register, default) {

@@ -125,10 +125,10 @@ fn check_frame(
                     .error(&format!("{path}.printed"), "the printed frame decodes without error, so the decoder cannot tell it is wrong")
                     .hint("an erratum records bytes the decoder rejects; describe meaning-only mistakes under manual_errata"),
             ),
-            (Ok(_), Some(Err(error))) if DecodeErrorKind::from_name(reason) != Some(error.kind()) => out.push(
+            (Ok(_), Some(Err(error))) if error.kind() != *reason => out.push(
                 drive
                     .source
-                    .error(&format!("{path}.printed_rejected_as"), format!("the printed frame is rejected as {}, not {reason}: {error}", error.kind()))
+                    .error(&format!("{path}.printed_rejected_as"), format!("the printed frame is rejected as {}, not {}: {error}", error.kind().as_str(), reason.as_str()))
                     .hint("state the reason the decoder gives"),
             ),
             (Ok(_), Some(Err(_))) => {}
@@ -251,11 +251,7 @@ fn check_example_value(
         return;
     };
     let scale = ranges::scale_of(register);
-    let data_type = register
-        .data_type
-        .as_deref()
-        .and_then(crate::protocols::data_type_from_name)
-        .unwrap_or(vfd_runtime::DataType::Word);
+    let data_type = register.data_type.unwrap_or(vfd_runtime::DataType::Word);
     let raw = vfd_runtime::units::raw_to_number(data, register.signed, data_type);
     if (raw * scale - value).abs() > scale / 2.0 {
         out.push(

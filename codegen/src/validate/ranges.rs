@@ -79,7 +79,7 @@ pub fn to_raw(register: &RegisterModel, value: f64) -> Option<i64> {
 
 /// The widest raw range the register's word or double word can hold.
 pub fn word_limits(register: &RegisterModel) -> (i64, i64) {
-    let double = register.data_type.as_deref() == Some("double_word");
+    let double = register.data_type == Some(vfd_runtime::DataType::DoubleWord);
     match (register.signed, double) {
         (true, true) => (i64::from(i32::MIN), i64::from(i32::MAX)),
         (false, true) => (0, i64::from(u32::MAX)),
@@ -88,18 +88,11 @@ pub fn word_limits(register: &RegisterModel) -> (i64, i64) {
     }
 }
 
-/// Static raw bounds and the names of run-time bounds, falling back to the whole word.
-pub fn raw_range(
-    drive: &DriveFile,
-    register: &RegisterModel,
-) -> (i64, i64, Option<String>, Option<String>) {
+/// Static raw bounds, falling back to the whole word.
+pub fn raw_range(drive: &DriveFile, register: &RegisterModel) -> (i64, i64) {
     let (word_min, word_max) = word_limits(register);
     let Some(range) = &register.range else {
-        return (word_min, word_max, None, None);
-    };
-    let name = |bound: &BoundModel| match bound {
-        BoundModel::Register(name) => Some(name.clone()),
-        BoundModel::Number(_) => None,
+        return (word_min, word_max);
     };
     let min = resolve_bound(drive, &range.min, End::Min)
         .ok()
@@ -111,7 +104,7 @@ pub fn raw_range(
         .and_then(|v| to_raw(register, v))
         .unwrap_or(word_max)
         .min(word_max);
-    (min, max, name(&range.min), name(&range.max))
+    (min, max)
 }
 
 #[cfg(test)]
@@ -211,21 +204,12 @@ mod tests {
     }
 
     #[test]
-    fn raw_ranges_take_static_bounds_and_name_run_time_ones() {
+    fn raw_ranges_take_static_bounds() {
         let drive = context(VALID).model;
-        assert_eq!(
-            raw_range(&drive, &drive.registers[2]),
-            (50, 32000, None, Some("FH".to_owned()))
-        );
-        assert_eq!(
-            raw_range(&drive, &drive.registers[3]),
-            (0, 65535, None, None)
-        );
+        assert_eq!(raw_range(&drive, &drive.registers[2]), (50, 32000));
+        assert_eq!(raw_range(&drive, &drive.registers[3]), (0, 65535));
         // An unresolvable bound falls back to the word's limit.
         let drive = context(&valid_with(&[("max: FH }", "max: XX }")])).model;
-        assert_eq!(
-            raw_range(&drive, &drive.registers[2]),
-            (50, 65535, None, Some("XX".to_owned()))
-        );
+        assert_eq!(raw_range(&drive, &drive.registers[2]), (50, 65535));
     }
 }

@@ -22,7 +22,7 @@ pub fn ranges_resolve(drive: &Context, out: &mut Diagnostics) {
             match ranges::resolve_bound(&drive.model, bound, end) {
                 Ok(value) => {
                     let (word_min, word_max) = ranges::word_limits(register);
-                    let word = if register.data_type.as_deref() == Some("double_word") {
+                    let word = if register.data_type == Some(vfd_runtime::DataType::DoubleWord) {
                         "32-bit double word"
                     } else {
                         "16-bit word"

@@ -64,32 +64,6 @@ pub fn references_resolve(drive: &Context, out: &mut Diagnostics) {
                 );
             }
         }
-        if let Some(access) = &register.access {
-            if !["read-only", "read-write", "write-only"].contains(&access.as_str()) {
-                out.push(
-                    drive
-                        .source
-                        .error(
-                            &format!("registers[{index}].access"),
-                            format!("unknown access `{access}`"),
-                        )
-                        .hint("use read-only, read-write or write-only (default read-write)"),
-                );
-            }
-        }
-        if let Some(when) = &register.takes_effect {
-            if !["immediately", "after_reset"].contains(&when.as_str()) {
-                out.push(
-                    drive
-                        .source
-                        .error(
-                            &format!("registers[{index}].takes_effect"),
-                            format!("unknown takes_effect `{when}`"),
-                        )
-                        .hint("use immediately or after_reset"),
-                );
-            }
-        }
     }
     for (index, example) in model.value_examples.iter().enumerate() {
         if ranges::find_register(model, &example.register).is_none() {
@@ -197,30 +171,6 @@ mod tests {
             &yaml,
             "registers[4].code_table",
             "a code-table register cannot also have a unit or a scale",
-            "code: FA00,",
-        );
-    }
-
-    #[test]
-    fn reports_unknown_access_and_takes_effect() {
-        let yaml = valid_with(&[(
-            "ram_only: true,",
-            "ram_only: true, access: readonly, takes_effect: later,",
-        )]);
-        let found = check_yaml(check, &yaml);
-        assert_eq!(found.len(), 2, "{found:#?}");
-        assert_at(
-            &found[0],
-            &yaml,
-            "registers[4].access",
-            "unknown access `readonly`",
-            "code: FA00,",
-        );
-        assert_at(
-            &found[1],
-            &yaml,
-            "registers[4].takes_effect",
-            "unknown takes_effect `later`",
             "code: FA00,",
         );
     }

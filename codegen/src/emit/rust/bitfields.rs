@@ -1,5 +1,6 @@
 //! Emits one word type per bit-field layout, with an accessor and a builder per field.
 
+use super::bake::int_literal;
 use super::*;
 
 pub(super) fn bits_module(drive: &DriveIr) -> TokenStream {
@@ -8,9 +9,17 @@ pub(super) fn bits_module(drive: &DriveIr) -> TokenStream {
         .iter()
         .map(|b| bitfield_tokens(drive, b))
         .collect();
+    let imports = (!items.is_empty()).then(|| {
+        quote! {
+            use ::core::fmt;
+            use ::vfd_runtime::bits::{self, BitWord};
+            use ::vfd_runtime::{RegisterInfo, RegisterValue, ValueError};
+        }
+    });
     quote! {
         /// Bit-field words with named accessors and builders.
         pub mod bits {
+            #imports
             #(#items)*
         }
     }
@@ -18,37 +27,40 @@ pub(super) fn bits_module(drive: &DriveIr) -> TokenStream {
 
 fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
     let name = ident(&bitfield.type_name);
-    let mut docs = vec![format!(" **{}** ({})", bitfield.name, bitfield.name_zh)];
+    let mut docs = vec![format!("**{}**{}", bitfield.name, zh(&bitfield.name_zh))];
     if !bitfield.registers.is_empty() {
         docs.push(String::new());
         docs.push(format!(
-            " Value of register(s) {}.",
+            "Value of register(s) {}.",
             bitfield.registers.join(", ")
         ));
     }
     if !bitfield.note.is_empty() {
         docs.push(String::new());
-        docs.push(format!(" {}", bitfield.note));
+        docs.push(bitfield.note.clone());
     }
     docs.push(String::new());
     docs.push(format!(
-        " Source: `{}`, section {}.",
+        "Source: `{}`, section {}.",
         drive.manual, bitfield.source
     ));
-    let reserved = hex_u16(bitfield.reserved_mask);
+    let docs = doc_texts(&docs);
+    let reserved = hex_u16(bitfield.reserved_mask());
     let mut consts = Vec::new();
     let mut accessors = Vec::new();
     let mut names = Vec::new();
     for field in bitfield.fields.iter().filter(|f| !f.reserved) {
-        let mask = hex_u16(field.mask);
+        let mask = hex_u16(field.mask());
         let mask_name = format_ident!("{}", field.id.to_ascii_uppercase());
         let getter = ident(&field.method);
         let setter = format_ident!("with_{}", field.id);
         let id = &field.id;
-        let mut doc = format!(
-            " Bit {}: {} ({})",
-            field.bits_label, field.name, field.name_zh
-        );
+        let span = if field.width == 1 {
+            format!("Bit {}", field.lsb)
+        } else {
+            format!("Bits {}:{}", field.lsb + field.width - 1, field.lsb)
+        };
+        let mut doc = format!("{span}: {}{}", field.name, zh(&field.name_zh));
         if !field.zero.is_empty() || !field.one.is_empty() {
             doc.push_str(&format!(
                 ". 0: {}{}; 1: {}{}",
@@ -62,6 +74,10 @@ fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
             doc.push_str(&format!(". {}", field.note));
         }
         doc.push('.');
+        let doc = doc_text(doc);
+        let setter_doc = doc_text(format!(
+            "The word with `{id}` ({span}) set to the value given."
+        ));
         consts.push(quote! {
             #[doc = #doc]
             pub const #mask_name: u16 = #mask;
@@ -71,39 +87,30 @@ fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
             accessors.push(quote! {
                 #[doc = #doc]
                 pub const fn #getter(self) -> bool {
-                    self.0 & #mask != 0
+                    bits::flag(self.0, Self::#mask_name)
                 }
-                #[doc = #doc]
+                #[doc = #setter_doc]
                 #[must_use]
                 pub const fn #setter(self, on: bool) -> Self {
-                    if on { Self(self.0 | #mask) } else { Self(self.0 & !#mask) }
+                    Self(bits::with_flag(self.0, Self::#mask_name, on))
                 }
             });
         } else {
-            let lsb = u32::from(field.lsb);
-            let (get, put) = if lsb == 0 {
-                (quote!(self.0 & #mask), quote!(value & #mask))
-            } else {
-                (
-                    quote!((self.0 & #mask) >> #lsb),
-                    quote!((value << #lsb) & #mask),
-                )
-            };
             accessors.push(quote! {
                 #[doc = #doc]
                 pub const fn #getter(self) -> u16 {
-                    #get
+                    bits::field(self.0, Self::#mask_name)
                 }
-                #[doc = #doc]
+                #[doc = #setter_doc]
                 /// Bits of `value` beyond the field's width are dropped.
                 #[must_use]
                 pub const fn #setter(self, value: u16) -> Self {
-                    Self((self.0 & !#mask) | #put)
+                    Self(bits::with_field(self.0, Self::#mask_name, value))
                 }
             });
         }
     }
-    let field_count = names.len();
+    let field_count = int_literal(names.len());
     quote! {
         #(#[doc = #docs])*
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -115,7 +122,6 @@ fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
             #(#consts)*
             /// Named fields and their masks, from the most significant bit down.
             pub const FIELDS: [(&'static str, u16); #field_count] = [#(#names),*];
-
             /// All bits clear.
             pub const fn new() -> Self {
                 Self(0)
@@ -131,33 +137,29 @@ fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
             #(#accessors)*
         }
 
-        impl ::vfd_runtime::RegisterValue for #name {
-            fn to_raw(&self, _info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<u32, ::vfd_runtime::ValueError> {
-                Ok(u32::from(self.0))
+        impl BitWord for #name {
+            const FIELDS: &'static [(&'static str, u16)] = &Self::FIELDS;
+            fn from_bits(bits: u16) -> Self {
+                Self(bits)
             }
-            /// Keeps the low 16 bits (bit-field words are one word wide).
-            fn from_raw(raw: u32, _info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<Self, ::vfd_runtime::ValueError> {
-                Ok(Self(raw as u16))
+            fn bits(self) -> u16 {
+                self.0
             }
         }
 
-        impl ::core::fmt::Display for #name {
-            /// Lists the fields that are set (`run | command_enabled`), or `-` when none is.
-            fn fmt(&self, f: &mut ::core::fmt::Formatter<'_>) -> ::core::fmt::Result {
-                let mut first = true;
-                for (name, mask) in Self::FIELDS {
-                    if self.0 & mask != 0 {
-                        if !first {
-                            f.write_str(" | ")?;
-                        }
-                        f.write_str(name)?;
-                        first = false;
-                    }
-                }
-                if first {
-                    f.write_str("-")?;
-                }
-                Ok(())
+        impl RegisterValue for #name {
+            fn to_raw(&self, info: &'static RegisterInfo) -> Result<u32, ValueError> {
+                bits::to_raw(*self, info)
+            }
+            fn from_raw(raw: u32, info: &'static RegisterInfo) -> Result<Self, ValueError> {
+                bits::from_raw(raw, info)
+            }
+        }
+
+        impl fmt::Display for #name {
+            /// The fields that are set (`run | command_enabled`), or `-` when none is.
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                bits::fmt_fields(*self, f)
             }
         }
     }

@@ -1,5 +1,6 @@
 //! Emits one enum per code table, and the drive's error-code enum.
 
+use super::bake::int_literal;
 use super::*;
 
 pub(super) fn codes_module(drive: &DriveIr) -> TokenStream {
@@ -8,9 +9,16 @@ pub(super) fn codes_module(drive: &DriveIr) -> TokenStream {
         .iter()
         .map(|t| code_table_tokens(drive, t))
         .collect();
+    let values = drive.code_tables.iter().any(|t| t.exhaustive).then(|| {
+        quote!(
+            use ::vfd_runtime::{RegisterInfo, RegisterValue, ValueError};
+        )
+    });
+    let imports = (!items.is_empty()).then(|| quote!(use ::core::fmt; #values));
     quote! {
         /// Code tables (enumerations) of the manual.
         pub mod codes {
+            #imports
             #(#items)*
         }
     }
@@ -18,23 +26,24 @@ pub(super) fn codes_module(drive: &DriveIr) -> TokenStream {
 
 fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
     let name = ident(&table.type_name);
-    let mut docs = vec![format!(" **{}** ({})", table.name, table.name_zh)];
+    let mut docs = vec![format!("**{}**{}", table.name, zh(&table.name_zh))];
     if !table.note.is_empty() {
         docs.push(String::new());
-        docs.push(format!(" {}", table.note));
+        docs.push(table.note.clone());
     }
     docs.push(String::new());
     docs.push(format!(
-        " Source: `{}`, section {}.",
+        "Source: `{}`, section {}.",
         drive.manual, table.source
     ));
+    let docs = doc_texts(&docs);
     let variants: Vec<TokenStream> = table
         .values
         .iter()
         .map(|v| {
             let variant = ident(&v.variant);
-            let value = v.value;
-            let doc = format!(" {} = {}{}", v.value_hex, v.name, zh(&v.name_zh));
+            let value = int_literal(v.value);
+            let doc = doc_text(format!("{:04X}h = {}{}", v.value, v.name, zh(&v.name_zh)));
             quote! {
                 #[doc = #doc]
                 #variant = #value
@@ -46,7 +55,7 @@ fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
         .iter()
         .map(|v| {
             let variant = ident(&v.variant);
-            let value = v.value;
+            let value = int_literal(v.value);
             quote!(#value => Some(Self::#variant))
         })
         .collect();
@@ -67,19 +76,19 @@ fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
             quote!(Self::#variant)
         })
         .collect();
-    let count = all.len();
+    let count = int_literal(all.len());
     let id = &table.id;
     let register_value = table.exhaustive.then(|| {
         quote! {
-            impl ::vfd_runtime::RegisterValue for #name {
-                fn to_raw(&self, info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<u32, ::vfd_runtime::ValueError> {
+            impl RegisterValue for #name {
+                fn to_raw(&self, info: &'static RegisterInfo) -> Result<u32, ValueError> {
                     ::vfd_runtime::units::scaled_to_raw(f64::from(self.code()), info)
                 }
-                fn from_raw(raw: u32, info: &'static ::vfd_runtime::RegisterInfo) -> ::core::result::Result<Self, ::vfd_runtime::ValueError> {
+                fn from_raw(raw: u32, info: &'static RegisterInfo) -> Result<Self, ValueError> {
                     u16::try_from(raw)
                         .ok()
                         .and_then(Self::from_code)
-                        .ok_or(::vfd_runtime::ValueError::UnknownCode { register: info, table: #id, raw })
+                        .ok_or(ValueError::UnknownCode { register: info, table: #id, raw })
                 }
             }
         }
@@ -100,7 +109,7 @@ fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
                 self as u16
             }
             /// The code's entry, if the table has it.
-            pub const fn from_code(code: u16) -> ::core::option::Option<Self> {
+            pub const fn from_code(code: u16) -> Option<Self> {
                 match code {
                     #(#arms_from,)*
                     _ => None,
@@ -121,8 +130,8 @@ fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
             }
         }
 
-        impl ::core::fmt::Display for #name {
-            fn fmt(&self, f: &mut ::core::fmt::Formatter<'_>) -> ::core::fmt::Result {
+        impl fmt::Display for #name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
                 f.write_str(self.name())
             }
         }
@@ -138,8 +147,14 @@ pub(super) fn error_code_enum(drive: &DriveIr) -> TokenStream {
         .iter()
         .map(|c| {
             let variant = ident(&c.variant);
-            let value = c.code;
-            let doc = format!(" {} {} ({}): {}", c.code_hex, c.name, c.name_zh, c.meaning);
+            let value = int_literal(c.code);
+            let doc = doc_text(format!(
+                "{:04X}h {}{}: {}",
+                c.code,
+                c.name,
+                zh(&c.name_zh),
+                c.meaning
+            ));
             quote! {
                 #[doc = #doc]
                 #variant = #value
@@ -152,7 +167,7 @@ pub(super) fn error_code_enum(drive: &DriveIr) -> TokenStream {
         .iter()
         .map(|c| {
             let variant = ident(&c.variant);
-            let value = c.code;
+            let value = int_literal(c.code);
             quote!(#value => Some(Self::#variant))
         })
         .collect();
@@ -163,13 +178,14 @@ pub(super) fn error_code_enum(drive: &DriveIr) -> TokenStream {
         .enumerate()
         .map(|(index, c)| {
             let variant = ident(&c.variant);
+            let index = int_literal(index);
             quote!(Self::#variant => &protocols::ERROR_CODES[#index])
         })
         .collect();
-    let doc = format!(
-        " Error codes of the drive's error replies (manual section {}).",
+    let doc = doc_text(format!(
+        "Error codes of the drive's error replies (manual section {}).",
         drive.error_codes.source
-    );
+    ));
     quote! {
         #[doc = #doc]
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -1,28 +1,31 @@
-//! Emits one marker type per register, with its `RegisterInfo` and value type.
+//! Emits one marker type per register: its manual text as docs, its `RegisterInfo` as one
+//! const builder chain, its value type, and the `Writable`/`Persistable` markers. Reading
+//! and writing are the runtime's generic trait methods, so nothing else is repeated.
 
-use super::protocols::variant;
 use super::*;
+use crate::emit::words::{address_label, default_text, range_text};
+use vfd_runtime::{Access, DataType, Space, TakesEffect};
 
 fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
     let mut lines = vec![
         format!(
-            " **{} — {}** ({})",
-            register.code, register.name, register.name_zh
+            "**{} — {}**{}",
+            register.code,
+            register.name,
+            zh(&register.name_zh)
         ),
         String::new(),
     ];
-    let mut facts = vec![format!("address `{}h`", register.address_hex)];
-    if !register.unit.is_empty() {
-        facts.push(format!(
-            "unit {} in steps of {}",
-            register.unit, register.scale
-        ));
+    let mut facts = vec![format!("address `{}`", address_label(register))];
+    let unit = register.unit.symbol();
+    if !unit.is_empty() {
+        facts.push(format!("unit {unit} in steps of {}", register.scale));
     } else if (register.scale - 1.0).abs() > f64::EPSILON {
         facts.push(format!("steps of {}", register.scale));
     }
-    facts.push(format!("range {}", register.range_display));
-    facts.push(format!("default {}", register.default_display));
-    facts.push(register.access.clone());
+    facts.push(format!("range {}", range_text(register)));
+    facts.push(format!("default {}", default_text(register)));
+    facts.push(register.access.as_str().to_owned());
     if register.ram_only {
         facts.push("RAM only (no persistent write)".into());
     }
@@ -34,22 +37,84 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
     if register.panel_only {
         facts.push("effective only when set from the panel".into());
     }
-    if register.takes_effect == "after_reset" {
+    if register.takes_effect == TakesEffect::AfterReset {
         facts.push("takes effect after a reset".into());
     }
-    lines.push(format!(" {}.", facts.join(", ")));
+    lines.push(format!("{}.", facts.join(", ")));
     for text in [&register.description, &register.note] {
         if !text.is_empty() {
             lines.push(String::new());
-            lines.push(format!(" {text}"));
+            lines.push(text.clone());
         }
     }
     lines.push(String::new());
     lines.push(format!(
-        " Source: `{}`, section {}.",
+        "Source: `{}`, section {}.",
         drive.manual, register.source
     ));
     lines
+}
+
+/// The register's `RegisterInfo` as a const builder chain naming only what differs from
+/// [`vfd_runtime::RegisterInfo::new`]'s defaults.
+fn info_chain(register: &RegisterIr) -> TokenStream {
+    let address = hex_u16(register.address);
+    let (code, id, name, name_zh) = (
+        &register.code,
+        &register.id,
+        &register.name,
+        &register.name_zh,
+    );
+    let mut chain = quote!(RegisterInfo::new(#address, #code, #id).with_names(#name, #name_zh));
+    if register.unit != vfd_runtime::units::Unit::None || register.scale != 1.0 {
+        let unit = register.unit.bake();
+        let scale = f64_literal(register.scale);
+        chain.extend(quote!(.with_unit(#unit, #scale)));
+    }
+    if register.signed {
+        chain.extend(quote!(.with_signed()));
+    }
+    if register.data_type != DataType::Word {
+        let data_type = register.data_type.bake();
+        chain.extend(quote!(.with_data_type(#data_type)));
+    }
+    let (raw_min, raw_max) = register.raw_range();
+    if (raw_min, raw_max) != (0, i64::from(u16::MAX)) {
+        let (raw_min, raw_max) = (int_literal(raw_min), int_literal(raw_max));
+        chain.extend(quote!(.with_raw_range(#raw_min, #raw_max)));
+    }
+    if let Some(code) = register.min.as_ref().and_then(|b| b.register.as_ref()) {
+        chain.extend(quote!(.with_min_bound(#code)));
+    }
+    if let Some(code) = register.max.as_ref().and_then(|b| b.register.as_ref()) {
+        chain.extend(quote!(.with_max_bound(#code)));
+    }
+    if register.access != Access::ReadWrite {
+        let access = register.access.bake();
+        chain.extend(quote!(.with_access(#access)));
+    }
+    if register.ram_only {
+        chain.extend(quote!(.with_ram_only()));
+    }
+    if register.writable_while_running {
+        chain.extend(quote!(.with_writable_while_running()));
+    }
+    if register.panel_only {
+        chain.extend(quote!(.with_panel_only()));
+    }
+    if register.takes_effect != TakesEffect::Immediately {
+        let takes_effect = register.takes_effect.bake();
+        chain.extend(quote!(.with_takes_effect(#takes_effect)));
+    }
+    if register.space != Space::Parameter {
+        let space = register.space.bake();
+        chain.extend(quote!(.with_space(#space)));
+    }
+    if register.array_len > 0 {
+        let len = int_literal(register.array_len);
+        chain.extend(quote!(.with_array(#len)));
+    }
+    chain
 }
 
 pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
@@ -57,160 +122,118 @@ pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
     let mut all = Vec::new();
     for register in &drive.registers {
         let name = ident(&register.type_name);
-        let docs = register_doc(drive, register);
-        let value = value_type(&register.value_kind);
-        let address = hex_u16(register.address);
-        let (id, code, title, name_zh) = (
-            &register.id,
-            &register.code,
-            &register.name,
-            &register.name_zh,
-        );
-        let unit = ident(&register.unit_variant);
-        let scale = f64_literal(register.scale);
-        let signed = register.signed;
-        let (raw_min, raw_max) = (register.raw_min, register.raw_max);
-        let data_type = variant(
-            "DataType",
-            match register.data_type.as_str() {
-                "double_word" => vfd_runtime::DataType::DoubleWord,
-                "bit" => vfd_runtime::DataType::Bit,
-                "text" => vfd_runtime::DataType::Text,
-                _ => vfd_runtime::DataType::Word,
-            },
-        );
-        let space = variant(
-            "Space",
-            if register.space == "coil" {
-                vfd_runtime::Space::Coil
-            } else {
-                vfd_runtime::Space::Parameter
-            },
-        );
-        let array_len = register.array_len;
-        let bound = |b: &Option<String>| match b {
-            Some(name) => quote!(Some(#name)),
-            None => quote!(None),
-        };
-        let (min_bound, max_bound) = (bound(&register.min_bound), bound(&register.max_bound));
-        let access = match register.access.as_str() {
-            "read-only" => quote!(ReadOnly),
-            "write-only" => quote!(WriteOnly),
-            _ => quote!(ReadWrite),
-        };
-        let (ram_only, while_running, panel_only) = (
-            register.ram_only,
-            register.writable_while_running,
-            register.panel_only,
-        );
-        let mut methods = vec![quote! {
-            /// The register's address.
-            pub const ADDRESS: u16 = #address;
-            /// A request reading this register.
-            pub fn read() -> ::vfd_runtime::Request {
-                ::vfd_runtime::Request::read::<Self>()
-            }
-        }];
-        if register.array_len > 0 {
-            let len = register.array_len;
-            let doc = format!(
-                " A request reading element `index` (0 to {}) of this array parameter.",
-                len - 1
-            );
-            methods.push(quote! {
-                /// Number of array elements.
-                pub const ARRAY_LEN: u8 = #len;
-                #[doc = #doc]
-                pub fn read_at(index: u16) -> ::core::result::Result<::vfd_runtime::Request, ::vfd_runtime::ValueError> {
-                    ::vfd_runtime::Request::read::<Self>().at_index(index)
-                }
-            });
+        let docs = doc_texts(&register_doc(drive, register));
+        let value = value_type(&register.value);
+        let info = info_chain(register);
+        let mut markers = Vec::new();
+        if register.writable() {
+            markers.push(quote!(impl Writable for #name {}));
         }
-        let mut marker_impls = Vec::new();
-        if register.writable && register.array_len > 0 {
-            methods.push(quote! {
-                /// A request writing `value` to element `index` of this array parameter, in RAM only.
-                pub fn write_ram_at(index: u16, value: #value) -> ::core::result::Result<::vfd_runtime::Request, ::vfd_runtime::ValueError> {
-                    ::vfd_runtime::Request::write_ram::<Self>(value)?.at_index(index)
-                }
-            });
-        }
-        if register.writable {
-            methods.push(quote! {
-                /// A request writing `value` to RAM only (lost at power-off). Refuses values outside the range.
-                pub fn write_ram(value: #value) -> ::core::result::Result<::vfd_runtime::Request, ::vfd_runtime::ValueError> {
-                    ::vfd_runtime::Request::write_ram::<Self>(value)
-                }
-            });
-            marker_impls.push(quote!(impl ::vfd_runtime::Writable for #name {}));
-            if !register.ram_only {
-                methods.push(quote! {
-                    /// A request writing `value` to RAM and EEPROM (persistent). EEPROM wears out
-                    /// after a limited number of writes: prefer [`Self::write_ram`] for values that change often.
-                    pub fn write_persistent(value: #value) -> ::core::result::Result<::vfd_runtime::Request, ::vfd_runtime::ValueError> {
-                        ::vfd_runtime::Request::write_persistent::<Self>(value)
-                    }
-                });
-                marker_impls.push(quote!(impl ::vfd_runtime::Persistable for #name {}));
-            }
+        if register.persistable() {
+            markers.push(quote!(impl Persistable for #name {}));
         }
         items.push(quote! {
             #(#[doc = #docs])*
             #[derive(Debug, Clone, Copy)]
             pub struct #name;
-
-            impl #name {
-                #(#methods)*
-            }
-
-            impl ::vfd_runtime::Register for #name {
-                const INFO: &'static ::vfd_runtime::RegisterInfo = &::vfd_runtime::RegisterInfo {
-                    address: #address,
-                    id: #id,
-                    code: #code,
-                    name: #title,
-                    name_zh: #name_zh,
-                    unit: ::vfd_runtime::units::Unit::#unit,
-                    scale: #scale,
-                    signed: #signed,
-                    raw_min: #raw_min,
-                    raw_max: #raw_max,
-                    min_bound: #min_bound,
-                    max_bound: #max_bound,
-                    access: ::vfd_runtime::Access::#access,
-                    ram_only: #ram_only,
-                    writable_while_running: #while_running,
-                    panel_only: #panel_only,
-                    data_type: #data_type,
-                    space: #space,
-                    array_len: #array_len,
-                };
+            impl Register for #name {
+                const INFO: Info = &#info;
                 type Value = #value;
             }
-
-            #(#marker_impls)*
+            #(#markers)*
         });
-        all.push(quote!(<#name as ::vfd_runtime::Register>::INFO));
+        all.push(quote!(#name::INFO));
     }
-    let count = all.len();
+    let count = int_literal(all.len());
+    let imports = registers_imports(drive);
     quote! {
-        /// One type per register; each implements [`vfd_runtime::Register`].
+        /// One type per register. Each implements [`Register`], and [`Writable`] or
+        /// [`Persistable`] when the manual allows it: read with `Register::read()`, write
+        /// with `Writable::write_ram(value)` (bring the traits in with `use vfd_runtime::prelude::*`).
         pub mod registers {
+            #imports
+            /// Register metadata as [`Register::INFO`] holds it.
+            type Info = &'static RegisterInfo;
             #(#items)*
 
             /// Every register, in the manual's order.
-            pub static ALL: [&::vfd_runtime::RegisterInfo; #count] = [#(#all),*];
-
-            /// The register at `address`.
-            pub fn by_address(address: u16) -> ::core::option::Option<&'static ::vfd_runtime::RegisterInfo> {
-                ALL.iter().copied().find(|info| info.address == address)
-            }
-
-            /// The register with this manual code (`FH`, case-insensitive) or identifier (`maximum_frequency`).
-            pub fn by_name(name: &str) -> ::core::option::Option<&'static ::vfd_runtime::RegisterInfo> {
-                ALL.iter().copied().find(|info| info.code == name || info.id == name)
-                    .or_else(|| ALL.iter().copied().find(|info| info.code.eq_ignore_ascii_case(name)))
-            }
+            pub static ALL: [&RegisterInfo; #count] = [#(#all),*];
         }
+    }
+}
+
+/// The `use` lines the registers module needs, so each item can use short paths.
+fn registers_imports(drive: &DriveIr) -> TokenStream {
+    let registers = &drive.registers;
+    let mut runtime = vec![quote!(Register), quote!(RegisterInfo)];
+    if registers.iter().any(|r| r.writable()) {
+        runtime.push(quote!(Writable));
+    }
+    if registers.iter().any(|r| r.persistable()) {
+        runtime.push(quote!(Persistable));
+    }
+    for (used, name) in [
+        (
+            registers.iter().any(|r| r.access != Access::ReadWrite),
+            quote!(Access),
+        ),
+        (
+            registers.iter().any(|r| r.data_type != DataType::Word),
+            quote!(DataType),
+        ),
+        (
+            registers.iter().any(|r| r.space != Space::Parameter),
+            quote!(Space),
+        ),
+        (
+            registers
+                .iter()
+                .any(|r| r.takes_effect != TakesEffect::Immediately),
+            quote!(TakesEffect),
+        ),
+    ] {
+        if used {
+            runtime.push(name);
+        }
+    }
+    let mut units: Vec<TokenStream> = Vec::new();
+    if registers
+        .iter()
+        .any(|r| r.unit != vfd_runtime::units::Unit::None || r.scale != 1.0)
+    {
+        units.push(quote!(Unit));
+    }
+    let mut quantities: Vec<&str> = registers
+        .iter()
+        .filter_map(|r| match &r.value {
+            ValueKind::Quantity(name) => Some(name.as_str()),
+            _ => None,
+        })
+        .collect();
+    quantities.sort_unstable();
+    quantities.dedup();
+    units.extend(quantities.into_iter().map(|name| {
+        let name = ident(name);
+        quote!(#name)
+    }));
+    let mut local = Vec::new();
+    if registers
+        .iter()
+        .any(|r| matches!(r.value, ValueKind::Bitfield(_)))
+    {
+        local.push(quote!(bits));
+    }
+    if registers
+        .iter()
+        .any(|r| matches!(r.value, ValueKind::CodeTable(_)))
+    {
+        local.push(quote!(codes));
+    }
+    let units = (!units.is_empty()).then(|| quote!(use ::vfd_runtime::units::{#(#units),*};));
+    let local = (!local.is_empty()).then(|| quote!(use super::{#(#local),*};));
+    quote! {
+        use ::vfd_runtime::{#(#runtime),*};
+        #units
+        #local
     }
 }

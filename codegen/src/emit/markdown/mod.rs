@@ -1,11 +1,15 @@
-//! Stage 4b: renders the Markdown reference pages from the IR with minijinja templates.
+//! Renders the Markdown reference pages from the IR with minijinja templates: [`view`]
+//! words the IR for people, [`layouts`] describes frame layouts part by part.
+
+mod layouts;
+mod view;
 
 use crate::ir::DriveIr;
 use crate::OutputNames;
 use minijinja::{context, Environment};
 
-const DRIVE_TEMPLATE: &str = include_str!("../../templates/drive.md.j2");
-const INDEX_TEMPLATE: &str = include_str!("../../templates/index.md.j2");
+const DRIVE_TEMPLATE: &str = include_str!("../../../templates/drive.md.j2");
+const INDEX_TEMPLATE: &str = include_str!("../../../templates/index.md.j2");
 
 fn environment() -> Result<Environment<'static>, String> {
     let mut env = Environment::new();
@@ -20,11 +24,6 @@ fn environment() -> Result<Environment<'static>, String> {
     Ok(env)
 }
 
-/// The reference page of one drive (default names).
-pub fn drive_page(drive: &DriveIr) -> Result<String, String> {
-    drive_page_with(drive, &OutputNames::default())
-}
-
 /// The reference page of one drive, naming the module, manual, protocol files and
 /// regenerate command as `names` says.
 pub fn drive_page_with(drive: &DriveIr, names: &OutputNames) -> Result<String, String> {
@@ -37,7 +36,7 @@ pub fn drive_page_with(drive: &DriveIr, names: &OutputNames) -> Result<String, S
         .collect();
     let text = template
         .render(context! {
-            drive => drive,
+            drive => view::DriveView::new(drive),
             regenerate => names.regenerate_hint(),
             module_path => names.module_path(&drive.module),
             manual_shown => names.manual_shown(&drive.manual),
@@ -45,11 +44,6 @@ pub fn drive_page_with(drive: &DriveIr, names: &OutputNames) -> Result<String, S
         })
         .map_err(|e| format!("rendering {}: {e:#}", drive.id))?;
     Ok(tidy(&text))
-}
-
-/// The index page listing every drive (default names).
-pub fn index_page(drives: &[DriveIr]) -> Result<String, String> {
-    index_page_with(drives, &OutputNames::default())
 }
 
 /// The index page listing every drive, naming the regenerate command as `names` says.

@@ -1,0 +1,429 @@
+//! The page view: the IR plus the words the templates print. Each view wraps its IR item
+//! (flattened, so the template reads `r.code` and `r.range_display` alike) and adds only
+//! text built for people.
+
+use super::layouts::{part_view, PartView};
+use crate::emit::words::{
+    address_label, default_text, meaning_text, range_text, shown_bytes, value_text, value_type_text,
+};
+use crate::ir::*;
+use serde::Serialize;
+use vfd_runtime::serial::SerialSettings;
+use vfd_runtime::{PreStep, Role};
+
+#[derive(Serialize)]
+pub(super) struct DriveView<'a> {
+    #[serde(flatten)]
+    drive: &'a DriveIr,
+    serial: SerialView<'a>,
+    protocols: Vec<ProtocolView<'a>>,
+    error_codes: ErrorCodesView<'a>,
+    registers: Vec<RegisterView<'a>>,
+    bitfields: Vec<BitfieldView<'a>>,
+    code_tables: Vec<CodeTableView<'a>>,
+    reference_scaling: Option<ScalingView<'a>>,
+    value_examples: Vec<ValueExampleView<'a>>,
+    examples: Vec<ExampleView<'a>>,
+}
+
+#[derive(Serialize)]
+struct SerialView<'a> {
+    #[serde(flatten)]
+    serial: &'a SerialIr,
+    /// Character time at the default settings, in microseconds.
+    char_time_us: u128,
+}
+
+#[derive(Serialize)]
+struct ProtocolView<'a> {
+    #[serde(flatten)]
+    protocol: &'a ProtocolIr,
+    name_zh: &'a str,
+    description: &'a str,
+    commands: Vec<CommandView<'a>>,
+    pre_steps: Vec<String>,
+    layouts: Vec<LayoutView>,
+}
+
+#[derive(Serialize)]
+struct CommandView<'a> {
+    code: String,
+    kind: &'a str,
+    data_types: String,
+    space: &'a str,
+    address_map: String,
+    reply_codes: String,
+    request: &'a str,
+    reply: &'a str,
+}
+
+#[derive(Serialize)]
+struct LayoutView {
+    name: String,
+    parts: Vec<PartView>,
+}
+
+#[derive(Serialize)]
+struct ErrorCodesView<'a> {
+    #[serde(flatten)]
+    error_codes: &'a ErrorCodesIr,
+    codes: Vec<ErrorCodeView<'a>>,
+}
+
+#[derive(Serialize)]
+struct ErrorCodeView<'a> {
+    #[serde(flatten)]
+    code: &'a ErrorCodeIr,
+    code_hex: String,
+}
+
+#[derive(Serialize)]
+struct RegisterView<'a> {
+    #[serde(flatten)]
+    register: &'a RegisterIr,
+    address_display: String,
+    address_hex: String,
+    scale_display: String,
+    range_display: String,
+    default_display: String,
+    value_type_display: String,
+}
+
+#[derive(Serialize)]
+struct BitfieldView<'a> {
+    #[serde(flatten)]
+    bitfield: &'a BitfieldIr,
+    fields: Vec<BitView<'a>>,
+    examples: Vec<BitExampleView<'a>>,
+}
+
+#[derive(Serialize)]
+struct BitView<'a> {
+    #[serde(flatten)]
+    field: &'a BitIr,
+    bits_label: String,
+    name: &'a str,
+}
+
+#[derive(Serialize)]
+struct BitExampleView<'a> {
+    #[serde(flatten)]
+    example: &'a BitExampleIr,
+    value_hex: String,
+}
+
+#[derive(Serialize)]
+struct CodeTableView<'a> {
+    #[serde(flatten)]
+    table: &'a CodeTableIr,
+    values: Vec<CodeValueView<'a>>,
+}
+
+#[derive(Serialize)]
+struct CodeValueView<'a> {
+    #[serde(flatten)]
+    value: &'a CodeValueIr,
+    value_hex: String,
+}
+
+#[derive(Serialize)]
+struct ScalingView<'a> {
+    #[serde(flatten)]
+    scaling: &'a ReferenceScalingIr,
+    modes: Vec<ScalingModeView<'a>>,
+}
+
+#[derive(Serialize)]
+struct ScalingModeView<'a> {
+    selector: u32,
+    low: String,
+    high: String,
+    description: &'a str,
+}
+
+#[derive(Serialize)]
+struct ValueExampleView<'a> {
+    #[serde(flatten)]
+    example: &'a ValueExampleIr,
+    register_code: String,
+    value_display: String,
+    raw_hex: String,
+}
+
+#[derive(Serialize)]
+struct ExampleView<'a> {
+    #[serde(flatten)]
+    example: &'a ExampleIr,
+    register_code: String,
+    value_display: String,
+    request: Option<FrameView<'a>>,
+    reply: Option<FrameView<'a>>,
+}
+
+#[derive(Serialize)]
+struct FrameView<'a> {
+    shown: String,
+    meaning: String,
+    printed: Option<PrintedView<'a>>,
+}
+
+#[derive(Serialize)]
+struct PrintedView<'a> {
+    #[serde(flatten)]
+    printed: &'a PrintedIr,
+    shown: String,
+}
+
+/// `` `bytes` `` for a table cell: text with `<CR>`, or hex pairs.
+fn shown(bytes: &[u8]) -> String {
+    format!("`{}`", shown_bytes(bytes))
+}
+
+impl<'a> DriveView<'a> {
+    pub(super) fn new(drive: &'a DriveIr) -> Self {
+        let register = |id: &str| drive.registers.iter().find(|r| r.id == id);
+        DriveView {
+            drive,
+            serial: SerialView {
+                serial: &drive.serial,
+                char_time_us: SerialSettings {
+                    baud: drive.serial.default_baud,
+                    data_bits: drive.serial.default_data_bits,
+                    parity: drive.serial.default_parity,
+                    stop_bits: drive.serial.default_stop_bits,
+                }
+                .char_time()
+                .as_micros(),
+            },
+            protocols: drive
+                .protocols
+                .iter()
+                .map(|p| protocol_view(drive, p))
+                .collect(),
+            error_codes: ErrorCodesView {
+                error_codes: &drive.error_codes,
+                codes: drive
+                    .error_codes
+                    .codes
+                    .iter()
+                    .map(|code| ErrorCodeView {
+                        code,
+                        code_hex: format!("{:04X}h", code.code),
+                    })
+                    .collect(),
+            },
+            registers: drive
+                .registers
+                .iter()
+                .map(|register| RegisterView {
+                    register,
+                    address_display: address_label(register),
+                    address_hex: format!("{:04X}", register.address),
+                    scale_display: format!("{}", register.scale),
+                    range_display: range_text(register),
+                    default_display: default_text(register),
+                    value_type_display: format!("`{}`", value_type_text(register)),
+                })
+                .collect(),
+            bitfields: drive
+                .bitfields
+                .iter()
+                .map(|bitfield| BitfieldView {
+                    bitfield,
+                    fields: bitfield
+                        .fields
+                        .iter()
+                        .map(|field| BitView {
+                            field,
+                            bits_label: if field.width == 1 {
+                                field.lsb.to_string()
+                            } else {
+                                format!("{}:{}", field.lsb + field.width - 1, field.lsb)
+                            },
+                            name: if field.reserved && field.name.is_empty() {
+                                "Reserved"
+                            } else {
+                                &field.name
+                            },
+                        })
+                        .collect(),
+                    examples: bitfield
+                        .examples
+                        .iter()
+                        .map(|example| BitExampleView {
+                            example,
+                            value_hex: format!("{:04X}h", example.value),
+                        })
+                        .collect(),
+                })
+                .collect(),
+            code_tables: drive
+                .code_tables
+                .iter()
+                .map(|table| CodeTableView {
+                    table,
+                    values: table
+                        .values
+                        .iter()
+                        .map(|value| CodeValueView {
+                            value,
+                            value_hex: format!("{:04X}h", value.value),
+                        })
+                        .collect(),
+                })
+                .collect(),
+            reference_scaling: drive.reference_scaling.as_ref().map(|scaling| {
+                let end = |end: &SpanEndIr| match end {
+                    SpanEndIr::Number(value) => format!("{value:?}"),
+                    SpanEndIr::Register(id) => id.clone(),
+                };
+                ScalingView {
+                    scaling,
+                    modes: scaling
+                        .modes
+                        .iter()
+                        .map(|mode| ScalingModeView {
+                            selector: mode.selector,
+                            low: end(&mode.low),
+                            high: end(&mode.high),
+                            description: &mode.description,
+                        })
+                        .collect(),
+                }
+            }),
+            value_examples: drive
+                .value_examples
+                .iter()
+                .filter_map(|example| {
+                    let register = register(&example.register)?;
+                    Some(ValueExampleView {
+                        example,
+                        register_code: register.code.clone(),
+                        value_display: value_text(register, example.value),
+                        raw_hex: format!("{:04X}h", example.raw),
+                    })
+                })
+                .collect(),
+            examples: drive
+                .examples
+                .iter()
+                .map(|example| {
+                    let described = example.register.as_deref().and_then(register);
+                    let frame = |frame: &'a Option<FrameIr>| {
+                        frame.as_ref().map(|frame| FrameView {
+                            shown: shown(&frame.bytes),
+                            meaning: meaning_text(drive, frame),
+                            printed: frame.printed.as_ref().map(|printed| PrintedView {
+                                printed,
+                                shown: shown(&printed.bytes),
+                            }),
+                        })
+                    };
+                    ExampleView {
+                        example,
+                        register_code: described.map(|r| r.code.clone()).unwrap_or_default(),
+                        value_display: match (example.value, described) {
+                            (Some(value), Some(r)) => value_text(r, value),
+                            _ => String::new(),
+                        },
+                        request: frame(&example.request),
+                        reply: frame(&example.reply),
+                    }
+                })
+                .collect(),
+        }
+    }
+}
+
+fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolView<'a> {
+    let file = drive.protocol_files.iter().find(|f| f.id == protocol.uses);
+    let layout = |name: &str| file.and_then(|f| f.layouts.iter().find(|l| l.name == name));
+    let mut names: Vec<&str> = Vec::new();
+    for command in &protocol.commands {
+        for name in [&command.request, &command.reply] {
+            if !names.contains(&name.as_str()) {
+                names.push(name);
+            }
+        }
+    }
+    if let Some(error) = &protocol.error_reply {
+        if !names.contains(&error.as_str()) {
+            names.push(error);
+        }
+    }
+    ProtocolView {
+        protocol,
+        name_zh: file.map_or("", |f| f.name_zh.as_str()),
+        description: file.map_or("", |f| f.description.as_str()),
+        commands: protocol
+            .commands
+            .iter()
+            .map(|c| CommandView {
+                code: if layout(&c.request).is_some_and(|l| l.has(Role::Command)) {
+                    vfd_runtime::protocol::code_label(c.code)
+                } else {
+                    "—".to_owned()
+                },
+                kind: c.kind.as_str(),
+                data_types: if c.data_types.is_empty() {
+                    "any".to_owned()
+                } else {
+                    c.data_types
+                        .iter()
+                        .map(|t| t.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
+                space: c.space.as_str(),
+                address_map: match (c.address_map.multiply, c.address_map.offset) {
+                    (1, 0) => "as is".to_owned(),
+                    (1, offset) => format!("number {offset:+}"),
+                    (multiply, 0) => format!("number × {multiply}"),
+                    (multiply, offset) => format!("number × {multiply} {offset:+}"),
+                },
+                reply_codes: if c.reply_codes.is_empty() {
+                    "same".to_owned()
+                } else {
+                    c.reply_codes
+                        .iter()
+                        .map(|r| vfd_runtime::protocol::code_label(*r))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                },
+                request: &c.request,
+                reply: &c.reply,
+            })
+            .collect(),
+        pre_steps: protocol
+            .pre_steps
+            .iter()
+            .map(|step| match *step {
+                PreStep::Index { register } => format!(
+                    "Before an indexed (array) access: write the index to wire register {register:04X}h."
+                ),
+                PreStep::Persistence {
+                    space,
+                    register,
+                    ram,
+                    persistent,
+                    ..
+                } => format!(
+                    "Before a parameter write: write {ram:04X}h (RAM only) or {persistent:04X}h (RAM and EEPROM) to {} {register}.",
+                    space.as_str()
+                ),
+            })
+            .collect(),
+        layouts: names
+            .into_iter()
+            .filter_map(layout)
+            .map(|layout| LayoutView {
+                name: layout.name.to_string(),
+                parts: layout
+                    .parts
+                    .iter()
+                    .map(|part| part_view(part, &layout.parts))
+                    .collect(),
+            })
+            .collect(),
+    }
+}

@@ -1,0 +1,413 @@
+//! The one way a runtime value becomes Rust tokens: [`Bake`], implemented beside each other
+//! for every runtime type the generated code holds.
+//!
+//! Baked values use short paths (`Role::Address`, `FieldSpec::new(..)`): the module that
+//! holds them imports the type names (see `protocols.rs` and `registers.rs`). Matches are
+//! exhaustive, so a new variant in the runtime fails to compile here until it is baked.
+//! Structures with many fields bake as the runtime's const constructors plus `with_*` calls
+//! for what differs from the defaults, which keeps the generated code short.
+
+use proc_macro2::{Literal, TokenStream};
+use quote::{quote, ToTokens};
+use vfd_runtime::meaning::{Direction, FrameMeaning};
+use vfd_runtime::serial::Parity;
+use vfd_runtime::units::Unit;
+use vfd_runtime::{
+    Access, AddressMap, BitsSpec, ChecksumAlgorithm, ChecksumSpec, CommandKind, Counts, DataType,
+    DecodeErrorKind, FieldSpec, Format, FrameLayout, LengthSpec, Part, PreStep, Presence, Role,
+    SizedBy, Space, TakesEffect, WordSpec,
+};
+
+/// Turns a runtime value into the tokens of an expression that rebuilds it.
+pub(crate) trait Bake {
+    /// The expression.
+    fn bake(&self) -> TokenStream;
+}
+
+/// An unsuffixed integer literal.
+pub(crate) fn int_literal(value: impl TryInto<i128>) -> Literal {
+    // Every integer type the IR holds fits i128.
+    Literal::i128_unsuffixed(value.try_into().ok().unwrap_or_default())
+}
+
+/// `&[1, 2, 3]` with unsuffixed literals.
+fn int_slice(values: &[u32]) -> TokenStream {
+    let values = values.iter().map(|v| int_literal(*v));
+    quote!(&[#(#values),*])
+}
+
+macro_rules! bake_unit_enum {
+    ($type:ident { $($variant:ident),* $(,)? }) => {
+        impl Bake for $type {
+            fn bake(&self) -> TokenStream {
+                match self {
+                    $($type::$variant => quote!($type::$variant),)*
+                }
+            }
+        }
+    };
+}
+
+bake_unit_enum!(Unit {
+    None,
+    Hertz,
+    Second,
+    Percent,
+    Ampere,
+    Volt,
+    Hour,
+    Kilowatt,
+    Rpm
+});
+bake_unit_enum!(Access {
+    ReadOnly,
+    ReadWrite,
+    WriteOnly
+});
+bake_unit_enum!(DataType {
+    Word,
+    DoubleWord,
+    Bit,
+    Text
+});
+bake_unit_enum!(Space { Parameter, Coil });
+bake_unit_enum!(TakesEffect {
+    Immediately,
+    AfterReset
+});
+bake_unit_enum!(CommandKind {
+    Read,
+    WriteRam,
+    WritePersistent,
+    ReadText,
+    Process
+});
+bake_unit_enum!(Parity { None, Even, Odd });
+bake_unit_enum!(Role {
+    Address,
+    Command,
+    Register,
+    Data,
+    ErrorCode,
+    Index,
+    Process1,
+    Process2,
+    Text
+});
+bake_unit_enum!(Format {
+    Decimal,
+    Hex,
+    Char,
+    U8,
+    U16Be,
+    U16Le,
+    U32Be,
+    U32Le,
+    UintBe,
+    UintLe,
+    Bytes
+});
+bake_unit_enum!(ChecksumAlgorithm {
+    Sum8,
+    Xor8,
+    Crc16Modbus,
+    Lrc8
+});
+bake_unit_enum!(SizedBy {
+    Format,
+    Rest,
+    Length
+});
+bake_unit_enum!(DecodeErrorKind {
+    UnexpectedByte,
+    NotAllowed,
+    ChecksumMismatch,
+    LengthMismatch,
+    Truncated,
+    TrailingBytes
+});
+bake_unit_enum!(Direction { Request, Reply });
+
+impl Bake for FrameMeaning {
+    /// A `FrameMeaning` literal naming only the fields the frame carries.
+    fn bake(&self) -> TokenStream {
+        fn some(value: Option<TokenStream>) -> TokenStream {
+            match value {
+                Some(value) => quote!(Some(#value)),
+                None => quote!(None),
+            }
+        }
+        let mut fields = Vec::new();
+        let mut field = |name: &str, value: Option<TokenStream>| {
+            if let Some(value) = value {
+                let name = proc_macro2::Ident::new(name, proc_macro2::Span::call_site());
+                let value = some(Some(value));
+                fields.push(quote!(#name: #value));
+            }
+        };
+        let int = |v: Option<u32>| v.map(|v| int_literal(v).into_token_stream());
+        field("address", int(self.address.map(u32::from)));
+        field("code", int(self.code));
+        field("kind", self.kind.map(|k| k.bake()));
+        field("space", self.space.map(|s| s.bake()));
+        field("register", int(self.register.map(u32::from)));
+        field("wire_register", int(self.wire_register.map(u32::from)));
+        field("index", int(self.index.map(u32::from)));
+        field("data", int(self.data));
+        field("error_code", int(self.error_code.map(u32::from)));
+        field(
+            "process",
+            self.process.map(|[a, b]| {
+                let (a, b) = (int_literal(a), int_literal(b));
+                quote!([#a, #b])
+            }),
+        );
+        field("text", self.text.as_ref().map(|t| quote!(#t.to_owned())));
+        if self.tripped {
+            fields.push(quote!(tripped: true));
+        }
+        quote!(FrameMeaning { #(#fields,)* ..FrameMeaning::default() })
+    }
+}
+
+impl Bake for Presence {
+    fn bake(&self) -> TokenStream {
+        match self {
+            Presence::IfFormatMatches => quote!(Presence::IfFormatMatches),
+            Presence::IfByteAtMost(limit) => {
+                let limit = int_literal(*limit);
+                quote!(Presence::IfByteAtMost(#limit))
+            }
+        }
+    }
+}
+
+impl Bake for Counts {
+    fn bake(&self) -> TokenStream {
+        match self {
+            Counts::Parts { from, through } => {
+                let (from, through) = (int_literal(*from), int_literal(*through));
+                quote!(Counts::Parts { from: #from, through: #through })
+            }
+            Counts::DataSize => quote!(Counts::DataSize),
+        }
+    }
+}
+
+impl Bake for AddressMap {
+    fn bake(&self) -> TokenStream {
+        let (multiply, offset) = (int_literal(self.multiply), int_literal(self.offset));
+        quote!(AddressMap { multiply: #multiply, offset: #offset })
+    }
+}
+
+impl Bake for PreStep {
+    fn bake(&self) -> TokenStream {
+        match *self {
+            PreStep::Index { register } => {
+                let register = int_literal(register);
+                quote!(PreStep::Index { register: #register })
+            }
+            PreStep::Persistence {
+                space,
+                register,
+                data_type,
+                ram,
+                persistent,
+            } => {
+                let (space, data_type) = (space.bake(), data_type.bake());
+                let (register, ram, persistent) = (
+                    int_literal(register),
+                    int_literal(ram),
+                    int_literal(persistent),
+                );
+                quote! {
+                    PreStep::Persistence {
+                        space: #space,
+                        register: #register,
+                        data_type: #data_type,
+                        ram: #ram,
+                        persistent: #persistent,
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl Bake for FieldSpec {
+    fn bake(&self) -> TokenStream {
+        let name = self.name.as_ref();
+        let (role, format, width) = (
+            self.role.bake(),
+            self.format.bake(),
+            int_literal(self.width),
+        );
+        let mut tokens = quote!(FieldSpec::new(#name, #role, #format, #width));
+        if self.min_width != self.width {
+            let min_width = int_literal(self.min_width);
+            tokens.extend(quote!(.with_min_width(#min_width)));
+        }
+        if let Some(presence) = self.optional {
+            let presence = presence.bake();
+            tokens.extend(quote!(.with_optional(#presence)));
+        }
+        if !self.allowed.is_empty() {
+            let allowed = int_slice(&self.allowed);
+            tokens.extend(quote!(.with_allowed(#allowed)));
+        }
+        if self.fold_case {
+            tokens.extend(quote!(.with_fold_case()));
+        }
+        if self.sized_by != SizedBy::Format {
+            let sized_by = self.sized_by.bake();
+            tokens.extend(quote!(.with_sized_by(#sized_by)));
+        }
+        tokens
+    }
+}
+
+impl Bake for ChecksumSpec {
+    fn bake(&self) -> TokenStream {
+        let name = self.name.as_ref();
+        let (algorithm, format) = (self.algorithm.bake(), self.format.bake());
+        let covers_from = int_literal(self.covers_from);
+        let mut tokens = quote!(ChecksumSpec::new(#name, #algorithm, #format, #covers_from));
+        if !self.marker.is_empty() {
+            let marker = Literal::byte_string(&self.marker);
+            tokens.extend(quote!(.with_marker(#marker)));
+        }
+        if self.optional {
+            tokens.extend(quote!(.with_optional()));
+        }
+        tokens
+    }
+}
+
+impl Bake for BitsSpec {
+    fn bake(&self) -> TokenStream {
+        let name = self.name.as_ref();
+        let role = self.role.bake();
+        let (lsb, width) = (int_literal(self.lsb), int_literal(self.width));
+        let mut tokens = quote!(BitsSpec::new(#name, #role, #lsb, #width));
+        if !self.allowed.is_empty() {
+            let allowed = int_slice(&self.allowed);
+            tokens.extend(quote!(.with_allowed(#allowed)));
+        }
+        tokens
+    }
+}
+
+impl Bake for WordSpec {
+    fn bake(&self) -> TokenStream {
+        let name = self.name.as_ref();
+        let format = self.format.bake();
+        let fields = self.fields.iter().map(Bake::bake);
+        // A struct literal, not a const fn call: only through literals and tuple
+        // constructors does a `&[..]` in a `const` live for `'static`.
+        quote!(WordSpec { name: Cow::Borrowed(#name), format: #format, fields: Cow::Borrowed(&[#(#fields),*]) })
+    }
+}
+
+impl Bake for LengthSpec {
+    fn bake(&self) -> TokenStream {
+        let name = self.name.as_ref();
+        let (format, counts) = (self.format.bake(), self.counts.bake());
+        let mut tokens = quote!(LengthSpec::new(#name, #format, #counts));
+        if (self.times, self.per) != (1, 1) {
+            let (times, per) = (int_literal(self.times), int_literal(self.per));
+            tokens.extend(quote!(.with_ratio(#times, #per)));
+        }
+        tokens
+    }
+}
+
+impl Bake for Part {
+    fn bake(&self) -> TokenStream {
+        match self {
+            Part::Literal {
+                name,
+                bytes,
+                optional,
+            } => {
+                let name = name.as_ref();
+                let bytes = Literal::byte_string(bytes);
+                if *optional {
+                    quote!(Part::optional_literal(#name, #bytes))
+                } else {
+                    quote!(Part::literal(#name, #bytes))
+                }
+            }
+            Part::Field(field) => {
+                let field = field.bake();
+                quote!(Part::Field(#field))
+            }
+            Part::Checksum(spec) => {
+                let spec = spec.bake();
+                quote!(Part::Checksum(#spec))
+            }
+            Part::Word(word) => {
+                let word = word.bake();
+                quote!(Part::Word(#word))
+            }
+            Part::Length(length) => {
+                let length = length.bake();
+                quote!(Part::Length(#length))
+            }
+        }
+    }
+}
+
+impl Bake for FrameLayout {
+    fn bake(&self) -> TokenStream {
+        let name = self.name.as_ref();
+        let parts = self.parts.iter().map(Bake::bake);
+        // A struct literal, not a const fn call: only through literals and tuple
+        // constructors does a `&[..]` in a `const` live for `'static`.
+        quote!(FrameLayout { name: Cow::Borrowed(#name), parts: Cow::Borrowed(&[#(#parts),*]) })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every baked value is valid Rust: it parses as an expression.
+    fn parses(tokens: TokenStream) -> String {
+        syn::parse2::<syn::Expr>(tokens.clone())
+            .unwrap_or_else(|e| panic!("{tokens} does not parse: {e}"));
+        tokens.to_string()
+    }
+
+    #[test]
+    fn unit_variants_bake_to_their_paths() {
+        assert_eq!(parses(Unit::Hertz.bake()), "Unit :: Hertz");
+        assert_eq!(parses(Access::ReadOnly.bake()), "Access :: ReadOnly");
+        assert_eq!(parses(Format::UintLe.bake()), "Format :: UintLe");
+        assert_eq!(parses(Parity::Even.bake()), "Parity :: Even");
+    }
+
+    #[test]
+    fn a_field_bakes_only_what_differs_from_the_defaults() {
+        let field = FieldSpec::new("station", Role::Address, Format::Decimal, 2);
+        assert_eq!(
+            parses(field.bake()),
+            "FieldSpec :: new (\"station\" , Role :: Address , Format :: Decimal , 2)"
+        );
+        let field = field
+            .with_min_width(1)
+            .with_allowed(&[82, 87])
+            .with_fold_case();
+        assert_eq!(
+            parses(field.bake()),
+            "FieldSpec :: new (\"station\" , Role :: Address , Format :: Decimal , 2) . with_min_width (1) . with_allowed (& [82 , 87]) . with_fold_case ()"
+        );
+    }
+
+    #[test]
+    fn literals_are_unsuffixed() {
+        let tokens = parses(PreStep::Index { register: 8 }.bake());
+        assert_eq!(tokens, "PreStep :: Index { register : 8 }");
+        assert_eq!(int_literal(1200u32).to_string(), "1200");
+    }
+}

@@ -1,0 +1,191 @@
+//! Words for people, shared by the Rust docs and the Markdown pages: how the manual numbers
+//! a register, ranges and values in engineering units, frame bytes, what a frame means.
+//! The IR holds facts only; every sentence is built here or in the templates.
+
+use crate::ir::{DriveIr, FrameIr, RegisterIr};
+use vfd_runtime::units::decimals_of;
+use vfd_runtime::Space;
+
+/// How the manual numbers a register: coils by number (`coil 17`), decimal parameters as
+/// written (`303`), communication numbers in hex (`FA01`).
+pub fn address_label(register: &RegisterIr) -> String {
+    if register.space == Space::Coil {
+        format!("coil {}", register.address)
+    } else if register.code.parse::<u16>().ok() == Some(register.address) {
+        register.address.to_string()
+    } else {
+        format!("{:04X}", register.address)
+    }
+}
+
+/// A raw count of `register` in engineering units, without float noise (`320.00`).
+pub fn raw_text(register: &RegisterIr, raw: i64) -> String {
+    number_text(register, raw as f64 * register.scale)
+}
+
+/// An engineering value with the register's decimals (`60.00`).
+pub fn number_text(register: &RegisterIr, value: f64) -> String {
+    format!("{:.*}", usize::from(decimals_of(register.scale)), value)
+}
+
+/// An engineering value with its unit (`60.00 Hz`).
+pub fn value_text(register: &RegisterIr, value: f64) -> String {
+    let unit = register.unit.symbol();
+    let number = number_text(register, value);
+    if unit.is_empty() {
+        number
+    } else {
+        format!("{number} {unit}")
+    }
+}
+
+/// The range as the manual gives it (`0.00 … FH (≤ 320.00)`), or `—` when it gives none.
+pub fn range_text(register: &RegisterIr) -> String {
+    let (Some(min), Some(max)) = (&register.min, &register.max) else {
+        return "—".to_owned();
+    };
+    let low = match &min.register {
+        Some(name) => format!("{name} (≥ {})", raw_text(register, min.raw)),
+        None => raw_text(register, min.raw),
+    };
+    let high = match &max.register {
+        Some(name) => format!("{name} (≤ {})", raw_text(register, max.raw)),
+        None => raw_text(register, max.raw),
+    };
+    format!("{low} … {high}")
+}
+
+/// The factory default (`50.00`), or `—`.
+pub fn default_text(register: &RegisterIr) -> String {
+    register
+        .default
+        .map_or_else(|| "—".to_owned(), |d| number_text(register, d))
+}
+
+/// The Rust type of the register's value, as written in docs (`Hertz`, `u16`).
+pub fn value_type_text(register: &RegisterIr) -> String {
+    use crate::ir::ValueKind;
+    match &register.value {
+        ValueKind::Quantity(name) | ValueKind::CodeTable(name) | ValueKind::Bitfield(name) => {
+            name.clone()
+        }
+        ValueKind::Raw => "u16".to_owned(),
+        ValueKind::RawSigned => "i16".to_owned(),
+        ValueKind::Scaled => "f64".to_owned(),
+        ValueKind::RawDouble => "u32".to_owned(),
+        ValueKind::RawSignedDouble => "i32".to_owned(),
+        ValueKind::Text => "String".to_owned(),
+    }
+}
+
+/// ` (中文)`, or nothing when the manual gives no Chinese text.
+pub fn zh(text: &str) -> String {
+    if text.is_empty() {
+        String::new()
+    } else {
+        format!(" ({text})")
+    }
+}
+
+/// Bytes as upper-case hex pairs (`2F 52 FD 00`).
+pub fn hex(bytes: &[u8]) -> String {
+    bytes
+        .iter()
+        .map(|b| format!("{b:02X}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Frame bytes for people: text with `<CR>`/`<LF>` when every byte is printable, else hex.
+pub fn shown_bytes(bytes: &[u8]) -> String {
+    if bytes
+        .iter()
+        .all(|b| b.is_ascii_graphic() || *b == b' ' || *b == b'\r' || *b == b'\n')
+    {
+        String::from_utf8_lossy(bytes)
+            .replace('\r', "<CR>")
+            .replace('\n', "<LF>")
+    } else {
+        hex(bytes)
+    }
+}
+
+/// The register a frame names, found in the drive.
+fn register_named<'d>(drive: &'d DriveIr, frame: &FrameIr) -> Option<&'d RegisterIr> {
+    let meaning = &frame.meaning;
+    let address = meaning.register?;
+    let space = meaning.space.unwrap_or(Space::Parameter);
+    drive
+        .registers
+        .iter()
+        .find(|r| r.address == address && r.space == space)
+}
+
+/// What a frame means, in one line (`` `R` (read), station 1, register FA01, data 1770h ``).
+pub fn meaning_text(drive: &DriveIr, frame: &FrameIr) -> String {
+    let meaning = &frame.meaning;
+    let label = vfd_runtime::protocol::code_label;
+    if let Some(code) = meaning.error_code {
+        let entry = drive.error_codes.codes.iter().find(|c| c.code == code);
+        return format!(
+            "error reply{}: error {code}{}",
+            meaning
+                .code
+                .map(|c| format!(" `{}`", label(c)))
+                .unwrap_or_default(),
+            entry
+                .map(|e| format!(" {} ({})", e.name, e.name_zh))
+                .unwrap_or_default()
+        );
+    }
+    let mut parts = Vec::new();
+    let kind = meaning.kind.map_or("?", |k| k.as_str());
+    match meaning.code {
+        Some(code) => parts.push(format!("`{}` ({kind})", label(code))),
+        None => parts.push(kind.to_owned()),
+    }
+    if let Some(address) = meaning.address {
+        parts.push(format!("station {address}"));
+    }
+    match (
+        register_named(drive, frame),
+        meaning.register,
+        meaning.wire_register,
+    ) {
+        (Some(register), _, Some(wire)) if address_label(register) != format!("{wire:04X}") => {
+            let prefix = if register.space == Space::Coil {
+                ""
+            } else {
+                "register "
+            };
+            parts.push(format!(
+                "{prefix}{} (wire {wire:04X}h)",
+                address_label(register)
+            ));
+        }
+        (Some(register), _, _) => parts.push(format!("register {}", address_label(register))),
+        (None, Some(register), _) => parts.push(format!("register {register}")),
+        (None, None, Some(wire)) => parts.push(format!("wire register {wire:04X}h")),
+        _ => {}
+    }
+    if let Some(index) = meaning.index {
+        parts.push(format!("index {index}"));
+    }
+    if let Some(data) = meaning.data {
+        parts.push(if data > 9 {
+            format!("data {data:04X}h ({data})")
+        } else {
+            format!("data {data}")
+        });
+    }
+    if let Some([first, second]) = meaning.process {
+        parts.push(format!("process words {first:04X}h {second:04X}h"));
+    }
+    if let Some(text) = &meaning.text {
+        parts.push(format!("text {text:?}"));
+    }
+    if meaning.tripped {
+        parts.push("drive tripped".to_owned());
+    }
+    parts.join(", ")
+}

@@ -1,0 +1,402 @@
+//! Lowers a checked description ([`Context`]) into the IR: Rust names chosen, ranges
+//! resolved into raw bounds, protocols split into shared layouts and per-drive commands,
+//! example frames taken from the one decoding done before validation.
+
+use super::types::*;
+use crate::frames::{register_of, DecodedFrame};
+use crate::naming::{const_name, method_name, module_name, type_name};
+use crate::parse::model::{BoundModel, FrameModel, RegisterModel};
+use crate::protocols::LoweredProtocol;
+use crate::validate::ranges;
+use crate::validate::{bit_span, Context};
+use vfd_runtime::units::Unit;
+use vfd_runtime::{Access, DataType, FrameLayout, Space, TakesEffect};
+
+/// Lowers a drive that passed validation.
+pub(crate) fn lower(drive: &Context) -> DriveIr {
+    let model = &drive.model;
+    let serial = &model.serial;
+    let registers: Vec<RegisterIr> = model
+        .registers
+        .iter()
+        .map(|r| lower_register(drive, r))
+        .collect();
+    DriveIr {
+        id: model.drive.id.clone(),
+        module: module_name(&model.drive.id),
+        vendor: model.drive.vendor.clone(),
+        model: model.drive.model.clone(),
+        name: model.drive.name.clone(),
+        name_zh: model.drive.name_zh.clone(),
+        manual: model.drive.manual.clone(),
+        description: model.drive.description.trim().to_owned(),
+        file: drive.source.path.display().to_string().replace('\\', "/"),
+        serial: SerialIr {
+            source: serial.source.clone(),
+            note: serial.note.trim().to_owned(),
+            baud_rates: serial.baud_rates.clone(),
+            parities: serial.parities.clone(),
+            data_bits: serial.data_bits,
+            stop_bits_sent: serial.stop_bits_sent,
+            stop_bits_received: serial.stop_bits_received,
+            default_baud: serial.default.baud,
+            default_parity: serial.default.parity,
+            default_data_bits: serial.default.data_bits,
+            default_stop_bits: serial.default.stop_bits,
+            startup_delay_ms: serial.timing.startup_delay_ms,
+            frame_abandon_ms: serial.timing.frame_abandon_ms,
+            processing_allowance_ms: serial.timing.processing_allowance_ms,
+        },
+        addressing: AddressingIr {
+            min: model.addressing.min,
+            max: model.addressing.max,
+            note: model.addressing.note.trim().to_owned(),
+        },
+        protocol_files: protocol_files(&drive.protocols),
+        protocols: drive.protocols.iter().map(lower_protocol).collect(),
+        error_codes: ErrorCodesIr {
+            source: model.error_codes.source.clone(),
+            codes: model
+                .error_codes
+                .codes
+                .iter()
+                .map(|c| ErrorCodeIr {
+                    code: c.code as u16,
+                    id: c.id.clone(),
+                    variant: type_name(&c.id),
+                    name: c.name.clone(),
+                    name_zh: c.name_zh.clone(),
+                    meaning: c.meaning.clone(),
+                })
+                .collect(),
+            silent: model.error_codes.silent.clone(),
+        },
+        code_tables: model
+            .codes
+            .iter()
+            .map(|table| CodeTableIr {
+                id: table.id.clone(),
+                type_name: type_name(&table.id),
+                name: table.name.clone(),
+                name_zh: table.name_zh.clone(),
+                source: table.source.clone(),
+                exhaustive: table.exhaustive,
+                note: table.note.clone(),
+                values: table
+                    .values
+                    .iter()
+                    .map(|value| CodeValueIr {
+                        value: value.value as u16,
+                        id: value.id.clone(),
+                        variant: type_name(&value.id),
+                        name: value.name.clone(),
+                        name_zh: value.name_zh.clone(),
+                    })
+                    .collect(),
+            })
+            .collect(),
+        bitfields: model
+            .bitfields
+            .iter()
+            .map(|bitfield| BitfieldIr {
+                id: bitfield.id.clone(),
+                type_name: type_name(&bitfield.id),
+                name: bitfield.name.clone(),
+                name_zh: bitfield.name_zh.clone(),
+                source: bitfield.source.clone(),
+                note: bitfield.note.clone(),
+                registers: model
+                    .registers
+                    .iter()
+                    .filter(|r| r.bitfield.as_deref() == Some(&bitfield.id))
+                    .map(|r| r.code.clone())
+                    .collect(),
+                fields: bitfield
+                    .fields
+                    .iter()
+                    .map(|field| {
+                        // Validation has checked the span.
+                        let (lsb, width) =
+                            bit_span(field.bit, field.bits.as_deref()).unwrap_or((0, 1));
+                        let id = field
+                            .id
+                            .clone()
+                            .unwrap_or_else(|| format!("reserved_{lsb}"));
+                        BitIr {
+                            method: method_name(&id),
+                            id,
+                            lsb,
+                            width,
+                            reserved: field.reserved,
+                            name: field.name.clone(),
+                            name_zh: field.name_zh.clone(),
+                            zero: field.zero.clone(),
+                            one: field.one.clone(),
+                            zero_zh: field.zero_zh.clone(),
+                            one_zh: field.one_zh.clone(),
+                            code_table: field.code_table.clone(),
+                            note: field.note.clone(),
+                        }
+                    })
+                    .collect(),
+                examples: bitfield
+                    .examples
+                    .iter()
+                    .map(|e| BitExampleIr {
+                        value: e.value as u16,
+                        set: e.set.clone(),
+                        description: e.description.clone(),
+                        source: e.source.clone(),
+                    })
+                    .collect(),
+            })
+            .collect(),
+        value_examples: model
+            .value_examples
+            .iter()
+            .filter_map(|example| {
+                let register = ranges::find_register(model, &example.register)?;
+                Some(ValueExampleIr {
+                    register: register.id.clone(),
+                    value: example.value,
+                    raw: example.raw,
+                    source: example.source.clone(),
+                    description: example.description.clone(),
+                })
+            })
+            .collect(),
+        reference_scaling: model.reference_scaling.as_ref().map(|scaling| {
+            let id_of = |name: &str| {
+                ranges::find_register(model, name).map_or_else(|| name.to_owned(), |r| r.id.clone())
+            };
+            let end = |end: &BoundModel| match end {
+                BoundModel::Number(value) => SpanEndIr::Number(*value),
+                BoundModel::Register(name) => SpanEndIr::Register(id_of(name)),
+            };
+            ReferenceScalingIr {
+                source: scaling.source.clone(),
+                full_scale_raw: scaling.full_scale_raw,
+                applies_to: scaling.applies_to.iter().map(|n| id_of(n)).collect(),
+                selector: id_of(&scaling.selector),
+                note: scaling.note.trim().to_owned(),
+                modes: scaling
+                    .modes
+                    .iter()
+                    .map(|mode| ScalingModeIr {
+                        selector: mode.selector,
+                        low: end(&mode.low),
+                        high: end(&mode.high),
+                        description: mode.description.clone(),
+                    })
+                    .collect(),
+            }
+        }),
+        manual_errata: model
+            .manual_errata
+            .iter()
+            .map(|e| ManualErratumIr {
+                source: e.source.clone(),
+                printed: e.printed.clone(),
+                corrected: e.corrected.clone(),
+                reason: e.reason.clone(),
+            })
+            .collect(),
+        examples: lower_examples(drive, &registers),
+        registers,
+    }
+}
+
+fn lower_register(drive: &Context, register: &RegisterModel) -> RegisterIr {
+    let model = &drive.model;
+    let unit = register
+        .unit
+        .as_deref()
+        .and_then(Unit::from_symbol)
+        .unwrap_or(Unit::None);
+    let scale = ranges::scale_of(register);
+    let data_type = register.data_type.unwrap_or(DataType::Word);
+    let value = if let Some(bitfield) = &register.bitfield {
+        ValueKind::Bitfield(type_name(bitfield))
+    } else if let Some(table) = &register.code_table {
+        match model.codes.iter().find(|c| &c.id == table) {
+            Some(found) if found.exhaustive => ValueKind::CodeTable(type_name(table)),
+            _ => ValueKind::Raw,
+        }
+    } else if let Some(name) = unit.quantity_type() {
+        ValueKind::Quantity(name.to_owned())
+    } else if data_type == DataType::Text {
+        ValueKind::Text
+    } else if (scale - 1.0).abs() > f64::EPSILON {
+        ValueKind::Scaled
+    } else {
+        match (register.signed, data_type == DataType::DoubleWord) {
+            (true, true) => ValueKind::RawSignedDouble,
+            (false, true) => ValueKind::RawDouble,
+            (true, false) => ValueKind::RawSigned,
+            (false, false) => ValueKind::Raw,
+        }
+    };
+    let (raw_min, raw_max) = ranges::raw_range(model, register);
+    let bound = |bound: &BoundModel, raw: i64| BoundIr {
+        raw,
+        register: match bound {
+            BoundModel::Register(name) => Some(name.clone()),
+            BoundModel::Number(_) => None,
+        },
+    };
+    RegisterIr {
+        address: register.address as u16,
+        id: register.id.clone(),
+        type_name: type_name(&register.id),
+        code: register.code.clone(),
+        name: register.name.clone(),
+        name_zh: register.name_zh.clone(),
+        description: register.description.trim().to_owned(),
+        note: register.note.trim().to_owned(),
+        unit,
+        scale,
+        signed: register.signed,
+        min: register.range.as_ref().map(|r| bound(&r.min, raw_min)),
+        max: register.range.as_ref().map(|r| bound(&r.max, raw_max)),
+        default: register.default,
+        access: register.access.unwrap_or(Access::ReadWrite),
+        ram_only: register.ram_only,
+        writable_while_running: register.writable_while_running,
+        panel_only: register.panel_only,
+        takes_effect: register.takes_effect.unwrap_or(TakesEffect::Immediately),
+        data_type,
+        space: register.space.unwrap_or(Space::Parameter),
+        array_len: register.array.unwrap_or(0),
+        value,
+        source: register.source.clone(),
+    }
+}
+
+/// Each protocol file once, with every layout its commands and error reply use.
+fn protocol_files(protocols: &[LoweredProtocol]) -> Vec<ProtocolFileIr> {
+    let mut files: Vec<ProtocolFileIr> = Vec::new();
+    for protocol in protocols {
+        if files.iter().any(|f| f.id == protocol.uses) {
+            continue;
+        }
+        let mut layouts: Vec<FrameLayout> = Vec::new();
+        let runtime = &protocol.runtime;
+        let used = runtime
+            .commands
+            .iter()
+            .flat_map(|c| [&c.request, &c.reply])
+            .chain(runtime.error_reply.iter());
+        for layout in used {
+            if !layouts.iter().any(|l| l.name == layout.name) {
+                layouts.push(layout.clone());
+            }
+        }
+        let meta = &protocol.file.protocol;
+        files.push(ProtocolFileIr {
+            id: protocol.uses.clone(),
+            module: module_name(&protocol.uses),
+            name: meta.name.clone(),
+            name_zh: meta.name_zh.clone(),
+            description: meta.description.trim().to_owned(),
+            text: meta.text,
+            layouts,
+        });
+    }
+    files
+}
+
+fn lower_protocol(protocol: &LoweredProtocol) -> ProtocolIr {
+    let runtime = &protocol.runtime;
+    ProtocolIr {
+        id: protocol.id.clone(),
+        const_name: const_name(&protocol.id),
+        uses: protocol.uses.clone(),
+        source: protocol.source_section.clone(),
+        name: runtime.name.to_string(),
+        commands: runtime
+            .commands
+            .iter()
+            .map(|c| CommandIr {
+                code: c.code,
+                kind: c.kind,
+                data_types: c.data_types.to_vec(),
+                space: c.space,
+                address_map: c.address_map,
+                request: c.request.name.to_string(),
+                reply: c.reply.name.to_string(),
+                reply_codes: c.reply_codes.to_vec(),
+            })
+            .collect(),
+        error_reply: runtime.error_reply.as_ref().map(|l| l.name.to_string()),
+        lowercase_means_tripped: runtime.lowercase_means_tripped,
+        max_frame_len: runtime.max_frame_len,
+        address_range: runtime.address_range,
+        default_optional_parts: runtime
+            .default_optional_parts
+            .iter()
+            .map(|p| p.to_string())
+            .collect(),
+        pre_steps: runtime.pre_steps.to_vec(),
+        default_process: protocol.file.protocol.default_process,
+        frame_gap_chars: runtime.frame_gap_chars,
+    }
+}
+
+fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
+    drive
+        .model
+        .examples
+        .iter()
+        .zip(&drive.frames)
+        .map(|(example, decoded)| {
+            let frame =
+                |model: &Option<FrameModel>, frame: &Option<DecodedFrame>| match (model, frame) {
+                    (Some(model), Some(frame)) => lower_frame(model, frame),
+                    _ => None,
+                };
+            let register = decoded
+                .reply_then_request()
+                .filter_map(DecodedFrame::decoded)
+                .find_map(|meaning| register_of(&drive.model, meaning))
+                .and_then(|found| registers.iter().find(|r| r.id == found.id));
+            ExampleIr {
+                id: example.id.clone(),
+                protocol: example.protocol.clone(),
+                source: example.source.clone(),
+                description: example.description.clone(),
+                description_zh: example.description_zh.clone(),
+                request: frame(&example.request, &decoded.request),
+                reply: frame(&example.reply, &decoded.reply),
+                value: example.value,
+                register: register.map(|r| r.id.clone()),
+            }
+        })
+        .collect()
+}
+
+/// A frame that validation has accepted: its bytes decoded, and a printed erratum rejected
+/// for its stated reason.
+fn lower_frame(model: &FrameModel, frame: &DecodedFrame) -> Option<FrameIr> {
+    let bytes = frame.bytes.clone().ok()?;
+    let meaning = frame.decoded()?.clone();
+    let printed = match (&frame.printed, model.printed_rejected_as) {
+        (Some(printed), Some(rejected_as)) => {
+            let Some(Err(error)) = &printed.meaning else {
+                return None;
+            };
+            Some(PrintedIr {
+                bytes: printed.bytes.clone().ok()?,
+                erratum: model.erratum.clone().unwrap_or_default(),
+                rejected_as,
+                rejection: error.to_string(),
+            })
+        }
+        _ => None,
+    };
+    Some(FrameIr {
+        bytes,
+        text: model.ascii.is_some(),
+        meaning,
+        printed,
+    })
+}

@@ -1,0 +1,562 @@
+//! The IR's types: one drive, resolved, ordered and typed, as plain serialisable data.
+//!
+//! Every emitter reads only these types. They hold facts (numbers, names, enums, the
+//! runtime's own layout and frame-meaning values), never prose built for people: the
+//! Markdown emitter words ranges, meanings and layouts itself.
+
+use serde::Serialize;
+use vfd_runtime::meaning::FrameMeaning;
+use vfd_runtime::serial::Parity;
+use vfd_runtime::units::Unit;
+use vfd_runtime::{
+    Access, AddressMap, CommandKind, DataType, DecodeErrorKind, FrameLayout, PreStep, Space,
+    TakesEffect,
+};
+
+/// One drive, ready to emit.
+#[derive(Debug, Clone, Serialize)]
+pub struct DriveIr {
+    /// Drive id (`yd1000`), also the file names of its outputs.
+    pub id: String,
+    /// Rust module name (`yd1000`, `vf_as1`).
+    pub module: String,
+    /// Vendor.
+    pub vendor: String,
+    /// Model.
+    pub model: String,
+    /// English name.
+    pub name: String,
+    /// The manual's Chinese name.
+    pub name_zh: String,
+    /// The manual's file name.
+    pub manual: String,
+    /// What the description covers.
+    pub description: String,
+    /// The drive file's path, as given to the generator (or relative to a display root).
+    pub file: String,
+    /// Serial line facts.
+    pub serial: SerialIr,
+    /// Station numbers.
+    pub addressing: AddressingIr,
+    /// The protocol files this drive's protocols use, each once, with their frame layouts.
+    pub protocol_files: Vec<ProtocolFileIr>,
+    /// The drive's protocols.
+    pub protocols: Vec<ProtocolIr>,
+    /// The manual's error codes.
+    pub error_codes: ErrorCodesIr,
+    /// Code tables.
+    pub code_tables: Vec<CodeTableIr>,
+    /// Bit-field layouts.
+    pub bitfields: Vec<BitfieldIr>,
+    /// Registers, in file order.
+    pub registers: Vec<RegisterIr>,
+    /// Worked value examples (`80 Hz = 1F40h`).
+    pub value_examples: Vec<ValueExampleIr>,
+    /// Mode-dependent reference scaling, when the drive has one.
+    pub reference_scaling: Option<ReferenceScalingIr>,
+    /// Mistakes in the manual's prose.
+    pub manual_errata: Vec<ManualErratumIr>,
+    /// Example exchanges, each frame decoded.
+    pub examples: Vec<ExampleIr>,
+}
+
+/// Serial line facts.
+#[derive(Debug, Clone, Serialize)]
+pub struct SerialIr {
+    /// Manual section.
+    pub source: String,
+    /// Remarks.
+    pub note: String,
+    /// Supported baud rates.
+    pub baud_rates: Vec<u32>,
+    /// Supported parities.
+    pub parities: Vec<Parity>,
+    /// Data bits per character.
+    pub data_bits: u8,
+    /// Stop bits the drive sends.
+    pub stop_bits_sent: u8,
+    /// Stop bits the drive needs.
+    pub stop_bits_received: u8,
+    /// Factory baud rate.
+    pub default_baud: u32,
+    /// Factory parity.
+    pub default_parity: Parity,
+    /// Factory data bits.
+    pub default_data_bits: u8,
+    /// Factory stop bits.
+    pub default_stop_bits: u8,
+    /// Silence after power-on, in ms.
+    pub startup_delay_ms: u64,
+    /// A frame not complete within this many ms is dropped.
+    pub frame_abandon_ms: u64,
+    /// Time the drive may take to start answering, in ms.
+    pub processing_allowance_ms: u64,
+}
+
+/// Station numbers.
+#[derive(Debug, Clone, Serialize)]
+pub struct AddressingIr {
+    /// Lowest station number.
+    pub min: u8,
+    /// Highest station number.
+    pub max: u8,
+    /// Remarks.
+    pub note: String,
+}
+
+/// A protocol file (`protocols/<id>.yaml`): its frame layouts, shared by every drive that
+/// uses it.
+#[derive(Debug, Clone, Serialize)]
+pub struct ProtocolFileIr {
+    /// File id (`toshiba-ascii`).
+    pub id: String,
+    /// Rust name of its module of layouts (`toshiba_ascii`).
+    pub module: String,
+    /// English name.
+    pub name: String,
+    /// Chinese name.
+    pub name_zh: String,
+    /// What it is.
+    pub description: String,
+    /// Whether frames are text.
+    pub text: bool,
+    /// Every layout a command or the error reply uses, by name, in the file's order.
+    pub layouts: Vec<FrameLayout>,
+}
+
+/// A protocol as one drive speaks it.
+#[derive(Debug, Clone, Serialize)]
+pub struct ProtocolIr {
+    /// Id within the drive (`ascii`).
+    pub id: String,
+    /// Rust name of its `static` (`ASCII`).
+    pub const_name: String,
+    /// The protocol file it uses (`toshiba-ascii`).
+    pub uses: String,
+    /// Manual section.
+    pub source: String,
+    /// English name.
+    pub name: String,
+    /// Commands, with their layouts named.
+    pub commands: Vec<CommandIr>,
+    /// Name of the error-reply layout, when the protocol has error replies.
+    pub error_reply: Option<String>,
+    /// A lower-case command letter in a reply means "tripped".
+    pub lowercase_means_tripped: bool,
+    /// Longest frame in bytes.
+    pub max_frame_len: u16,
+    /// Station numbers this drive accepts.
+    pub address_range: (u8, u8),
+    /// Optional parts requests include by default.
+    pub default_optional_parts: Vec<String>,
+    /// Steps some requests need first.
+    pub pre_steps: Vec<PreStep>,
+    /// Process words sent when the caller gives none, as the protocol file states them
+    /// (`None`: it states none, and 0000h 0000h are sent).
+    pub default_process: Option<[u16; 2]>,
+    /// Silence between frames, in character times.
+    pub frame_gap_chars: f32,
+}
+
+/// One command of a protocol.
+#[derive(Debug, Clone, Serialize)]
+pub struct CommandIr {
+    /// The code on the wire (letter, AK nibble, function code; 0 when the layout has none).
+    pub code: u32,
+    /// What it does.
+    pub kind: CommandKind,
+    /// Data types it carries (empty: any).
+    pub data_types: Vec<DataType>,
+    /// Address space.
+    pub space: Space,
+    /// Register number to wire number.
+    pub address_map: AddressMap,
+    /// Request layout, by name.
+    pub request: String,
+    /// Reply layout, by name.
+    pub reply: String,
+    /// Codes a normal reply may carry (empty: the request's).
+    pub reply_codes: Vec<u32>,
+}
+
+/// The manual's error codes.
+#[derive(Debug, Clone, Serialize)]
+pub struct ErrorCodesIr {
+    /// Manual section.
+    pub source: String,
+    /// The codes.
+    pub codes: Vec<ErrorCodeIr>,
+    /// Conditions under which the drive stays silent.
+    pub silent: Vec<String>,
+}
+
+/// One error code.
+#[derive(Debug, Clone, Serialize)]
+pub struct ErrorCodeIr {
+    /// The code.
+    pub code: u16,
+    /// Identifier.
+    pub id: String,
+    /// Rust variant name.
+    pub variant: String,
+    /// English name.
+    pub name: String,
+    /// Chinese name.
+    pub name_zh: String,
+    /// The manual's explanation.
+    pub meaning: String,
+}
+
+/// A code table.
+#[derive(Debug, Clone, Serialize)]
+pub struct CodeTableIr {
+    /// Identifier.
+    pub id: String,
+    /// Rust type name.
+    pub type_name: String,
+    /// English name.
+    pub name: String,
+    /// Chinese name.
+    pub name_zh: String,
+    /// Manual section.
+    pub source: String,
+    /// Whether the manual lists every value (only then is it a Rust enum).
+    pub exhaustive: bool,
+    /// Remarks.
+    pub note: String,
+    /// The values.
+    pub values: Vec<CodeValueIr>,
+}
+
+/// One value of a code table.
+#[derive(Debug, Clone, Serialize)]
+pub struct CodeValueIr {
+    /// The value.
+    pub value: u16,
+    /// Identifier.
+    pub id: String,
+    /// Rust variant name.
+    pub variant: String,
+    /// English name.
+    pub name: String,
+    /// Chinese name.
+    pub name_zh: String,
+}
+
+/// A bit-field layout of a word.
+#[derive(Debug, Clone, Serialize)]
+pub struct BitfieldIr {
+    /// Identifier.
+    pub id: String,
+    /// Rust type name.
+    pub type_name: String,
+    /// English name.
+    pub name: String,
+    /// Chinese name.
+    pub name_zh: String,
+    /// Manual section.
+    pub source: String,
+    /// Remarks.
+    pub note: String,
+    /// Codes of the registers whose value it is.
+    pub registers: Vec<String>,
+    /// Fields, in file order.
+    pub fields: Vec<BitIr>,
+    /// Worked examples.
+    pub examples: Vec<BitExampleIr>,
+}
+
+impl BitfieldIr {
+    /// Bits the manual marks reserved.
+    pub fn reserved_mask(&self) -> u16 {
+        self.fields
+            .iter()
+            .filter(|f| f.reserved)
+            .fold(0, |mask, f| mask | f.mask())
+    }
+}
+
+/// One field of a bit-field word.
+#[derive(Debug, Clone, Serialize)]
+pub struct BitIr {
+    /// Identifier (`reserved_<lsb>` for unnamed reserved bits).
+    pub id: String,
+    /// Rust accessor name.
+    pub method: String,
+    /// Lowest bit.
+    pub lsb: u8,
+    /// Width in bits.
+    pub width: u8,
+    /// Reserved by the manual.
+    pub reserved: bool,
+    /// English name.
+    pub name: String,
+    /// Chinese name.
+    pub name_zh: String,
+    /// Meaning of 0.
+    pub zero: String,
+    /// Meaning of 1.
+    pub one: String,
+    /// Chinese meaning of 0.
+    pub zero_zh: String,
+    /// Chinese meaning of 1.
+    pub one_zh: String,
+    /// Code table giving the meanings of a multi-bit field's values.
+    pub code_table: Option<String>,
+    /// Remarks.
+    pub note: String,
+}
+
+impl BitIr {
+    /// The field's bits within the word.
+    pub fn mask(&self) -> u16 {
+        (((1u32 << self.width) - 1) << self.lsb) as u16
+    }
+}
+
+/// A worked bit-field example.
+#[derive(Debug, Clone, Serialize)]
+pub struct BitExampleIr {
+    /// The word.
+    pub value: u16,
+    /// Ids of the fields it sets.
+    pub set: Vec<String>,
+    /// The manual's words.
+    pub description: String,
+    /// Manual section.
+    pub source: String,
+}
+
+/// How a register's value is typed in Rust.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[serde(tag = "kind", content = "type", rename_all = "snake_case")]
+pub enum ValueKind {
+    /// A runtime quantity type, by name (`Hertz`).
+    Quantity(String),
+    /// A generated code-table enum, by type name.
+    CodeTable(String),
+    /// A generated bit-field word, by type name.
+    Bitfield(String),
+    /// A plain unsigned word.
+    Raw,
+    /// A plain signed word.
+    RawSigned,
+    /// A plain number with a scale other than 1.
+    Scaled,
+    /// A plain unsigned double word.
+    RawDouble,
+    /// A plain signed double word.
+    RawSignedDouble,
+    /// Text.
+    Text,
+}
+
+/// One end of a register's range.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BoundIr {
+    /// The static bound, in raw steps.
+    pub raw: i64,
+    /// Code of the register that sets this bound at run time (`FH`), if any.
+    pub register: Option<String>,
+}
+
+/// A register (or parameter, or coil).
+#[derive(Debug, Clone, Serialize)]
+pub struct RegisterIr {
+    /// Number before any protocol's address map.
+    pub address: u16,
+    /// Identifier.
+    pub id: String,
+    /// Rust type name.
+    pub type_name: String,
+    /// The manual's code (`FH`, `FA01`, `3-03`).
+    pub code: String,
+    /// English name.
+    pub name: String,
+    /// Chinese name.
+    pub name_zh: String,
+    /// The manual's description.
+    pub description: String,
+    /// Remarks.
+    pub note: String,
+    /// Engineering unit.
+    pub unit: Unit,
+    /// Engineering value of one raw step.
+    pub scale: f64,
+    /// Two's-complement signed.
+    pub signed: bool,
+    /// Lowest accepted value; `None` when the manual gives no range.
+    pub min: Option<BoundIr>,
+    /// Highest accepted value; `None` when the manual gives no range.
+    pub max: Option<BoundIr>,
+    /// Factory default, in engineering units.
+    pub default: Option<f64>,
+    /// Access over the serial link.
+    pub access: Access,
+    /// Writes go to RAM only.
+    pub ram_only: bool,
+    /// May be written while the motor runs.
+    pub writable_while_running: bool,
+    /// Only effective when set from the panel.
+    pub panel_only: bool,
+    /// When a written value takes effect.
+    pub takes_effect: TakesEffect,
+    /// Shape on the wire.
+    pub data_type: DataType,
+    /// Address space.
+    pub space: Space,
+    /// Number of array elements (0: not an array).
+    pub array_len: u8,
+    /// How the value is typed in Rust.
+    pub value: ValueKind,
+    /// Manual section.
+    pub source: String,
+}
+
+impl RegisterIr {
+    /// Whether the register may be written (text is read only, whatever `access` says).
+    pub fn writable(&self) -> bool {
+        self.access != Access::ReadOnly && self.data_type != DataType::Text
+    }
+
+    /// Whether the register may be written persistently (EEPROM).
+    pub fn persistable(&self) -> bool {
+        self.writable() && !self.ram_only
+    }
+
+    /// The lowest and highest raw values the word accepts without a range.
+    pub fn raw_limits(&self) -> (i64, i64) {
+        match (self.data_type, self.signed) {
+            (DataType::DoubleWord, true) => (i64::from(i32::MIN), i64::from(i32::MAX)),
+            (DataType::DoubleWord, false) => (0, i64::from(u32::MAX)),
+            (_, true) => (i64::from(i16::MIN), i64::from(i16::MAX)),
+            (_, false) => (0, i64::from(u16::MAX)),
+        }
+    }
+
+    /// Static raw bounds: the range's, else the word's.
+    pub fn raw_range(&self) -> (i64, i64) {
+        let (low, high) = self.raw_limits();
+        (
+            self.min.as_ref().map_or(low, |b| b.raw),
+            self.max.as_ref().map_or(high, |b| b.raw),
+        )
+    }
+}
+
+/// A worked value example (`80 Hz = 1F40h`).
+#[derive(Debug, Clone, Serialize)]
+pub struct ValueExampleIr {
+    /// Id of the register.
+    pub register: String,
+    /// Engineering value.
+    pub value: f64,
+    /// Raw word.
+    pub raw: u32,
+    /// Manual section.
+    pub source: String,
+    /// The manual's words.
+    pub description: String,
+}
+
+/// Mode-dependent reference scaling.
+#[derive(Debug, Clone, Serialize)]
+pub struct ReferenceScalingIr {
+    /// Manual section.
+    pub source: String,
+    /// Raw value meaning 100 %.
+    pub full_scale_raw: u32,
+    /// Ids of the registers it applies to.
+    pub applies_to: Vec<String>,
+    /// Id of the register choosing the mode.
+    pub selector: String,
+    /// Remarks.
+    pub note: String,
+    /// The modes.
+    pub modes: Vec<ScalingModeIr>,
+}
+
+/// One mode of a reference scaling.
+#[derive(Debug, Clone, Serialize)]
+pub struct ScalingModeIr {
+    /// Selector value.
+    pub selector: u32,
+    /// Low end of the span.
+    pub low: SpanEndIr,
+    /// High end of the span.
+    pub high: SpanEndIr,
+    /// The manual's wording of the rule.
+    pub description: String,
+}
+
+/// One end of a span: a number, or another register's value (by id).
+#[derive(Debug, Clone, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SpanEndIr {
+    /// A constant.
+    Number(f64),
+    /// The engineering value of a register, by id.
+    Register(String),
+}
+
+/// A mistake in the manual's prose.
+#[derive(Debug, Clone, Serialize)]
+pub struct ManualErratumIr {
+    /// Manual section.
+    pub source: String,
+    /// What it prints.
+    pub printed: String,
+    /// What it should say.
+    pub corrected: String,
+    /// Why.
+    pub reason: String,
+}
+
+/// One example exchange from the manual.
+#[derive(Debug, Clone, Serialize)]
+pub struct ExampleIr {
+    /// Identifier.
+    pub id: String,
+    /// Id of the protocol (within the drive).
+    pub protocol: String,
+    /// Manual section.
+    pub source: String,
+    /// The manual's words.
+    pub description: String,
+    /// The manual's Chinese words.
+    pub description_zh: String,
+    /// The request, when the example has one.
+    pub request: Option<FrameIr>,
+    /// The reply, when the example has one.
+    pub reply: Option<FrameIr>,
+    /// The data's value in the register's unit.
+    pub value: Option<f64>,
+    /// Id of the described register the example's data belongs to, if any.
+    pub register: Option<String>,
+}
+
+/// One frame of an example.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrameIr {
+    /// The bytes.
+    pub bytes: Vec<u8>,
+    /// Written as text in the description (`ascii:`).
+    pub text: bool,
+    /// What the bytes mean, as the runtime's decoder reads them.
+    pub meaning: FrameMeaning,
+    /// The manual's misprint, when there is an erratum.
+    pub printed: Option<PrintedIr>,
+}
+
+/// Bytes a manual printed wrong.
+#[derive(Debug, Clone, Serialize)]
+pub struct PrintedIr {
+    /// The printed bytes.
+    pub bytes: Vec<u8>,
+    /// Why they are wrong.
+    pub erratum: String,
+    /// The decoder's reason for rejecting them.
+    pub rejected_as: DecodeErrorKind,
+    /// The decoder's message.
+    pub rejection: String,
+}
