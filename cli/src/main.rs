@@ -3,10 +3,11 @@
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use vfd_runtime::meaning::{decode_meaning, Direction, FrameMeaning};
 use vfd_runtime::protocol::code_label;
 use vfd_runtime::units::{raw_to_scaled, scaled_to_raw};
 use vfd_runtime::{
-    Access, CommandKind, DataType, DriveInfo, Protocol, RegisterInfo, Reply, Request, Space,
+    Access, CommandKind, DataType, DriveInfo, Protocol, RegisterInfo, Request, Space,
 };
 
 const USAGE: &str = "\
@@ -15,6 +16,8 @@ vfd: tools for RS-485 frequency inverters described in drives/*.yaml
 USAGE:
   vfd generate [--check] [--root DIR]      regenerate generated-docs/ and print a summary
                                            (--check: only report stale pages, exit 1 if any)
+  vfd generate --dump-ir DRIVE [--root DIR]
+                                           print the generator's IR of one drive as YAML
   vfd check [--protocols DIR] FILE.yaml... validate drive files, print every problem
                                            (DIR: protocol files, default protocols/ next
                                            to each drive file)
@@ -114,6 +117,16 @@ fn generate(args: &[&str]) -> Result<(), String> {
         .regenerate_command("cargo run -p vfd-cli -- generate")
         .crate_path("vfd_drives")
         .manuals_location("shared/seeds");
+    if let Some(id) = args.windows(2).find(|w| w[0] == "--dump-ir").map(|w| w[1]) {
+        let generated = builder.generate_in_memory().map_err(|e| e.to_string())?;
+        let drive = generated
+            .drives
+            .iter()
+            .find(|d| d.ir.id == id)
+            .ok_or_else(|| format!("no drive `{id}` in {}", root.join("drives").display()))?;
+        print!("{}", drive.ir.to_yaml());
+        return Ok(());
+    }
     // Only this command writes generated-docs/ (builds never do), so what it reports as
     // changed is what it changed.
     let (generated, changed) = if check_only {
@@ -415,110 +428,83 @@ fn decode(drive: &'static DriveInfo, protocol: &str, frame: &str) -> Result<(), 
     let protocol = find_protocol(drive, protocol)?;
     let bytes = parse_frame(frame);
     print_frame(&bytes);
-    let as_request = protocol.decode_request_exact(&bytes);
-    if let Ok(request) = &as_request {
-        let command = request.command;
-        println!(
-            "request: {} ({}){}",
-            code_label(command.code),
-            command.kind.as_str(),
-            request
-                .address
-                .map(|a| format!(", station {a}"))
-                .unwrap_or_default()
-        );
-        if let Some(index) = request.index {
-            println!("  index {index}");
+    // The same reading the generator checks every manual example with.
+    let as_request = decode_meaning(protocol, Direction::Request, &bytes);
+    let (direction, meaning) = match as_request {
+        Ok(meaning) => (Direction::Request, meaning),
+        Err(request_error) => match decode_meaning(protocol, Direction::Reply, &bytes) {
+            Ok(meaning) => (Direction::Reply, meaning),
+            Err(reply_error) => {
+                return Err(format!(
+                    "not a valid {} frame:\n  as a request: {request_error}\n  as a reply:   {reply_error}",
+                    protocol.id
+                ))
+            }
+        },
+    };
+    print_meaning(drive, protocol, direction, &meaning);
+    Ok(())
+}
+
+/// What a decoded frame means, line by line, with the register's name and unit.
+fn print_meaning(
+    drive: &DriveInfo,
+    protocol: &Protocol,
+    direction: Direction,
+    meaning: &FrameMeaning,
+) {
+    let station = meaning
+        .address
+        .map(|a| format!(", station {a}"))
+        .unwrap_or_default();
+    let tripped = if meaning.tripped {
+        ", drive TRIPPED"
+    } else {
+        ""
+    };
+    let code = meaning
+        .code
+        .map(code_label)
+        .unwrap_or_else(|| "—".to_owned());
+    if let Some(error) = meaning.error_code {
+        println!("error reply {code}: error {error}{tripped}");
+        match protocol.error_code(error) {
+            Some(info) => println!("  {} ({}): {}", info.name, info.name_zh, info.meaning),
+            None => println!("  (code not in the manual's table)"),
         }
-        if command.kind.is_write() {
-            println!(
-                "  {}",
-                describe_value(
-                    drive,
-                    command.space,
-                    request.register,
-                    request.wire_register,
-                    request.data
-                )
-            );
-        } else if let Some(register) = request.register {
-            let target = drive
-                .registers
-                .iter()
-                .find(|r| r.address == register && r.space == command.space)
-                .map(|r| r.label())
-                .unwrap_or(format!("{} {register}", command.space.as_str()));
-            println!("  {target}");
-        }
-        if let Some([control, reference]) = request.process {
-            println!("  control word {control:04X}h, reference {reference:04X}h");
-        }
-        return Ok(());
+        return;
     }
-    match protocol.decode_reply_exact(None, &bytes) {
-        Ok(Reply::Data {
-            command,
-            code,
-            address,
-            tripped,
-            wire_register,
-            index,
-            data,
-            process,
-            text,
-            ..
-        }) => {
-            println!(
-                "reply: {} ({}){}{}",
-                code_label(code),
-                command.kind.as_str(),
-                address
-                    .map(|a| format!(", station {a}"))
-                    .unwrap_or_default(),
-                if tripped { ", drive TRIPPED" } else { "" }
-            );
-            if let Some((start, len)) = text {
-                println!(
-                    "  text {:?}",
-                    String::from_utf8_lossy(&bytes[start..start + len])
-                );
-            } else if command.kind != CommandKind::Process {
-                let register = wire_register.and_then(|w| command.address_map.from_wire(w));
-                if let Some(index) = index {
-                    println!("  index {index}");
+    let kind = meaning.kind.map_or("?", CommandKind::as_str);
+    println!("{}: {code} ({kind}){station}{tripped}", direction.as_str());
+    if let Some(index) = meaning.index {
+        println!("  index {index}");
+    }
+    if let Some(text) = &meaning.text {
+        println!("  text {text:?}");
+    } else if meaning.kind != Some(CommandKind::Process) {
+        let space = meaning.space.unwrap_or(Space::Parameter);
+        match meaning.data {
+            Some(data) => println!(
+                "  {}",
+                describe_value(drive, space, meaning.register, meaning.wire_register, data)
+            ),
+            None => {
+                if let Some(register) = meaning.register {
+                    let target = drive
+                        .register_at(space, register)
+                        .map(|r| r.label())
+                        .unwrap_or(format!("{} {register}", space.as_str()));
+                    println!("  {target}");
                 }
-                println!(
-                    "  {}",
-                    describe_value(drive, command.space, register, wire_register, data)
-                );
             }
-            if let Some([status, value]) = process {
-                println!("  status word {status:04X}h, output value {value:04X}h");
-            }
-            Ok(())
         }
-        Ok(Reply::Error {
-            code,
-            error,
-            info,
-            tripped,
-            ..
-        }) => {
-            println!(
-                "error reply {}: error {error}{}",
-                code_label(code),
-                if tripped { ", drive TRIPPED" } else { "" }
-            );
-            match info {
-                Some(info) => println!("  {} ({}): {}", info.name, info.name_zh, info.meaning),
-                None => println!("  (code not in the manual's table)"),
+    }
+    if let Some([first, second]) = meaning.process {
+        match direction {
+            Direction::Request => {
+                println!("  control word {first:04X}h, reference {second:04X}h")
             }
-            Ok(())
+            Direction::Reply => println!("  status word {first:04X}h, output value {second:04X}h"),
         }
-        Err(reply_error) => Err(format!(
-            "not a valid {} frame:\n  as a request: {}\n  as a reply:   {reply_error}",
-            protocol.id,
-            as_request.err().map(|e| e.to_string()).unwrap_or_default()
-        )),
     }
 }

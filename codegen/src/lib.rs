@@ -1,15 +1,39 @@
 //! Reads YAML drive descriptions, validates them, and generates typed Rust register APIs,
 //! Markdown reference pages and golden-frame tests.
 //!
-//! The pipeline runs in stages, one module each:
+//! # Code overview
 //!
-//! 1. **parse** ([`parse`], [`model`], [`positions`]): YAML to serde types, with a
-//!    path-to-position index so every later message can name file, line and column;
-//! 2. **validate** ([`load`], [`protocols`], [`validate`], [`ranges`]): protocol files
-//!    resolved into runtime layouts, then every check run and every problem collected;
-//! 3. **IR** ([`ir`]): names, ranges and example frames resolved into plain, ordered data;
-//! 4. **emit** ([`emit_rust`], [`emit_markdown`], [`emit_tests`]): `quote!` + prettyplease
-//!    for Rust, minijinja for Markdown.
+//! [`compile`] runs the stages in this order; no stage imports a later one (a workspace
+//! test, `tests/tests/module_graph.rs`, keeps it so). Every problem goes into one
+//! [`Diagnostics`] sink with file:line:column and a YAML path, and nothing is emitted from a
+//! description that has any.
+//!
+//! | # | Stage | Module | Input | Output |
+//! |---|---|---|---|---|
+//! | 1 | parse | `parse/` (`model.rs`: the format as serde types; `positions.rs`: YAML path -> line and column) | file text | `SourceFile` + `parse::model::DriveFile` / `ProtocolFile` |
+//! | 2 | load | `load.rs` | a drive file path | `LoadedDrive`: the drive and the protocol files it names, parsed |
+//! | 3 | lower protocols | `protocols/` | `LoadedDrive` | `LoweredProtocol`s: each protocol file plus the drive's error table, address maps and pre-steps, as the runtime's own `vfd_runtime::Protocol` |
+//! | 4 | decode examples | `frames.rs` | the drive's examples + lowered protocols | every example frame decoded **once** into the runtime's `vfd_runtime::meaning::FrameMeaning` |
+//! | 5 | validate | `validate/` (one file per check) | `validate::Context` (stages 2-4) | problems, or nothing |
+//! | 6 | IR | [`ir`] (`ir/types.rs`, `ir/lower.rs`) | `validate::Context` | [`DriveIr`]: plain, ordered, typed, serialisable; dump it with `vfd generate --dump-ir DRIVE` |
+//! | 7 | emit | `emit/` (`rust/`, `markdown/`, `tests.rs`, `words.rs`) | [`DriveIr`] only | Rust tokens (quote, then prettyplease), Markdown (minijinja), golden tests |
+//!
+//! [`Builder`] (`builder.rs`) runs stages 1-7 for many drives and writes files, and
+//! [`OutputNames`] says how the output names anything outside a description.
+//!
+//! Where to go for common changes:
+//! - **A new check**: a file in `validate/` with its own tests, added to the list in
+//!   `validate/mod.rs`; a fixture pair in `tests/fixtures/broken/`.
+//! - **A new key in drive files**: `parse/model.rs` (an enum if its values are enumerated),
+//!   then `ir/types.rs` + `ir/lower.rs`, then the emitters that show it.
+//! - **A new part kind or framing feature**: the runtime first (`vfd_runtime::layout` and
+//!   its codec), then `parse/model.rs` (protocol-file types), `protocols/` (lowering and its
+//!   checks), `emit/rust/bake.rs` (how the value becomes Rust) and
+//!   `emit/markdown/layouts.rs` (how the page describes it).
+//! - **Generated Rust**: `emit/rust/` has one file per kind of item (registers, bit fields,
+//!   code tables, protocols); runtime values become tokens through `bake.rs` only.
+//! - **Reference pages**: `templates/*.md.j2`, fed by `emit/markdown/view.rs`; sentences
+//!   shared with the Rust docs live in `emit/words.rs`.
 //!
 //! Use it from a build script like `prost-build`:
 //!
@@ -29,26 +53,28 @@
 //!
 //! or as a proc-macro: `vfd_macros::include_drive!("drives/my_drive.yaml");`.
 
+#![warn(missing_docs)]
 // Diagnostics are the error path of a build-time tool; their size does not matter.
 #![allow(clippy::result_large_err)]
 
 mod builder;
-pub mod diagnostics;
+mod diagnostics;
 mod emit;
 mod frames;
 pub mod ir;
 mod load;
 mod naming;
-pub mod parse;
+mod output_names;
+mod parse;
 mod protocols;
 mod validate;
 
 pub use builder::{
     fail_build, golden_tests_file, write_if_changed, Builder, Error, Generated, GeneratedDrive,
-    OutputNames,
 };
-pub use diagnostics::{Diagnostic, Diagnostics};
+pub use diagnostics::{Diagnostic, Diagnostics, Position};
 pub use ir::DriveIr;
+pub use output_names::OutputNames;
 
 use std::path::{Path, PathBuf};
 

@@ -15,3 +15,8 @@ fn crate_src(folder: &str) -> std::path::PathBuf {
 fn runtime_modules_form_no_circle() {
     assert_no_module_cycle(&crate_src("runtime"));
 }
+
+#[test]
+fn codegen_modules_form_no_circle() {
+    assert_no_module_cycle(&crate_src("codegen"));
+}

@@ -1,6 +1,6 @@
 //! Stage 5: the intermediate representation, the only input of every emitter.
 //!
-//! [`lower`] turns a checked description into a [`DriveIr`]: plain, ordered, typed data
+//! Its `lower` function turns a checked description into a [`DriveIr`]: plain, ordered, typed data
 //! (enums for every enumerated key, the runtime's own layouts and frame meanings), with Rust
 //! names chosen and ranges resolved. It serialises; `vfd generate --dump-ir DRIVE` prints it.
 

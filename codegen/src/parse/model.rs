@@ -524,7 +524,9 @@ pub struct CommandModel {
     /// Codes a normal reply may carry; empty: the request's code.
     #[serde(default)]
     pub reply_codes: Vec<CodeModel>,
+    /// Notes for people reading the protocol file; nothing is generated from them.
     #[serde(default)]
+    #[allow(dead_code)]
     pub description: String,
 }
 
@@ -545,6 +547,8 @@ pub struct PreStepModel {
     pub data_type: Option<String>,
     pub ram: Option<u32>,
     pub persistent: Option<u32>,
+    /// Notes for people reading the protocol file; nothing is generated from them.
     #[serde(default)]
+    #[allow(dead_code)]
     pub description: String,
 }

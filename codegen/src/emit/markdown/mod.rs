@@ -5,7 +5,7 @@ mod layouts;
 mod view;
 
 use crate::ir::DriveIr;
-use crate::OutputNames;
+use crate::output_names::OutputNames;
 use minijinja::{context, Environment};
 
 const DRIVE_TEMPLATE: &str = include_str!("../../../templates/drive.md.j2");

@@ -147,9 +147,10 @@ pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
     let count = int_literal(all.len());
     let imports = registers_imports(drive);
     quote! {
-        /// One type per register. Each implements [`Register`], and [`Writable`] or
-        /// [`Persistable`] when the manual allows it: read with `Register::read()`, write
-        /// with `Writable::write_ram(value)` (bring the traits in with `use vfd_runtime::prelude::*`).
+        /// One type per register. Each implements [`vfd_runtime::Register`], and
+        /// [`vfd_runtime::Writable`] or [`vfd_runtime::Persistable`] when the manual allows
+        /// it: read with `R::read()`, write with `R::write_ram(value)` (the traits come into
+        /// scope with `use vfd_runtime::prelude::*`).
         pub mod registers {
             #imports
             /// Register metadata as [`Register::INFO`] holds it.
