@@ -41,6 +41,7 @@
 pub mod bits;
 pub mod checksum;
 pub mod codec;
+pub mod codes;
 pub mod drive;
 pub mod error;
 pub mod info;

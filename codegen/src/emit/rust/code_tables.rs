@@ -1,7 +1,18 @@
-//! Emits one enum per code table, and the drive's error-code enum.
+//! Emits one enum per code table, and the drive's error-code enum, through one function:
+//! a `#[repr(u16)]` enum, its `TABLE` of codes with English and Chinese names, and lookups
+//! that search the table (so the code per value is its variant and its table row).
 
 use super::bake::int_literal;
 use super::*;
+
+/// One value of an enum to emit.
+struct Value<'a> {
+    variant: &'a str,
+    code: u16,
+    doc: String,
+    name: &'a str,
+    name_zh: &'a str,
+}
 
 pub(super) fn codes_module(drive: &DriveIr) -> TokenStream {
     let items: Vec<TokenStream> = drive
@@ -14,12 +25,64 @@ pub(super) fn codes_module(drive: &DriveIr) -> TokenStream {
             use ::vfd_runtime::{RegisterInfo, RegisterValue, ValueError};
         )
     });
-    let imports = (!items.is_empty()).then(|| quote!(use ::core::fmt; #values));
     quote! {
         /// Code tables (enumerations) of the manual.
         pub mod codes {
-            #imports
+            #values
             #(#items)*
+        }
+    }
+}
+
+/// The enum, its `TABLE`, `code`, `from_code`, `name`, `name_zh` and `Display`.
+fn code_enum(name: &Ident, docs: &[String], values: &[Value<'_>]) -> TokenStream {
+    let docs = doc_texts(docs);
+    let variants = values.iter().map(|v| {
+        let (variant, code, doc) = (ident(v.variant), int_literal(v.code), doc_text(&v.doc));
+        quote! {
+            #[doc = #doc]
+            #variant = #code
+        }
+    });
+    let rows = values.iter().map(|v| {
+        let (variant, code, en, zh) = (ident(v.variant), int_literal(v.code), v.name, v.name_zh);
+        quote!((Self::#variant, #code, #en, #zh))
+    });
+    let count = int_literal(values.len());
+    quote! {
+        #(#[doc = #docs])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        #[repr(u16)]
+        pub enum #name {
+            #(#variants),*
+        }
+
+        impl #name {
+            /// Every code with its number, English and Chinese name (empty when the manual
+            /// gives none), in the manual's order.
+            pub const TABLE: [::vfd_runtime::codes::CodeRow<Self>; #count] = [#(#rows),*];
+            /// The raw code.
+            pub const fn code(self) -> u16 {
+                self as u16
+            }
+            /// The code's entry, if the table has it.
+            pub const fn from_code(code: u16) -> Option<Self> {
+                ::vfd_runtime::codes::find(&Self::TABLE, code)
+            }
+            /// English name.
+            pub const fn name(self) -> &'static str {
+                ::vfd_runtime::codes::names(&Self::TABLE, self as u16).0
+            }
+            /// The manual's Chinese name (empty when the manual gives none).
+            pub const fn name_zh(self) -> &'static str {
+                ::vfd_runtime::codes::names(&Self::TABLE, self as u16).1
+            }
+        }
+
+        impl ::core::fmt::Display for #name {
+            fn fmt(&self, f: &mut ::core::fmt::Formatter<'_>) -> ::core::fmt::Result {
+                f.write_str(self.name())
+            }
         }
     }
 }
@@ -36,47 +99,18 @@ fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
         "Source: `{}`, section {}.",
         drive.manual, table.source
     ));
-    let docs = doc_texts(&docs);
-    let variants: Vec<TokenStream> = table
+    let values: Vec<Value<'_>> = table
         .values
         .iter()
-        .map(|v| {
-            let variant = ident(&v.variant);
-            let value = int_literal(v.value);
-            let doc = doc_text(format!("{:04X}h = {}{}", v.value, v.name, zh(&v.name_zh)));
-            quote! {
-                #[doc = #doc]
-                #variant = #value
-            }
+        .map(|v| Value {
+            variant: &v.variant,
+            code: v.value,
+            doc: format!("{:04X}h = {}{}", v.value, v.name, zh(&v.name_zh)),
+            name: &v.name,
+            name_zh: &v.name_zh,
         })
         .collect();
-    let arms_from: Vec<TokenStream> = table
-        .values
-        .iter()
-        .map(|v| {
-            let variant = ident(&v.variant);
-            let value = int_literal(v.value);
-            quote!(#value => Some(Self::#variant))
-        })
-        .collect();
-    let arms_name: Vec<TokenStream> = table
-        .values
-        .iter()
-        .map(|v| {
-            let variant = ident(&v.variant);
-            let (en, cn) = (&v.name, &v.name_zh);
-            quote!(Self::#variant => (#en, #cn))
-        })
-        .collect();
-    let all: Vec<TokenStream> = table
-        .values
-        .iter()
-        .map(|v| {
-            let variant = ident(&v.variant);
-            quote!(Self::#variant)
-        })
-        .collect();
-    let count = int_literal(all.len());
+    let code_enum = code_enum(&name, &docs, &values);
     let id = &table.id;
     let register_value = table.exhaustive.then(|| {
         quote! {
@@ -94,123 +128,43 @@ fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
         }
     });
     quote! {
-        #(#[doc = #docs])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        #[repr(u16)]
-        pub enum #name {
-            #(#variants),*
-        }
-
-        impl #name {
-            /// Every code, in the manual's order.
-            pub const ALL: [Self; #count] = [#(#all),*];
-            /// The raw code.
-            pub const fn code(self) -> u16 {
-                self as u16
-            }
-            /// The code's entry, if the table has it.
-            pub const fn from_code(code: u16) -> Option<Self> {
-                match code {
-                    #(#arms_from,)*
-                    _ => None,
-                }
-            }
-            /// English name.
-            pub const fn name(self) -> &'static str {
-                self.names().0
-            }
-            /// The manual's Chinese name (empty when the manual gives none).
-            pub const fn name_zh(self) -> &'static str {
-                self.names().1
-            }
-            const fn names(self) -> (&'static str, &'static str) {
-                match self {
-                    #(#arms_name),*
-                }
-            }
-        }
-
-        impl fmt::Display for #name {
-            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str(self.name())
-            }
-        }
-
+        #code_enum
         #register_value
     }
 }
 
 pub(super) fn error_code_enum(drive: &DriveIr) -> TokenStream {
-    let variants: Vec<TokenStream> = drive
+    let values: Vec<Value<'_>> = drive
         .error_codes
         .codes
         .iter()
-        .map(|c| {
-            let variant = ident(&c.variant);
-            let value = int_literal(c.code);
-            let doc = doc_text(format!(
+        .map(|c| Value {
+            variant: &c.variant,
+            code: c.code,
+            doc: format!(
                 "{:04X}h {}{}: {}",
                 c.code,
                 c.name,
                 zh(&c.name_zh),
                 c.meaning
-            ));
-            quote! {
-                #[doc = #doc]
-                #variant = #value
-            }
+            ),
+            name: &c.name,
+            name_zh: &c.name_zh,
         })
         .collect();
-    let arms: Vec<TokenStream> = drive
-        .error_codes
-        .codes
-        .iter()
-        .map(|c| {
-            let variant = ident(&c.variant);
-            let value = int_literal(c.code);
-            quote!(#value => Some(Self::#variant))
-        })
-        .collect();
-    let info_arms: Vec<TokenStream> = drive
-        .error_codes
-        .codes
-        .iter()
-        .enumerate()
-        .map(|(index, c)| {
-            let variant = ident(&c.variant);
-            let index = int_literal(index);
-            quote!(Self::#variant => &protocols::ERROR_CODES[#index])
-        })
-        .collect();
-    let doc = doc_text(format!(
+    let docs = [format!(
         "Error codes of the drive's error replies (manual section {}).",
         drive.error_codes.source
-    ));
+    )];
+    let name = ident("ErrorCode");
+    let code_enum = code_enum(&name, &docs, &values);
     quote! {
-        #[doc = #doc]
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        #[repr(u16)]
-        pub enum ErrorCode {
-            #(#variants),*
-        }
+        #code_enum
 
         impl ErrorCode {
-            /// The code's variant, if the manual lists it.
-            pub const fn from_code(code: u16) -> ::core::option::Option<Self> {
-                match code {
-                    #(#arms,)*
-                    _ => None,
-                }
-            }
-            /// The raw code.
-            pub const fn code(self) -> u16 {
-                self as u16
-            }
             /// The manual's entry: names and meaning.
-            pub fn info(self) -> &'static ::vfd_runtime::ErrorCodeInfo {
-                match self {
-                    #(#info_arms),*
-                }
+            pub fn info(self) -> Option<&'static ::vfd_runtime::ErrorCodeInfo> {
+                protocols::ERROR_CODES.iter().find(|entry| entry.code == self as u16)
             }
         }
     }
