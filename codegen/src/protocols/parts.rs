@@ -1,0 +1,630 @@
+//! Parts: one entry of a layout lowered into a runtime [`Part`], one function per kind
+//! (literal, hex literal, word of bit fields, length, checksum, field).
+
+use crate::diagnostics::{Diagnostic, Diagnostics};
+use crate::parse::model::{CodeModel, CountsModel, OptionalModel, PartModel};
+use crate::parse::SourceFile;
+use std::borrow::Cow;
+use vfd_runtime::{
+    BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, LengthSpec, Part,
+    Presence, Role, SizedBy, WordSpec,
+};
+
+const ROLES_HINT: &str =
+    "use address, command, register, index, data, error_code, process_1, process_2 or text";
+
+const FORMATS_HINT: &str =
+    "use decimal, hex, char, u8, u16be, u16le, u32be, u32le, uint_be, uint_le or bytes";
+
+/// Where a part sits: its layout, its neighbours' names and the YAML path of its keys.
+pub(super) struct PartContext<'a> {
+    /// The layout's name.
+    pub layout: &'a str,
+    /// The part's index in the layout.
+    pub index: usize,
+    /// The names of the layout's parts, in order.
+    pub names: &'a [String],
+    /// YAML path of the part's mapping (`parts.sum`, `layouts.reply[3]`).
+    pub path: &'a str,
+    /// The protocol file.
+    pub source: &'a SourceFile,
+}
+
+impl PartContext<'_> {
+    /// A diagnostic at the part's key `key` (the part itself when empty).
+    fn error(&self, key: &str, message: impl Into<String>) -> Diagnostic {
+        let path = if key.is_empty() {
+            self.path.to_owned()
+        } else {
+            format!("{}.{key}", self.path)
+        };
+        self.source.error(&path, message)
+    }
+
+    /// Reports a problem at the part's key `key` and gives `None`.
+    fn fail<T>(
+        &self,
+        out: &mut Diagnostics,
+        key: &str,
+        message: impl Into<String>,
+        hint: impl Into<String>,
+    ) -> Option<T> {
+        out.push(self.error(key, message).hint(hint));
+        None
+    }
+
+    /// The index of the layout's part called `name`.
+    fn position_of(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
+}
+
+/// The kind of a part, from the one key that names it.
+enum PartKind<'m> {
+    Literal(&'m str),
+    LiteralHex(&'m str),
+    Field(&'m str),
+    Checksum(&'m str),
+    Word(&'m str),
+    Length(&'m str),
+}
+
+/// Lowers one part; the first problem in it is reported.
+pub(super) fn lower_part(
+    name: &str,
+    model: &PartModel,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<Part> {
+    let kind = part_kind(model, context, out)?;
+    let optional = optional_flag(model, context, out)?;
+    match kind {
+        PartKind::Literal(text) => Some(literal(name, text.as_bytes().to_vec(), optional)),
+        PartKind::LiteralHex(hex) => {
+            let bytes = match parse_hex(hex) {
+                Ok(bytes) => bytes,
+                Err(message) => {
+                    return context.fail(
+                        out,
+                        "literal_hex",
+                        message,
+                        "write hex pairs separated by spaces, e.g. \"2F\"",
+                    )
+                }
+            };
+            Some(literal(name, bytes, optional))
+        }
+        PartKind::Word(format) => word(name, format, model, context, out),
+        PartKind::Length(format) => length(name, format, model, context, out),
+        PartKind::Checksum(algorithm) => checksum(name, algorithm, model, optional, context, out),
+        PartKind::Field(role) => field(name, role, model, context, out),
+    }
+}
+
+/// The part's kind: exactly one of `literal`, `literal_hex`, `field`, `checksum`, `word` and
+/// `length` must be given.
+fn part_kind<'m>(
+    model: &'m PartModel,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<PartKind<'m>> {
+    let given = [
+        model.literal.as_deref().map(PartKind::Literal),
+        model.literal_hex.as_deref().map(PartKind::LiteralHex),
+        model.field.as_deref().map(PartKind::Field),
+        model.checksum.as_deref().map(PartKind::Checksum),
+        model.word.as_deref().map(PartKind::Word),
+        model.length.as_deref().map(PartKind::Length),
+    ];
+    let mut given = given.into_iter().flatten();
+    match (given.next(), given.next()) {
+        (Some(kind), None) => Some(kind),
+        _ => context.fail(
+            out,
+            "",
+            "a part must be exactly one of `literal`, `literal_hex`, `field`, `checksum`, `word` or `length`",
+            "e.g. { literal: \"(\" } or { field: register, format: hex, width: 4 }",
+        ),
+    }
+}
+
+/// Whether a literal or checksum may be left out. Presence rules make sense only for
+/// fields, which are decided by their value.
+fn optional_flag(
+    model: &PartModel,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<bool> {
+    match &model.optional {
+        None | Some(OptionalModel::Flag(false)) => Some(false),
+        Some(OptionalModel::Flag(true)) => Some(true),
+        Some(_) if model.field.is_some() => Some(true),
+        Some(rule) => {
+            let rule = match rule {
+                OptionalModel::Rule(text) => text.clone(),
+                _ => "{ if_byte_at_most: ... }".to_owned(),
+            };
+            context.fail(
+                out,
+                "optional",
+                format!("`optional: {rule}` is a rule for fields; a literal or checksum is optional with `optional: true`"),
+                "write optional: true",
+            )
+        }
+    }
+}
+
+fn literal(name: &str, bytes: Vec<u8>, optional: bool) -> Part {
+    Part::Literal {
+        name: Cow::Owned(name.to_owned()),
+        bytes: Cow::Owned(bytes),
+        optional,
+    }
+}
+
+/// A word of bit fields (`word: u16be` with `fields:`).
+fn word(
+    name: &str,
+    format_name: &str,
+    model: &PartModel,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<Part> {
+    let format = format_from_name(format_name).filter(|format| {
+        matches!(
+            format,
+            Format::U16Be | Format::U16Le | Format::U32Be | Format::U32Le
+        )
+    });
+    let Some(format) = format else {
+        return context.fail(
+            out,
+            "word",
+            format!("`word: {format_name}` is not a word format"),
+            "use u16be, u16le, u32be or u32le",
+        );
+    };
+    let word_bits = if matches!(format, Format::U16Be | Format::U16Le) {
+        16
+    } else {
+        32
+    };
+    let fields = model
+        .fields
+        .iter()
+        .enumerate()
+        .map(|(index, bits)| bit_field(index, bits, word_bits, context, out))
+        .collect::<Option<Vec<_>>>()?;
+    let mut used = 0u32;
+    for (index, field) in fields.iter().enumerate() {
+        if used & field.mask() != 0 {
+            return context.fail(
+                out,
+                &format!("fields[{index}].bits"),
+                format!(
+                    "bit field `{}` overlaps an earlier field of word `{name}`",
+                    field.name
+                ),
+                "the bit fields of a word must not share bits",
+            );
+        }
+        used |= field.mask();
+    }
+    Some(Part::Word(WordSpec {
+        name: Cow::Owned(name.to_owned()),
+        format,
+        fields: Cow::Owned(fields),
+    }))
+}
+
+/// One entry of a word's `fields:`.
+fn bit_field(
+    index: usize,
+    bits: &crate::parse::model::BitsModel,
+    word_bits: u32,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<BitsSpec> {
+    let key = format!("fields[{index}]");
+    let Some(role) = role_from_name(&bits.field) else {
+        return context.fail(
+            out,
+            &format!("{key}.field"),
+            format!("unknown field role `{}`", bits.field),
+            ROLES_HINT,
+        );
+    };
+    let Some((lsb, width)) = parse_bits(&bits.bits)
+        .filter(|(lsb, width)| u32::from(*lsb) + u32::from(*width) <= word_bits)
+    else {
+        return context.fail(
+            out,
+            &format!("{key}.bits"),
+            format!(
+                "`bits: {}` is not \"msb:lsb\" within the {word_bits}-bit word",
+                bits.bits
+            ),
+            "e.g. bits: \"15:12\"",
+        );
+    };
+    let allowed = match codes(&bits.allowed) {
+        Ok(allowed) => allowed,
+        Err(shown) => {
+            return context.fail(
+                out,
+                &format!("{key}.allowed"),
+                format!("`{shown}` is not a number or one character"),
+                "e.g. allowed: [1, 2]",
+            )
+        }
+    };
+    Some(BitsSpec {
+        name: Cow::Owned(bits.name.clone().unwrap_or_else(|| bits.field.clone())),
+        role,
+        lsb,
+        width,
+        allowed: Cow::Owned(allowed),
+    })
+}
+
+/// A computed length (`length: u8` with `counts:`).
+fn length(
+    name: &str,
+    format_name: &str,
+    model: &PartModel,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<Part> {
+    let format =
+        format_from_name(format_name).filter(|format| matches!(format, Format::U8 | Format::U16Be));
+    let Some(format) = format else {
+        return context.fail(
+            out,
+            "length",
+            format!("`length: {format_name}` is not a length format"),
+            "use u8 or u16be",
+        );
+    };
+    let counts = match &model.counts {
+        Some(CountsModel::Keyword(word)) if word == "data_size" => Counts::DataSize,
+        Some(CountsModel::Parts { from, through }) => counted_parts(from, through, context, out)?,
+        _ => {
+            return context.fail(
+                out,
+                "counts",
+                "a length needs `counts: { from: part, through: part }` or `counts: data_size`",
+                "FC LGE: { from: addr, through: bcc }",
+            )
+        }
+    };
+    Some(Part::Length(LengthSpec {
+        name: Cow::Owned(name.to_owned()),
+        format,
+        counts,
+        times: model.times.unwrap_or(1),
+        per: model.per.unwrap_or(1).max(1),
+    }))
+}
+
+/// `counts: { from, through }`: two later parts of the layout, `from` first.
+fn counted_parts(
+    from: &str,
+    through: &str,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<Counts> {
+    let from_index = context.position_of(from).filter(|i| *i > context.index);
+    let through_index = context
+        .position_of(through)
+        .filter(|i| Some(*i) >= from_index);
+    if let (Some(from), Some(through)) = (from_index, through_index) {
+        return Some(Counts::Parts {
+            from: from as u8,
+            through: through as u8,
+        });
+    }
+    let layout = context.layout;
+    let unknown: Vec<String> = [from, through]
+        .into_iter()
+        .filter(|n| context.position_of(n).is_none())
+        .map(|n| format!("`{n}`"))
+        .collect();
+    let why = if unknown.is_empty() {
+        "they must be later parts, `from` before `through`".to_owned()
+    } else {
+        format!(
+            "layout `{layout}` has no part named {}",
+            unknown.join(" or ")
+        )
+    };
+    context.fail(
+        out,
+        "counts",
+        format!("in layout `{layout}`, `counts: {{ from: {from}, through: {through} }}` does not fit: {why}"),
+        format!("parts of layout `{layout}`: {}", context.names.join(", ")),
+    )
+}
+
+/// The `format` a checksum or field needs.
+fn required_format(
+    model: &PartModel,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<Format> {
+    let Some(format_name) = model.format.as_deref() else {
+        return context.fail(out, "", "this part needs a `format`", FORMATS_HINT);
+    };
+    match format_from_name(format_name) {
+        Some(format) => Some(format),
+        None => context.fail(
+            out,
+            "format",
+            format!("unknown format `{format_name}`"),
+            FORMATS_HINT,
+        ),
+    }
+}
+
+/// A checksum (`checksum: sum8` with `format` and `covers_from`).
+fn checksum(
+    name: &str,
+    algorithm_name: &str,
+    model: &PartModel,
+    optional: bool,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<Part> {
+    let format = required_format(model, context, out)?;
+    let algorithm = match algorithm_name {
+        "sum8" => ChecksumAlgorithm::Sum8,
+        "xor8" => ChecksumAlgorithm::Xor8,
+        "crc16_modbus" => ChecksumAlgorithm::Crc16Modbus,
+        "lrc8" => ChecksumAlgorithm::Lrc8,
+        other => {
+            return context.fail(
+                out,
+                "checksum",
+                format!("unknown checksum algorithm `{other}`"),
+                "the runtime supplies sum8, xor8, crc16_modbus and lrc8",
+            )
+        }
+    };
+    let fits = match algorithm {
+        ChecksumAlgorithm::Crc16Modbus => matches!(format, Format::U16Le | Format::U16Be),
+        _ => matches!(format, Format::Hex | Format::U8),
+    };
+    if !fits {
+        return context.fail(
+            out,
+            "format",
+            format!(
+                "a {} checksum cannot be written as {}",
+                algorithm.as_str(),
+                format.as_str()
+            ),
+            "8-bit sums: hex (two digits) or u8; crc16_modbus: u16le (Modbus sends the low byte first) or u16be",
+        );
+    }
+    let from_name = model.covers_from.as_deref().unwrap_or("");
+    let covers_from = context
+        .position_of(from_name)
+        .filter(|position| *position < context.index);
+    let Some(covers_from) = covers_from else {
+        return context.fail(
+            out,
+            "covers_from",
+            format!("`covers_from: {from_name}` does not name an earlier part of the layout"),
+            "name the first covered part, e.g. covers_from: start",
+        );
+    };
+    let marker = model.marker.clone().unwrap_or_default().into_bytes();
+    if optional && marker.is_empty() {
+        return context.fail(
+            out,
+            "optional",
+            "an optional checksum needs a `marker`",
+            "the decoder can only tell it is there by its marker, e.g. marker: \"&\"",
+        );
+    }
+    Some(Part::Checksum(ChecksumSpec {
+        name: Cow::Owned(name.to_owned()),
+        algorithm,
+        format,
+        marker: Cow::Owned(marker),
+        covers_from: covers_from as u8,
+        optional,
+    }))
+}
+
+/// A value field (`field: register` with `format` and, for digits, `width`).
+fn field(
+    name: &str,
+    role_name: &str,
+    model: &PartModel,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<Part> {
+    let format = required_format(model, context, out)?;
+    let Some(role) = role_from_name(role_name) else {
+        return context.fail(
+            out,
+            "field",
+            format!("unknown field role `{role_name}`"),
+            ROLES_HINT,
+        );
+    };
+    let sized_by = match model.size.as_deref() {
+        None => SizedBy::Format,
+        Some("rest") => SizedBy::Rest,
+        Some("length") => SizedBy::Length,
+        Some(other) => {
+            return context.fail(
+                out,
+                "size",
+                format!("unknown size rule `{other}`"),
+                "use rest or length, or leave `size` out",
+            )
+        }
+    };
+    let (width, min_width) = widths(format, sized_by, model, context, out)?;
+    let variable = matches!(format, Format::UintBe | Format::UintLe | Format::Bytes);
+    if sized_by != SizedBy::Format && !variable {
+        return context.fail(
+            out,
+            "size",
+            format!(
+                "`size` applies to uint_be, uint_le and bytes fields, not {}",
+                format.as_str()
+            ),
+            "remove `size`",
+        );
+    }
+    let optional = presence(model, context, out)?;
+    let allowed = match codes(&model.allowed) {
+        Ok(allowed) => allowed,
+        Err(shown) => {
+            return context.fail(
+                out,
+                "allowed",
+                format!("allowed value `{shown}` is not a number or one character"),
+                "`allowed` lists command letters or codes",
+            )
+        }
+    };
+    Some(Part::Field(FieldSpec {
+        name: Cow::Owned(name.to_owned()),
+        role,
+        format,
+        width,
+        min_width,
+        optional,
+        allowed: Cow::Owned(allowed),
+        fold_case: model.fold_case,
+        sized_by,
+    }))
+}
+
+/// A field's `width` and `min_width`: fixed by binary formats, given for digits, a most and
+/// fewest byte count for variable binary fields.
+fn widths(
+    format: Format,
+    sized_by: SizedBy,
+    model: &PartModel,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<(u8, u8)> {
+    let variable = matches!(format, Format::UintBe | Format::UintLe | Format::Bytes);
+    let sized_elsewhere = variable && sized_by != SizedBy::Format;
+    let width = match (format.fixed_len(), model.width) {
+        (Some(len), _) => len as u8,
+        (None, Some(width)) if variable && (1..=255).contains(&width) => width,
+        (None, Some(width)) if (1..=10).contains(&width) => width,
+        (None, None) if sized_elsewhere => {
+            if format == Format::Bytes {
+                255
+            } else {
+                4
+            }
+        }
+        (None, Some(width)) => {
+            return context.fail(
+                out,
+                "width",
+                format!("`width: {width}` is out of range for {}", format.as_str()),
+                "ASCII digit fields take 1 to 10 digits; uint_be/uint_le up to 4 bytes; bytes up to 255",
+            )
+        }
+        (None, None) => {
+            return context.fail(
+                out,
+                "width",
+                "this format needs a `width` (digits, or the most bytes)",
+                "e.g. width: 4 for a 16-bit word in hex",
+            )
+        }
+    };
+    let min_width = match model.min_width {
+        Some(min_width) => min_width,
+        None if sized_elsewhere => u8::from(format != Format::Bytes),
+        None => width,
+    };
+    if (min_width == 0 && format != Format::Bytes) || min_width > width {
+        return context.fail(
+            out,
+            "min_width",
+            format!("min_width {min_width} must be from 1 to width {width}"),
+            "leave it out for fixed-width fields",
+        );
+    }
+    Some((width, min_width))
+}
+
+/// How a decoder tells an optional field is there (`None`: always there).
+fn presence(
+    model: &PartModel,
+    context: &PartContext<'_>,
+    out: &mut Diagnostics,
+) -> Option<Option<Presence>> {
+    match &model.optional {
+        None | Some(OptionalModel::Flag(false)) => Some(None),
+        Some(OptionalModel::Flag(true)) => Some(Some(Presence::IfFormatMatches)),
+        Some(OptionalModel::Rule(rule)) if rule == "if_format_matches" => {
+            Some(Some(Presence::IfFormatMatches))
+        }
+        Some(OptionalModel::ByteAtMost { if_byte_at_most }) => {
+            Some(Some(Presence::IfByteAtMost(*if_byte_at_most)))
+        }
+        Some(OptionalModel::Rule(rule)) => context.fail(
+            out,
+            "optional",
+            format!("unknown presence rule `{rule}`"),
+            "use true, if_format_matches or { if_byte_at_most: N }",
+        ),
+    }
+}
+
+/// The values of `allowed` codes, or the first that is neither a number nor one character.
+fn codes(models: &[CodeModel]) -> Result<Vec<u32>, String> {
+    models
+        .iter()
+        .map(|m| m.value().ok_or_else(|| m.shown()))
+        .collect()
+}
+
+/// Parses a format name.
+fn format_from_name(name: &str) -> Option<Format> {
+    Format::ALL
+        .into_iter()
+        .find(|format| format.as_str() == name)
+}
+
+/// Parses a role name.
+fn role_from_name(name: &str) -> Option<Role> {
+    Role::ALL.into_iter().find(|role| role.as_str() == name)
+}
+
+/// Parses `"15:12"` or `"7"` into (lsb, width).
+pub(super) fn parse_bits(text: &str) -> Option<(u8, u8)> {
+    match text.split_once(':') {
+        Some((msb, lsb)) => {
+            let (msb, lsb): (u8, u8) = (msb.trim().parse().ok()?, lsb.trim().parse().ok()?);
+            (msb >= lsb).then_some((lsb, msb - lsb + 1))
+        }
+        None => text.trim().parse().ok().map(|bit| (bit, 1)),
+    }
+}
+
+/// Parses `"2F 50 FA"` (spaces optional between pairs).
+pub fn parse_hex(text: &str) -> Result<Vec<u8>, String> {
+    let digits: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+    if digits.len() % 2 != 0 {
+        return Err(format!("`{text}` has an odd number of hex digits"));
+    }
+    (0..digits.len())
+        .step_by(2)
+        .map(|i| {
+            u8::from_str_radix(&digits[i..i + 2], 16)
+                .map_err(|_| format!("`{}` in `{text}` is not a hex byte", &digits[i..i + 2]))
+        })
+        .collect()
+}
