@@ -8,7 +8,7 @@ use crate::diagnostics::Diagnostics;
 use crate::parse::model::{CommandModel, ProtocolRef};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
-use vfd_runtime::{AddressMap, CommandKind, CommandSpec, DataType, Part, Role, Space};
+use vfd_runtime::{AddressMap, CommandKind, CommandSpec, Part, Role, Space};
 
 /// A command that lowered, with its index under `commands:`.
 pub(super) struct LoweredCommand {
@@ -53,16 +53,8 @@ fn lower_command(
     let source = input.source;
     let path = format!("commands[{index}]");
     let code = code(command, source, &path, out);
-    let kind = kind(command, source, &path, out);
-    let data_types = data_types(command, source, &path, out);
-    let space = space(
-        command.space.as_deref(),
-        source,
-        &format!("{path}.space"),
-        out,
-    );
     let reply_codes = reply_codes(command, source, &path, out);
-    let address_map = space.map(|space| address_map(command, input.reference, space));
+    let space = command.space.unwrap_or(Space::Parameter);
     let request = layouts.find(&command.request, &format!("{path}.request"), out);
     let reply = layouts.find(&command.reply, &format!("{path}.reply"), out);
     if let Some(request) = &request {
@@ -76,10 +68,10 @@ fn lower_command(
     }
     Some(CommandSpec {
         code: code?,
-        kind: kind?,
-        data_types: Cow::Owned(data_types?),
-        space: space?,
-        address_map: address_map?,
+        kind: command.kind,
+        data_types: Cow::Owned(command.data_types.clone()),
+        space,
+        address_map: address_map(command, input.reference, space),
         request: request?,
         reply: reply?,
         reply_codes: Cow::Owned(reply_codes?),
@@ -111,84 +103,6 @@ fn code(
         );
     }
     value
-}
-
-fn kind(
-    command: &CommandModel,
-    source: &SourceFile,
-    path: &str,
-    out: &mut Diagnostics,
-) -> Option<CommandKind> {
-    let kind = CommandKind::ALL
-        .into_iter()
-        .find(|kind| kind.as_str() == command.kind);
-    if kind.is_none() {
-        out.push(
-            source
-                .error(
-                    &format!("{path}.kind"),
-                    format!("unknown command kind `{}`", command.kind),
-                )
-                .hint("use read, write_ram, write_persistent, read_text or process"),
-        );
-    }
-    kind
-}
-
-/// The data types the command carries (empty: any).
-fn data_types(
-    command: &CommandModel,
-    source: &SourceFile,
-    path: &str,
-    out: &mut Diagnostics,
-) -> Option<Vec<DataType>> {
-    let types: Vec<Option<DataType>> = command
-        .data_types
-        .iter()
-        .enumerate()
-        .map(|(index, name)| data_type(name, source, &format!("{path}.data_types[{index}]"), out))
-        .collect();
-    types.into_iter().collect()
-}
-
-/// Reads a data-type name, reporting an unknown one at `path`.
-pub(super) fn data_type(
-    name: &str,
-    source: &SourceFile,
-    path: &str,
-    out: &mut Diagnostics,
-) -> Option<DataType> {
-    let data_type = super::data_type_from_name(name);
-    if data_type.is_none() {
-        out.push(
-            source
-                .error(path, format!("unknown data type `{name}`"))
-                .hint("use word, double_word, bit or text"),
-        );
-    }
-    data_type
-}
-
-/// Reads an optional address-space name (default: parameters), reporting an unknown one at
-/// `path`.
-pub(super) fn space(
-    name: Option<&str>,
-    source: &SourceFile,
-    path: &str,
-    out: &mut Diagnostics,
-) -> Option<Space> {
-    let Some(name) = name else {
-        return Some(Space::Parameter);
-    };
-    let space = space_from_name(name);
-    if space.is_none() {
-        out.push(
-            source
-                .error(path, format!("unknown address space `{name}`"))
-                .hint("use parameter or coil"),
-        );
-    }
-    space
 }
 
 /// Codes a normal reply may carry (empty: the request's code).

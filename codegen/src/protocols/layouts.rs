@@ -157,7 +157,7 @@ pub(super) fn entry_name(entry: &PartRefModel, index: usize) -> String {
         PartRefModel::Inline(model) => model
             .name
             .clone()
-            .or_else(|| model.field.clone())
+            .or_else(|| model.field.map(|role| role.as_str().to_owned()))
             .or_else(|| model.checksum.as_ref().map(|_| "checksum".to_owned()))
             .or_else(|| model.length.as_ref().map(|_| "length".to_owned()))
             .unwrap_or_else(|| format!("part{index}")),

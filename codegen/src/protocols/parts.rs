@@ -2,16 +2,13 @@
 //! (literal, hex literal, word of bit fields, length, checksum, field).
 
 use crate::diagnostics::{Diagnostic, Diagnostics};
-use crate::parse::model::{CodeModel, CountsModel, OptionalModel, PartModel};
+use crate::parse::model::{BitsModel, CodeModel, CountsModel, OptionalModel, PartModel};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
 use vfd_runtime::{
     BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, LengthSpec, Part,
     Presence, Role, SizedBy, WordSpec,
 };
-
-const ROLES_HINT: &str =
-    "use address, command, register, index, data, error_code, process_1, process_2 or text";
 
 const FORMATS_HINT: &str =
     "use decimal, hex, char, u8, u16be, u16le, u32be, u32le, uint_be, uint_le or bytes";
@@ -63,10 +60,10 @@ impl PartContext<'_> {
 enum PartKind<'m> {
     Literal(&'m str),
     LiteralHex(&'m str),
-    Field(&'m str),
-    Checksum(&'m str),
-    Word(&'m str),
-    Length(&'m str),
+    Field(Role),
+    Checksum(ChecksumAlgorithm),
+    Word(Format),
+    Length(Format),
 }
 
 /// Lowers one part; the first problem in it is reported.
@@ -111,10 +108,10 @@ fn part_kind<'m>(
     let given = [
         model.literal.as_deref().map(PartKind::Literal),
         model.literal_hex.as_deref().map(PartKind::LiteralHex),
-        model.field.as_deref().map(PartKind::Field),
-        model.checksum.as_deref().map(PartKind::Checksum),
-        model.word.as_deref().map(PartKind::Word),
-        model.length.as_deref().map(PartKind::Length),
+        model.field.map(PartKind::Field),
+        model.checksum.map(PartKind::Checksum),
+        model.word.map(PartKind::Word),
+        model.length.map(PartKind::Length),
     ];
     let mut given = given.into_iter().flatten();
     match (given.next(), given.next()) {
@@ -135,14 +132,14 @@ fn optional_flag(
     context: &PartContext<'_>,
     out: &mut Diagnostics,
 ) -> Option<bool> {
-    match &model.optional {
+    match model.optional {
         None | Some(OptionalModel::Flag(false)) => Some(false),
         Some(OptionalModel::Flag(true)) => Some(true),
         Some(_) if model.field.is_some() => Some(true),
         Some(rule) => {
             let rule = match rule {
-                OptionalModel::Rule(text) => text.clone(),
-                _ => "{ if_byte_at_most: ... }".to_owned(),
+                OptionalModel::IfByteAtMost(_) => "{ if_byte_at_most: ... }",
+                _ => "if_format_matches",
             };
             context.fail(
                 out,
@@ -165,22 +162,20 @@ fn literal(name: &str, bytes: Vec<u8>, optional: bool) -> Part {
 /// A word of bit fields (`word: u16be` with `fields:`).
 fn word(
     name: &str,
-    format_name: &str,
+    format: Format,
     model: &PartModel,
     context: &PartContext<'_>,
     out: &mut Diagnostics,
 ) -> Option<Part> {
-    let format = format_from_name(format_name).filter(|format| {
-        matches!(
-            format,
-            Format::U16Be | Format::U16Le | Format::U32Be | Format::U32Le
-        )
-    });
-    let Some(format) = format else {
+    let word_format = matches!(
+        format,
+        Format::U16Be | Format::U16Le | Format::U32Be | Format::U32Le
+    );
+    if !word_format {
         return context.fail(
             out,
             "word",
-            format!("`word: {format_name}` is not a word format"),
+            format!("`word: {}` is not a word format", format.as_str()),
             "use u16be, u16le, u32be or u32le",
         );
     };
@@ -220,20 +215,12 @@ fn word(
 /// One entry of a word's `fields:`.
 fn bit_field(
     index: usize,
-    bits: &crate::parse::model::BitsModel,
+    bits: &BitsModel,
     word_bits: u32,
     context: &PartContext<'_>,
     out: &mut Diagnostics,
 ) -> Option<BitsSpec> {
     let key = format!("fields[{index}]");
-    let Some(role) = role_from_name(&bits.field) else {
-        return context.fail(
-            out,
-            &format!("{key}.field"),
-            format!("unknown field role `{}`", bits.field),
-            ROLES_HINT,
-        );
-    };
     let Some((lsb, width)) = parse_bits(&bits.bits)
         .filter(|(lsb, width)| u32::from(*lsb) + u32::from(*width) <= word_bits)
     else {
@@ -259,8 +246,12 @@ fn bit_field(
         }
     };
     Some(BitsSpec {
-        name: Cow::Owned(bits.name.clone().unwrap_or_else(|| bits.field.clone())),
-        role,
+        name: Cow::Owned(
+            bits.name
+                .clone()
+                .unwrap_or_else(|| bits.field.as_str().to_owned()),
+        ),
+        role: bits.field,
         lsb,
         width,
         allowed: Cow::Owned(allowed),
@@ -270,25 +261,23 @@ fn bit_field(
 /// A computed length (`length: u8` with `counts:`).
 fn length(
     name: &str,
-    format_name: &str,
+    format: Format,
     model: &PartModel,
     context: &PartContext<'_>,
     out: &mut Diagnostics,
 ) -> Option<Part> {
-    let format =
-        format_from_name(format_name).filter(|format| matches!(format, Format::U8 | Format::U16Be));
-    let Some(format) = format else {
+    if !matches!(format, Format::U8 | Format::U16Be) {
         return context.fail(
             out,
             "length",
-            format!("`length: {format_name}` is not a length format"),
+            format!("`length: {}` is not a length format", format.as_str()),
             "use u8 or u16be",
         );
     };
     let counts = match &model.counts {
-        Some(CountsModel::Keyword(word)) if word == "data_size" => Counts::DataSize,
+        Some(CountsModel::DataSize) => Counts::DataSize,
         Some(CountsModel::Parts { from, through }) => counted_parts(from, through, context, out)?,
-        _ => {
+        None => {
             return context.fail(
                 out,
                 "counts",
@@ -351,44 +340,22 @@ fn required_format(
     context: &PartContext<'_>,
     out: &mut Diagnostics,
 ) -> Option<Format> {
-    let Some(format_name) = model.format.as_deref() else {
+    if model.format.is_none() {
         return context.fail(out, "", "this part needs a `format`", FORMATS_HINT);
-    };
-    match format_from_name(format_name) {
-        Some(format) => Some(format),
-        None => context.fail(
-            out,
-            "format",
-            format!("unknown format `{format_name}`"),
-            FORMATS_HINT,
-        ),
     }
+    model.format
 }
 
 /// A checksum (`checksum: sum8` with `format` and `covers_from`).
 fn checksum(
     name: &str,
-    algorithm_name: &str,
+    algorithm: ChecksumAlgorithm,
     model: &PartModel,
     optional: bool,
     context: &PartContext<'_>,
     out: &mut Diagnostics,
 ) -> Option<Part> {
     let format = required_format(model, context, out)?;
-    let algorithm = match algorithm_name {
-        "sum8" => ChecksumAlgorithm::Sum8,
-        "xor8" => ChecksumAlgorithm::Xor8,
-        "crc16_modbus" => ChecksumAlgorithm::Crc16Modbus,
-        "lrc8" => ChecksumAlgorithm::Lrc8,
-        other => {
-            return context.fail(
-                out,
-                "checksum",
-                format!("unknown checksum algorithm `{other}`"),
-                "the runtime supplies sum8, xor8, crc16_modbus and lrc8",
-            )
-        }
-    };
     let fits = match algorithm {
         ChecksumAlgorithm::Crc16Modbus => matches!(format, Format::U16Le | Format::U16Be),
         _ => matches!(format, Format::Hex | Format::U8),
@@ -439,33 +406,13 @@ fn checksum(
 /// A value field (`field: register` with `format` and, for digits, `width`).
 fn field(
     name: &str,
-    role_name: &str,
+    role: Role,
     model: &PartModel,
     context: &PartContext<'_>,
     out: &mut Diagnostics,
 ) -> Option<Part> {
     let format = required_format(model, context, out)?;
-    let Some(role) = role_from_name(role_name) else {
-        return context.fail(
-            out,
-            "field",
-            format!("unknown field role `{role_name}`"),
-            ROLES_HINT,
-        );
-    };
-    let sized_by = match model.size.as_deref() {
-        None => SizedBy::Format,
-        Some("rest") => SizedBy::Rest,
-        Some("length") => SizedBy::Length,
-        Some(other) => {
-            return context.fail(
-                out,
-                "size",
-                format!("unknown size rule `{other}`"),
-                "use rest or length, or leave `size` out",
-            )
-        }
-    };
+    let sized_by = model.size.unwrap_or(SizedBy::Format);
     let (width, min_width) = widths(format, sized_by, model, context, out)?;
     let variable = matches!(format, Format::UintBe | Format::UintLe | Format::Bytes);
     if sized_by != SizedBy::Format && !variable {
@@ -479,7 +426,7 @@ fn field(
             "remove `size`",
         );
     }
-    let optional = presence(model, context, out)?;
+    let optional = presence(model.optional);
     let allowed = match codes(&model.allowed) {
         Ok(allowed) => allowed,
         Err(shown) => {
@@ -560,26 +507,13 @@ fn widths(
 }
 
 /// How a decoder tells an optional field is there (`None`: always there).
-fn presence(
-    model: &PartModel,
-    context: &PartContext<'_>,
-    out: &mut Diagnostics,
-) -> Option<Option<Presence>> {
-    match &model.optional {
-        None | Some(OptionalModel::Flag(false)) => Some(None),
-        Some(OptionalModel::Flag(true)) => Some(Some(Presence::IfFormatMatches)),
-        Some(OptionalModel::Rule(rule)) if rule == "if_format_matches" => {
-            Some(Some(Presence::IfFormatMatches))
+fn presence(optional: Option<OptionalModel>) -> Option<Presence> {
+    match optional? {
+        OptionalModel::Flag(false) => None,
+        OptionalModel::Flag(true) | OptionalModel::IfFormatMatches => {
+            Some(Presence::IfFormatMatches)
         }
-        Some(OptionalModel::ByteAtMost { if_byte_at_most }) => {
-            Some(Some(Presence::IfByteAtMost(*if_byte_at_most)))
-        }
-        Some(OptionalModel::Rule(rule)) => context.fail(
-            out,
-            "optional",
-            format!("unknown presence rule `{rule}`"),
-            "use true, if_format_matches or { if_byte_at_most: N }",
-        ),
+        OptionalModel::IfByteAtMost(limit) => Some(Presence::IfByteAtMost(limit)),
     }
 }
 
@@ -589,18 +523,6 @@ fn codes(models: &[CodeModel]) -> Result<Vec<u32>, String> {
         .iter()
         .map(|m| m.value().ok_or_else(|| m.shown()))
         .collect()
-}
-
-/// Parses a format name.
-fn format_from_name(name: &str) -> Option<Format> {
-    Format::ALL
-        .into_iter()
-        .find(|format| format.as_str() == name)
-}
-
-/// Parses a role name.
-fn role_from_name(name: &str) -> Option<Role> {
-    Role::ALL.into_iter().find(|role| role.as_str() == name)
 }
 
 /// Parses `"15:12"` or `"7"` into (lsb, width).

@@ -1,12 +1,11 @@
 //! Pre-steps: register writes some requests need first (a Modbus array index, a persistence
 //! switch), from the protocol file's `protocol.pre_steps` followed by the drive's own.
 
-use super::commands::{data_type, space};
 use super::Input;
 use crate::diagnostics::Diagnostics;
-use crate::parse::model::PreStepModel;
+use crate::parse::model::{PreStepKind, PreStepModel};
 use crate::parse::SourceFile;
-use vfd_runtime::{DataType, PreStep};
+use vfd_runtime::{DataType, PreStep, Space};
 
 /// Lowers the protocol file's pre-steps, then the drive's; those with problems are reported
 /// and left out.
@@ -40,19 +39,11 @@ fn lower_pre_step(
     path: &str,
     out: &mut Diagnostics,
 ) -> Option<PreStep> {
-    match step.step.as_str() {
-        "index" => Some(PreStep::Index {
+    match step.step {
+        PreStepKind::Index => Some(PreStep::Index {
             register: step.register,
         }),
-        "persistence" => persistence(step, source, path, out),
-        other => {
-            out.push(
-                source
-                    .error(&format!("{path}.step"), format!("unknown step `{other}`"))
-                    .hint("use index or persistence"),
-            );
-            None
-        }
+        PreStepKind::Persistence => persistence(step, source, path, out),
     }
 }
 
@@ -63,11 +54,6 @@ fn persistence(
     path: &str,
     out: &mut Diagnostics,
 ) -> Option<PreStep> {
-    let space = space(step.space.as_deref(), source, &format!("{path}.space"), out);
-    let data_type = match step.data_type.as_deref() {
-        None => Some(DataType::Word),
-        Some(name) => data_type(name, source, &format!("{path}.data_type"), out),
-    };
     let missing: Vec<&str> = [
         ("ram", step.ram.is_none()),
         ("persistent", step.persistent.is_none()),
@@ -83,9 +69,9 @@ fn persistence(
         );
     }
     Some(PreStep::Persistence {
-        space: space?,
+        space: step.space.unwrap_or(Space::Parameter),
         register: step.register,
-        data_type: data_type?,
+        data_type: step.data_type.unwrap_or(DataType::Word),
         ram: step.ram?,
         persistent: step.persistent?,
     })
