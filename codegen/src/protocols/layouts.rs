@@ -1,15 +1,16 @@
 //! Layouts: each `layouts:` entry resolved into a runtime [`FrameLayout`], then checked as a
 //! whole (variable-size fields that something sizes, frames that fit `max_frame_len`, the
-//! parts `default_optional_parts` names).
+//! parts `default_optional_parts` names, Rust names that stay distinct).
 
 use super::commands::LoweredCommand;
 use super::names_of;
 use super::parts::{lower_part, PartContext};
 use crate::diagnostics::Diagnostics;
+use crate::naming::const_name;
 use crate::parse::model::{OptionalModel, PartModel, PartRefModel, ProtocolFile};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use vfd_runtime::layout::MAX_PARTS;
 use vfd_runtime::{Counts, FrameLayout, LengthSpec, Part, SizedBy};
 
@@ -205,6 +206,42 @@ fn length_covers(parts: &[Part], index: usize) -> bool {
         matches!(part, Part::Length(LengthSpec { counts: Counts::Parts { from, through }, .. })
             if usize::from(*from) == index && from == through)
     })
+}
+
+/// No two layouts become the same Rust name: the generated code declares a static per layout,
+/// `<PROTOCOL>_<LAYOUT>` with the layout's name through [`const_name`] (`read-request` and
+/// `read_request` both become `..._READ_REQUEST`). Reported at the one written later.
+pub(super) fn check_rust_names(
+    protocol_id: &str,
+    file: &ProtocolFile,
+    source: &SourceFile,
+    out: &mut Diagnostics,
+) {
+    let mut by_rust_name: BTreeMap<String, Vec<&String>> = BTreeMap::new();
+    for name in file.layouts.keys() {
+        by_rust_name.entry(const_name(name)).or_default().push(name);
+    }
+    for (rust, mut names) in by_rust_name {
+        let position = |name: &&String| {
+            let at = source.index.find(&format!("layouts.{name}"));
+            (at.line, at.column)
+        };
+        names.sort_by_key(position);
+        let Some((first, later)) = names.split_first() else {
+            continue;
+        };
+        let rust = format!("{}_{rust}", const_name(protocol_id));
+        for name in later {
+            out.push(
+                source
+                    .error(
+                        &format!("layouts.{name}"),
+                        format!("layout `{name}` becomes the Rust static `{rust}`, like layout `{first}`"),
+                    )
+                    .hint("layouts are named in Rust in upper case with `-` as `_`; rename one of the two"),
+            );
+        }
+    }
 }
 
 /// Every layout a command uses fits in `max_frame_len` when its size is fixed.

@@ -97,6 +97,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     let (file, source) = (input.file, input.source);
     let before = out.items.len();
     let layouts = layouts::lower_layouts(file, source, out);
+    layouts::check_rust_names(&input.reference.id, file, source, out);
     let commands = commands::lower_commands(input, &layouts, out);
     commands::check_address_maps(input, out);
     commands::check_commands(&commands, source, out);
