@@ -530,7 +530,7 @@ pub(super) fn parse_bits(text: &str) -> Option<(u8, u8)> {
     match text.split_once(':') {
         Some((msb, lsb)) => {
             let (msb, lsb): (u8, u8) = (msb.trim().parse().ok()?, lsb.trim().parse().ok()?);
-            (msb >= lsb).then_some((lsb, msb - lsb + 1))
+            Some((lsb, msb.checked_sub(lsb)?.checked_add(1)?))
         }
         None => text.trim().parse().ok().map(|bit| (bit, 1)),
     }
