@@ -277,3 +277,137 @@ fn check_not_repeated(
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_support::{
+        at, drive_with, lower_both, lowered, problems, problems_of, protocol_with, PROTOCOL,
+    };
+    use super::*;
+    use vfd_runtime::DataType;
+
+    #[test]
+    fn a_command_lowers_with_its_code_kind_space_and_layouts() {
+        let yaml = protocol_with(&[(
+            "{ code: W, kind: write_persistent,",
+            "{ code: W, kind: write_persistent, data_types: [word, double_word], space: coil, address_map: { multiply: 2, offset: -1 }, reply_codes: [W, 0x77],",
+        )]);
+        let protocol = lowered(&yaml);
+        let [read, write] = &protocol.commands[..] else {
+            panic!("two commands expected: {:?}", protocol.commands);
+        };
+        assert_eq!(
+            (read.code, read.kind, read.space, read.address_map),
+            (
+                0x52,
+                CommandKind::Read,
+                Space::Parameter,
+                AddressMap::IDENTITY
+            )
+        );
+        assert!(read.data_types.is_empty() && read.reply_codes.is_empty());
+        assert_eq!(
+            (read.request.name.as_ref(), read.reply.name.as_ref()),
+            ("read_request", "reply")
+        );
+        assert_eq!(
+            (write.kind, write.space),
+            (CommandKind::WritePersistent, Space::Coil)
+        );
+        assert_eq!(
+            write.data_types.as_ref(),
+            [DataType::Word, DataType::DoubleWord]
+        );
+        assert_eq!(
+            write.address_map,
+            AddressMap {
+                multiply: 2,
+                offset: -1
+            }
+        );
+        assert_eq!(write.reply_codes.as_ref(), [0x57, 0x77]);
+    }
+
+    #[test]
+    fn the_drive_numbering_of_a_space_wins_over_the_protocol_file() {
+        let yaml = protocol_with(&[(
+            "{ code: W, kind: write_persistent,",
+            "{ code: W, kind: write_persistent, address_map: { multiply: 2, offset: 0 },",
+        )]);
+        let drive = drive_with("    address_maps:\n      parameter: { multiply: 10, offset: -1 }");
+        let protocol = lower_both(&drive, &yaml).unwrap();
+        for command in protocol.commands.iter() {
+            assert_eq!(
+                command.address_map,
+                AddressMap {
+                    multiply: 10,
+                    offset: -1
+                }
+            );
+        }
+    }
+
+    #[test]
+    fn every_problem_of_a_command_is_reported() {
+        let yaml = protocol_with(&[(
+            "{ code: W, kind: write_persistent, request: write_request, reply: reply }",
+            "{ code: WW, kind: write_persistent, request: write_request, reply: replie, reply_codes: [WW] }",
+        )]);
+        assert_eq!(
+            problems(&yaml),
+            [
+                format!(
+                    "{} commands[1].code: command code `WW` is not one character or a number",
+                    at(&yaml, "WW, kind")
+                ),
+                format!(
+                    "{} commands[1].reply: layout `replie` is not defined",
+                    at(&yaml, "replie")
+                ),
+                format!(
+                    "{} commands[1].reply_codes: reply codes are numbers or single characters",
+                    at(&yaml, "reply_codes")
+                ),
+            ]
+        );
+    }
+
+    #[test]
+    fn commands_that_cannot_work_are_reported() {
+        let yaml = protocol_with(&[(
+            "  - { code: W, kind: write_persistent, request: write_request, reply: reply }\n",
+            "  - { code: P, kind: write_persistent, request: write_request, reply: reply }\n  - { code: R, kind: read_text, request: error_reply, reply: reply }\n  - { code: R, kind: read, request: read_request, reply: reply }\n  - { code: 1, kind: process, request: fixed, reply: fixed }\n",
+        ), ("  reply:", "  fixed: [start, register, cr]\n  reply:")]);
+        let repeated = yaml
+            .lines()
+            .enumerate()
+            .filter(|(_, line)| {
+                *line == "  - { code: R, kind: read, request: read_request, reply: reply }"
+            })
+            .map(|(index, _)| index + 1)
+            .nth(1)
+            .unwrap();
+        assert_eq!(
+            problems(&yaml),
+            [
+                format!("{} commands[1].code: code P is not among the codes layout `write_request` allows", at(&yaml, "P, kind")),
+                format!("{} commands[2].code: code R is not among the codes layout `error_reply` allows", at(&yaml, "R, kind: read_text")),
+                format!("{} commands[2].request: a read_text command needs a register field, and layout `error_reply` has none", at(&yaml, "error_reply, reply")),
+                format!("{repeated}:7 commands[3]: the same command as commands[0] (code R, read)"),
+                format!("{} commands[4].code: layout `fixed` has no command field to carry the code", at(&yaml, "1, kind")),
+            ]
+        );
+    }
+
+    #[test]
+    fn the_drive_address_maps_are_checked_in_the_drive_file() {
+        let drive = drive_with("    address_maps:\n      parameter: { multiply: 0, offset: 0 }\n      holding: { multiply: 1, offset: 0 }");
+        assert_eq!(
+            problems_of(lower_both(&drive, PROTOCOL)),
+            [
+                format!("{} protocols[0].address_maps.parameter.multiply: `multiply: 0` maps every register to the same wire address", at(&drive, "0, offset")),
+                format!("{} protocols[0].address_maps.holding: unknown address space `holding`", at(&drive, "holding")),
+            ]
+        );
+    }
+}

@@ -335,3 +335,157 @@ fn is_always_sent(file: &ProtocolFile, name: &str) -> bool {
         PartRefModel::Inline(_) => false,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_support::{at, lowered, problems, protocol_with, PROTOCOL};
+    use super::*;
+
+    #[test]
+    fn inline_parts_are_named_by_name_role_or_kind() {
+        let yaml = "- { field: data, name: pwe }\n- { field: data }\n- { checksum: xor8 }\n- { length: u8 }\n- { literal: \"(\" }";
+        let entries: Vec<PartRefModel> = serde_yaml::from_str(yaml).unwrap();
+        let names: Vec<String> = entries
+            .iter()
+            .enumerate()
+            .map(|(index, entry)| entry_name(entry, index))
+            .collect();
+        assert_eq!(names, ["pwe", "data", "checksum", "length", "part4"]);
+    }
+
+    #[test]
+    fn undefined_parts_and_layouts_are_reported_where_they_are_named() {
+        let yaml = protocol_with(&[
+            (
+                "register, sum, cr]\n  write",
+                "register, chksum, cr]\n  write",
+            ),
+            ("request: write_request", "request: write_reqest"),
+            ("error_reply: error_reply\n", "error_reply: nak\n"),
+        ]);
+        assert_eq!(
+            problems(&yaml),
+            [
+                format!(
+                    "{} layouts.read_request[4]: part `chksum` is not defined",
+                    at(&yaml, "chksum")
+                ),
+                format!(
+                    "{} commands[1].request: layout `write_reqest` is not defined",
+                    at(&yaml, "write_reqest")
+                ),
+                format!(
+                    "{} error_reply: layout `nak` is not defined",
+                    at(&yaml, "nak")
+                ),
+            ]
+        );
+    }
+
+    #[test]
+    fn a_layout_with_a_bad_part_is_not_reported_again_as_undefined() {
+        let yaml = protocol_with(&[(
+            "format: hex, width: 4 }, sum, cr]\n  reply",
+            "format: hex, width: 40 }, sum, cr]\n  reply",
+        )]);
+        assert_eq!(
+            problems(&yaml),
+            [format!(
+                "{} layouts.write_request[4].width: `width: 40` is out of range for hex",
+                at(&yaml, "40")
+            )]
+        );
+    }
+
+    #[test]
+    fn too_many_parts_are_reported_at_the_layout() {
+        let many = vec!["cr"; MAX_PARTS + 1].join(", ");
+        let yaml = protocol_with(&[(
+            "register, sum, cr]\n  write",
+            &format!("register, sum, {many}]\n  write"),
+        )]);
+        assert_eq!(
+            problems(&yaml),
+            [format!("{} layouts.read_request: layout `read_request` has 22 parts; the runtime supports 16", at(&yaml, "read_request:"))]
+        );
+    }
+
+    #[test]
+    fn variable_fields_need_something_that_sizes_them() {
+        let yaml = protocol_with(&[
+            ("text: true", "text: false"),
+            (
+                "{ field: data, format: hex, width: 4 }, sum, cr]\n  reply",
+                "{ field: data, format: bytes, size: length }, sum, cr]\n  reply",
+            ),
+            (
+                "{ field: data, format: hex, width: 4 }, sum, cr]\n  error",
+                "{ field: data, format: uint_be, size: rest }, sum, cr]\n  error",
+            ),
+        ]);
+        assert_eq!(
+            problems(&yaml),
+            [
+                format!("{} layouts.write_request[4]: `data` is sized by a length, but no earlier length covers exactly it", at(&yaml, "field: data, format: bytes")),
+                format!("{} layouts.reply[4]: `data` takes the rest of the frame, but no earlier length covers the frame to its end, or a later part has no fixed size", at(&yaml, "field: data, format: uint_be")),
+            ]
+        );
+    }
+
+    #[test]
+    fn fixed_frames_must_fit_max_frame_len() {
+        // Variable parts (the optional address and checksum) leave the other layouts unsized.
+        let yaml = protocol_with(&[
+            ("max_frame_len: 17", "max_frame_len: 9"),
+            (
+                "  reply:",
+                "  fixed: [start, register, register, cr]\n  reply:",
+            ),
+            (
+                "commands:\n",
+                "commands:\n  - { kind: process, request: fixed, reply: fixed }\n",
+            ),
+        ]);
+        assert_eq!(
+            problems(&yaml),
+            [format!("{} protocol.max_frame_len: layout `fixed` is 10 bytes, longer than max_frame_len 9", at(&yaml, "9"))]
+        );
+    }
+
+    #[test]
+    fn default_optional_parts_must_be_optional_parts_of_the_layouts() {
+        let yaml = protocol_with(&[(
+            "default_optional_parts: [sum]",
+            "default_optional_parts: [sum, cr, end]",
+        )]);
+        assert_eq!(
+            problems(&yaml),
+            [
+                format!("{} protocol.default_optional_parts[1]: part `cr` is not optional; it is always sent", at(&yaml, "cr, end")),
+                format!("{} protocol.default_optional_parts[2]: no layout has a part named `end`", at(&yaml, "end]")),
+            ]
+        );
+    }
+
+    #[test]
+    fn layouts_that_become_the_same_rust_name_are_reported_at_the_later_one() {
+        let copy = PROTOCOL
+            .lines()
+            .find(|line| line.starts_with("  read_request:"))
+            .unwrap()
+            .replace("read_request", "read-request");
+        // `read-request` sorts first, but is written last.
+        let yaml = protocol_with(&[("  reply:", &format!("{copy}\n  reply:"))]);
+        assert_eq!(
+            problems(&yaml),
+            [format!("{} layouts.read-request: layout `read-request` becomes the Rust static `ASCII_READ_REQUEST`, like layout `read_request`", at(&yaml, "read-request:"))]
+        );
+        lowered(&protocol_with(&[(
+            "  reply:",
+            &format!(
+                "{}\n  reply:",
+                copy.replace("read-request", "read-request-2")
+            ),
+        )]));
+    }
+}

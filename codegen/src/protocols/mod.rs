@@ -173,3 +173,47 @@ fn error_codes(drive: &DriveFile) -> Vec<ErrorCodeInfo> {
 fn names_of<'a>(names: impl Iterator<Item = &'a String>) -> String {
     names.map(String::as_str).collect::<Vec<_>>().join(", ")
 }
+
+#[cfg(test)]
+mod test_support;
+
+#[cfg(test)]
+mod tests {
+    use super::test_support::{at, lowered, problems, protocol_with, PROTOCOL};
+
+    #[test]
+    fn a_protocol_file_lowers_with_the_drive_addressing_and_error_codes() {
+        let protocol = lowered(PROTOCOL);
+        assert_eq!(
+            (protocol.id.as_ref(), protocol.name.as_ref()),
+            ("ascii", "Test ASCII")
+        );
+        assert_eq!(protocol.max_frame_len, 17);
+        assert_eq!(protocol.address_range, (0, 31));
+        assert_eq!(protocol.commands.len(), 2);
+        assert_eq!(
+            protocol.error_reply.as_ref().map(|l| l.name.as_ref()),
+            Some("error_reply")
+        );
+        assert_eq!(protocol.default_optional_parts.as_ref(), ["sum"]);
+        assert_eq!(protocol.default_process, [0, 0]);
+        let codes: Vec<(u16, &str)> = protocol
+            .error_codes
+            .iter()
+            .map(|c| (c.code, c.id.as_ref()))
+            .collect();
+        assert_eq!(codes, [(1, "data_error")]);
+    }
+
+    #[test]
+    fn the_id_must_be_the_file_name() {
+        let yaml = protocol_with(&[("  id: test\n", "  id: tset\n")]);
+        assert_eq!(
+            problems(&yaml),
+            [format!(
+                "{} protocol.id: the file is `test.yaml` but says `id: tset`",
+                at(&yaml, "tset")
+            )]
+        );
+    }
+}

@@ -76,3 +76,61 @@ fn persistence(
         persistent: step.persistent?,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_support::{at, drive_with, lower_both, problems_of, protocol_with};
+    use super::*;
+
+    #[test]
+    fn the_protocol_file_steps_come_first_then_the_drive_steps_with_defaults() {
+        let yaml = protocol_with(&[(
+            "  default_optional_parts: [sum]\n",
+            "  default_optional_parts: [sum]\n  pre_steps:\n    - { step: index, register: 8 }\n",
+        )]);
+        let drive = drive_with("    pre_steps:\n      - { step: persistence, register: 65, ram: 0, persistent: 0xFF00 }\n      - { step: persistence, space: coil, data_type: bit, register: 3, ram: 0, persistent: 1 }");
+        let protocol = lower_both(&drive, &yaml).unwrap();
+        assert_eq!(
+            protocol.pre_steps.as_ref(),
+            [
+                PreStep::Index { register: 8 },
+                PreStep::Persistence {
+                    space: Space::Parameter,
+                    register: 65,
+                    data_type: DataType::Word,
+                    ram: 0,
+                    persistent: 0xFF00,
+                },
+                PreStep::Persistence {
+                    space: Space::Coil,
+                    register: 3,
+                    data_type: DataType::Bit,
+                    ram: 0,
+                    persistent: 1,
+                },
+            ]
+        );
+    }
+
+    #[test]
+    fn a_persistence_step_without_its_values_is_reported_in_the_drive_file() {
+        let drive =
+            drive_with("    pre_steps:\n      - { step: persistence, register: 65, ram: 0 }");
+        assert_eq!(
+            problems_of(lower_both(&drive, &protocol_with(&[]))),
+            [format!(
+                "{} protocols[0].pre_steps[0]: the persistence step lacks `persistent`",
+                at(&drive, "step: persistence")
+            )]
+        );
+    }
+
+    #[test]
+    fn an_unknown_step_stops_the_drive_file() {
+        let drive = drive_with("    pre_steps:\n      - { step: reboot, register: 1 }");
+        assert_eq!(
+            problems_of(lower_both(&drive, &protocol_with(&[]))),
+            [format!("{} protocols[0].pre_steps[0].step: unknown variant `reboot`, expected `index` or `persistence`", at(&drive, "reboot"))]
+        );
+    }
+}
