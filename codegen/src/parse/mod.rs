@@ -151,18 +151,16 @@ fn hint_for(message: &str) -> Option<&'static str> {
             .is_some_and(|field| field.contains(' '))
     {
         Some("inside `{ ... }` an unquoted comma ends the value: put text containing commas in quotes")
-    } else if message.contains("unknown variant") {
-        Some("use one of the values listed after \"expected\"")
     } else if message.contains("unknown field") {
         Some("remove the key or fix its spelling; drives/README.md lists every key")
     } else if message.contains("missing field") {
         Some("add the key; drives/README.md says what it holds")
     } else if message.contains("untagged enum BoundModel") {
         Some("a range bound is a number in the register's unit, or the code of another register (\"FH\")")
-    } else if message.contains("untagged enum PartRefModel") {
-        Some("a layout entry is the name of a part under `parts:`, or a part written in place")
-    } else if message.contains("untagged enum OptionalModel") {
-        Some("`optional` is true, `if_format_matches`, or `{ if_byte_at_most: 0x3F }`")
+    } else if message.starts_with("unknown variant `")
+        || message.starts_with("invalid value: string")
+    {
+        Some("write one of the values listed, spelled exactly so; drives/README.md says what each means")
     } else if message.contains("invalid type") {
         Some("check the value's type against drives/README.md (numbers may be decimal or 0x-hex)")
     } else {

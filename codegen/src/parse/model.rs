@@ -3,10 +3,16 @@
 //! These types mirror the YAML one to one (unknown keys are errors). Meaning is checked
 //! later, in [`crate::validate`]; nothing here resolves references.
 
+use serde::de::value::MapAccessDeserializer;
+use serde::de::{self, MapAccess, Unexpected, Visitor};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use std::fmt;
 use vfd_runtime::serial::Parity;
-use vfd_runtime::{Access, DataType, DecodeErrorKind, Space, TakesEffect};
+use vfd_runtime::{
+    Access, ChecksumAlgorithm, CommandKind, DataType, DecodeErrorKind, Format, Role, SizedBy,
+    Space, TakesEffect,
+};
 
 /// A drive file (`drives/<id>.yaml`).
 #[derive(Debug, Clone, Deserialize)]
@@ -401,19 +407,24 @@ pub enum PartRefModel {
 
 impl<'de> Deserialize<'de> for PartRefModel {
     /// Written by hand so that a mistake inside an inline part is reported as itself
-    /// ("unknown field `fromat`") rather than as "no variant matched".
+    /// ("unknown field `fromat`") rather than as "no variant matched", with the path and
+    /// position of the key at fault.
     fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        use serde::de::Error;
-        let value = serde_yaml::Value::deserialize(deserializer)?;
-        match value {
-            serde_yaml::Value::String(name) => Ok(PartRefModel::Named(name)),
-            serde_yaml::Value::Mapping(_) => serde_yaml::from_value::<PartModel>(value)
-                .map(|part| PartRefModel::Inline(Box::new(part)))
-                .map_err(|e| D::Error::custom(e.to_string())),
-            _ => Err(D::Error::custom(
-                "a layout entry is the name of a part or a part written as `{ ... }`",
-            )),
+        struct EntryVisitor;
+        impl<'de> Visitor<'de> for EntryVisitor {
+            type Value = PartRefModel;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("the name of a part or a part written as `{ ... }`")
+            }
+            fn visit_str<E: de::Error>(self, name: &str) -> Result<PartRefModel, E> {
+                Ok(PartRefModel::Named(name.to_owned()))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<PartRefModel, A::Error> {
+                PartModel::deserialize(MapAccessDeserializer::new(map))
+                    .map(|part| PartRefModel::Inline(Box::new(part)))
+            }
         }
+        deserializer.deserialize_any(EntryVisitor)
     }
 }
 
@@ -422,19 +433,21 @@ impl<'de> Deserialize<'de> for PartRefModel {
 pub struct PartModel {
     pub literal: Option<String>,
     pub literal_hex: Option<String>,
-    pub field: Option<String>,
-    pub checksum: Option<String>,
+    /// A value field: its role.
+    pub field: Option<Role>,
+    pub checksum: Option<ChecksumAlgorithm>,
     /// A word made of bit fields: its format (`u16be`).
-    pub word: Option<String>,
+    pub word: Option<Format>,
     /// A computed length: its format (`u8`).
-    pub length: Option<String>,
+    pub length: Option<Format>,
     /// Name for error messages and docs (defaults to the role or the part's key).
     pub name: Option<String>,
-    pub format: Option<String>,
+    pub format: Option<Format>,
     pub width: Option<u8>,
     pub min_width: Option<u8>,
-    /// `rest` (up to the fixed parts before the frame end) or `length` (a length part covers it).
-    pub size: Option<String>,
+    /// `rest` (up to the fixed parts before the frame end) or `length` (a length part covers
+    /// it); left out, the format sizes the field.
+    pub size: Option<SizedBy>,
     pub optional: Option<OptionalModel>,
     #[serde(default)]
     pub allowed: Vec<CodeModel>,
@@ -483,7 +496,7 @@ impl CodeModel {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BitsModel {
-    pub field: String,
+    pub field: Role,
     pub name: Option<String>,
     /// `"msb:lsb"` or a single bit number.
     pub bits: String,
@@ -492,19 +505,81 @@ pub struct BitsModel {
 }
 
 /// What a length counts: `{ from: part, through: part }` or `data_size`.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum CountsModel {
     Parts { from: String, through: String },
-    Keyword(String),
+    DataSize,
 }
 
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+impl<'de> Deserialize<'de> for CountsModel {
+    /// By hand, so that a mistake names the value or the key at fault.
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Parts {
+            from: String,
+            through: String,
+        }
+        struct CountsVisitor;
+        impl<'de> Visitor<'de> for CountsVisitor {
+            type Value = CountsModel;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("`data_size` or `{ from: part, through: part }`")
+            }
+            fn visit_str<E: de::Error>(self, value: &str) -> Result<CountsModel, E> {
+                match value {
+                    "data_size" => Ok(CountsModel::DataSize),
+                    _ => Err(E::invalid_value(Unexpected::Str(value), &self)),
+                }
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<CountsModel, A::Error> {
+                let Parts { from, through } = Parts::deserialize(MapAccessDeserializer::new(map))?;
+                Ok(CountsModel::Parts { from, through })
+            }
+        }
+        deserializer.deserialize_any(CountsVisitor)
+    }
+}
+
+/// Whether a part may be left out: `true`/`false`, or for fields a presence rule
+/// (`if_format_matches`, `{ if_byte_at_most: 0x3F }`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum OptionalModel {
     Flag(bool),
-    Rule(String),
-    ByteAtMost { if_byte_at_most: u8 },
+    IfFormatMatches,
+    IfByteAtMost(u8),
+}
+
+impl<'de> Deserialize<'de> for OptionalModel {
+    /// By hand, so that a mistake names the value at fault.
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct ByteAtMost {
+            if_byte_at_most: u8,
+        }
+        struct OptionalVisitor;
+        impl<'de> Visitor<'de> for OptionalVisitor {
+            type Value = OptionalModel;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("true, false, `if_format_matches` or `{ if_byte_at_most: N }`")
+            }
+            fn visit_bool<E: de::Error>(self, flag: bool) -> Result<OptionalModel, E> {
+                Ok(OptionalModel::Flag(flag))
+            }
+            fn visit_str<E: de::Error>(self, value: &str) -> Result<OptionalModel, E> {
+                match value {
+                    "if_format_matches" => Ok(OptionalModel::IfFormatMatches),
+                    _ => Err(E::invalid_value(Unexpected::Str(value), &self)),
+                }
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<OptionalModel, A::Error> {
+                let rule = ByteAtMost::deserialize(MapAccessDeserializer::new(map))?;
+                Ok(OptionalModel::IfByteAtMost(rule.if_byte_at_most))
+            }
+        }
+        deserializer.deserialize_any(OptionalVisitor)
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -512,14 +587,14 @@ pub enum OptionalModel {
 pub struct CommandModel {
     /// The code on the wire; absent for layouts without a command field.
     pub code: Option<CodeModel>,
-    pub kind: String,
+    pub kind: CommandKind,
     pub request: String,
     pub reply: String,
     /// Data types carried (`word`, `double_word`, `bit`, `text`); empty: any.
     #[serde(default)]
-    pub data_types: Vec<String>,
+    pub data_types: Vec<DataType>,
     /// `parameter` (default) or `coil`.
-    pub space: Option<String>,
+    pub space: Option<Space>,
     pub address_map: Option<AddressMapModel>,
     /// Codes a normal reply may carry; empty: the request's code.
     #[serde(default)]
@@ -540,15 +615,26 @@ pub struct AddressMapModel {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PreStepModel {
-    /// `index` or `persistence`.
-    pub step: String,
+    pub step: PreStepKind,
     pub register: u16,
-    pub space: Option<String>,
-    pub data_type: Option<String>,
+    /// `parameter` (default) or `coil`.
+    pub space: Option<Space>,
+    /// `word` (default), `double_word`, `bit` or `text`.
+    pub data_type: Option<DataType>,
     pub ram: Option<u32>,
     pub persistent: Option<u32>,
     /// Notes for people reading the protocol file; nothing is generated from them.
     #[serde(default)]
     #[allow(dead_code)]
     pub description: String,
+}
+
+/// What a pre-step does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PreStepKind {
+    /// Write the array index of an indexed parameter.
+    Index,
+    /// Switch between writing RAM only and RAM + EEPROM.
+    Persistence,
 }

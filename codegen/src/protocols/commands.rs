@@ -1,0 +1,413 @@
+//! Commands: each `commands:` entry lowered into a runtime [`CommandSpec`] (code, kind, data
+//! types, space, address map, layouts, reply codes), then the commands checked against each
+//! other and against their layouts; and the drive's own address maps.
+
+use super::layouts::Layouts;
+use super::{space_from_name, Input};
+use crate::diagnostics::Diagnostics;
+use crate::parse::model::{CommandModel, ProtocolRef};
+use crate::parse::SourceFile;
+use std::borrow::Cow;
+use vfd_runtime::{AddressMap, CommandKind, CommandSpec, Part, Role, Space};
+
+/// A command that lowered, with its index under `commands:`.
+pub(super) struct LoweredCommand {
+    /// Index in the protocol file's `commands:`.
+    pub index: usize,
+    /// The runtime command.
+    pub spec: CommandSpec,
+}
+
+impl LoweredCommand {
+    fn path(&self) -> String {
+        format!("commands[{}]", self.index)
+    }
+}
+
+/// Lowers every command; those with problems are reported and left out.
+pub(super) fn lower_commands(
+    input: &Input<'_>,
+    layouts: &Layouts<'_>,
+    out: &mut Diagnostics,
+) -> Vec<LoweredCommand> {
+    input
+        .file
+        .commands
+        .iter()
+        .enumerate()
+        .filter_map(|(index, command)| {
+            let spec = lower_command(index, command, input, layouts, out)?;
+            Some(LoweredCommand { index, spec })
+        })
+        .collect()
+}
+
+/// Lowers one command, reporting every problem in it.
+fn lower_command(
+    index: usize,
+    command: &CommandModel,
+    input: &Input<'_>,
+    layouts: &Layouts<'_>,
+    out: &mut Diagnostics,
+) -> Option<CommandSpec> {
+    let source = input.source;
+    let path = format!("commands[{index}]");
+    let code = code(command, source, &path, out);
+    let reply_codes = reply_codes(command, source, &path, out);
+    let space = command.space.unwrap_or(Space::Parameter);
+    let request = layouts.find(&command.request, &format!("{path}.request"), out);
+    let reply = layouts.find(&command.reply, &format!("{path}.reply"), out);
+    if let Some(request) = &request {
+        if command.code.is_some() && !request.has(Role::Command) {
+            out.push(
+                source
+                    .error(&format!("{path}.code"), format!("layout `{}` has no command field to carry the code", command.request))
+                    .hint("leave `code` out for commands whose layout has no command (process telegrams)"),
+            );
+        }
+    }
+    Some(CommandSpec {
+        code: code?,
+        kind: command.kind,
+        data_types: Cow::Owned(command.data_types.clone()),
+        space,
+        address_map: address_map(command, input.reference, space),
+        request: request?,
+        reply: reply?,
+        reply_codes: Cow::Owned(reply_codes?),
+    })
+}
+
+/// The command's code on the wire (0 for layouts without a command field).
+fn code(
+    command: &CommandModel,
+    source: &SourceFile,
+    path: &str,
+    out: &mut Diagnostics,
+) -> Option<u32> {
+    let Some(code) = &command.code else {
+        return Some(0);
+    };
+    let value = code.value();
+    if value.is_none() {
+        out.push(
+            source
+                .error(
+                    &format!("{path}.code"),
+                    format!(
+                        "command code `{}` is not one character or a number",
+                        code.shown()
+                    ),
+                )
+                .hint("write a letter as it appears on the wire (R) or a number (0x03)"),
+        );
+    }
+    value
+}
+
+/// Codes a normal reply may carry (empty: the request's code).
+fn reply_codes(
+    command: &CommandModel,
+    source: &SourceFile,
+    path: &str,
+    out: &mut Diagnostics,
+) -> Option<Vec<u32>> {
+    let codes: Option<Vec<u32>> = command.reply_codes.iter().map(|c| c.value()).collect();
+    if codes.is_none() {
+        out.push(
+            source
+                .error(
+                    &format!("{path}.reply_codes"),
+                    "reply codes are numbers or single characters",
+                )
+                .hint("e.g. reply_codes: [1, 2]"),
+        );
+    }
+    codes
+}
+
+/// How the command numbers registers on the wire: the drive's numbering for the command's
+/// space wins over the protocol file's.
+fn address_map(command: &CommandModel, reference: &ProtocolRef, space: Space) -> AddressMap {
+    reference
+        .address_maps
+        .get(space.as_str())
+        .or(command.address_map.as_ref())
+        .map(|map| AddressMap {
+            multiply: map.multiply.max(1),
+            offset: map.offset,
+        })
+        .unwrap_or(AddressMap::IDENTITY)
+}
+
+/// The drive's `address_maps` name known spaces and multiply by at least 1.
+pub(super) fn check_address_maps(input: &Input<'_>, out: &mut Diagnostics) {
+    let path = format!("{}.address_maps", input.reference_path);
+    for (key, map) in &input.reference.address_maps {
+        if map.multiply == 0 {
+            out.push(
+                input
+                    .drive_source
+                    .error(
+                        &format!("{path}.{key}.multiply"),
+                        "`multiply: 0` maps every register to the same wire address",
+                    )
+                    .hint("use 1 for numbers that go on the wire as they are"),
+            );
+        }
+        if space_from_name(key).is_none() {
+            out.push(
+                input
+                    .drive_source
+                    .error(
+                        &format!("{path}.{key}"),
+                        format!("unknown address space `{key}`"),
+                    )
+                    .hint("use parameter or coil"),
+            );
+        }
+    }
+}
+
+/// Commands that cannot work as written: a code the layout refuses, a read or write with
+/// nowhere to put the register, the same command twice.
+pub(super) fn check_commands(
+    commands: &[LoweredCommand],
+    source: &SourceFile,
+    out: &mut Diagnostics,
+) {
+    for (position, command) in commands.iter().enumerate() {
+        check_code_is_allowed(command, source, out);
+        check_register_field(command, source, out);
+        check_not_repeated(command, &commands[..position], source, out);
+    }
+}
+
+/// The request layout's command field accepts the command's code.
+fn check_code_is_allowed(command: &LoweredCommand, source: &SourceFile, out: &mut Diagnostics) {
+    let spec = &command.spec;
+    if !spec.request.has(Role::Command) {
+        return;
+    }
+    let allowed: Vec<u32> = spec
+        .request
+        .parts
+        .iter()
+        .flat_map(|part| match part {
+            Part::Field(field) if field.role == Role::Command => field.allowed.to_vec(),
+            Part::Word(word) => word
+                .fields
+                .iter()
+                .filter(|bits| bits.role == Role::Command)
+                .flat_map(|bits| bits.allowed.to_vec())
+                .collect(),
+            _ => Vec::new(),
+        })
+        .collect();
+    if !allowed.is_empty() && !allowed.contains(&spec.code) {
+        out.push(
+            source
+                .error(
+                    &format!("{}.code", command.path()),
+                    format!(
+                        "code {} is not among the codes layout `{}` allows",
+                        spec.code_label(),
+                        spec.request.name
+                    ),
+                )
+                .hint("add it to the layout's `allowed` list, or use another layout"),
+        );
+    }
+}
+
+/// Reads and writes name a register, so their request needs a register field.
+fn check_register_field(command: &LoweredCommand, source: &SourceFile, out: &mut Diagnostics) {
+    let spec = &command.spec;
+    let needs_register = matches!(
+        spec.kind,
+        CommandKind::Read
+            | CommandKind::ReadText
+            | CommandKind::WriteRam
+            | CommandKind::WritePersistent
+    );
+    if needs_register && !spec.request.has(Role::Register) {
+        out.push(
+            source
+                .error(
+                    &format!("{}.request", command.path()),
+                    format!(
+                        "a {} command needs a register field, and layout `{}` has none",
+                        spec.kind.as_str(),
+                        spec.request.name
+                    ),
+                )
+                .hint("add a `field: register` part to the request layout"),
+        );
+    }
+}
+
+/// No earlier command has the same code, kind, space and data types.
+fn check_not_repeated(
+    command: &LoweredCommand,
+    earlier: &[LoweredCommand],
+    source: &SourceFile,
+    out: &mut Diagnostics,
+) {
+    let spec = &command.spec;
+    let first = earlier.iter().find(|other| {
+        let other = &other.spec;
+        other.code == spec.code
+            && other.kind == spec.kind
+            && other.space == spec.space
+            && other.data_types == spec.data_types
+    });
+    if let Some(first) = first {
+        out.push(
+            source
+                .error(
+                    &command.path(),
+                    format!(
+                        "the same command as {} (code {}, {})",
+                        first.path(),
+                        spec.code_label(),
+                        spec.kind.as_str()
+                    ),
+                )
+                .hint("remove one of them"),
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_support::{
+        at, drive_with, lower_both, lowered, problems, problems_of, protocol_with, PROTOCOL,
+    };
+    use super::*;
+    use vfd_runtime::DataType;
+
+    #[test]
+    fn a_command_lowers_with_its_code_kind_space_and_layouts() {
+        let yaml = protocol_with(&[(
+            "{ code: W, kind: write_persistent,",
+            "{ code: W, kind: write_persistent, data_types: [word, double_word], space: coil, address_map: { multiply: 2, offset: -1 }, reply_codes: [W, 0x77],",
+        )]);
+        let protocol = lowered(&yaml);
+        let [read, write] = &protocol.commands[..] else {
+            panic!("two commands expected: {:?}", protocol.commands);
+        };
+        assert_eq!(
+            (read.code, read.kind, read.space, read.address_map),
+            (
+                0x52,
+                CommandKind::Read,
+                Space::Parameter,
+                AddressMap::IDENTITY
+            )
+        );
+        assert!(read.data_types.is_empty() && read.reply_codes.is_empty());
+        assert_eq!(
+            (read.request.name.as_ref(), read.reply.name.as_ref()),
+            ("read_request", "reply")
+        );
+        assert_eq!(
+            (write.kind, write.space),
+            (CommandKind::WritePersistent, Space::Coil)
+        );
+        assert_eq!(
+            write.data_types.as_ref(),
+            [DataType::Word, DataType::DoubleWord]
+        );
+        assert_eq!(
+            write.address_map,
+            AddressMap {
+                multiply: 2,
+                offset: -1
+            }
+        );
+        assert_eq!(write.reply_codes.as_ref(), [0x57, 0x77]);
+    }
+
+    #[test]
+    fn the_drive_numbering_of_a_space_wins_over_the_protocol_file() {
+        let yaml = protocol_with(&[(
+            "{ code: W, kind: write_persistent,",
+            "{ code: W, kind: write_persistent, address_map: { multiply: 2, offset: 0 },",
+        )]);
+        let drive = drive_with("    address_maps:\n      parameter: { multiply: 10, offset: -1 }");
+        let protocol = lower_both(&drive, &yaml).unwrap();
+        for command in protocol.commands.iter() {
+            assert_eq!(
+                command.address_map,
+                AddressMap {
+                    multiply: 10,
+                    offset: -1
+                }
+            );
+        }
+    }
+
+    #[test]
+    fn every_problem_of_a_command_is_reported() {
+        let yaml = protocol_with(&[(
+            "{ code: W, kind: write_persistent, request: write_request, reply: reply }",
+            "{ code: WW, kind: write_persistent, request: write_request, reply: replie, reply_codes: [WW] }",
+        )]);
+        assert_eq!(
+            problems(&yaml),
+            [
+                format!(
+                    "{} commands[1].code: command code `WW` is not one character or a number",
+                    at(&yaml, "WW, kind")
+                ),
+                format!(
+                    "{} commands[1].reply: layout `replie` is not defined",
+                    at(&yaml, "replie")
+                ),
+                format!(
+                    "{} commands[1].reply_codes: reply codes are numbers or single characters",
+                    at(&yaml, "reply_codes")
+                ),
+            ]
+        );
+    }
+
+    #[test]
+    fn commands_that_cannot_work_are_reported() {
+        let yaml = protocol_with(&[(
+            "  - { code: W, kind: write_persistent, request: write_request, reply: reply }\n",
+            "  - { code: P, kind: write_persistent, request: write_request, reply: reply }\n  - { code: R, kind: read_text, request: error_reply, reply: reply }\n  - { code: R, kind: read, request: read_request, reply: reply }\n  - { code: 1, kind: process, request: fixed, reply: fixed }\n",
+        ), ("  reply:", "  fixed: [start, register, cr]\n  reply:")]);
+        let repeated = yaml
+            .lines()
+            .enumerate()
+            .filter(|(_, line)| {
+                *line == "  - { code: R, kind: read, request: read_request, reply: reply }"
+            })
+            .map(|(index, _)| index + 1)
+            .nth(1)
+            .unwrap();
+        assert_eq!(
+            problems(&yaml),
+            [
+                format!("{} commands[1].code: code P is not among the codes layout `write_request` allows", at(&yaml, "P, kind")),
+                format!("{} commands[2].code: code R is not among the codes layout `error_reply` allows", at(&yaml, "R, kind: read_text")),
+                format!("{} commands[2].request: a read_text command needs a register field, and layout `error_reply` has none", at(&yaml, "error_reply, reply")),
+                format!("{repeated}:7 commands[3]: the same command as commands[0] (code R, read)"),
+                format!("{} commands[4].code: layout `fixed` has no command field to carry the code", at(&yaml, "1, kind")),
+            ]
+        );
+    }
+
+    #[test]
+    fn the_drive_address_maps_are_checked_in_the_drive_file() {
+        let drive = drive_with("    address_maps:\n      parameter: { multiply: 0, offset: 0 }\n      holding: { multiply: 1, offset: 0 }");
+        assert_eq!(
+            problems_of(lower_both(&drive, PROTOCOL)),
+            [
+                format!("{} protocols[0].address_maps.parameter.multiply: `multiply: 0` maps every register to the same wire address", at(&drive, "0, offset")),
+                format!("{} protocols[0].address_maps.holding: unknown address space `holding`", at(&drive, "holding")),
+            ]
+        );
+    }
+}
