@@ -1,6 +1,8 @@
 //! Shared pieces of the benchmarks: synthetic drive descriptions of any size, generated
 //! on the fly (never committed), and small statistics helpers.
 
+#![warn(missing_docs)]
+
 use std::fmt::Write as _;
 use std::time::Duration;
 

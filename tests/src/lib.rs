@@ -3,6 +3,8 @@
 //! import circles. The generated golden-frame tests call `vfd_runtime::testing` (the
 //! runtime's `testing` feature).
 
+#![warn(missing_docs)]
+
 pub mod expectations;
 pub mod module_graph;
 pub mod scripted_peer;
