@@ -46,7 +46,7 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
         }
     }
     for (index, example) in drive.value_examples.iter().enumerate() {
-        let Some(register) = drive.registers.iter().find(|r| r.id == example.register) else {
+        let Some(register) = drive.register(&example.register) else {
             continue;
         };
         let name = format_ident!(
@@ -167,10 +167,7 @@ fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> Token
     if let Some(frame) = &example.reply {
         body.push(frame_checks(&protocol, frame, Direction::Reply));
     }
-    let register: Option<&RegisterIr> = example
-        .register
-        .as_ref()
-        .and_then(|id| drive.registers.iter().find(|r| &r.id == id));
+    let register: Option<&RegisterIr> = example.register.as_ref().and_then(|id| drive.register(id));
     if let (Some(value), Some(described)) = (example.value, register) {
         let kind = &described.value;
         let register = Ident::new(&described.type_name, Span::call_site());

@@ -110,17 +110,6 @@ pub fn shown_bytes(bytes: &[u8]) -> String {
     }
 }
 
-/// The register a frame names, found in the drive.
-fn register_named<'d>(drive: &'d DriveIr, frame: &FrameIr) -> Option<&'d RegisterIr> {
-    let meaning = &frame.meaning;
-    let address = meaning.register?;
-    let space = meaning.space.unwrap_or(Space::Parameter);
-    drive
-        .registers
-        .iter()
-        .find(|r| r.address == address && r.space == space)
-}
-
 /// What a frame means, in one line (`` `R` (read), station 1, register FA01, data 1770h ``).
 pub fn meaning_text(drive: &DriveIr, frame: &FrameIr) -> String {
     let meaning = &frame.meaning;
@@ -147,11 +136,10 @@ pub fn meaning_text(drive: &DriveIr, frame: &FrameIr) -> String {
     if let Some(address) = meaning.address {
         parts.push(format!("station {address}"));
     }
-    match (
-        register_named(drive, frame),
-        meaning.register,
-        meaning.wire_register,
-    ) {
+    let named = meaning
+        .register
+        .and_then(|address| drive.register_at(meaning.space.unwrap_or(Space::Parameter), address));
+    match (named, meaning.register, meaning.wire_register) {
         (Some(register), _, Some(wire)) if address_label(register) != format!("{wire:04X}") => {
             let prefix = if register.space == Space::Coil {
                 ""

@@ -11,6 +11,18 @@ pub(crate) use lower::lower;
 pub use types::*;
 
 impl DriveIr {
+    /// The register with this id.
+    pub fn register(&self, id: &str) -> Option<&RegisterIr> {
+        self.registers.iter().find(|r| r.id == id)
+    }
+
+    /// The register at `address` (before any protocol's address map) in `space`.
+    pub fn register_at(&self, space: vfd_runtime::Space, address: u16) -> Option<&RegisterIr> {
+        self.registers
+            .iter()
+            .find(|r| r.space == space && r.address == address)
+    }
+
     /// The IR as YAML, for people and snapshot tests.
     pub fn to_yaml(&self) -> String {
         serde_yaml::to_string(self).unwrap_or_else(|error| format!("# cannot serialise: {error}"))

@@ -181,7 +181,7 @@ fn shown(bytes: &[u8]) -> String {
 
 impl<'a> DriveView<'a> {
     pub(super) fn new(drive: &'a DriveIr) -> Self {
-        let register = |id: &str| drive.registers.iter().find(|r| r.id == id);
+        let register = |id: &str| drive.register(id);
         DriveView {
             drive,
             serial: SerialView {
