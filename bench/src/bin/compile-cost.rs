@@ -52,8 +52,8 @@ fn main() {
     }
     let scratch = root.join("target/compile-cost");
     let target = scratch.join("target");
-    println!("| crate | registers | generated Rust lines | clean build | no-op build | rebuild after editing one YAML | rebuilt after the edit |");
-    println!("|---|---|---|---|---|---|---|");
+    println!("| crate | registers | generated Rust lines | lines per register (all / `registers` module) | clean build | no-op build | rebuild after editing one YAML | rebuilt after the edit |");
+    println!("|---|---|---|---|---|---|---|---|");
     for case in cases {
         match measure(&root, &scratch, &target, &case) {
             Ok(row) => println!("{row}"),
@@ -131,10 +131,13 @@ fn measure(root: &Path, scratch: &Path, target: &Path, case: &Case) -> Result<St
         .filter_map(|line| line.trim().strip_prefix("Compiling "))
         .map(|rest| rest.split_whitespace().next().unwrap_or(""))
         .collect();
-    let lines = sum_lines(target, &crate_name);
+    let (lines, register_lines) = sum_lines(target, &crate_name);
+    let per_register = |lines: usize| lines as f64 / registers.max(1) as f64;
     Ok(format!(
-        "| {} | {registers} | {lines} | {:.1} s | {:.2} s{} | {:.1} s (edited `{first_id}.yaml`) | {} |",
+        "| {} | {registers} | {lines} | {:.1} / {:.1} | {:.1} s | {:.2} s{} | {:.1} s (edited `{first_id}.yaml`) | {} |",
         case.name,
+        per_register(lines),
+        per_register(register_lines),
         clean.as_secs_f64(),
         noop.as_secs_f64(),
         if noop_rebuilt { " (rebuilt!)" } else { ", nothing rebuilt" },
@@ -143,8 +146,9 @@ fn measure(root: &Path, scratch: &Path, target: &Path, case: &Case) -> Result<St
     ))
 }
 
-/// Lines of Rust the build script generated for `crate_name` (its newest build output).
-fn sum_lines(target: &Path, crate_name: &str) -> usize {
+/// Lines of Rust the build script generated for `crate_name` (its newest build output):
+/// in all, and in the drives' `registers` modules alone.
+fn sum_lines(target: &Path, crate_name: &str) -> (usize, usize) {
     let build = target.join("debug/build");
     let prefix = format!("{crate_name}-");
     let mut newest: Option<(std::time::SystemTime, PathBuf)> = None;
@@ -167,17 +171,44 @@ fn sum_lines(target: &Path, crate_name: &str) -> usize {
             }
         }
     }
-    let Some((_, out)) = newest else { return 0 };
-    std::fs::read_dir(out)
+    let Some((_, out)) = newest else {
+        return (0, 0);
+    };
+    let texts: Vec<String> = std::fs::read_dir(out)
         .into_iter()
         .flatten()
         .flatten()
         .map(|e| e.path())
         .filter(|p| p.extension().is_some_and(|ext| ext == "rs"))
-        .map(|p| {
-            std::fs::read_to_string(p)
-                .map(|t| t.lines().count())
-                .unwrap_or(0)
-        })
-        .sum()
+        .filter_map(|p| std::fs::read_to_string(p).ok())
+        .collect();
+    let all = texts.iter().map(|t| t.lines().count()).sum();
+    let registers = texts.iter().map(|t| registers_module_lines(t)).sum();
+    (all, registers)
+}
+
+/// Lines of each `pub mod registers { .. }` in a formatted file, from its opening line to
+/// the closing brace at the same indentation, both included.
+fn registers_module_lines(text: &str) -> usize {
+    let mut count = 0;
+    let mut closing: Option<String> = None;
+    for line in text.lines() {
+        match &closing {
+            Some(end) => {
+                count += 1;
+                if line == end {
+                    closing = None;
+                }
+            }
+            None => {
+                let trimmed = line.trim_start();
+                if trimmed == "pub mod registers {" {
+                    count += 1;
+                    let indent = &line[..line.len() - trimmed.len()];
+                    closing = Some(format!("{indent}}}"));
+                }
+            }
+        }
+    }
+    count
 }

@@ -16,10 +16,11 @@ use vfd_runtime::{Access, DataType, FrameLayout, Space, TakesEffect};
 pub(crate) fn lower(drive: &Context) -> DriveIr {
     let model = &drive.model;
     let serial = &model.serial;
+    let index = ranges::RegisterIndex::new(model);
     let registers: Vec<RegisterIr> = model
         .registers
         .iter()
-        .map(|r| lower_register(drive, r))
+        .map(|r| lower_register(drive, &index, r))
         .collect();
     DriveIr {
         id: model.drive.id.clone(),
@@ -155,7 +156,7 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             .value_examples
             .iter()
             .filter_map(|example| {
-                let register = ranges::find_register(model, &example.register)?;
+                let register = index.find(&example.register)?;
                 Some(ValueExampleIr {
                     register: register.id.clone(),
                     value: example.value,
@@ -167,7 +168,9 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             .collect(),
         reference_scaling: model.reference_scaling.as_ref().map(|scaling| {
             let id_of = |name: &str| {
-                ranges::find_register(model, name).map_or_else(|| name.to_owned(), |r| r.id.clone())
+                index
+                    .find(name)
+                    .map_or_else(|| name.to_owned(), |r| r.id.clone())
             };
             let end = |end: &BoundModel| match end {
                 BoundModel::Number(value) => SpanEndIr::Number(*value),
@@ -206,7 +209,11 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
     }
 }
 
-fn lower_register(drive: &Context, register: &RegisterModel) -> RegisterIr {
+fn lower_register(
+    drive: &Context,
+    index: &ranges::RegisterIndex<'_>,
+    register: &RegisterModel,
+) -> RegisterIr {
     let model = &drive.model;
     let unit = register
         .unit
@@ -236,7 +243,7 @@ fn lower_register(drive: &Context, register: &RegisterModel) -> RegisterIr {
             (false, false) => ValueKind::Raw,
         }
     };
-    let (raw_min, raw_max) = ranges::raw_range(model, register);
+    let (raw_min, raw_max) = index.raw_range(register);
     let bound = |bound: &BoundModel, raw: i64| BoundIr {
         raw,
         register: match bound {

@@ -2,40 +2,54 @@
 //! after deserialisation can still point at the right place in the file.
 
 use std::collections::HashMap;
+use std::sync::OnceLock;
 use yaml_rust2::parser::{Event, MarkedEventReceiver, Parser};
 use yaml_rust2::scanner::Marker;
 
 pub use crate::diagnostics::Position;
 
 /// Positions of every node of one YAML document, by path.
+///
+/// The index is built on the first [`PositionIndex::find`]: only a description with a
+/// problem needs positions, and for a valid one indexing would cost as much as reading
+/// the YAML again.
 #[derive(Debug, Clone, Default)]
 pub struct PositionIndex {
-    values: HashMap<String, Position>,
+    text: String,
+    values: OnceLock<HashMap<String, Position>>,
 }
 
 impl PositionIndex {
-    /// Indexes `text`. Syntax errors leave the index partial; serde reports them.
+    /// An index of `text`, built when first used. Syntax errors leave the index partial;
+    /// serde reports them.
     pub fn build(text: &str) -> PositionIndex {
-        let mut builder = IndexBuilder::default();
-        let mut parser = Parser::new_from_str(text);
-        let _ = parser.load(&mut builder, false);
         PositionIndex {
-            values: builder.values,
+            text: text.to_owned(),
+            values: OnceLock::new(),
         }
+    }
+
+    fn values(&self) -> &HashMap<String, Position> {
+        self.values.get_or_init(|| {
+            let mut builder = IndexBuilder::default();
+            let mut parser = Parser::new_from_str(&self.text);
+            let _ = parser.load(&mut builder, false);
+            builder.values
+        })
     }
 
     /// The position of the node at `path`, or of its nearest indexed ancestor.
     pub fn find(&self, path: &str) -> Position {
+        let values = self.values();
         let mut path = path.to_owned();
         loop {
-            if let Some(position) = self.values.get(&path) {
+            if let Some(position) = values.get(&path) {
                 return *position;
             }
             match path.rfind(['.', '[']) {
                 Some(cut) => path.truncate(cut),
                 None => {
-                    return self
-                        .values
+                    return values
                         .get("")
                         .copied()
                         .unwrap_or(Position { line: 1, column: 1 })

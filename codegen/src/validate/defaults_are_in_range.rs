@@ -7,11 +7,12 @@ use crate::validate::{show_raw, with_unit};
 
 /// Defaults lie within their (static) range.
 pub fn defaults_are_in_range(drive: &Context, out: &mut Diagnostics) {
+    let registers = ranges::RegisterIndex::new(&drive.model);
     for (index, register) in drive.model.registers.iter().enumerate() {
         let Some(default) = register.default else {
             continue;
         };
-        let (raw_min, raw_max) = ranges::raw_range(&drive.model, register);
+        let (raw_min, raw_max) = registers.raw_range(register);
         let scale = ranges::scale_of(register);
         let path = format!("registers[{index}].default");
         match ranges::to_raw(register, default) {

@@ -2,6 +2,7 @@
 //! ("0.5~FH"), turned into static raw bounds the generated code checks before sending.
 
 use crate::parse::model::{BoundModel, DriveFile, RegisterModel};
+use std::collections::HashMap;
 
 /// Which end of a range.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,45 +24,111 @@ pub enum BoundProblem {
     Cycle(String),
 }
 
-/// Finds a register by code (`FH`) or id (`maximum_frequency`).
+/// Finds a register by code (`FH`) or id (`maximum_frequency`): a one-off look-up, as
+/// the tests make. A pass over every register builds one [`RegisterIndex`] instead.
+#[cfg(test)]
 pub fn find_register<'a>(drive: &'a DriveFile, name: &str) -> Option<&'a RegisterModel> {
-    drive
-        .registers
-        .iter()
-        .find(|r| r.code == name)
-        .or_else(|| drive.registers.iter().find(|r| r.id == name))
+    RegisterIndex::new(drive).find(name)
 }
 
-/// The static value of a bound, in engineering units: a named register contributes its own
-/// static bound at the same end (the widest value it can take).
+/// [`RegisterIndex::resolve_bound`] as a one-off.
+#[cfg(test)]
 pub fn resolve_bound(drive: &DriveFile, bound: &BoundModel, end: End) -> Result<f64, BoundProblem> {
-    resolve_at_depth(drive, bound, end, 0)
+    RegisterIndex::new(drive).resolve_bound(bound, end)
 }
 
-fn resolve_at_depth(
-    drive: &DriveFile,
-    bound: &BoundModel,
-    end: End,
-    depth: usize,
-) -> Result<f64, BoundProblem> {
-    match bound {
-        BoundModel::Number(value) => Ok(*value),
-        BoundModel::Register(name) => {
-            if depth > 8 {
-                return Err(BoundProblem::Cycle(name.clone()));
-            }
-            let register =
-                find_register(drive, name).ok_or_else(|| BoundProblem::Unknown(name.clone()))?;
-            let range = register
-                .range
-                .as_ref()
-                .ok_or_else(|| BoundProblem::Unbounded(name.clone()))?;
-            let next = match end {
-                End::Min => &range.min,
-                End::Max => &range.max,
-            };
-            resolve_at_depth(drive, next, end, depth + 1)
+/// [`RegisterIndex::raw_range`] as a one-off.
+#[cfg(test)]
+pub fn raw_range(drive: &DriveFile, register: &RegisterModel) -> (i64, i64) {
+    RegisterIndex::new(drive).raw_range(register)
+}
+
+/// Registers by code (`FH`) and by id (`maximum_frequency`), built once so that a pass over
+/// every register looks names up in constant time.
+pub struct RegisterIndex<'a> {
+    registers: &'a [RegisterModel],
+    by_code: HashMap<&'a str, usize>,
+    by_id: HashMap<&'a str, usize>,
+}
+
+impl<'a> RegisterIndex<'a> {
+    /// Indexes the drive's registers.
+    pub fn new(drive: &'a DriveFile) -> RegisterIndex<'a> {
+        let registers = drive.registers.as_slice();
+        let mut by_code = HashMap::with_capacity(registers.len());
+        let mut by_id = HashMap::with_capacity(registers.len());
+        for (index, register) in registers.iter().enumerate() {
+            by_code.entry(register.code.as_str()).or_insert(index);
+            by_id.entry(register.id.as_str()).or_insert(index);
         }
+        RegisterIndex {
+            registers,
+            by_code,
+            by_id,
+        }
+    }
+
+    /// The first register with this code, else the first with this id.
+    pub fn find(&self, name: &str) -> Option<&'a RegisterModel> {
+        self.by_code
+            .get(name)
+            .or_else(|| self.by_id.get(name))
+            .map(|&index| &self.registers[index])
+    }
+
+    /// The static value of a bound, in engineering units: a named register contributes its
+    /// own static bound at the same end (the widest value it can take).
+    pub fn resolve_bound(&self, bound: &BoundModel, end: End) -> Result<f64, BoundProblem> {
+        self.resolve_at_depth(bound, end, 0)
+    }
+
+    fn resolve_at_depth(
+        &self,
+        bound: &BoundModel,
+        end: End,
+        depth: usize,
+    ) -> Result<f64, BoundProblem> {
+        match bound {
+            BoundModel::Number(value) => Ok(*value),
+            BoundModel::Register(name) => {
+                if depth > 8 {
+                    return Err(BoundProblem::Cycle(name.clone()));
+                }
+                let register = self
+                    .find(name)
+                    .ok_or_else(|| BoundProblem::Unknown(name.clone()))?;
+                let range = register
+                    .range
+                    .as_ref()
+                    .ok_or_else(|| BoundProblem::Unbounded(name.clone()))?;
+                let next = match end {
+                    End::Min => &range.min,
+                    End::Max => &range.max,
+                };
+                self.resolve_at_depth(next, end, depth + 1)
+            }
+        }
+    }
+
+    /// Static raw bounds, falling back to the whole word.
+    pub fn raw_range(&self, register: &RegisterModel) -> (i64, i64) {
+        let (word_min, word_max) = word_limits(register);
+        let Some(range) = &register.range else {
+            return (word_min, word_max);
+        };
+        let min = self
+            .resolve_bound(&range.min, End::Min)
+            .ok()
+            .and_then(|v| to_raw(register, v))
+            .unwrap_or(word_min)
+            .max(word_min);
+        let max = self
+            .resolve_bound(&range.max, End::Max)
+            .ok()
+            .and_then(|v| to_raw(register, v))
+            .unwrap_or(word_max)
+            .min(word_max);
+        (min, max)
     }
 }
 
@@ -86,25 +153,6 @@ pub fn word_limits(register: &RegisterModel) -> (i64, i64) {
         (true, false) => (i64::from(i16::MIN), i64::from(i16::MAX)),
         (false, false) => (0, i64::from(u16::MAX)),
     }
-}
-
-/// Static raw bounds, falling back to the whole word.
-pub fn raw_range(drive: &DriveFile, register: &RegisterModel) -> (i64, i64) {
-    let (word_min, word_max) = word_limits(register);
-    let Some(range) = &register.range else {
-        return (word_min, word_max);
-    };
-    let min = resolve_bound(drive, &range.min, End::Min)
-        .ok()
-        .and_then(|v| to_raw(register, v))
-        .unwrap_or(word_min)
-        .max(word_min);
-    let max = resolve_bound(drive, &range.max, End::Max)
-        .ok()
-        .and_then(|v| to_raw(register, v))
-        .unwrap_or(word_max)
-        .min(word_max);
-    (min, max)
 }
 
 #[cfg(test)]

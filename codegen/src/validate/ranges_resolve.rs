@@ -8,6 +8,7 @@ use crate::validate::Context;
 
 /// Range bounds name known registers, are whole steps, fit the word and are in order.
 pub fn ranges_resolve(drive: &Context, out: &mut Diagnostics) {
+    let registers = ranges::RegisterIndex::new(&drive.model);
     for (index, register) in drive.model.registers.iter().enumerate() {
         let Some(range) = &register.range else {
             continue;
@@ -19,7 +20,7 @@ pub fn ranges_resolve(drive: &Context, out: &mut Diagnostics) {
                 .enumerate()
         {
             let path = format!("registers[{index}].range.{key}");
-            match ranges::resolve_bound(&drive.model, bound, end) {
+            match registers.resolve_bound(bound, end) {
                 Ok(value) => {
                     let (word_min, word_max) = ranges::word_limits(register);
                     let word = if register.data_type == Some(vfd_runtime::DataType::DoubleWord) {

@@ -65,8 +65,9 @@ pub fn references_resolve(drive: &Context, out: &mut Diagnostics) {
             }
         }
     }
+    let registers = ranges::RegisterIndex::new(model);
     for (index, example) in model.value_examples.iter().enumerate() {
-        if ranges::find_register(model, &example.register).is_none() {
+        if registers.find(&example.register).is_none() {
             out.push(
                 drive
                     .source

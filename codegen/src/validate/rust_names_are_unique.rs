@@ -8,7 +8,7 @@
 use crate::diagnostics::Diagnostics;
 use crate::naming::{const_name, method_name, type_name};
 use crate::validate::Context;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 /// One Rust scope of the generated module and the names declared in it.
 struct Scope<'m> {
@@ -212,7 +212,7 @@ fn scopes(drive: &Context) -> Vec<Scope<'_>> {
 /// Reports each identifier whose Rust name is taken in its scope, once.
 fn report(drive: &Context, scope: &Scope<'_>, out: &mut Diagnostics) {
     let mut taken: HashMap<&str, &Item<'_>> = HashMap::new();
-    let mut reported: Vec<&str> = Vec::new();
+    let mut reported: HashSet<&str> = HashSet::new();
     for item in &scope.items {
         let rust = format!("{}::{}", scope.rust_path, item.rust);
         let problem = if let Some((_, what)) = scope.fixed.iter().find(|(n, _)| *n == item.rust) {
@@ -241,8 +241,7 @@ fn report(drive: &Context, scope: &Scope<'_>, out: &mut Diagnostics) {
             }
         };
         if let Some((message, hint)) = problem {
-            if !reported.contains(&item.path.as_str()) {
-                reported.push(&item.path);
+            if reported.insert(&item.path) {
                 out.push(drive.source.error(&item.path, message).hint(hint));
             }
         }

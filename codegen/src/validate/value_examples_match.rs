@@ -7,8 +7,9 @@ use crate::validate::Context;
 
 /// Value examples (`80 Hz = 1F40h`) agree with the register's scale.
 pub fn value_examples_match(drive: &Context, out: &mut Diagnostics) {
+    let registers = ranges::RegisterIndex::new(&drive.model);
     for (index, example) in drive.model.value_examples.iter().enumerate() {
-        let Some(register) = ranges::find_register(&drive.model, &example.register) else {
+        let Some(register) = registers.find(&example.register) else {
             continue;
         };
         // The runtime rounds to the nearest step, so the example must round to its raw value.

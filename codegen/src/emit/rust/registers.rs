@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::emit::words::{address_label, default_text, range_text};
+use proc_macro2::{Delimiter, Group};
 use vfd_runtime::{Access, DataType, Space, TakesEffect};
 
 fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
@@ -60,10 +61,10 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
 fn info_chain(register: &RegisterIr) -> TokenStream {
     let address = hex_u16(register.address);
     let (code, id, name, name_zh) = (
-        &register.code,
-        &register.id,
-        &register.name,
-        &register.name_zh,
+        str_literal(&register.code),
+        str_literal(&register.id),
+        str_literal(&register.name),
+        str_literal(&register.name_zh),
     );
     let mut chain = quote!(RegisterInfo::new(#address, #code, #id).with_names(#name, #name_zh));
     if register.unit != vfd_runtime::units::Unit::None || register.scale != 1.0 {
@@ -84,9 +85,11 @@ fn info_chain(register: &RegisterIr) -> TokenStream {
         chain.extend(quote!(.with_raw_range(#raw_min, #raw_max)));
     }
     if let Some(code) = register.min.as_ref().and_then(|b| b.register.as_ref()) {
+        let code = str_literal(code);
         chain.extend(quote!(.with_min_bound(#code)));
     }
     if let Some(code) = register.max.as_ref().and_then(|b| b.register.as_ref()) {
+        let code = str_literal(code);
         chain.extend(quote!(.with_max_bound(#code)));
     }
     if register.access != Access::ReadWrite {
@@ -118,11 +121,21 @@ fn info_chain(register: &RegisterIr) -> TokenStream {
 }
 
 pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
-    let mut items = Vec::new();
+    let imports = registers_imports(drive);
+    // The module's items are appended to one stream as they are made: interpolating a
+    // stream with `#` copies it, which a 10,000-register drive would do 10,000 times.
+    let mut body = quote! {
+        #imports
+        /// Register metadata as [`Register::INFO`] holds it.
+        type Info = &'static RegisterInfo;
+    };
     let mut all = Vec::new();
     for register in &drive.registers {
         let name = ident(&register.type_name);
-        let docs = doc_texts(&register_doc(drive, register));
+        let docs: Vec<Literal> = register_doc(drive, register)
+            .iter()
+            .map(|line| str_literal(&doc_text(line)))
+            .collect();
         let value = value_type(&register.value);
         let info = info_chain(register);
         let mut markers = Vec::new();
@@ -132,7 +145,7 @@ pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
         if register.persistable() {
             markers.push(quote!(impl Persistable for #name {}));
         }
-        items.push(quote! {
+        body.extend(quote! {
             #(#[doc = #docs])*
             #[derive(Debug, Clone, Copy)]
             pub struct #name;
@@ -145,21 +158,17 @@ pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
         all.push(quote!(#name::INFO));
     }
     let count = int_literal(all.len());
-    let imports = registers_imports(drive);
+    body.extend(quote! {
+        /// Every register, in the manual's order.
+        pub static ALL: [&RegisterInfo; #count] = [#(#all),*];
+    });
+    let body = Group::new(Delimiter::Brace, body);
     quote! {
         /// One type per register. Each implements [`vfd_runtime::Register`], and
         /// [`vfd_runtime::Writable`] or [`vfd_runtime::Persistable`] when the manual allows
         /// it: read with `R::read()`, write with `R::write_ram(value)` (the traits come into
         /// scope with `use vfd_runtime::prelude::*`).
-        pub mod registers {
-            #imports
-            /// Register metadata as [`Register::INFO`] holds it.
-            type Info = &'static RegisterInfo;
-            #(#items)*
-
-            /// Every register, in the manual's order.
-            pub static ALL: [&RegisterInfo; #count] = [#(#all),*];
-        }
+        pub mod registers #body
     }
 }
 
