@@ -18,6 +18,12 @@
 
 include!(concat!(env!("OUT_DIR"), "/drives.rs"));
 
+#[doc = include_str!("guide.md")]
+#[doc = "```"]
+#[doc = include_str!("../examples/fake_drive.rs")]
+#[doc = "```"]
+pub mod guide {}
+
 /// The described drive with this id.
 pub fn drive(id: &str) -> Option<&'static vfd_runtime::DriveInfo> {
     ALL_DRIVES.iter().copied().find(|drive| drive.id == id)
