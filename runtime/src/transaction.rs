@@ -5,6 +5,7 @@
 use crate::error::{hex, DecodeError, DecodeErrorKind, EncodeError, ValueError};
 use crate::info::ErrorCodeInfo;
 use crate::kinds::{CommandKind, DataType, Space};
+use crate::layout::Role;
 use crate::protocol::{Found, PreStep, Protocol, Reply};
 use crate::register::{Persistable, Register, RegisterValue, Request, Writable};
 use crate::serial::{DriveTiming, SerialSettings};
@@ -18,8 +19,9 @@ pub const MAX_FRAME: usize = 256;
 /// What a successful exchange returned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Answer {
-    /// Data read, or actually written (0 when the reply carries none).
-    pub data: u32,
+    /// Data read, or the value the drive reports written; `None` when the reply carries no
+    /// data (the protocol echoes nothing).
+    pub data: Option<u32>,
     /// The drive said it is tripped (lower-case command letter in the reply).
     pub tripped: bool,
     /// Process words the reply carried (status word, output value).
@@ -95,14 +97,34 @@ impl<T: Transport> Master<T> {
 
     /// Reads register `R` and converts the value to its typed form.
     pub fn read<R: Register>(&mut self) -> Result<R::Value, TransactionError> {
-        let answer = self.transact(&Request::read::<R>())?;
-        Ok(R::Value::from_raw(answer.data, R::INFO)?)
+        let request = Request::read::<R>();
+        let answer = self.transact(&request)?;
+        Self::value_read::<R>(&request, answer)
     }
 
     /// Reads element `index` of the array register `R`. Refuses indexes beyond the array.
     pub fn read_at<R: Register>(&mut self, index: u16) -> Result<R::Value, TransactionError> {
-        let answer = self.transact(&Request::read::<R>().at_index(index)?)?;
-        Ok(R::Value::from_raw(answer.data, R::INFO)?)
+        let request = Request::read::<R>().at_index(index)?;
+        let answer = self.transact(&request)?;
+        Self::value_read::<R>(&request, answer)
+    }
+
+    /// The typed value a read reply carries; a reply without data does not answer a read.
+    fn value_read<R: Register>(
+        request: &Request,
+        answer: Answer,
+    ) -> Result<R::Value, TransactionError> {
+        let data = answer.data.ok_or_else(|| {
+            TransactionError::new(
+                Some(request),
+                TransactionErrorKind::Mismatch {
+                    field: ReplyField::Data,
+                    expected: 1,
+                    found: 0,
+                },
+            )
+        })?;
+        Ok(R::Value::from_raw(data, R::INFO)?)
     }
 
     /// Reads the text register `R` (text parameters such as an ordering number).
@@ -112,48 +134,55 @@ impl<T: Transport> Master<T> {
         Ok(String::from_utf8_lossy(&self.reply[start..start + len]).into_owned())
     }
 
-    /// Writes `value` to register `R` in RAM only; returns the value the drive reports written.
+    /// Writes `value` to register `R` in RAM only. Returns the value the drive reports
+    /// written (its echo), or `None` when the protocol's reply carries no data.
     pub fn write_ram<R: Writable>(
         &mut self,
         value: R::Value,
-    ) -> Result<R::Value, TransactionError> {
+    ) -> Result<Option<R::Value>, TransactionError> {
         let answer = self.transact(&Request::write_ram::<R>(value)?)?;
         self.written::<R>(answer)
     }
 
-    /// Writes `value` to element `index` of the array register `R` in RAM only.
+    /// Writes `value` to element `index` of the array register `R` in RAM only. Returns
+    /// the value the drive reports written, if its reply carries one.
     pub fn write_ram_at<R: Writable>(
         &mut self,
         index: u16,
         value: R::Value,
-    ) -> Result<R::Value, TransactionError> {
+    ) -> Result<Option<R::Value>, TransactionError> {
         let answer = self.transact(&Request::write_ram::<R>(value)?.at_index(index)?)?;
         self.written::<R>(answer)
     }
 
     /// Writes `value` to register `R` in RAM and EEPROM (persistent; EEPROM wears out).
+    /// Returns the value the drive reports written, if its reply carries one.
     pub fn write_persistent<R: Persistable>(
         &mut self,
         value: R::Value,
-    ) -> Result<R::Value, TransactionError> {
+    ) -> Result<Option<R::Value>, TransactionError> {
         let answer = self.transact(&Request::write_persistent::<R>(value)?)?;
         self.written::<R>(answer)
     }
 
     /// Writes `value` to element `index` of the array register `R` in RAM and EEPROM
-    /// (persistent; EEPROM wears out).
+    /// (persistent; EEPROM wears out). Returns the value the drive reports written, if its
+    /// reply carries one.
     pub fn write_persistent_at<R: Persistable>(
         &mut self,
         index: u16,
         value: R::Value,
-    ) -> Result<R::Value, TransactionError> {
+    ) -> Result<Option<R::Value>, TransactionError> {
         let request = Request::write_persistent::<R>(value)?.at_index(index)?;
         let answer = self.transact(&request)?;
         self.written::<R>(answer)
     }
 
-    fn written<R: Register>(&self, answer: Answer) -> Result<R::Value, TransactionError> {
-        Ok(R::Value::from_raw(answer.data, R::INFO)?)
+    fn written<R: Register>(&self, answer: Answer) -> Result<Option<R::Value>, TransactionError> {
+        Ok(answer
+            .data
+            .map(|data| R::Value::from_raw(data, R::INFO))
+            .transpose()?)
     }
 
     /// Sends process words (control word, reference) and returns those the drive answers
@@ -384,7 +413,7 @@ fn check_reply(
                 return Err(mismatch(ReplyField::Text, 1, 0));
             }
             Ok(Answer {
-                data,
+                data: command.reply.has(Role::Data).then_some(data),
                 tripped,
                 process,
                 text,
@@ -462,6 +491,8 @@ pub enum ReplyField {
     Text,
     /// The process words (expected 2, found 0: absent).
     ProcessWords,
+    /// The data of a read (expected 1: present; found 0: absent).
+    Data,
 }
 
 impl ReplyField {
@@ -473,6 +504,7 @@ impl ReplyField {
             ReplyField::Index => "index",
             ReplyField::Text => "text",
             ReplyField::ProcessWords => "process words",
+            ReplyField::Data => "data",
         }
     }
 }

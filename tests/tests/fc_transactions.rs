@@ -119,7 +119,7 @@ fn array_elements_are_written_after_selecting_the_index() {
         } else {
             modbus.write_ram_at::<registers::PresetReference>(3, 5)
         };
-        assert_eq!(written.unwrap(), 5);
+        assert_eq!(written.unwrap(), Some(5), "06 echoes the value written");
         assert_eq!(
             shown(&peer.join().unwrap()),
             [select_index.as_str(), coil_65, write.as_str()],
@@ -142,9 +142,13 @@ fn persistent_modbus_writes_switch_coil_65_first() {
         &protocols::MODBUS,
         &["01 05 00 40 FF 00 8D EE", "01 10 0B D5 00 02 52 14"],
     );
-    modbus
-        .write_persistent::<registers::MaximumReference>(60.0)
-        .unwrap();
+    assert_eq!(
+        modbus
+            .write_persistent::<registers::MaximumReference>(60.0)
+            .unwrap(),
+        None,
+        "a 10 reply names the registers written, not their value"
+    );
     assert_eq!(
         shown(&peer.join().unwrap()),
         [
@@ -156,7 +160,11 @@ fn persistent_modbus_writes_switch_coil_65_first() {
         &protocols::MODBUS,
         &["01 05 00 40 00 00 CC 1E", "01 06 03 F1 00 01 19 BD"],
     );
-    modbus.write_ram::<registers::Parameter101>(1).unwrap();
+    assert_eq!(
+        modbus.write_ram::<registers::Parameter101>(1).unwrap(),
+        Some(1),
+        "06 echoes the value written"
+    );
     assert_eq!(
         shown(&peer.join().unwrap()),
         ["01 05 00 40 00 00 CC 1E", "01 06 03 F1 00 01 19 BD"]
@@ -171,7 +179,7 @@ fn fc_persistent_word_writes_use_ak_e() {
     );
     assert_eq!(
         fc.write_persistent::<registers::Parameter1422>(2).unwrap(),
-        2
+        Some(2)
     );
     assert_eq!(peer.join().unwrap()[0][3], 0xE5, "AK E, parameter 58Eh");
 }

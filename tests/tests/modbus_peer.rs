@@ -86,7 +86,11 @@ fn the_fc_modbus_api_works_against_pymodbus() {
     assert_eq!(master.read::<registers::MaximumReference>().unwrap(), 60.0);
 
     // RAM write: coil 65 = 0000h (05), then 06; read back with 03.
-    assert_eq!(master.write_ram::<registers::Parameter101>(7).unwrap(), 7);
+    assert_eq!(
+        master.write_ram::<registers::Parameter101>(7).unwrap(),
+        Some(7),
+        "06 echoes the value written"
+    );
     assert_eq!(master.read::<registers::Parameter101>().unwrap(), 7);
 
     // Persistent double-word write: coil 65 = FF00h, then 10 with two registers.

@@ -197,9 +197,9 @@ fn run(count: usize, baud: u32) -> Result<(), String> {
         let start = Instant::now();
         let answer = master.transact(&read).map_err(|e| e.to_string())?;
         latencies.push(start.elapsed());
-        if answer.data != expected {
+        if answer.data != Some(expected) {
             return Err(format!(
-                "read {:08X}h, expected {expected:08X}h",
+                "read {:08X?}, expected {expected:08X}h",
                 answer.data
             ));
         }
