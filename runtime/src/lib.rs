@@ -72,4 +72,4 @@ pub use layout::{
 };
 pub use protocol::{AddressMap, CommandSpec, PreStep, Protocol, Reply};
 pub use register::{Persistable, Register, RegisterValue, Request, Writable};
-pub use transaction::{TransactionError, TransactionErrorKind};
+pub use transaction::{Reading, TransactionError, TransactionErrorKind};

@@ -8,6 +8,6 @@
 pub use crate::error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
 pub use crate::protocol::Protocol;
 pub use crate::register::{Persistable, Register, RegisterValue, Request, Writable};
-pub use crate::transaction::{Master, TransactionError, TransactionErrorKind};
+pub use crate::transaction::{Master, Reading, TransactionError, TransactionErrorKind};
 pub use crate::transport::Transport;
 pub use crate::units::{Amperes, Hertz, Hours, Kilowatts, Percent, Rpm, Seconds, Volts};

@@ -30,6 +30,52 @@ pub struct Answer {
     pub text: Option<(usize, usize)>,
 }
 
+/// A value read from a drive, with what the reply said about the drive: a tripped drive
+/// still answers reads (its monitors hold the values at the trip), so the value comes back
+/// and [`Reading::tripped`] says so, without an extra request.
+///
+/// It dereferences to the value and compares with it (`reading == Hertz(60.0)`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reading<V> {
+    /// The typed value.
+    pub value: V,
+    /// The reply said the drive is tripped (in the Toshiba-style protocols, a lower-case
+    /// command letter). Protocols whose replies carry no such sign report `false`; the FC
+    /// drives report a trip in the status word instead.
+    pub tripped: bool,
+}
+
+impl<V> Reading<V> {
+    /// The value, without the drive state.
+    pub fn into_value(self) -> V {
+        self.value
+    }
+}
+
+impl<V> std::ops::Deref for Reading<V> {
+    type Target = V;
+    fn deref(&self) -> &V {
+        &self.value
+    }
+}
+
+impl<V: PartialEq> PartialEq<V> for Reading<V> {
+    fn eq(&self, other: &V) -> bool {
+        self.value == *other
+    }
+}
+
+impl<V: fmt::Display> fmt::Display for Reading<V> {
+    /// The value, followed by `(drive tripped)` when the reply said so.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.value.fmt(f)?;
+        if self.tripped {
+            f.write_str(" (drive tripped)")?;
+        }
+        Ok(())
+    }
+}
+
 /// A bus master speaking one protocol to one station.
 ///
 /// Buffers are fixed arrays, so a transaction makes no heap allocation unless it fails.
@@ -95,15 +141,18 @@ impl<T: Transport> Master<T> {
             .mul_f32(self.protocol.frame_gap_chars)
     }
 
-    /// Reads register `R` and converts the value to its typed form.
-    pub fn read<R: Register>(&mut self) -> Result<R::Value, TransactionError> {
+    /// Reads register `R`: its typed value, and whether the reply said the drive is tripped.
+    pub fn read<R: Register>(&mut self) -> Result<Reading<R::Value>, TransactionError> {
         let request = Request::read::<R>();
         let answer = self.transact(&request)?;
         Self::value_read::<R>(&request, answer)
     }
 
     /// Reads element `index` of the array register `R`. Refuses indexes beyond the array.
-    pub fn read_at<R: Register>(&mut self, index: u16) -> Result<R::Value, TransactionError> {
+    pub fn read_at<R: Register>(
+        &mut self,
+        index: u16,
+    ) -> Result<Reading<R::Value>, TransactionError> {
         let request = Request::read::<R>().at_index(index)?;
         let answer = self.transact(&request)?;
         Self::value_read::<R>(&request, answer)
@@ -113,7 +162,7 @@ impl<T: Transport> Master<T> {
     fn value_read<R: Register>(
         request: &Request,
         answer: Answer,
-    ) -> Result<R::Value, TransactionError> {
+    ) -> Result<Reading<R::Value>, TransactionError> {
         let data = answer.data.ok_or_else(|| {
             TransactionError::new(
                 Some(request),
@@ -124,7 +173,10 @@ impl<T: Transport> Master<T> {
                 },
             )
         })?;
-        Ok(R::Value::from_raw(data, R::INFO)?)
+        Ok(Reading {
+            value: R::Value::from_raw(data, R::INFO)?,
+            tripped: answer.tripped,
+        })
     }
 
     /// Reads the text register `R` (text parameters such as an ordering number).

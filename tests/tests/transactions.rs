@@ -106,6 +106,19 @@ fn a_lower_case_reply_reports_a_tripped_drive() {
 }
 
 #[test]
+fn a_typed_read_shows_the_tripped_drive_with_its_value() {
+    let (mut master, _peer) =
+        master_with(vec![b"(rFE010400)\r", b"(RFD001770)\r"], &protocols::ASCII);
+    let status = master.read::<registers::Status>().unwrap();
+    assert!(status.tripped, "lower-case `r`: the drive is tripped");
+    assert!(status.running(), "the value comes with it (bit 10)");
+    assert!(status.to_string().ends_with("(drive tripped)"), "{status}");
+    let frequency = master.read::<registers::OutputFrequencyNow>().unwrap();
+    assert!(!frequency.tripped);
+    assert_eq!(frequency.into_value(), Hertz(60.0));
+}
+
+#[test]
 fn noise_before_the_start_character_is_skipped() {
     let (mut master, _peer) = master_with(vec![b"\x00\xFFzz)(RFD001770)\r"], &protocols::ASCII);
     assert_eq!(
