@@ -2,7 +2,10 @@
 //! a register, ranges and values in engineering units, frame bytes, what a frame means.
 //! The IR holds facts only; every sentence is built here or in the templates.
 
-use crate::ir::{DriveIr, FrameIr, RegisterIr};
+use crate::ir::{
+    BitOrder, DriveIr, Duplex, FrameIr, InferredFact, RegisterIr, Synchronisation, Topology,
+    WarningIr,
+};
 use vfd_runtime::units::decimals_of;
 use vfd_runtime::Space;
 
@@ -75,6 +78,66 @@ pub fn value_type_text(register: &RegisterIr) -> String {
         ValueKind::RawDouble => "u32".to_owned(),
         ValueKind::RawSignedDouble => "i32".to_owned(),
         ValueKind::Text => "String".to_owned(),
+    }
+}
+
+/// The register facts a description inferred, as a list (`unit, step`).
+pub fn inferred_text(facts: &[InferredFact]) -> String {
+    facts
+        .iter()
+        .map(|fact| match fact {
+            InferredFact::Name => "English name",
+            InferredFact::Unit => "unit",
+            InferredFact::Scale => "step",
+            InferredFact::Range => "range",
+            InferredFact::Default => "default",
+            InferredFact::Access => "access",
+            InferredFact::DataType => "data type",
+            InferredFact::RamOnly => "RAM only",
+            InferredFact::WritableWhileRunning => "writable while running",
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// A warning as one sentence, with its manual section when it has one.
+pub fn warning_text(warning: &WarningIr) -> String {
+    if warning.source.is_empty() {
+        warning.text.clone()
+    } else {
+        format!("{} (manual: {})", warning.text, warning.source)
+    }
+}
+
+/// Duplex in words.
+pub fn duplex_text(duplex: Duplex) -> &'static str {
+    match duplex {
+        Duplex::Half => "half duplex (one direction at a time)",
+        Duplex::Full => "full duplex",
+    }
+}
+
+/// Line control in words.
+pub fn topology_text(topology: Topology) -> &'static str {
+    match topology {
+        Topology::MasterSlave => "centralised: one master polls, the addressed drive answers",
+        Topology::MultiMaster => "multi-master",
+    }
+}
+
+/// Synchronisation in words.
+pub fn synchronisation_text(synchronisation: Synchronisation) -> &'static str {
+    match synchronisation {
+        Synchronisation::Asynchronous => "asynchronous (start and stop bits)",
+        Synchronisation::Synchronous => "synchronous",
+    }
+}
+
+/// Bit order in words.
+pub fn bit_order_text(order: BitOrder) -> &'static str {
+    match order {
+        BitOrder::LsbFirst => "least significant bit first",
+        BitOrder::MsbFirst => "most significant bit first",
     }
 }
 

@@ -47,6 +47,14 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             startup_delay_ms: serial.timing.startup_delay_ms,
             frame_abandon_ms: serial.timing.frame_abandon_ms,
             processing_allowance_ms: serial.timing.processing_allowance_ms,
+            assumed_timing: serial.timing.assumed.clone(),
+            line: serial.line.as_ref().map(|line| LineIr {
+                source: line.source.clone(),
+                duplex: line.duplex,
+                topology: line.topology,
+                synchronisation: line.synchronisation,
+                bit_order: line.bit_order,
+            }),
         },
         addressing: AddressingIr {
             min: model.addressing.min,
@@ -205,6 +213,7 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             })
             .collect(),
         examples: lower_examples(drive, &registers),
+        warnings: model.warnings.clone(),
         registers,
     }
 }
@@ -276,6 +285,8 @@ fn lower_register(
         array_len: register.array.unwrap_or(0),
         value,
         source: register.source.clone(),
+        inferred: register.inferred.clone(),
+        warnings: register.warnings.clone(),
     }
 }
 

@@ -4,6 +4,10 @@
 //! runtime's own layout and frame-meaning values), never prose built for people: the
 //! Markdown emitter words ranges, meanings and layouts itself.
 
+pub use crate::parse::model::{
+    BitOrder, Duplex, InferredFact, Synchronisation, TimingField, Topology,
+    WarningModel as WarningIr,
+};
 use serde::Serialize;
 use vfd_runtime::meaning::FrameMeaning;
 use vfd_runtime::serial::Parity;
@@ -58,6 +62,23 @@ pub struct DriveIr {
     pub manual_errata: Vec<ManualErratumIr>,
     /// Example exchanges, each frame decoded.
     pub examples: Vec<ExampleIr>,
+    /// Safety warnings for the drive as a whole.
+    pub warnings: Vec<WarningIr>,
+}
+
+/// Line-level facts of the serial link; `None` where the description does not say.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct LineIr {
+    /// Manual section.
+    pub source: String,
+    /// Half or full duplex.
+    pub duplex: Option<Duplex>,
+    /// Who controls the line.
+    pub topology: Option<Topology>,
+    /// Character synchronisation.
+    pub synchronisation: Option<Synchronisation>,
+    /// Bit order within a character.
+    pub bit_order: Option<BitOrder>,
 }
 
 /// Serial line facts.
@@ -91,6 +112,10 @@ pub struct SerialIr {
     pub frame_abandon_ms: u64,
     /// Time the drive may take to start answering, in ms.
     pub processing_allowance_ms: u64,
+    /// Timings that are placeholders or assumptions, not the manual's.
+    pub assumed_timing: Vec<TimingField>,
+    /// Line-level facts, when the description gives any.
+    pub line: Option<LineIr>,
 }
 
 /// Station numbers.
@@ -411,6 +436,10 @@ pub struct RegisterIr {
     pub value: ValueKind,
     /// Manual section.
     pub source: String,
+    /// Facts inferred by the description, not stated by the manual.
+    pub inferred: Vec<InferredFact>,
+    /// Safety warnings about this register.
+    pub warnings: Vec<WarningIr>,
 }
 
 impl RegisterIr {

@@ -35,6 +35,115 @@ pub struct DriveFile {
     pub manual_errata: Vec<ManualErratumModel>,
     #[serde(default)]
     pub examples: Vec<ExampleModel>,
+    /// Safety warnings the manual gives (or that follow from its examples) for the drive as
+    /// a whole, shown prominently on the reference page.
+    #[serde(default)]
+    pub warnings: Vec<WarningModel>,
+}
+
+/// A safety warning: what can go wrong, and where the manual says so.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct WarningModel {
+    /// The warning, in English (the manual's Chinese may follow in brackets).
+    pub text: String,
+    /// The manual section it comes from; empty when it follows from the description only.
+    #[serde(default)]
+    pub source: String,
+}
+
+/// The line-level facts of the serial link (the manual's specification table).
+#[derive(Debug, Clone, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct LineModel {
+    /// Manual section these facts come from.
+    #[serde(default)]
+    pub source: String,
+    /// `half` or `full` duplex (传输方式).
+    pub duplex: Option<Duplex>,
+    /// Who controls the line (连接控制): `master_slave` (one master polls the drives).
+    pub topology: Option<Topology>,
+    /// `asynchronous` or `synchronous` transmission (同步性).
+    pub synchronisation: Option<Synchronisation>,
+    /// Order of the bits within a character (位发送次序): `lsb_first` or `msb_first`.
+    pub bit_order: Option<BitOrder>,
+}
+
+/// Half or full duplex.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Duplex {
+    /// One direction at a time (two-wire RS-485).
+    Half,
+    /// Both directions at once (four-wire).
+    Full,
+}
+
+/// Who controls the line.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Topology {
+    /// Centralised control (集中控制): one master sends, the addressed drive answers.
+    MasterSlave,
+    /// Any station may start an exchange.
+    MultiMaster,
+}
+
+/// Character synchronisation.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Synchronisation {
+    /// Start and stop bits frame each character.
+    Asynchronous,
+    /// A shared clock frames the characters.
+    Synchronous,
+}
+
+/// Bit order within a character.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum BitOrder {
+    /// Least significant bit first (the UART convention).
+    LsbFirst,
+    /// Most significant bit first.
+    MsbFirst,
+}
+
+/// A timing value that can be marked as assumed (not from the manual).
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum TimingField {
+    /// `startup_delay_ms`.
+    StartupDelayMs,
+    /// `frame_abandon_ms`.
+    FrameAbandonMs,
+    /// `processing_allowance_ms`.
+    ProcessingAllowanceMs,
+}
+
+/// A register fact that can be marked as inferred (the description's reading, not the
+/// manual's statement).
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum InferredFact {
+    /// The English name.
+    Name,
+    /// The unit.
+    Unit,
+    /// The step (`scale`).
+    Scale,
+    /// The range.
+    Range,
+    /// The default.
+    Default,
+    /// The access (read-only, read-write, write-only).
+    Access,
+    /// The data type (word, double word, ...).
+    DataType,
+    /// `ram_only`.
+    RamOnly,
+    /// `writable_while_running`.
+    WritableWhileRunning,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -64,6 +173,9 @@ pub struct SerialModel {
     pub stop_bits_received: u8,
     pub default: SerialDefaultModel,
     pub timing: TimingModel,
+    /// Line-level facts from the manual's specification table (duplex, topology,
+    /// synchronisation, bit order); each may be left out.
+    pub line: Option<LineModel>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -81,6 +193,10 @@ pub struct TimingModel {
     pub startup_delay_ms: u64,
     pub frame_abandon_ms: u64,
     pub processing_allowance_ms: u64,
+    /// Timings that are placeholders or our own assumption rather than the manual's
+    /// statement: `[startup_delay_ms, frame_abandon_ms, processing_allowance_ms]`.
+    #[serde(default)]
+    pub assumed: Vec<TimingField>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -263,6 +379,13 @@ pub struct RegisterModel {
     pub source: String,
     #[serde(default)]
     pub note: String,
+    /// Facts of this register that are inferred rather than stated by the manual:
+    /// `[unit, scale, writable_while_running, ...]`; the page marks them.
+    #[serde(default)]
+    pub inferred: Vec<InferredFact>,
+    /// Safety warnings about writing or using this register.
+    #[serde(default)]
+    pub warnings: Vec<WarningModel>,
 }
 
 /// A reference word that is a percentage of a span chosen by a selector register.

@@ -12,6 +12,7 @@ mod code_values_are_unique;
 mod defaults_are_in_range;
 mod examples_decode;
 mod identifiers_are_snake_case;
+mod inferred_facts_exist;
 mod names_are_unique;
 mod ranges_resolve;
 mod reference_scaling_resolves;
@@ -45,13 +46,14 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 16] = [
+    let checks: [fn(&Context, &mut Diagnostics); 17] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
         rust_names_are_unique::rust_names_are_unique,
         units_are_known::units_are_known,
         scales_are_positive::scales_are_positive,
+        inferred_facts_exist::inferred_facts_exist,
         ranges_resolve::ranges_resolve,
         defaults_are_in_range::defaults_are_in_range,
         references_resolve::references_resolve,

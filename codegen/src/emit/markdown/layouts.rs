@@ -56,7 +56,13 @@ pub(super) fn part_view(part: &Part, parts: &[Part]) -> PartView {
             let allowed: Vec<String> = field
                 .allowed
                 .iter()
-                .map(|v| format!("`{}`", char::from_u32(*v).unwrap_or('?')))
+                .map(|v| match char::from_u32(*v) {
+                    // Letters are shown as letters; binary codes (Modbus 01h) as hex.
+                    Some(letter) if field.format == Format::Char && letter.is_ascii_graphic() => {
+                        format!("`{letter}`")
+                    }
+                    _ => format!("{v:02X}h"),
+                })
                 .collect();
             let mut notes = Vec::new();
             if !allowed.is_empty() {
@@ -150,10 +156,11 @@ pub(super) fn part_view(part: &Part, parts: &[Part]) -> PartView {
             name: spec.name.to_string(),
             kind: format!("checksum ({})", spec.algorithm.as_str()),
             encoding: describe_format(spec.format),
+            // Two hex digits, or the binary format's own size (CRC-16: 2 bytes).
             size: if spec.format == Format::Hex {
                 "2".into()
             } else {
-                "1".into()
+                spec.format.fixed_len().unwrap_or(1).to_string()
             },
             optional: if spec.optional {
                 "optional".into()

@@ -4,7 +4,9 @@
 
 use super::layouts::{part_view, PartView};
 use crate::emit::words::{
-    address_label, default_text, meaning_text, range_text, shown_bytes, value_text, value_type_text,
+    address_label, bit_order_text, default_text, duplex_text, inferred_text, meaning_text,
+    range_text, shown_bytes, synchronisation_text, topology_text, value_text, value_type_text,
+    warning_text,
 };
 use crate::ir::*;
 use serde::Serialize;
@@ -24,6 +26,15 @@ pub(super) struct DriveView<'a> {
     reference_scaling: Option<ScalingView<'a>>,
     value_examples: Vec<ValueExampleView<'a>>,
     examples: Vec<ExampleView<'a>>,
+    /// The drive's warnings, then each register's, as sentences.
+    warning_lines: Vec<WarningView>,
+}
+
+#[derive(Serialize)]
+struct WarningView {
+    /// What it is about: empty for the drive, else the register's code.
+    subject: String,
+    text: String,
 }
 
 #[derive(Serialize)]
@@ -32,6 +43,10 @@ struct SerialView<'a> {
     serial: &'a SerialIr,
     /// Character time at the default settings, in microseconds.
     char_time_us: u128,
+    /// Line facts as (setting, value) rows.
+    line_rows: Vec<(&'static str, &'static str)>,
+    /// Which timings are assumed, by their key.
+    assumed: Vec<&'static str>,
 }
 
 #[derive(Serialize)]
@@ -87,6 +102,8 @@ struct RegisterView<'a> {
     range_display: String,
     default_display: String,
     value_type_display: String,
+    /// The inferred facts in words, empty when there are none.
+    inferred_display: String,
 }
 
 #[derive(Serialize)]
@@ -194,7 +211,53 @@ impl<'a> DriveView<'a> {
                 }
                 .char_time()
                 .as_micros(),
+                line_rows: drive.serial.line.as_ref().map_or_else(Vec::new, |line| {
+                    let mut rows = Vec::new();
+                    if let Some(duplex) = line.duplex {
+                        rows.push(("Transmission", duplex_text(duplex)));
+                    }
+                    if let Some(topology) = line.topology {
+                        rows.push(("Line control", topology_text(topology)));
+                    }
+                    if let Some(sync) = line.synchronisation {
+                        rows.push(("Synchronisation", synchronisation_text(sync)));
+                    }
+                    if let Some(order) = line.bit_order {
+                        rows.push(("Bit order", bit_order_text(order)));
+                    }
+                    rows
+                }),
+                assumed: drive
+                    .serial
+                    .assumed_timing
+                    .iter()
+                    .map(|field| match field {
+                        TimingField::StartupDelayMs => "startup_delay_ms",
+                        TimingField::FrameAbandonMs => "frame_abandon_ms",
+                        TimingField::ProcessingAllowanceMs => "processing_allowance_ms",
+                    })
+                    .collect(),
             },
+            warning_lines: drive
+                .warnings
+                .iter()
+                .map(|w| (String::new(), w))
+                .chain(drive.registers.iter().flat_map(|r| {
+                    r.warnings.iter().map(move |w| {
+                        let label = address_label(r);
+                        let subject = if label == r.code {
+                            r.code.clone()
+                        } else {
+                            format!("{} ({label})", r.code)
+                        };
+                        (subject, w)
+                    })
+                }))
+                .map(|(subject, warning)| WarningView {
+                    subject,
+                    text: warning_text(warning),
+                })
+                .collect(),
             protocols: drive
                 .protocols
                 .iter()
@@ -223,6 +286,7 @@ impl<'a> DriveView<'a> {
                     range_display: range_text(register),
                     default_display: default_text(register),
                     value_type_display: format!("`{}`", value_type_text(register)),
+                    inferred_display: inferred_text(&register.inferred),
                 })
                 .collect(),
             bitfields: drive

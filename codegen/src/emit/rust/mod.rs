@@ -50,6 +50,14 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
             drive.file, drive.manual, drive.description
         ),
     ];
+    let mut docs = docs.to_vec();
+    for warning in &drive.warnings {
+        docs.push(String::new());
+        docs.push(format!(
+            "**Warning:** {}",
+            crate::emit::words::warning_text(warning)
+        ));
+    }
     let docs = doc_texts(&docs);
     let (id, vendor, model, manual) = (&drive.id, &drive.vendor, &drive.model, &drive.manual);
     let (name, name_zh) = (&drive.name, &drive.name_zh);

@@ -3,7 +3,7 @@
 //! and writing are the runtime's generic trait methods, so nothing else is repeated.
 
 use super::*;
-use crate::emit::words::{address_label, default_text, range_text};
+use crate::emit::words::{address_label, default_text, inferred_text, range_text, warning_text};
 use proc_macro2::{Delimiter, Group};
 use vfd_runtime::{Access, DataType, Space, TakesEffect};
 
@@ -42,6 +42,17 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
         facts.push("takes effect after a reset".into());
     }
     lines.push(format!("{}.", facts.join(", ")));
+    if !register.inferred.is_empty() {
+        lines.push(String::new());
+        lines.push(format!(
+            "Inferred by the description, not stated by the manual: {}.",
+            inferred_text(&register.inferred)
+        ));
+    }
+    for warning in &register.warnings {
+        lines.push(String::new());
+        lines.push(format!("**Warning:** {}", warning_text(warning)));
+    }
     for text in [&register.description, &register.note] {
         if !text.is_empty() {
             lines.push(String::new());
