@@ -72,7 +72,7 @@ pub const KEY_TABLES_BEGIN: &str =
 pub const KEY_TABLES_END: &str = "<!-- end of key tables -->";
 
 /// Markdown tables of the required and optional keys of every section of a drive file and
-/// of a protocol file, read from the schemas.
+/// of a protocol file, read from the schemas; ends with a newline.
 pub fn key_tables() -> String {
     let mut out = String::new();
     for (heading, schema) in [
@@ -192,7 +192,7 @@ pub fn with_key_tables(readme: &str) -> Option<String> {
     let start = readme.find(KEY_TABLES_BEGIN)? + KEY_TABLES_BEGIN.len();
     let end = start + readme[start..].find(KEY_TABLES_END)?;
     Some(format!(
-        "{}\n\n{}\n\n{}",
+        "{}\n\n{}\n{}",
         &readme[..start],
         key_tables(),
         &readme[end..]
