@@ -54,7 +54,8 @@ pub struct DriveFile {
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DriveMeta {
-    /// Lower snake case: the Rust module name, the file name and the name on the command line.
+    /// Lower snake or kebab case: the file name, the name on the command line and, with `-`
+    /// as `_`, the Rust module name (`vf-as1` -> `vf_as1`).
     pub id: String,
     /// The maker, as the manual names it.
     pub vendor: String,
