@@ -14,7 +14,8 @@ const USAGE: &str = "\
 vfd: tools for RS-485 frequency inverters described in drives/*.yaml
 
 USAGE:
-  vfd generate [--check] [--root DIR]      regenerate generated-docs/ and print a summary
+  vfd generate [--check] [--root DIR]      regenerate generated-docs/, drives/schema/ and the
+                                           key tables in drives/README.md; print a summary
                                            (--check: only report stale pages, exit 1 if any)
   vfd generate --dump-ir DRIVE [--root DIR]
                                            print the generator's IR of one drive as YAML
@@ -162,6 +163,22 @@ fn generate(args: &[&str]) -> Result<(), String> {
             .collect();
         (generated, written)
     };
+    // The description files' JSON Schema and the README's key tables, made from the model.
+    let described = description_format_files(&root)?;
+    let described_changed: Vec<String> = described
+        .iter()
+        .filter(|(path, text)| std::fs::read_to_string(path).ok().as_deref() != Some(text))
+        .map(|(path, text)| {
+            if !check_only {
+                vfd_codegen::write_if_changed(path, text).map_err(|e| e.to_string())?;
+            }
+            Ok(path
+                .strip_prefix(&root)
+                .unwrap_or(path)
+                .display()
+                .to_string())
+        })
+        .collect::<Result<_, String>>()?;
     let pages = generated.drives.len() + 1;
     println!(
         "{:<8} {:<28} {:>9} {:>9} {:>6} {:>8} {:>7}  protocols",
@@ -192,6 +209,18 @@ fn generate(args: &[&str]) -> Result<(), String> {
             drive.rust.lines().count()
         );
     }
+    match (check_only, described_changed.is_empty()) {
+        (_, true) => {
+            println!("drives/schema/ and the key tables in drives/README.md are up to date")
+        }
+        (false, false) => println!("changed: {}", described_changed.join(", ")),
+        (true, false) => {
+            return Err(format!(
+                "stale: {}; run `cargo run -p vfd-cli -- generate`",
+                described_changed.join(", ")
+            ))
+        }
+    }
     match (check_only, changed.is_empty()) {
         (_, true) => println!("generated-docs/ is up to date ({pages} pages)"),
         (false, false) => println!(
@@ -206,6 +235,31 @@ fn generate(args: &[&str]) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// `drives/schema/*.json` and `drives/README.md` with its key tables, as they should be
+/// (tests/tests/schema.rs checks the same files).
+fn description_format_files(root: &Path) -> Result<Vec<(PathBuf, String)>, String> {
+    let drives = root.join("drives");
+    let schemas = vfd_codegen::schemas();
+    let mut files: Vec<(PathBuf, String)> = schemas
+        .files()
+        .iter()
+        .map(|(path, text)| (drives.join(path), (*text).to_owned()))
+        .collect();
+    let readme_path = drives.join("README.md");
+    let readme = std::fs::read_to_string(&readme_path)
+        .map_err(|e| format!("{}: {e}", readme_path.display()))?;
+    let readme = vfd_codegen::with_key_tables(&readme).ok_or_else(|| {
+        format!(
+            "{} lacks the key-table markers `{}` and `{}`",
+            readme_path.display(),
+            vfd_codegen::KEY_TABLES_BEGIN,
+            vfd_codegen::KEY_TABLES_END
+        )
+    })?;
+    files.push((readme_path, readme));
+    Ok(files)
 }
 
 fn check(files: &[&str], protocols: Option<&Path>) -> Result<(), String> {

@@ -387,3 +387,43 @@ pub(crate) fn header(drive_file: &str, names: &OutputNames) -> String {
         names.regenerate_hint()
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Builder;
+    use crate::validate::testing::valid_with;
+    use std::path::Path;
+
+    /// A drive id with `-` names files as written and the Rust module with `_`.
+    #[test]
+    fn a_kebab_case_drive_id_becomes_a_snake_case_module() {
+        let dir = std::env::temp_dir().join(format!("vfd-kebab-id-{}", std::process::id()));
+        let out = dir.join("out");
+        std::fs::create_dir_all(&out).unwrap();
+        let file = dir.join("vf-as1.yaml");
+        std::fs::write(&file, valid_with(&[("id: test_drive", "id: vf-as1")])).unwrap();
+        let generated = Builder::new()
+            .drive(&file)
+            .protocols_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../drives/protocols"))
+            .out_dir(&out)
+            .docs_dir(&out)
+            .golden_tests(true)
+            .generate()
+            .unwrap_or_else(|error| panic!("a kebab-case drive id generates:\n{error}"));
+        let drive = &generated.drives[0];
+        assert_eq!(
+            (drive.ir.id.as_str(), drive.ir.module.as_str()),
+            ("vf-as1", "vf_as1")
+        );
+        assert!(drive.rust.contains("pub mod vf_as1 {"), "{}", drive.rust);
+        let includes = std::fs::read_to_string(out.join("drives.rs")).unwrap();
+        assert!(includes.contains("/vf-as1.rs\""), "{includes}");
+        assert!(includes.contains("&vf_as1::DRIVE"), "{includes}");
+        let golden = std::fs::read_to_string(out.join("golden.rs")).unwrap();
+        assert!(golden.contains("mod vf_as1 {"), "{golden}");
+        for name in ["vf-as1.rs", "vf-as1_golden.rs", "vf-as1.md"] {
+            assert!(out.join(name).is_file(), "{name} written");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

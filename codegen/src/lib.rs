@@ -19,13 +19,16 @@
 //! | 7 | emit | `emit/` (`rust/`, `markdown/`, `tests.rs`, `words.rs`) | [`DriveIr`] only | Rust tokens (quote, then prettyplease), Markdown (minijinja), golden tests |
 //!
 //! [`Builder`] (`builder.rs`) runs stages 1-7 for many drives and writes files, and
-//! [`OutputNames`] says how the output names anything outside a description.
+//! [`OutputNames`] says how the output names anything outside a description. [`schemas`]
+//! (`schema.rs`) derives the JSON Schema of drive and protocol files from `parse/model.rs`.
 //!
 //! Where to go for common changes:
 //! - **A new check**: a file in `validate/` with its own tests, added to the list in
 //!   `validate/mod.rs`; a fixture pair in `tests/fixtures/broken/`.
-//! - **A new key in drive files**: `parse/model.rs` (an enum if its values are enumerated),
-//!   then `ir/types.rs` + `ir/lower.rs`, then the emitters that show it.
+//! - **A new key in drive files**: `parse/model.rs` (an enum if its values are enumerated;
+//!   a `///` comment, which becomes the key's schema description; a new type derives
+//!   `JsonSchema`), then `ir/types.rs` + `ir/lower.rs`, then the emitters that show it;
+//!   `vfd generate` refreshes `drives/schema/` and the README's key tables.
 //! - **A new part kind or framing feature**: the runtime first (`vfd_runtime::layout` and
 //!   its codec), then `parse/model.rs` (protocol-file types), `protocols/` (lowering and its
 //!   checks), `emit/rust/bake.rs` (how the value becomes Rust) and
@@ -67,6 +70,7 @@ mod naming;
 mod output_names;
 mod parse;
 mod protocols;
+mod schema;
 mod validate;
 
 pub use builder::{
@@ -75,6 +79,10 @@ pub use builder::{
 pub use diagnostics::{Diagnostic, Diagnostics, Position};
 pub use ir::DriveIr;
 pub use output_names::OutputNames;
+pub use schema::{
+    key_tables, schemas, with_key_tables, Schemas, DRIVE_SCHEMA_PATH, KEY_TABLES_BEGIN,
+    KEY_TABLES_END, PROTOCOL_SCHEMA_PATH,
+};
 
 use std::path::{Path, PathBuf};
 

@@ -131,6 +131,7 @@ fn show_value(value: u32, format: Format) -> String {
 /// `printed_rejected_as` and what callers branch on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum DecodeErrorKind {
     /// See [`DecodeError::UnexpectedByte`].

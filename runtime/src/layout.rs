@@ -92,6 +92,7 @@ pub enum Part {
 /// What a field means to the transaction engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Role {
     /// Station (inverter) address.
@@ -149,6 +150,7 @@ impl Role {
 /// How a field's value is written on the wire.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
 pub enum Format {
     /// ASCII decimal digits, most significant first (`"31"`).
@@ -253,6 +255,7 @@ pub enum Presence {
 /// Where a variable-size field's size comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum SizedBy {
     /// The format: fixed bytes, or as many digits as are there (`min_width..=width`).
@@ -375,6 +378,7 @@ pub enum Counts {
 /// Checksum algorithms the runtime supplies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
 #[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum ChecksumAlgorithm {
     /// Low byte of the arithmetic sum of the covered bytes.

@@ -3,9 +3,11 @@
 //! These types mirror the YAML one to one (unknown keys are errors). Meaning is checked
 //! later, in [`crate::validate`]; nothing here resolves references.
 
+use schemars::{json_schema, JsonSchema, Schema, SchemaGenerator};
 use serde::de::value::MapAccessDeserializer;
 use serde::de::{self, MapAccess, Unexpected, Visitor};
 use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fmt;
 use vfd_runtime::serial::Parity;
@@ -15,24 +17,36 @@ use vfd_runtime::{
 };
 
 /// A drive file (`drives/<id>.yaml`).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DriveFile {
+    /// Who the drive is: id, vendor, model, names and the manual.
     pub drive: DriveMeta,
+    /// The serial line settings the manual gives.
     pub serial: SerialModel,
+    /// The range of station numbers (inverter addresses).
     pub addressing: AddressingModel,
+    /// The protocols the drive speaks: each names a file in `protocols/` and may adapt it to the drive's numbering.
     pub protocols: Vec<ProtocolRef>,
+    /// Codes carried by error replies, and when the drive does not answer at all.
     pub error_codes: ErrorCodesModel,
+    /// Code tables (registers whose value is a code), each becoming a Rust enum.
     #[serde(default)]
     pub codes: Vec<CodeTableModel>,
+    /// Bit-field words, each becoming a Rust type with accessors and builders.
     #[serde(default)]
     pub bitfields: Vec<BitfieldModel>,
+    /// The registers (parameters, monitors, commands) the drive has over the serial link.
     pub registers: Vec<RegisterModel>,
+    /// The manual's worked conversions between an engineering value and a raw word; each becomes a test.
     #[serde(default)]
     pub value_examples: Vec<ValueExampleModel>,
+    /// A reference word that is a percentage of a span chosen by a selector register.
     pub reference_scaling: Option<ReferenceScalingModel>,
+    /// Mistakes in the manual's prose (mistakes in example frames go on the frame).
     #[serde(default)]
     pub manual_errata: Vec<ManualErratumModel>,
+    /// The manual's example frames; each becomes a golden test.
     #[serde(default)]
     pub examples: Vec<ExampleModel>,
     /// Safety warnings the manual gives (or that follow from its examples) for the drive as
@@ -146,52 +160,76 @@ pub enum InferredFact {
     WritableWhileRunning,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct DriveMeta {
+    /// Lower snake or kebab case: the file name, the name on the command line and, with `-`
+    /// as `_`, the Rust module name (`vf-as1` -> `vf_as1`).
     pub id: String,
+    /// The maker, as the manual names it.
     pub vendor: String,
+    /// The model or series designation.
     pub model: String,
+    /// The drive's name in English.
     pub name: String,
+    /// The drive's name as the manual prints it in Chinese.
     #[serde(default)]
     pub name_zh: String,
+    /// The manual's file name (in the manuals folder) every `source` refers to.
     pub manual: String,
+    /// Prose for the top of the reference page.
     #[serde(default)]
     pub description: String,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SerialModel {
+    /// The manual section these settings come from.
     pub source: String,
+    /// Anything the manual says about the serial line that fits nowhere else.
     #[serde(default)]
     pub note: String,
+    /// Every baud rate the drive can be set to.
     pub baud_rates: Vec<u32>,
+    /// Every parity the drive can be set to.
     pub parities: Vec<Parity>,
+    /// Data bits per character.
     pub data_bits: u8,
+    /// Stop bits the drive sends.
     pub stop_bits_sent: u8,
+    /// Stop bits the drive needs to receive.
     pub stop_bits_received: u8,
+    /// The factory setting.
     pub default: SerialDefaultModel,
+    /// How long the drive takes to be ready, to give up a frame and to answer.
     pub timing: TimingModel,
     /// Line-level facts from the manual's specification table (duplex, topology,
     /// synchronisation, bit order); each may be left out.
     pub line: Option<LineModel>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SerialDefaultModel {
+    /// Factory baud rate.
     pub baud: u32,
+    /// Factory parity.
     pub parity: Parity,
+    /// Factory data bits.
     pub data_bits: u8,
+    /// Factory stop bits.
     pub stop_bits: u8,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TimingModel {
+    /// No answer this long after power-on (milliseconds).
     pub startup_delay_ms: u64,
+    /// The drive drops an unfinished frame after this long (milliseconds).
     pub frame_abandon_ms: u64,
+    /// Added to the wire time of request and longest reply to give the reply timeout (milliseconds).
     pub processing_allowance_ms: u64,
     /// Timings that are placeholders or our own assumption rather than the manual's
     /// statement: `[startup_delay_ms, frame_abandon_ms, processing_allowance_ms]`.
@@ -199,20 +237,26 @@ pub struct TimingModel {
     pub assumed: Vec<TimingField>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AddressingModel {
+    /// Lowest station number.
     pub min: u8,
+    /// Highest station number.
     pub max: u8,
+    /// What the manual says about addressing (broadcast, panel setting).
     #[serde(default)]
     pub note: String,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ProtocolRef {
+    /// The name this drive file uses for the protocol (in `examples[].protocol`).
     pub id: String,
+    /// The protocol file it is: `protocols/<uses>.yaml`.
     pub uses: String,
+    /// The manual section describing the protocol.
     pub source: String,
     /// How this drive numbers registers on the wire, per address space (overrides the
     /// protocol file): `{ parameter: { multiply: 10, offset: -1 }, coil: { multiply: 1, offset: -1 } }`.
@@ -223,38 +267,53 @@ pub struct ProtocolRef {
     pub pre_steps: Vec<PreStepModel>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ErrorCodesModel {
+    /// The manual section listing the codes.
     pub source: String,
+    /// The codes an error reply may carry.
     pub codes: Vec<ErrorCodeModel>,
+    /// Conditions in which the drive does not answer at all (documentation only).
     #[serde(default)]
     pub silent: Vec<String>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ErrorCodeModel {
+    /// The code carried by the error reply.
     pub code: u32,
+    /// Lower snake case name for the code in Rust.
     pub id: String,
+    /// Short English name.
     pub name: String,
+    /// The name as the manual prints it in Chinese.
     #[serde(default)]
     pub name_zh: String,
+    /// What the code means and what to do about it.
     pub meaning: String,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CodeTableModel {
+    /// Lower snake case: registers and bit fields name the table by it; it becomes a Rust enum.
     pub id: String,
+    /// The table's name in English.
     pub name: String,
+    /// The table's name as the manual prints it in Chinese.
     #[serde(default)]
     pub name_zh: String,
+    /// The manual section the values come from.
     pub source: String,
+    /// Whether the values listed are all there are (default true); false: registers using the table read as plain numbers.
     #[serde(default = "yes")]
     pub exhaustive: bool,
+    /// Anything the manual says about the table that fits nowhere else.
     #[serde(default)]
     pub note: String,
+    /// The codes and their meanings.
     pub values: Vec<CodeValueModel>,
 }
 
@@ -262,113 +321,157 @@ fn yes() -> bool {
     true
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CodeValueModel {
+    /// The raw value.
     pub value: u32,
+    /// Lower snake case name of the value (a Rust enum variant).
     pub id: String,
+    /// What the value means, in English.
     pub name: String,
+    /// What the value means, as the manual prints it in Chinese.
     #[serde(default)]
     pub name_zh: String,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BitfieldModel {
+    /// Lower snake case: registers name the word by it; it becomes a Rust type.
     pub id: String,
+    /// The word's name in English.
     pub name: String,
+    /// The word's name as the manual prints it in Chinese.
     #[serde(default)]
     pub name_zh: String,
+    /// The manual section describing the word.
     pub source: String,
+    /// Anything the manual says about the word that fits nowhere else.
     #[serde(default)]
     pub note: String,
+    /// The word's bits and bit groups.
     pub fields: Vec<BitModel>,
+    /// The manual's worked values of the word; each becomes a test.
     #[serde(default)]
     pub examples: Vec<BitExampleModel>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BitModel {
     /// A one-bit field.
     pub bit: Option<u8>,
     /// A multi-bit field as `"msb:lsb"`.
     pub bits: Option<String>,
+    /// Lower snake case name of the field (an accessor in Rust); required unless `reserved`.
     pub id: Option<String>,
+    /// The bits carry nothing (no accessor is generated).
     #[serde(default)]
     pub reserved: bool,
+    /// What the field means, in English.
     #[serde(default)]
     pub name: String,
+    /// What the field means, as the manual prints it in Chinese.
     #[serde(default)]
     pub name_zh: String,
+    /// What a one-bit field's 0 means.
     #[serde(default)]
     pub zero: String,
+    /// What a one-bit field's 1 means.
     #[serde(default)]
     pub one: String,
+    /// What a one-bit field's 0 means, in Chinese.
     #[serde(default)]
     pub zero_zh: String,
+    /// What a one-bit field's 1 means, in Chinese.
     #[serde(default)]
     pub one_zh: String,
     /// Code table giving the meanings of a multi-bit field's values.
     pub code_table: Option<String>,
+    /// Anything the manual says about the field that fits nowhere else.
     #[serde(default)]
     pub note: String,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BitExampleModel {
+    /// The word's raw value.
     pub value: u32,
+    /// The ids of the one-bit fields that are 1 in it.
     pub set: Vec<String>,
+    /// What the manual says the value does.
     pub description: String,
+    /// The manual section giving the example.
     pub source: String,
 }
 
 /// A range bound: a number in engineering units, or the code of another register.
-#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, JsonSchema)]
 #[serde(untagged)]
 pub enum BoundModel {
     Number(f64),
     Register(String),
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RangeModel {
+    /// Lowest value in engineering units, or the code or id of a register giving it.
     pub min: BoundModel,
+    /// Highest value in engineering units, or the code or id of a register giving it.
     pub max: BoundModel,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RegisterModel {
+    /// Communication number, 0x0000-0xFFFF, unique within its space.
     pub address: u32,
+    /// Unique lower snake case name; it becomes a Rust type (`upper_limit_frequency` -> `UpperLimitFrequency`).
     pub id: String,
+    /// The manual's code or mnemonic for the register, unique.
     pub code: String,
+    /// The register's name in English.
     pub name: String,
+    /// The register's name as the manual prints it in Chinese.
     #[serde(default)]
     pub name_zh: String,
+    /// Prose for the reference page.
     #[serde(default)]
     pub description: String,
+    /// Unit of the engineering value (`Hz`, `s`, `%`, `A`, `V`, `h`, `kW`, `rpm`); left out for plain numbers.
     #[serde(default)]
     pub unit: Option<String>,
+    /// Engineering value of one raw step (default 1).
     #[serde(default)]
     pub scale: Option<f64>,
+    /// The word is two's complement (default false).
     #[serde(default)]
     pub signed: bool,
+    /// Allowed values in engineering units; a bound may name another register.
     pub range: Option<RangeModel>,
+    /// Factory value in engineering units; must lie in the range.
     pub default: Option<f64>,
+    /// `read-only`, `read-write` (default) or `write-only`.
     #[serde(default)]
     pub access: Option<Access>,
+    /// No persistent (EEPROM) write is generated.
     #[serde(default)]
     pub ram_only: bool,
+    /// May be written while the motor runs.
     #[serde(default)]
     pub writable_while_running: bool,
+    /// Only effective when set from the panel.
     #[serde(default)]
     pub panel_only: bool,
+    /// `immediately` (default) or `after_reset`.
     #[serde(default)]
     pub takes_effect: Option<TakesEffect>,
+    /// Id of the bit-field word the value is (no unit or scale then).
     pub bitfield: Option<String>,
+    /// Id of the code table the value is a code of (no unit or scale then).
     pub code_table: Option<String>,
     /// `word` (default), `double_word`, `bit` or `text`.
     pub data_type: Option<DataType>,
@@ -376,7 +479,9 @@ pub struct RegisterModel {
     pub space: Option<Space>,
     /// Number of elements of an array (indexed) parameter.
     pub array: Option<u8>,
+    /// The manual section describing the register.
     pub source: String,
+    /// Anything the manual says that fits nowhere else.
     #[serde(default)]
     pub note: String,
     /// Facts of this register that are inferred rather than stated by the manual:
@@ -389,126 +494,179 @@ pub struct RegisterModel {
 }
 
 /// A reference word that is a percentage of a span chosen by a selector register.
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ReferenceScalingModel {
+    /// The manual section describing the scaling.
     pub source: String,
+    /// The raw value meaning 100 %.
     pub full_scale_raw: u32,
+    /// Ids of the registers scaled this way.
     pub applies_to: Vec<String>,
+    /// Id of the register choosing the mode.
     pub selector: String,
+    /// Anything the manual says about the scaling that fits nowhere else.
     #[serde(default)]
     pub note: String,
+    /// The spans, one per selector value: value = percent x (high - low).
     pub modes: Vec<ScalingModeModel>,
 }
 
-#[derive(Debug, Clone, Deserialize, Serialize)]
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ScalingModeModel {
+    /// The selector register's value choosing this mode.
     pub selector: u32,
+    /// The span's low end: a number or a register id.
     pub low: BoundModel,
+    /// The span's high end: a number or a register id.
     pub high: BoundModel,
+    /// What the mode means.
     pub description: String,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ValueExampleModel {
+    /// Code or id of the register.
     pub register: String,
+    /// The engineering value; it must round to `raw`.
     pub value: f64,
+    /// The raw word on the wire.
     pub raw: u32,
+    /// The manual section giving the example.
     pub source: String,
+    /// What the manual says.
     pub description: String,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ManualErratumModel {
+    /// The manual section with the mistake.
     pub source: String,
+    /// What the manual prints.
     pub printed: String,
+    /// What it should say.
     pub corrected: String,
+    /// Why the printed text is wrong.
     pub reason: String,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExampleModel {
+    /// Unique lower snake case name; it names the golden test.
     pub id: String,
+    /// A protocol id of this drive (`protocols[].id`).
     pub protocol: String,
+    /// The manual section with the frame.
     pub source: String,
+    /// What the exchange does, in English.
     pub description: String,
+    /// What the exchange does, as the manual says it in Chinese.
     #[serde(default)]
     pub description_zh: String,
+    /// The request frame, if the manual gives one.
     pub request: Option<FrameModel>,
+    /// The reply frame, if the manual gives one.
     pub reply: Option<FrameModel>,
     /// The data word's value in the register's engineering unit.
     pub value: Option<f64>,
 }
 
 /// Frame bytes, written as text (`ascii`) or as hex pairs (`hex`).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BytesModel {
+    /// The frame as text (text protocols); `\r` and other escapes as in YAML double quotes.
     pub ascii: Option<String>,
+    /// The frame as hex byte pairs separated by spaces (binary protocols).
     pub hex: Option<String>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct FrameModel {
+    /// The corrected frame as text (text protocols).
     pub ascii: Option<String>,
+    /// The corrected frame as hex byte pairs (binary protocols).
     pub hex: Option<String>,
+    /// What the frame must decode to.
     pub expect: ExpectModel,
     /// What the manual prints, when it differs from the bytes above (an erratum).
     pub printed: Option<BytesModel>,
+    /// Why the printed bytes are wrong; required with `printed`.
     pub erratum: Option<String>,
+    /// The decoder's reason for refusing the printed bytes.
     pub printed_rejected_as: Option<DecodeErrorKind>,
 }
 
-#[derive(Debug, Clone, Default, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Default, Deserialize, PartialEq, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ExpectModel {
+    /// Station number.
     pub address: Option<u8>,
+    /// The command code: a letter (`R`) or a number (`0x03`).
     pub command: Option<CodeModel>,
     /// Register number as the drive file numbers it (before the protocol's address map).
     pub register: Option<u32>,
     /// Register number on the wire, for frames addressing no described register (the FC
     /// Modbus index register 0008h).
     pub wire_register: Option<u32>,
+    /// Array index (indexed parameters).
     pub index: Option<u32>,
+    /// The data word, raw.
     pub data: Option<u32>,
+    /// The code of an error reply.
     pub error_code: Option<u32>,
     /// Process words (control word and reference, or status word and output value).
     pub process: Option<[u32; 2]>,
+    /// Text carried by the frame.
     pub text: Option<String>,
+    /// The reply says the drive has tripped.
     #[serde(default)]
     pub tripped: bool,
 }
 
 /// A shared protocol file (`drives/protocols/<id>.yaml`).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ProtocolFile {
+    /// Who the protocol is and its frame-wide settings.
     pub protocol: ProtocolMeta,
+    /// Reusable frame parts by name; layouts list them.
     #[serde(default)]
     pub parts: BTreeMap<String, PartModel>,
+    /// Frame layouts by name: the parts of a frame in order, each the name of a part or a part written in place.
     pub layouts: BTreeMap<String, Vec<PartRefModel>>,
+    /// The commands: which layouts a request and its reply use.
     pub commands: Vec<CommandModel>,
+    /// Name of the layout of an error reply.
     pub error_reply: Option<String>,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ProtocolMeta {
+    /// The file's name without `.yaml`; drive files name it in `protocols[].uses`.
     pub id: String,
+    /// The protocol's name in English.
     pub name: String,
+    /// The protocol's name as the manuals print it in Chinese.
     #[serde(default)]
     pub name_zh: String,
+    /// Prose for the reference pages.
     #[serde(default)]
     pub description: String,
+    /// Frames are printable text.
     pub text: bool,
+    /// The longest frame in bytes: sizes buffers and reply timeouts.
     pub max_frame_len: u16,
+    /// A reply with a lower-case command letter says the drive has tripped.
     #[serde(default)]
     pub lowercase_means_tripped: bool,
+    /// Optional parts included in the requests the library builds.
     #[serde(default)]
     pub default_optional_parts: Vec<String>,
     /// Steps some requests need first.
@@ -551,13 +709,33 @@ impl<'de> Deserialize<'de> for PartRefModel {
     }
 }
 
-#[derive(Debug, Clone, Deserialize)]
+impl JsonSchema for PartRefModel {
+    fn schema_name() -> Cow<'static, str> {
+        "PartRefModel".into()
+    }
+
+    /// As the hand-written `Deserialize` reads it: a string or a part.
+    fn json_schema(generator: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": "The name of a part under `parts`, or a part written in place as `{ ... }`.",
+            "oneOf": [
+                { "type": "string", "description": "The name of a part under `parts`." },
+                generator.subschema_for::<PartModel>(),
+            ],
+        })
+    }
+}
+
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PartModel {
+    /// Fixed bytes, as text; the first literal of a layout is its start sequence.
     pub literal: Option<String>,
+    /// Fixed bytes, as hex pairs.
     pub literal_hex: Option<String>,
     /// A value field: its role.
     pub field: Option<Role>,
+    /// A checksum: its algorithm.
     pub checksum: Option<ChecksumAlgorithm>,
     /// A word made of bit fields: its format (`u16be`).
     pub word: Option<Format>,
@@ -565,30 +743,40 @@ pub struct PartModel {
     pub length: Option<Format>,
     /// Name for error messages and docs (defaults to the role or the part's key).
     pub name: Option<String>,
+    /// How the value is written on the wire.
     pub format: Option<Format>,
+    /// Digit formats: the number of digits encoded; byte formats: the number of bytes.
     pub width: Option<u8>,
+    /// Digit formats: the fewest digits accepted on decode.
     pub min_width: Option<u8>,
     /// `rest` (up to the fixed parts before the frame end) or `length` (a length part covers
     /// it); left out, the format sizes the field.
     pub size: Option<SizedBy>,
+    /// Whether the part may be left out, and how a decoder tells it is there.
     pub optional: Option<OptionalModel>,
+    /// Values accepted on decode (letters or numbers).
     #[serde(default)]
     pub allowed: Vec<CodeModel>,
+    /// Accept lower case too on decode.
     #[serde(default)]
     pub fold_case: bool,
+    /// Bytes announcing an optional checksum; the checksum covers them.
     pub marker: Option<String>,
+    /// Name of the first part a checksum covers.
     pub covers_from: Option<String>,
     /// Bit fields of a `word`.
     #[serde(default)]
     pub fields: Vec<BitsModel>,
     /// What a `length` counts.
     pub counts: Option<CountsModel>,
+    /// A length: the count is multiplied by this.
     pub times: Option<u8>,
+    /// A length: the count is divided by this.
     pub per: Option<u8>,
 }
 
 /// A command code or allowed value: one character (`R`) or a number (`0x03`).
-#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, PartialEq, JsonSchema)]
 #[serde(untagged)]
 pub enum CodeModel {
     Number(u32),
@@ -616,13 +804,16 @@ impl CodeModel {
     }
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BitsModel {
+    /// The value's role for the transaction engine.
     pub field: Role,
+    /// Name for error messages and docs (defaults to the role).
     pub name: Option<String>,
     /// `"msb:lsb"` or a single bit number.
     pub bits: String,
+    /// Values accepted on decode.
     #[serde(default)]
     pub allowed: Vec<CodeModel>,
 }
@@ -661,6 +852,32 @@ impl<'de> Deserialize<'de> for CountsModel {
             }
         }
         deserializer.deserialize_any(CountsVisitor)
+    }
+}
+
+impl JsonSchema for CountsModel {
+    fn schema_name() -> Cow<'static, str> {
+        "CountsModel".into()
+    }
+
+    /// As the hand-written `Deserialize` reads it.
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": "What a length counts: `{ from: part, through: part }` or `data_size`.",
+            "oneOf": [
+                { "const": "data_size", "description": "The bytes of the data the frame carries." },
+                {
+                    "type": "object",
+                    "description": "The bytes from one part through another, both included.",
+                    "properties": {
+                        "from": { "type": "string", "description": "Name of the first part counted." },
+                        "through": { "type": "string", "description": "Name of the last part counted." },
+                    },
+                    "required": ["from", "through"],
+                    "additionalProperties": false,
+                },
+            ],
+        })
     }
 }
 
@@ -705,19 +922,49 @@ impl<'de> Deserialize<'de> for OptionalModel {
     }
 }
 
-#[derive(Debug, Clone, Deserialize)]
+impl JsonSchema for OptionalModel {
+    fn schema_name() -> Cow<'static, str> {
+        "OptionalModel".into()
+    }
+
+    /// As the hand-written `Deserialize` reads it.
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": "Whether a part may be left out: `true`/`false`, or for fields a presence rule (`if_format_matches`, `{ if_byte_at_most: 0x3F }`).",
+            "oneOf": [
+                { "type": "boolean", "description": "Always there (`false`) or perhaps left out (`true`)." },
+                { "const": "if_format_matches", "description": "There when the bytes at its place match its format." },
+                {
+                    "type": "object",
+                    "description": "There when the byte at its place is at most this value.",
+                    "properties": {
+                        "if_byte_at_most": { "type": "integer", "minimum": 0, "maximum": 255 },
+                    },
+                    "required": ["if_byte_at_most"],
+                    "additionalProperties": false,
+                },
+            ],
+        })
+    }
+}
+
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CommandModel {
     /// The code on the wire; absent for layouts without a command field.
     pub code: Option<CodeModel>,
+    /// What the command does: `read`, `write_ram`, `write_persistent`, `read_text` or `process`.
     pub kind: CommandKind,
+    /// Name of the request's layout.
     pub request: String,
+    /// Name of the normal reply's layout.
     pub reply: String,
     /// Data types carried (`word`, `double_word`, `bit`, `text`); empty: any.
     #[serde(default)]
     pub data_types: Vec<DataType>,
     /// `parameter` (default) or `coil`.
     pub space: Option<Space>,
+    /// How register numbers become wire addresses (a default a drive file may override).
     pub address_map: Option<AddressMapModel>,
     /// Codes a normal reply may carry; empty: the request's code.
     #[serde(default)]
@@ -728,23 +975,29 @@ pub struct CommandModel {
     pub description: String,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct AddressMapModel {
+    /// Wire address = number x multiply + offset: the factor.
     pub multiply: u16,
+    /// Wire address = number x multiply + offset: the offset.
     pub offset: i32,
 }
 
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct PreStepModel {
+    /// What the step does: `index` or `persistence`.
     pub step: PreStepKind,
+    /// The register the step writes.
     pub register: u16,
     /// `parameter` (default) or `coil`.
     pub space: Option<Space>,
     /// `word` (default), `double_word`, `bit` or `text`.
     pub data_type: Option<DataType>,
+    /// Persistence: the value selecting RAM-only writes.
     pub ram: Option<u32>,
+    /// Persistence: the value selecting RAM + EEPROM writes.
     pub persistent: Option<u32>,
     /// Notes for people reading the protocol file; nothing is generated from them.
     #[serde(default)]
@@ -753,7 +1006,7 @@ pub struct PreStepModel {
 }
 
 /// What a pre-step does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, JsonSchema)]
 #[serde(rename_all = "snake_case")]
 pub enum PreStepKind {
     /// Write the array index of an indexed parameter.

@@ -1,7 +1,7 @@
 //! Check: identifiers become Rust names: lower-case snake case.
 
 use crate::diagnostics::Diagnostics;
-use crate::naming::method_name;
+use crate::naming::{method_name, module_name};
 use crate::validate::Context;
 
 /// Identifiers become Rust names: lower-case snake case.
@@ -71,12 +71,27 @@ pub fn identifiers_are_snake_case(drive: &Context, out: &mut Diagnostics) {
             .map(|(i, e)| (format!("examples[{i}].id"), e.id.as_str())),
     );
     for (path, id) in ids {
+        // The drive id may be kebab case too (`vf-as1`): its module is `vf_as1`, its files
+        // keep the id.
+        let is_drive = path == "drive.id";
         // A leading `_` would leave `_1` as the type name `1` and `_` as an empty one.
         let valid = id.chars().next().is_some_and(|c| c.is_ascii_lowercase())
-            && id
-                .chars()
-                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
-        if !valid {
+            && id.chars().all(|c| {
+                c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_' || (is_drive && c == '-')
+            });
+        if !valid && is_drive {
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &path,
+                        format!("drive id `{id}` is not lower-case snake or kebab case"),
+                    )
+                    .hint(
+                        "the drive id names the generated module (`-` becomes `_`) and files: use a-z, 0-9, _ and - and start with a letter",
+                    ),
+            );
+        } else if !valid {
             out.push(
                 drive
                     .source
@@ -88,7 +103,7 @@ pub fn identifiers_are_snake_case(drive: &Context, out: &mut Diagnostics) {
                         "identifiers become Rust names: use a-z, 0-9 and _ and start with a letter",
                     ),
             );
-        } else if path == "drive.id" && method_name(id) != id {
+        } else if is_drive && method_name(&module_name(id)) != module_name(id) {
             out.push(
                 drive
                     .source
@@ -130,13 +145,6 @@ mod tests {
     #[test]
     fn reports_upper_case_and_dashes_wherever_an_identifier_is() {
         let cases = [
-            (
-                "id: test_drive",
-                "id: test-drive",
-                "drive.id",
-                "test-drive",
-                "id: test-drive",
-            ),
             (
                 "id: maximum_frequency,",
                 "id: MaximumFrequency,",
@@ -196,6 +204,27 @@ mod tests {
                 path,
                 &format!("identifier `{id}` is not lower-case snake case"),
                 line,
+            );
+        }
+    }
+
+    #[test]
+    fn accepts_a_kebab_case_drive_id() {
+        let yaml = valid_with(&[("id: test_drive", "id: vf-as1")]);
+        assert!(check_yaml(check, &yaml).is_empty());
+    }
+
+    #[test]
+    fn reports_a_drive_id_that_is_neither_snake_nor_kebab_case() {
+        for id in ["Test-drive", "test.drive", "-test", "test drive"] {
+            let yaml = valid_with(&[("id: test_drive", &format!("id: \"{id}\""))]);
+            let found = check_yaml(check, &yaml);
+            assert_at(
+                only(&found),
+                &yaml,
+                "drive.id",
+                &format!("drive id `{id}` is not lower-case snake or kebab case"),
+                &format!("id: \"{id}\""),
             );
         }
     }
