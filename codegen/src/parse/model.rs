@@ -56,7 +56,7 @@ pub struct DriveFile {
 }
 
 /// A safety warning: what can go wrong, and where the manual says so.
-#[derive(Debug, Clone, Deserialize, Serialize, PartialEq)]
+#[derive(Debug, Clone, Deserialize, JsonSchema, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct WarningModel {
     /// The warning, in English (the manual's Chinese may follow in brackets).
@@ -67,7 +67,7 @@ pub struct WarningModel {
 }
 
 /// The line-level facts of the serial link (the manual's specification table).
-#[derive(Debug, Clone, Deserialize, Default)]
+#[derive(Debug, Clone, Deserialize, JsonSchema, Default)]
 #[serde(deny_unknown_fields)]
 pub struct LineModel {
     /// Manual section these facts come from.
@@ -84,7 +84,7 @@ pub struct LineModel {
 }
 
 /// Half or full duplex.
-#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum Duplex {
     /// One direction at a time (two-wire RS-485).
@@ -94,7 +94,7 @@ pub enum Duplex {
 }
 
 /// Who controls the line.
-#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum Topology {
     /// Centralised control (集中控制): one master sends, the addressed drive answers.
@@ -104,7 +104,7 @@ pub enum Topology {
 }
 
 /// Character synchronisation.
-#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum Synchronisation {
     /// Start and stop bits frame each character.
@@ -114,7 +114,7 @@ pub enum Synchronisation {
 }
 
 /// Bit order within a character.
-#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum BitOrder {
     /// Least significant bit first (the UART convention).
@@ -124,7 +124,7 @@ pub enum BitOrder {
 }
 
 /// A timing value that can be marked as assumed (not from the manual).
-#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum TimingField {
     /// `startup_delay_ms`.
@@ -137,7 +137,7 @@ pub enum TimingField {
 
 /// A register fact that can be marked as inferred (the description's reading, not the
 /// manual's statement).
-#[derive(Debug, Clone, Copy, Deserialize, Serialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema, Serialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum InferredFact {
     /// The English name.
