@@ -4,7 +4,7 @@ use vfd_runtime::protocol::Found;
 use vfd_runtime::{CommandKind, DataType, Request};
 
 fn main() {
-    let protocol = &vfd_drives::fc51::protocols::MODBUS;
+    let protocol = vfd_drives::fc51::protocols::MODBUS.protocol();
     let read = Request {
         wire_register: true,
         ..Request::raw(CommandKind::Read, 0x0BD5, 0).with_data_type(DataType::DoubleWord)

@@ -49,4 +49,35 @@ pub fn drive(id: &str) -> Option<&'static vfd_runtime::DriveInfo> {
 /// use vfd_drives::yd1000::registers::FrequencyCommand;
 /// let _ = FrequencyCommand::write_ram(vfd_runtime::units::Seconds(1.0));
 /// ```
+///
+/// A register of one drive does not compile with another drive's protocol or master (each
+/// drive module has a `Drive` type; registers, protocols and masters name it):
+///
+/// ```compile_fail,E0308
+/// use vfd_runtime::prelude::*;
+/// let request = vfd_drives::fc51::registers::MaximumReference::read();
+/// let mut frame = [0u8; 32];
+/// let _ = vfd_drives::yd1000::protocols::BINARY.encode_request(&request, None, &mut frame);
+/// ```
+///
+/// ```compile_fail,E0271
+/// use vfd_drives::{fc51, yd1000};
+/// use vfd_runtime::prelude::*;
+/// let (line, _drive) = vfd_runtime::transport::memory_pair();
+/// let mut master = Master::new(line, &yd1000::protocols::BINARY, yd1000::SERIAL.default, yd1000::SERIAL.timing);
+/// let _ = master.read::<fc51::registers::MaximumReference>();
+/// ```
+///
+/// The same calls with the drive's own registers compile:
+///
+/// ```
+/// use vfd_drives::yd1000;
+/// use vfd_runtime::prelude::*;
+/// let request = yd1000::registers::MaximumFrequency::read();
+/// let mut frame = [0u8; 32];
+/// assert!(yd1000::protocols::BINARY.encode_request(&request, None, &mut frame).is_ok());
+/// let (line, _drive) = vfd_runtime::transport::memory_pair();
+/// let mut master = Master::new(line, &yd1000::protocols::BINARY, yd1000::SERIAL.default, yd1000::SERIAL.timing);
+/// let _ = master.read::<yd1000::registers::MaximumFrequency>(); // no drive answers: a timeout
+/// ```
 pub mod compile_time_checks {}

@@ -70,6 +70,6 @@ pub use layout::{
     BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,
     Part, Presence, Role, SizedBy, WordSpec,
 };
-pub use protocol::{AddressMap, CommandSpec, PreStep, Protocol, Reply};
-pub use register::{Persistable, Register, RegisterValue, Request, Writable};
-pub use transaction::{Reading, TransactionError, TransactionErrorKind};
+pub use protocol::{AddressMap, CommandSpec, DriveProtocol, PreStep, Protocol, Reply};
+pub use register::{DriveRequest, Persistable, Register, RegisterValue, Request, Writable};
+pub use transaction::{AnyDrive, Reading, TransactionError, TransactionErrorKind};

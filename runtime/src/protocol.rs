@@ -7,8 +7,10 @@ use crate::error::{DecodeError, EncodeError};
 pub use crate::info::ErrorCodeInfo;
 pub use crate::kinds::{CommandKind, DataType, Space};
 use crate::layout::{FrameLayout, List, Part, Role, Text};
+use crate::register::DriveRequest;
 pub use crate::register::Request;
 use std::borrow::Cow;
+use std::marker::PhantomData;
 
 /// How a command turns a register number into the number on the wire:
 /// `wire = number * multiply + offset` (Modbus holding register = parameter x 10 - 1).
@@ -168,6 +170,53 @@ pub enum PreStep {
         /// Value selecting RAM and EEPROM.
         persistent: u32,
     },
+}
+
+/// A protocol of drive `D` (a generated drive module's `Drive` marker): it encodes only
+/// requests for that drive's registers, and a [`crate::transaction::Master`] built on it
+/// sends only those. It dereferences to the untyped [`Protocol`] for everything else
+/// (decoding, and tools that work with any drive).
+pub struct DriveProtocol<D: 'static> {
+    protocol: &'static Protocol,
+    drive: PhantomData<fn() -> D>,
+}
+
+impl<D: 'static> DriveProtocol<D> {
+    /// `protocol`, as drive `D` speaks it.
+    pub const fn new(protocol: &'static Protocol) -> Self {
+        DriveProtocol {
+            protocol,
+            drive: PhantomData,
+        }
+    }
+
+    /// The untyped protocol.
+    pub const fn protocol(&self) -> &'static Protocol {
+        self.protocol
+    }
+
+    /// Encodes a request for one of the drive's registers; see [`Protocol::encode_request`].
+    pub fn encode_request(
+        &self,
+        request: &DriveRequest<D>,
+        address: Option<u8>,
+        out: &mut [u8],
+    ) -> Result<usize, EncodeError> {
+        self.protocol.encode_request(request, address, out)
+    }
+}
+
+impl<D: 'static> std::ops::Deref for DriveProtocol<D> {
+    type Target = Protocol;
+    fn deref(&self) -> &Protocol {
+        self.protocol
+    }
+}
+
+impl<D: 'static> std::fmt::Debug for DriveProtocol<D> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.protocol.fmt(f)
+    }
 }
 
 /// A protocol as one drive speaks it.

@@ -10,6 +10,7 @@ use crate::error::ValueError;
 pub use crate::info::RegisterInfo;
 pub use crate::kinds::Access;
 use crate::kinds::{CommandKind, DataType, Space};
+use std::marker::PhantomData;
 
 /// A value that can be stored in a register: a quantity, a code-table enum, a bit-field
 /// word or a raw number.
@@ -23,26 +24,30 @@ pub trait RegisterValue: Sized {
 
 /// A register of a described drive. Generated code implements it for one unit struct per register.
 pub trait Register {
+    /// The drive the register belongs to (a marker type in each generated drive module):
+    /// its requests are encoded only by that drive's protocols and sent only by a master
+    /// of that drive.
+    type Drive: 'static;
     /// The register's metadata.
     const INFO: &'static RegisterInfo;
     /// The typed value read from and written to it.
     type Value: RegisterValue;
 
     /// A request reading this register (a text read for text parameters).
-    fn read() -> Request
+    fn read() -> DriveRequest<Self::Drive>
     where
         Self: Sized,
     {
-        Request::read::<Self>()
+        DriveRequest::new(Request::read::<Self>())
     }
 
     /// A request reading element `index` of this array register. Refuses indexes beyond
     /// the array.
-    fn read_at(index: u16) -> Result<Request, ValueError>
+    fn read_at(index: u16) -> Result<DriveRequest<Self::Drive>, ValueError>
     where
         Self: Sized,
     {
-        Request::read::<Self>().at_index(index)
+        Self::read().at_index(index)
     }
 }
 
@@ -51,19 +56,19 @@ pub trait Register {
 pub trait Writable: Register {
     /// A request writing `value` in RAM only (lost at power-off). Refuses values outside
     /// the register's range.
-    fn write_ram(value: Self::Value) -> Result<Request, ValueError>
+    fn write_ram(value: Self::Value) -> Result<DriveRequest<Self::Drive>, ValueError>
     where
         Self: Sized,
     {
-        Request::write_ram::<Self>(value)
+        Request::write_ram::<Self>(value).map(DriveRequest::new)
     }
 
     /// A request writing `value` to element `index` of this array register, in RAM only.
-    fn write_ram_at(index: u16, value: Self::Value) -> Result<Request, ValueError>
+    fn write_ram_at(index: u16, value: Self::Value) -> Result<DriveRequest<Self::Drive>, ValueError>
     where
         Self: Sized,
     {
-        Request::write_ram::<Self>(value)?.at_index(index)
+        Self::write_ram(value)?.at_index(index)
     }
 }
 
@@ -72,20 +77,23 @@ pub trait Writable: Register {
 pub trait Persistable: Writable {
     /// A request writing `value` in RAM and EEPROM. EEPROM endures a limited number of
     /// writes: prefer [`Writable::write_ram`] for values that change often.
-    fn write_persistent(value: Self::Value) -> Result<Request, ValueError>
+    fn write_persistent(value: Self::Value) -> Result<DriveRequest<Self::Drive>, ValueError>
     where
         Self: Sized,
     {
-        Request::write_persistent::<Self>(value)
+        Request::write_persistent::<Self>(value).map(DriveRequest::new)
     }
 
     /// A request writing `value` to element `index` of this array register, in RAM and
     /// EEPROM.
-    fn write_persistent_at(index: u16, value: Self::Value) -> Result<Request, ValueError>
+    fn write_persistent_at(
+        index: u16,
+        value: Self::Value,
+    ) -> Result<DriveRequest<Self::Drive>, ValueError>
     where
         Self: Sized,
     {
-        Request::write_persistent::<Self>(value)?.at_index(index)
+        Self::write_persistent(value)?.at_index(index)
     }
 }
 
@@ -244,6 +252,63 @@ impl Request {
     }
 }
 
+/// A [`Request`] built for one drive's registers (the `D` of [`Register::Drive`]): only
+/// that drive's protocols ([`crate::protocol::DriveProtocol`]) encode it and only a master
+/// of that drive sends it, so a register of another drive does not compile there. It
+/// dereferences to the untyped request.
+pub struct DriveRequest<D> {
+    request: Request,
+    drive: PhantomData<fn() -> D>,
+}
+
+impl<D> DriveRequest<D> {
+    /// Marks `request` as one for drive `D`.
+    pub const fn new(request: Request) -> Self {
+        DriveRequest {
+            request,
+            drive: PhantomData,
+        }
+    }
+
+    /// The same request for element `index` of an array register; refuses indexes beyond
+    /// the array (see [`Request::at_index`]).
+    pub fn at_index(self, index: u16) -> Result<Self, ValueError> {
+        self.request.at_index(index).map(DriveRequest::new)
+    }
+
+    /// The untyped request.
+    pub const fn into_request(self) -> Request {
+        self.request
+    }
+}
+
+impl<D> std::ops::Deref for DriveRequest<D> {
+    type Target = Request;
+    fn deref(&self) -> &Request {
+        &self.request
+    }
+}
+
+impl<D> Clone for DriveRequest<D> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<D> Copy for DriveRequest<D> {}
+
+impl<D> PartialEq for DriveRequest<D> {
+    fn eq(&self, other: &Self) -> bool {
+        self.request == other.request
+    }
+}
+
+impl<D> std::fmt::Debug for DriveRequest<D> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.request.fmt(f)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -251,8 +316,12 @@ mod tests {
 
     /// A register written the way generated code may write it: only what differs from
     /// [`RegisterInfo::DEFAULT`].
+    /// The drive of the test registers.
+    enum TestDrive {}
+
     struct MaximumFrequency;
     impl Register for MaximumFrequency {
+        type Drive = TestDrive;
         const INFO: &'static RegisterInfo = &RegisterInfo {
             address: 0x0011,
             id: "maximum_frequency",
@@ -272,6 +341,7 @@ mod tests {
 
     struct Presets;
     impl Register for Presets {
+        type Drive = TestDrive;
         const INFO: &'static RegisterInfo = &RegisterInfo {
             address: 310,
             code: "310",
@@ -286,7 +356,7 @@ mod tests {
     #[test]
     fn every_register_gets_its_requests_from_the_traits() {
         assert_eq!(
-            MaximumFrequency::read(),
+            MaximumFrequency::read().into_request(),
             Request::for_register(CommandKind::Read, MaximumFrequency::INFO, 0)
         );
         let ram = MaximumFrequency::write_ram(60.0).unwrap();

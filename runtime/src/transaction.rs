@@ -6,11 +6,12 @@ use crate::error::{hex, DecodeError, DecodeErrorKind, EncodeError, ValueError};
 use crate::info::ErrorCodeInfo;
 use crate::kinds::{CommandKind, DataType, Space};
 use crate::layout::Role;
-use crate::protocol::{Found, PreStep, Protocol, Reply};
+use crate::protocol::{DriveProtocol, Found, PreStep, Protocol, Reply};
 use crate::register::{Persistable, Register, RegisterValue, Request, Writable};
 use crate::serial::{DriveTiming, SerialSettings};
 use crate::transport::Transport;
 use std::fmt;
+use std::marker::PhantomData;
 use std::time::{Duration, Instant};
 
 /// Largest frame the master buffers; longer noise is dropped from the front.
@@ -76,12 +77,21 @@ impl<V: fmt::Display> fmt::Display for Reading<V> {
     }
 }
 
-/// A bus master speaking one protocol to one station.
+/// Drive parameter of a [`Master`] built on an untyped [`Protocol`]
+/// ([`Master::for_protocol`]): it sends raw requests ([`Master::transact`]) for tools that
+/// work with any drive, and no typed register requests.
+#[derive(Debug, Clone, Copy)]
+pub enum AnyDrive {}
+
+/// A bus master speaking one protocol to one station of drive `D`.
 ///
-/// Buffers are fixed arrays, so a transaction makes no heap allocation unless it fails.
-pub struct Master<T: Transport> {
+/// Typed reads and writes take only registers of `D` (`R: Register<Drive = D>`), so a
+/// register of another drive does not compile. Buffers are fixed arrays, so a transaction
+/// makes no heap allocation unless it fails.
+pub struct Master<T: Transport, D: 'static = AnyDrive> {
     transport: T,
     protocol: &'static Protocol,
+    drive: PhantomData<fn() -> D>,
     settings: SerialSettings,
     timing: DriveTiming,
     address: Option<u8>,
@@ -91,10 +101,32 @@ pub struct Master<T: Transport> {
     last_activity: Option<Instant>,
 }
 
-impl<T: Transport> Master<T> {
-    /// A master for `protocol` over `transport`, with the line `settings` and the drive's
-    /// `timing` (from the generated drive module).
+impl<T: Transport> Master<T, AnyDrive> {
+    /// A master for an untyped `protocol` (from a [`crate::DriveInfo`], for tools that work
+    /// with any drive): it runs raw requests with [`Master::transact`].
+    pub fn for_protocol(
+        transport: T,
+        protocol: &'static Protocol,
+        settings: SerialSettings,
+        timing: DriveTiming,
+    ) -> Self {
+        Master::build(transport, protocol, settings, timing)
+    }
+}
+
+impl<T: Transport, D: 'static> Master<T, D> {
+    /// A master for drive `D`'s `protocol` over `transport`, with the line `settings` and
+    /// the drive's `timing` (all from the generated drive module).
     pub fn new(
+        transport: T,
+        protocol: &'static DriveProtocol<D>,
+        settings: SerialSettings,
+        timing: DriveTiming,
+    ) -> Self {
+        Master::build(transport, protocol.protocol(), settings, timing)
+    }
+
+    fn build(
         transport: T,
         protocol: &'static Protocol,
         settings: SerialSettings,
@@ -103,6 +135,7 @@ impl<T: Transport> Master<T> {
         Master {
             transport,
             protocol,
+            drive: PhantomData,
             settings,
             timing,
             address: None,
@@ -142,14 +175,14 @@ impl<T: Transport> Master<T> {
     }
 
     /// Reads register `R`: its typed value, and whether the reply said the drive is tripped.
-    pub fn read<R: Register>(&mut self) -> Result<Reading<R::Value>, TransactionError> {
+    pub fn read<R: Register<Drive = D>>(&mut self) -> Result<Reading<R::Value>, TransactionError> {
         let request = Request::read::<R>();
         let answer = self.transact(&request)?;
         Self::value_read::<R>(&request, answer)
     }
 
     /// Reads element `index` of the array register `R`. Refuses indexes beyond the array.
-    pub fn read_at<R: Register>(
+    pub fn read_at<R: Register<Drive = D>>(
         &mut self,
         index: u16,
     ) -> Result<Reading<R::Value>, TransactionError> {
@@ -180,7 +213,7 @@ impl<T: Transport> Master<T> {
     }
 
     /// Reads the text register `R` (text parameters such as an ordering number).
-    pub fn read_text<R: Register>(&mut self) -> Result<String, TransactionError> {
+    pub fn read_text<R: Register<Drive = D>>(&mut self) -> Result<String, TransactionError> {
         let answer = self.transact(&Request::read::<R>())?;
         let (start, len) = answer.text.unwrap_or((0, 0));
         Ok(String::from_utf8_lossy(&self.reply[start..start + len]).into_owned())
@@ -188,7 +221,7 @@ impl<T: Transport> Master<T> {
 
     /// Writes `value` to register `R` in RAM only. Returns the value the drive reports
     /// written (its echo), or `None` when the protocol's reply carries no data.
-    pub fn write_ram<R: Writable>(
+    pub fn write_ram<R: Writable<Drive = D>>(
         &mut self,
         value: R::Value,
     ) -> Result<Option<R::Value>, TransactionError> {
@@ -198,7 +231,7 @@ impl<T: Transport> Master<T> {
 
     /// Writes `value` to element `index` of the array register `R` in RAM only. Returns
     /// the value the drive reports written, if its reply carries one.
-    pub fn write_ram_at<R: Writable>(
+    pub fn write_ram_at<R: Writable<Drive = D>>(
         &mut self,
         index: u16,
         value: R::Value,
@@ -209,7 +242,7 @@ impl<T: Transport> Master<T> {
 
     /// Writes `value` to register `R` in RAM and EEPROM (persistent; EEPROM wears out).
     /// Returns the value the drive reports written, if its reply carries one.
-    pub fn write_persistent<R: Persistable>(
+    pub fn write_persistent<R: Persistable<Drive = D>>(
         &mut self,
         value: R::Value,
     ) -> Result<Option<R::Value>, TransactionError> {
@@ -220,7 +253,7 @@ impl<T: Transport> Master<T> {
     /// Writes `value` to element `index` of the array register `R` in RAM and EEPROM
     /// (persistent; EEPROM wears out). Returns the value the drive reports written, if its
     /// reply carries one.
-    pub fn write_persistent_at<R: Persistable>(
+    pub fn write_persistent_at<R: Persistable<Drive = D>>(
         &mut self,
         index: u16,
         value: R::Value,

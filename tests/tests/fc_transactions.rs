@@ -17,10 +17,10 @@ fn hex(text: &str) -> Vec<u8> {
 }
 
 fn master(
-    protocol: &'static vfd_runtime::Protocol,
+    protocol: &'static vfd_runtime::DriveProtocol<fc51::Drive>,
     replies: &[&str],
 ) -> (
-    Master<MemoryTransport>,
+    Master<MemoryTransport, fc51::Drive>,
     std::thread::JoinHandle<Vec<Vec<u8>>>,
 ) {
     let (ours, theirs) = memory_pair();

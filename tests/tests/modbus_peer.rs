@@ -30,7 +30,7 @@ fn peers_installed() -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
-fn start() -> Option<(Server, Master<PtyTransport>)> {
+fn start() -> Option<(Server, Master<PtyTransport, vfd_drives::fc51::Drive>)> {
     if !peers_installed() {
         assert!(
             std::env::var_os("CI").is_none(),

@@ -22,9 +22,9 @@ fn quick_timing() -> DriveTiming {
 
 fn master_with(
     replies: Vec<&[u8]>,
-    protocol: &'static vfd_runtime::Protocol,
+    protocol: &'static vfd_runtime::DriveProtocol<yd1000::Drive>,
 ) -> (
-    Master<vfd_runtime::transport::MemoryTransport>,
+    Master<vfd_runtime::transport::MemoryTransport, yd1000::Drive>,
     std::thread::JoinHandle<Vec<Vec<u8>>>,
 ) {
     let (ours, theirs) = memory_pair();

@@ -171,7 +171,7 @@ fn station_numbers_outside_the_drive_range_are_refused() {
 fn requests_through_the_traits<R: vfd_runtime::Persistable>(
     ram: R::Value,
     persistent: R::Value,
-) -> [vfd_runtime::Request; 3] {
+) -> [vfd_runtime::DriveRequest<R::Drive>; 3] {
     [
         R::read(),
         R::write_ram(ram).unwrap(),

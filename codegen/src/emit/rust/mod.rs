@@ -87,6 +87,10 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
             pub const MODEL: &str = #model;
             /// The manual the description was transcribed from (its file name).
             pub const MANUAL: &str = #manual;
+            /// The drive as a type: its registers and protocols name it, so a register of
+            /// this drive cannot be used with another drive's protocol or master.
+            #[derive(Debug, Clone, Copy)]
+            pub enum Drive {}
             #serial
             /// The drive as data, for tools that work with any described drive.
             pub static DRIVE: ::vfd_runtime::DriveInfo = ::vfd_runtime::DriveInfo {

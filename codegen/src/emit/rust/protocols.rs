@@ -93,12 +93,13 @@ pub(crate) fn protocols_module(drive: &DriveIr, layouts: &TokenStream) -> TokenS
         .map(|p| protocol_items(drive, p, layouts));
     let all = drive.protocols.iter().map(|p| {
         let name = ident(&p.const_name);
-        quote!(&#name)
+        quote!(#name.protocol())
     });
     let count = int_literal(drive.protocols.len());
     let mut imports = vec![
         quote!(CommandSpec),
         quote!(CommandKind),
+        quote!(DriveProtocol),
         quote!(ErrorCodeInfo),
         quote!(Protocol),
     ];
@@ -194,6 +195,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
         .unwrap_or_else(|| ident(&crate::naming::module_name(&protocol.uses)));
     let name = ident(&protocol.const_name);
     let commands_name = format_ident!("{}_COMMANDS", protocol.const_name);
+    let untyped = format_ident!("{}_PROTOCOL", protocol.const_name);
     let commands = protocol.commands.iter().map(|c| command_tokens(c, &file));
     let command_count = int_literal(protocol.commands.len());
     let error_reply = match &protocol.error_reply {
@@ -224,7 +226,8 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
     quote! {
         static #commands_name: [CommandSpec; #command_count] = [#(#commands),*];
         #[doc = #doc]
-        pub static #name: Protocol = Protocol {
+        pub static #name: DriveProtocol<super::Drive> = DriveProtocol::new(&#untyped);
+        static #untyped: Protocol = Protocol {
             id: Cow::Borrowed(#id),
             name: Cow::Borrowed(#title),
             commands: Cow::Borrowed(&#commands_name),

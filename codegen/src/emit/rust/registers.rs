@@ -161,6 +161,7 @@ pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
             #[derive(Debug, Clone, Copy)]
             pub struct #name;
             impl Register for #name {
+                type Drive = super::Drive;
                 const INFO: Info = &#info;
                 type Value = #value;
             }
