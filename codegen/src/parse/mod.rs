@@ -103,7 +103,11 @@ impl SourceFile {
                 ),
                 None => (position, message),
             };
-            let hint = hint_for(&message);
+            let hint = match (did_you_mean(&message), hint_for(&message)) {
+                (Some(suggestion), Some(hint)) => Some(format!("{suggestion} Otherwise, {hint}")),
+                (Some(suggestion), None) => Some(suggestion),
+                (None, hint) => hint.map(str::to_owned),
+            };
             let mut diagnostic = Diagnostic::new(&self.path, position, path, message);
             if let Some(hint) = hint {
                 diagnostic = diagnostic.hint(hint);
@@ -145,6 +149,39 @@ fn strip_first_position(message: &str) -> String {
     format!("{}{}", &message[..start], &after[end..])
 }
 
+/// "did you mean `format`?" for serde's "unknown field `fromat`, expected one of `format`,
+/// ..." and "unknown variant `u16bee`, expected one of ...", when one known name is close
+/// to the one written (at most a third of its letters differ).
+fn did_you_mean(message: &str) -> Option<String> {
+    let rest = message
+        .strip_prefix("unknown field `")
+        .or_else(|| message.strip_prefix("unknown variant `"))?;
+    let (written, known) = rest.split_once('`')?;
+    let best = known
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .map(|candidate| (edit_distance(written, candidate), candidate))
+        .min_by_key(|(distance, _)| *distance)?;
+    let limit = (written.chars().count() / 3).max(1);
+    (best.0 <= limit).then(|| format!("did you mean `{}`?", best.1))
+}
+
+/// Levenshtein distance between two short names.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut previous: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut current = vec![i + 1];
+        for (j, cb) in b.iter().enumerate() {
+            let substitution = previous[j] + usize::from(ca != *cb);
+            current.push(substitution.min(previous[j + 1] + 1).min(current[j] + 1));
+        }
+        previous = current;
+    }
+    previous[b.len()]
+}
+
 fn hint_for(message: &str) -> Option<&'static str> {
     if message.contains("while parsing")
         || message.contains("did not find expected")
@@ -172,5 +209,30 @@ fn hint_for(message: &str) -> Option<&'static str> {
         Some("check the value's type against drives/README.md (numbers may be decimal or 0x-hex)")
     } else {
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::did_you_mean;
+
+    #[test]
+    fn a_close_known_name_is_suggested() {
+        assert_eq!(
+            did_you_mean(
+                "unknown field `fromat`, expected one of `literal`, `field`, `format`, `width`"
+            ),
+            Some("did you mean `format`?".to_owned())
+        );
+        assert_eq!(
+            did_you_mean("unknown variant `readonly`, expected one of `read-only`, `read-write`, `write-only`"),
+            Some("did you mean `read-only`?".to_owned())
+        );
+        assert_eq!(
+            did_you_mean("unknown variant `register`, expected `parameter` or `coil`"),
+            None,
+            "nothing close"
+        );
+        assert_eq!(did_you_mean("missing field `id`"), None);
     }
 }
