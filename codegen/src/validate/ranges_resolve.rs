@@ -39,6 +39,10 @@ pub fn ranges_resolve(drive: &Context, out: &mut Diagnostics) {
                         Some(_) => resolved[slot] = Some(value),
                     }
                 }
+                // A problem further along the chain (the register named here has a bound
+                // naming no register, or no range) is reported once, where it is written.
+                Err(BoundProblem::Unknown(name) | BoundProblem::Unbounded(name))
+                    if !names(bound, &name) => {}
                 Err(BoundProblem::Unknown(name)) => out.push(
                     drive
                         .source
@@ -70,6 +74,11 @@ pub fn ranges_resolve(drive: &Context, out: &mut Diagnostics) {
     }
 }
 
+/// Whether `bound` is written as the name `name`.
+fn names(bound: &crate::parse::model::BoundModel, name: &str) -> bool {
+    matches!(bound, crate::parse::model::BoundModel::Register(written) if written == name)
+}
+
 #[cfg(test)]
 mod tests {
     use super::ranges_resolve as check;
@@ -96,6 +105,21 @@ mod tests {
             "code: UL,",
         );
         assert_column(diagnostic, &yaml, "XX");
+    }
+
+    #[test]
+    fn a_bad_bound_is_reported_once_where_it_is_written() {
+        // FH's own bound names no register; UL is bounded by FH and gets no second message.
+        let yaml = valid_with(&[("max: 320.0 }", "max: HF }")]);
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_at(
+            diagnostic,
+            &yaml,
+            "registers[1].range.max",
+            "range bound `HF` names no register",
+            "code: FH,",
+        );
     }
 
     #[test]
