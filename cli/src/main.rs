@@ -10,6 +10,26 @@ use vfd_runtime::{
     Access, CommandKind, DataType, DriveInfo, Protocol, RegisterInfo, Request, Space,
 };
 
+/// Prints a line for people. A closed pipe (`vfd registers yd1000 | head`) ends the program
+/// quietly, as for other command-line tools; another write error is reported.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        print_line(format_args!($($arg)*))
+    };
+}
+
+fn print_line(line: std::fmt::Arguments<'_>) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(error) = out.write_fmt(line).and_then(|()| out.write_all(b"\n")) {
+        if error.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("cannot write the output: {error}");
+        std::process::exit(1);
+    }
+}
+
 const USAGE: &str = "\
 vfd: tools for RS-485 frequency inverters described in drives/*.yaml
 
@@ -56,7 +76,7 @@ fn run(args: &[String]) -> Result<(), String> {
         ["encode", drive, protocol, rest @ ..] => encode(find_drive(drive)?, protocol, rest),
         ["decode", drive, protocol, frame] => decode(find_drive(drive)?, protocol, frame),
         ["--help" | "-h" | "help"] | [] => {
-            println!("{USAGE}");
+            say!("{USAGE}");
             Ok(())
         }
         _ => Err(format!(
@@ -118,6 +138,9 @@ fn generate(args: &[&str]) -> Result<(), String> {
         .regenerate_command("cargo run -p vfd-cli -- generate")
         .crate_path("vfd_drives")
         .manuals_location("shared/seeds");
+    if args.last() == Some(&"--dump-ir") {
+        return Err("--dump-ir needs a drive id, e.g. `vfd generate --dump-ir yd1000`".to_owned());
+    }
     if let Some(id) = args.windows(2).find(|w| w[0] == "--dump-ir").map(|w| w[1]) {
         let generated = builder.generate_in_memory().map_err(|e| e.to_string())?;
         let drive = generated
@@ -125,7 +148,7 @@ fn generate(args: &[&str]) -> Result<(), String> {
             .iter()
             .find(|d| d.ir.id == id)
             .ok_or_else(|| format!("no drive `{id}` in {}", root.join("drives").display()))?;
-        print!("{}", drive.ir.to_yaml());
+        say!("{}", drive.ir.to_yaml().trim_end());
         return Ok(());
     }
     // Only this command writes generated-docs/ (builds never do), so what it reports as
@@ -180,9 +203,15 @@ fn generate(args: &[&str]) -> Result<(), String> {
         })
         .collect::<Result<_, String>>()?;
     let pages = generated.drives.len() + 1;
-    println!(
+    say!(
         "{:<8} {:<28} {:>9} {:>9} {:>6} {:>8} {:>7}  protocols",
-        "drive", "model", "registers", "bitfields", "codes", "examples", "errata"
+        "drive",
+        "model",
+        "registers",
+        "bitfields",
+        "codes",
+        "examples",
+        "errata"
     );
     for drive in &generated.drives {
         let ir = &drive.ir;
@@ -193,7 +222,7 @@ fn generate(args: &[&str]) -> Result<(), String> {
             .filter(|f| f.as_ref().is_some_and(|f| f.printed.is_some()))
             .count();
         let protocols: Vec<&str> = ir.protocols.iter().map(|p| p.id.as_str()).collect();
-        println!(
+        say!(
             "{:<8} {:<28} {:>9} {:>9} {:>6} {:>8} {:>7}  {}",
             ir.id,
             format!("{} {}", ir.vendor, ir.model),
@@ -204,16 +233,16 @@ fn generate(args: &[&str]) -> Result<(), String> {
             errata + ir.manual_errata.len(),
             protocols.join(", ")
         );
-        println!(
+        say!(
             "         Rust: {} lines of generated code",
             drive.rust.lines().count()
         );
     }
     match (check_only, described_changed.is_empty()) {
         (_, true) => {
-            println!("drives/schema/ and the key tables in drives/README.md are up to date")
+            say!("drives/schema/ and the key tables in drives/README.md are up to date")
         }
-        (false, false) => println!("changed: {}", described_changed.join(", ")),
+        (false, false) => say!("changed: {}", described_changed.join(", ")),
         (true, false) => {
             return Err(format!(
                 "stale: {}; run `cargo run -p vfd-cli -- generate`",
@@ -222,8 +251,8 @@ fn generate(args: &[&str]) -> Result<(), String> {
         }
     }
     match (check_only, changed.is_empty()) {
-        (_, true) => println!("generated-docs/ is up to date ({pages} pages)"),
-        (false, false) => println!(
+        (_, true) => say!("generated-docs/ is up to date ({pages} pages)"),
+        (false, false) => say!(
             "changed in generated-docs/: {} (of {pages} pages)",
             changed.join(", ")
         ),
@@ -266,14 +295,14 @@ fn check(files: &[&str], protocols: Option<&Path>) -> Result<(), String> {
     let mut failed = 0;
     for file in files {
         match vfd_codegen::compile(Path::new(file), protocols) {
-            Ok(drive) => println!(
+            Ok(drive) => say!(
                 "{file}: ok ({} registers, {} examples)",
                 drive.registers.len(),
                 drive.examples.len()
             ),
             Err(diagnostics) => {
                 failed += 1;
-                println!("{diagnostics}");
+                say!("{diagnostics}");
             }
         }
     }
@@ -285,7 +314,7 @@ fn check(files: &[&str], protocols: Option<&Path>) -> Result<(), String> {
 }
 
 fn registers(drive: &DriveInfo) -> Result<(), String> {
-    println!(
+    say!(
         "{} {} ({}): {} registers",
         drive.vendor,
         drive.model,
@@ -301,7 +330,7 @@ fn registers(drive: &DriveInfo) -> Result<(), String> {
         } else {
             format!("{:04X}", r.address)
         };
-        println!(
+        say!(
             "  {:<8} {:<6} {:<44} {:<12} {:<10} {}{}{}",
             address,
             r.code,
@@ -410,17 +439,17 @@ fn encode(drive: &'static DriveInfo, protocol: &str, args: &[&str]) -> Result<()
         .encode_request(&request, address, &mut frame)
         .map_err(|e| e.to_string())?;
     print_frame(&frame[..len]);
-    println!("{}", request.describe());
+    say!("{}", request.describe());
     Ok(())
 }
 
 fn print_frame(bytes: &[u8]) {
-    println!("hex:   {}", vfd_runtime::error::hex(bytes));
+    say!("hex:   {}", vfd_runtime::error::hex(bytes));
     if bytes
         .iter()
         .all(|b| b.is_ascii_graphic() || matches!(b, b' ' | b'\r' | b'\n'))
     {
-        println!(
+        say!(
             "ascii: {}",
             String::from_utf8_lossy(bytes)
                 .replace('\r', "\\r")
@@ -521,24 +550,24 @@ fn print_meaning(
         .map(code_label)
         .unwrap_or_else(|| "—".to_owned());
     if let Some(error) = meaning.error_code {
-        println!("error reply {code}: error {error}{tripped}");
+        say!("error reply {code}: error {error}{tripped}");
         match protocol.error_code(error) {
-            Some(info) => println!("  {} ({}): {}", info.name, info.name_zh, info.meaning),
-            None => println!("  (code not in the manual's table)"),
+            Some(info) => say!("  {} ({}): {}", info.name, info.name_zh, info.meaning),
+            None => say!("  (code not in the manual's table)"),
         }
         return;
     }
     let kind = meaning.kind.map_or("?", CommandKind::as_str);
-    println!("{}: {code} ({kind}){station}{tripped}", direction.as_str());
+    say!("{}: {code} ({kind}){station}{tripped}", direction.as_str());
     if let Some(index) = meaning.index {
-        println!("  index {index}");
+        say!("  index {index}");
     }
     if let Some(text) = &meaning.text {
-        println!("  text {text:?}");
+        say!("  text {text:?}");
     } else if meaning.kind != Some(CommandKind::Process) {
         let space = meaning.space.unwrap_or(Space::Parameter);
         match meaning.data {
-            Some(data) => println!(
+            Some(data) => say!(
                 "  {}",
                 describe_value(drive, space, meaning.register, meaning.wire_register, data)
             ),
@@ -548,7 +577,7 @@ fn print_meaning(
                         .register_at(space, register)
                         .map(|r| r.label())
                         .unwrap_or(format!("{} {register}", space.as_str()));
-                    println!("  {target}");
+                    say!("  {target}");
                 }
             }
         }
@@ -556,9 +585,9 @@ fn print_meaning(
     if let Some([first, second]) = meaning.process {
         match direction {
             Direction::Request => {
-                println!("  control word {first:04X}h, reference {second:04X}h")
+                say!("  control word {first:04X}h, reference {second:04X}h")
             }
-            Direction::Reply => println!("  status word {first:04X}h, output value {second:04X}h"),
+            Direction::Reply => say!("  status word {first:04X}h, output value {second:04X}h"),
         }
     }
 }
