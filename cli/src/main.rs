@@ -51,7 +51,7 @@ USAGE:
   vfd decode DRIVE PROTOCOL FRAME          decode a captured request or reply
                                            (FRAME: hex \"2F 52 FD 00 7E\" or text \"(RFD00)\\r\")
 
-Drives: see generated-docs/README.md. Protocols: ascii, binary (per drive).";
+Drives and the protocols each speaks: `vfd registers DRIVE` heads, or generated-docs/README.md.";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -480,12 +480,7 @@ fn describe_value(
     wire: Option<u16>,
     data: u32,
 ) -> String {
-    let info = register.and_then(|r| {
-        drive
-            .registers
-            .iter()
-            .find(|info| info.address == r && info.space == space)
-    });
+    let info = register.and_then(|r| drive.register_at(space, r));
     match (info, register) {
         (Some(info), _) if !info.unit_symbol().is_empty() => {
             format!(

@@ -30,18 +30,6 @@ pub const fn names<T>(table: &'static [CodeRow<T>], code: u16) -> (&'static str,
     ("", "")
 }
 
-/// The position of `code` in the table, if it has it.
-pub const fn position<T>(table: &[CodeRow<T>], code: u16) -> Option<usize> {
-    let mut index = 0;
-    while index < table.len() {
-        if table[index].1 == code {
-            return Some(index);
-        }
-        index += 1;
-    }
-    None
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -54,7 +42,5 @@ mod tests {
         assert_eq!(find(&TABLE, 2), None);
         assert_eq!(names(&TABLE, 1), ("one", "一"));
         assert_eq!(names(&TABLE, 2), ("", ""));
-        assert_eq!(position(&TABLE, 7), Some(1));
-        assert_eq!(position(&TABLE, 3), None);
     }
 }

@@ -185,24 +185,19 @@ impl RegisterInfo {
     /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.
     /// The code is left out when it only repeats the address (`FA01`).
     pub fn label(&self) -> String {
+        let number = manual_number(self.space, self.address, self.code);
+        let names = format!("({} / {})", self.name, self.name_zh);
         if self.space == Space::Coil {
-            return format!(
-                "coil {} {} ({} / {})",
-                self.address, self.code, self.name, self.name_zh
-            );
+            return format!("{number} {} {names}", self.code);
         }
         if self.code.parse::<u16>().ok() == Some(self.address) {
             // Parameters numbered in decimal (FC 303).
-            return format!("parameter {} ({} / {})", self.code, self.name, self.name_zh);
+            return format!("parameter {number} {names}");
         }
-        let address = format!("{:04X}", self.address);
-        if self.code.eq_ignore_ascii_case(&address) {
-            format!("register {address} ({} / {})", self.name, self.name_zh)
+        if self.code.eq_ignore_ascii_case(&number) {
+            format!("register {number} {names}")
         } else {
-            format!(
-                "register {address} {} ({} / {})",
-                self.code, self.name, self.name_zh
-            )
+            format!("register {number} {} {names}", self.code)
         }
     }
 
@@ -224,6 +219,18 @@ impl RegisterInfo {
             (None, Some(high)) => format!(" (at run time the upper bound is {high})"),
             (Some(low), Some(high)) => format!(" (at run time the bounds are {low} and {high})"),
         }
+    }
+}
+
+/// How the manual numbers a register: coils by number (`coil 17`), parameters whose code
+/// is their decimal number as written (`303`), communication numbers in hex (`FA01`).
+pub fn manual_number(space: Space, address: u16, code: &str) -> String {
+    if space == Space::Coil {
+        format!("coil {address}")
+    } else if code.parse::<u16>().ok() == Some(address) {
+        address.to_string()
+    } else {
+        format!("{address:04X}")
     }
 }
 
@@ -271,4 +278,33 @@ pub fn decimals_of(scale: f64) -> u8 {
         decimals += 1;
     }
     decimals
+}
+
+#[cfg(test)]
+mod manual_number_tests {
+    use super::*;
+
+    #[test]
+    fn registers_are_numbered_as_their_manual_numbers_them() {
+        assert_eq!(manual_number(Space::Coil, 17, "FREEZE"), "coil 17");
+        assert_eq!(manual_number(Space::Parameter, 303, "303"), "303");
+        assert_eq!(manual_number(Space::Parameter, 0xFA01, "FA01"), "FA01");
+        assert_eq!(manual_number(Space::Parameter, 0x0011, "FH"), "0011");
+        let fh = RegisterInfo::new(0x0011, "FH", "maximum_frequency")
+            .with_names("Maximum frequency", "最高频率");
+        assert_eq!(
+            fh.label(),
+            "register 0011 FH (Maximum frequency / 最高频率)"
+        );
+        let p303 = RegisterInfo::new(303, "303", "maximum_reference")
+            .with_names("Maximum reference", "最大参考值");
+        assert_eq!(
+            p303.label(),
+            "parameter 303 (Maximum reference / 最大参考值)"
+        );
+        let coil = RegisterInfo::new(17, "CTW", "control")
+            .with_names("Control", "控制")
+            .with_space(Space::Coil);
+        assert_eq!(coil.label(), "coil 17 CTW (Control / 控制)");
+    }
 }

@@ -12,13 +12,7 @@ use vfd_runtime::Space;
 /// How the manual numbers a register: coils by number (`coil 17`), decimal parameters as
 /// written (`303`), communication numbers in hex (`FA01`).
 pub fn address_label(register: &RegisterIr) -> String {
-    if register.space == Space::Coil {
-        format!("coil {}", register.address)
-    } else if register.code.parse::<u16>().ok() == Some(register.address) {
-        register.address.to_string()
-    } else {
-        format!("{:04X}", register.address)
-    }
+    vfd_runtime::info::manual_number(register.space, register.address, &register.code)
 }
 
 /// A raw count of `register` in engineering units, without float noise (`320.00`).
@@ -150,14 +144,8 @@ pub fn zh(text: &str) -> String {
     }
 }
 
-/// Bytes as upper-case hex pairs (`2F 52 FD 00`).
-pub fn hex(bytes: &[u8]) -> String {
-    bytes
-        .iter()
-        .map(|b| format!("{b:02X}"))
-        .collect::<Vec<_>>()
-        .join(" ")
-}
+/// Bytes as upper-case hex pairs (`2F 52 FD 00`): the runtime's rendering.
+pub use vfd_runtime::error::hex;
 
 /// Frame bytes for people: text with `<CR>`/`<LF>` when every byte is printable, else hex.
 pub fn shown_bytes(bytes: &[u8]) -> String {
