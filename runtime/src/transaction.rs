@@ -681,12 +681,18 @@ impl fmt::Display for TransactionError {
                 field,
                 expected,
                 found,
-            } => write!(
-                f,
-                "reply to {} does not match: {} is {found:#X}, expected {expected:#X}",
-                request(),
-                field.as_str()
-            ),
+            } => match field {
+                // Parts whose presence is what is checked: say what is missing.
+                ReplyField::Text | ReplyField::ProcessWords | ReplyField::Data => {
+                    write!(f, "reply to {} carries no {}", request(), field.as_str())
+                }
+                ReplyField::Address | ReplyField::Register | ReplyField::Index => write!(
+                    f,
+                    "reply to {} does not match: {} is {found:#X}, expected {expected:#X}",
+                    request(),
+                    field.as_str()
+                ),
+            },
         }
     }
 }

@@ -288,3 +288,20 @@ fn exchanges_work_over_a_pseudo_terminal() {
     );
     assert_eq!(peer.join().unwrap().len(), 2);
 }
+
+#[test]
+fn a_reply_missing_its_data_is_named_with_the_register() {
+    let request = registers::OutputFrequencyNow::read().into_request();
+    let error = vfd_runtime::TransactionError::new(
+        Some(&request),
+        TransactionErrorKind::Mismatch {
+            field: ReplyField::Data,
+            expected: 1,
+            found: 0,
+        },
+    );
+    let message = error.to_string();
+    assert!(message.contains("carries no data"), "{message}");
+    assert!(message.contains("FD00"), "names the register: {message}");
+    assert!(!message.contains("0x"), "no raw presence counts: {message}");
+}
