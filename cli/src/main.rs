@@ -147,7 +147,14 @@ fn generate(args: &[&str]) -> Result<(), String> {
             .drives
             .iter()
             .find(|d| d.ir.id == id)
-            .ok_or_else(|| format!("no drive `{id}` in {}", root.join("drives").display()))?;
+            .ok_or_else(|| {
+                let known: Vec<&str> = generated.drives.iter().map(|d| d.ir.id.as_str()).collect();
+                format!(
+                    "no drive `{id}` in {}; described drives: {}",
+                    root.join("drives").display(),
+                    known.join(", ")
+                )
+            })?;
         say!("{}", drive.ir.to_yaml().trim_end());
         return Ok(());
     }
