@@ -157,11 +157,7 @@ pub(super) fn part_view(part: &Part, parts: &[Part]) -> PartView {
             kind: format!("checksum ({})", spec.algorithm.as_str()),
             encoding: describe_format(spec.format),
             // Two hex digits, or the binary format's own size (CRC-16: 2 bytes).
-            size: if spec.format == Format::Hex {
-                "2".into()
-            } else {
-                spec.format.fixed_len().unwrap_or(1).to_string()
-            },
+            size: vfd_runtime::layout::checksum_size(spec.format).to_string(),
             optional: if spec.optional {
                 "optional".into()
             } else {
