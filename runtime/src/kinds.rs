@@ -112,6 +112,17 @@ impl DataType {
         }
     }
 
+    /// The lowest and highest raw values a value of this shape can hold, signed
+    /// (two's complement) or not: a word's, or a double word's.
+    pub const fn raw_limits(self, signed: bool) -> (i64, i64) {
+        match (self, signed) {
+            (DataType::DoubleWord, true) => (i32::MIN as i64, i32::MAX as i64),
+            (DataType::DoubleWord, false) => (0, u32::MAX as i64),
+            (_, true) => (i16::MIN as i64, i16::MAX as i64),
+            (_, false) => (0, u16::MAX as i64),
+        }
+    }
+
     /// Bytes the value takes in a frame (text: 0, it has no fixed size).
     pub const fn size(self) -> u8 {
         match self {

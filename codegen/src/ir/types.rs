@@ -455,12 +455,7 @@ impl RegisterIr {
 
     /// The lowest and highest raw values the word accepts without a range.
     pub fn raw_limits(&self) -> (i64, i64) {
-        match (self.data_type, self.signed) {
-            (DataType::DoubleWord, true) => (i64::from(i32::MIN), i64::from(i32::MAX)),
-            (DataType::DoubleWord, false) => (0, i64::from(u32::MAX)),
-            (_, true) => (i64::from(i16::MIN), i64::from(i16::MAX)),
-            (_, false) => (0, i64::from(u16::MAX)),
-        }
+        self.data_type.raw_limits(self.signed)
     }
 
     /// Static raw bounds: the range's, else the word's.

@@ -146,13 +146,10 @@ pub fn to_raw(register: &RegisterModel, value: f64) -> Option<i64> {
 
 /// The widest raw range the register's word or double word can hold.
 pub fn word_limits(register: &RegisterModel) -> (i64, i64) {
-    let double = register.data_type == Some(vfd_runtime::DataType::DoubleWord);
-    match (register.signed, double) {
-        (true, true) => (i64::from(i32::MIN), i64::from(i32::MAX)),
-        (false, true) => (0, i64::from(u32::MAX)),
-        (true, false) => (i64::from(i16::MIN), i64::from(i16::MAX)),
-        (false, false) => (0, i64::from(u16::MAX)),
-    }
+    register
+        .data_type
+        .unwrap_or(vfd_runtime::DataType::Word)
+        .raw_limits(register.signed)
 }
 
 #[cfg(test)]
