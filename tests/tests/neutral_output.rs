@@ -9,7 +9,10 @@ fn default_output_names_nothing_of_this_repository() {
         .golden_tests(true)
         .generate_in_memory()
         .unwrap_or_else(|error| panic!("the drive files do not generate:\n{error}"));
-    let mut outputs: Vec<(String, &str)> = vec![("index".to_owned(), generated.index.as_str())];
+    let mut outputs: Vec<(String, &str)> = vec![
+        ("index".to_owned(), generated.index.as_str()),
+        ("layouts.rs".to_owned(), generated.layouts.as_str()),
+    ];
     for drive in &generated.drives {
         let id = &drive.ir.id;
         outputs.push((format!("{id}.rs"), &drive.rust));
