@@ -124,6 +124,24 @@ impl Diagnostics {
         self.items.is_empty()
     }
 
+    /// Leaves out the problems found after the first `keep` that are at, under, or refer
+    /// to an element holding a placeholder for a value already reported as wrong
+    /// (`incomplete`: file and YAML path): they are consequences, not further mistakes.
+    pub fn leave_out_consequences(&mut self, keep: usize, incomplete: &[(PathBuf, String)]) {
+        if incomplete.is_empty() {
+            return;
+        }
+        let mut index = 0;
+        self.items.retain(|item| {
+            index += 1;
+            index <= keep
+                || !incomplete.iter().any(|(file, element)| {
+                    (*file == item.file && within(&item.path, element))
+                        || mentions(&item.message, element)
+                })
+        });
+    }
+
     /// Fills in source lines from the files read, and sorts by file and position.
     pub fn attach_sources<'t>(&mut self, text_of: impl Fn(&Path) -> Option<&'t str>) {
         for item in &mut self.items {
@@ -143,6 +161,22 @@ impl Diagnostics {
         });
         self.items.dedup();
     }
+}
+
+/// Whether `path` is `element` or lies under it.
+fn within(path: &str, element: &str) -> bool {
+    path.strip_prefix(element)
+        .is_some_and(|rest| rest.is_empty() || rest.starts_with(['.', '[']))
+}
+
+/// Whether `message` names the element's path (`first at registers[3]`).
+fn mentions(message: &str, element: &str) -> bool {
+    message.match_indices(element).any(|(at, _)| {
+        let before = message[..at].chars().next_back();
+        let after = message[at + element.len()..].chars().next();
+        !before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == '.')
+            && !after.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == '.' || c == '[')
+    })
 }
 
 impl fmt::Display for Diagnostics {

@@ -10,7 +10,7 @@
 //!
 //! | # | Stage | Module | Input | Output |
 //! |---|---|---|---|---|
-//! | 1 | parse | `parse/` (`model.rs`: the format as serde types; `positions.rs`: YAML path -> line and column) | file text | `SourceFile` + `parse::model::DriveFile` / `ProtocolFile` |
+//! | 1 | parse | `parse/` (`tree.rs`: the YAML read once into positioned nodes; `reader.rs`: nodes -> `model.rs` types, every problem collected) | file text | `SourceFile` + `parse::model::DriveFile` / `ProtocolFile` |
 //! | 2 | load | `load.rs` | a drive file path | `LoadedDrive`: the drive and the protocol files it names, parsed |
 //! | 3 | lower protocols | `protocols/` | `LoadedDrive` | `LoweredProtocol`s: each protocol file plus the drive's error table, address maps and pre-steps, as the runtime's own `vfd_runtime::Protocol` |
 //! | 4 | decode examples | `frames.rs` | the drive's examples + lowered protocols | every example frame decoded **once** into the runtime's `vfd_runtime::meaning::FrameMeaning` |
@@ -115,6 +115,7 @@ fn compile_source(
     let Some(drive) = load::load(source, protocols_dir, &mut diagnostics) else {
         return Err(diagnostics);
     };
+    let read_problems = diagnostics.items.len();
     let protocols = protocols::lower(&drive, &mut diagnostics);
     let frames = frames::decode_examples(&drive.model, &protocols);
     let context = validate::Context {
@@ -124,6 +125,7 @@ fn compile_source(
         frames,
     };
     validate::check(&context, &mut diagnostics);
+    diagnostics.leave_out_consequences(read_problems, &drive.incomplete);
     if !diagnostics.is_empty() {
         diagnostics.attach_sources(|path| {
             drive

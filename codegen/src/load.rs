@@ -28,6 +28,8 @@ pub(crate) struct LoadedDrive {
     pub protocol_files: Vec<ProtocolSource>,
     /// Every file read, for quoting source lines in diagnostics.
     pub sources: Vec<SourceFile>,
+    /// Elements (file, YAML path) holding a placeholder for a value in error.
+    pub incomplete: Vec<(PathBuf, String)>,
 }
 
 /// Where protocol files are looked up: `<dir>/<uses>.yaml`.
@@ -48,13 +50,18 @@ pub(crate) fn load(
     let protocols_dir = protocols_dir
         .map(Path::to_owned)
         .unwrap_or_else(|| default_protocols_dir(&source.path));
-    let model: DriveFile = match source.deserialize() {
-        Ok(model) => model,
-        Err(problem) => {
-            out.push(problem);
-            out.attach_sources(|path| (path == source.path).then_some(source.text.as_str()));
-            return None;
-        }
+    let read = source.read_model::<DriveFile>();
+    read.problems
+        .into_iter()
+        .for_each(|problem| out.push(problem));
+    let mut incomplete: Vec<(PathBuf, String)> = read
+        .incomplete
+        .into_iter()
+        .map(|path| (source.path.clone(), path))
+        .collect();
+    let Some(model) = read.value else {
+        out.attach_sources(|path| (path == source.path).then_some(source.text.as_str()));
+        return None;
     };
     let mut sources = vec![source.clone()];
     let mut protocol_files = Vec::new();
@@ -80,13 +87,21 @@ pub(crate) fn load(
             continue;
         };
         sources.push(protocol_source.clone());
-        match protocol_source.deserialize::<ProtocolFile>() {
-            Ok(file) => protocol_files.push(ProtocolSource {
+        let read = protocol_source.read_model::<ProtocolFile>();
+        read.problems
+            .into_iter()
+            .for_each(|problem| out.push(problem));
+        incomplete.extend(
+            read.incomplete
+                .into_iter()
+                .map(|path| (protocol_source.path.clone(), path)),
+        );
+        if let Some(file) = read.value {
+            protocol_files.push(ProtocolSource {
                 reference: index,
                 source: protocol_source,
                 file,
-            }),
-            Err(problem) => out.push(problem),
+            });
         }
     }
     Some(LoadedDrive {
@@ -94,6 +109,7 @@ pub(crate) fn load(
         model,
         protocol_files,
         sources,
+        incomplete,
     })
 }
 

@@ -1,23 +1,38 @@
 //! Stage 1: reads YAML files into the [`crate::parse::model`] types, turning syntax and type
 //! errors into diagnostics with file, line, column and YAML path.
 
-use crate::diagnostics::Diagnostic;
+use crate::diagnostics::{Diagnostic, Position};
 pub mod model;
-pub mod positions;
+pub mod reader;
+pub mod tree;
 
-use positions::{Position, PositionIndex};
+use schemars::JsonSchema;
 use serde::de::DeserializeOwned;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use tree::{Node, SyntaxError};
 
-/// A file's text and the positions of its nodes.
+/// A file's text, read once into a tree of positioned nodes.
 #[derive(Debug, Clone)]
 pub struct SourceFile {
     /// The path as given.
     pub path: PathBuf,
     /// The text.
     pub text: String,
-    /// Path-to-position index.
-    pub index: PositionIndex,
+    /// The document, or its syntax error.
+    tree: Arc<Result<Node, SyntaxError>>,
+}
+
+/// A file read into a model type.
+#[derive(Debug)]
+pub struct Read<T> {
+    /// The value, unless a problem left nothing to build it from.
+    pub value: Option<T>,
+    /// Every problem found, in file order.
+    pub problems: Vec<Diagnostic>,
+    /// Paths of the elements that hold a placeholder for a value in error: later checks
+    /// leave out what would only be a consequence of a problem already reported.
+    pub incomplete: Vec<String>,
 }
 
 impl SourceFile {
@@ -39,200 +54,82 @@ impl SourceFile {
 
     /// Wraps text already in memory (used by tests and the proc-macro).
     pub fn from_text(path: &Path, text: String) -> SourceFile {
-        let index = PositionIndex::build(&text);
+        let tree = Arc::new(tree::read(&text));
         SourceFile {
             path: path.to_owned(),
             text,
-            index,
+            tree,
         }
+    }
+
+    /// The document, unless it has a syntax error.
+    pub fn tree(&self) -> Option<&Node> {
+        self.tree.as_ref().as_ref().ok()
+    }
+
+    /// The position of the node at `path` (`registers[3].range.max`), or of its nearest
+    /// ancestor in the file.
+    pub fn position(&self, path: &str) -> Position {
+        self.tree().map_or(Position { line: 1, column: 1 }, |tree| {
+            tree.position_of(path)
+        })
     }
 
     /// A diagnostic at the node `path` of this file.
     pub fn error(&self, path: &str, message: impl Into<String>) -> Diagnostic {
-        Diagnostic::new(&self.path, self.index.find(path), path, message)
+        Diagnostic::new(&self.path, self.position(path), path, message)
     }
 
-    /// Deserialises the whole file as `T`.
-    ///
-    /// A valid file is read once, plainly. Tracking the YAML path of every node (which a
-    /// message needs) costs about a third more, so only a file that fails is read again
-    /// with `serde_path_to_error`, which fails the same way and says where.
-    pub fn deserialize<T: DeserializeOwned>(&self) -> Result<T, Diagnostic> {
-        if let Ok(value) = serde_yaml::from_str(&self.text) {
-            return Ok(value);
-        }
-        let deserializer = serde_yaml::Deserializer::from_str(&self.text);
-        serde_path_to_error::deserialize(deserializer).map_err(|error| {
-            let path = match error.path().to_string() {
-                dot if dot == "." => String::new(),
-                path => path,
-            };
-            let inner = error.inner();
-            let indexed = self.index.find(&path);
-            let position = match inner.location() {
-                // serde_yaml sometimes reports an error before the node it belongs to
-                // (hand-written deserialisers): the node's own position is better then.
-                Some(location) if location.line() >= indexed.line => Position {
-                    line: location.line(),
-                    column: location.column(),
-                },
-                _ => indexed,
-            };
-            let path = path.trim_end_matches(".?").trim_end_matches('?').to_owned();
-            let mut message = inner.to_string();
-            // serde_yaml repeats the path and the position; the diagnostic shows both.
-            // serde_yaml prefixes the path (or its parent) that `= at:` shows anyway.
-            if let Some((prefix, rest)) = message.split_once(": ") {
-                if !prefix.contains(' ') && path.starts_with(prefix) {
-                    message = rest.to_owned();
+    /// Reads the whole file as `T`, reporting every problem rather than the first.
+    pub fn read_model<T: DeserializeOwned + JsonSchema>(&self) -> Read<T> {
+        let tree = match self.tree.as_ref() {
+            Ok(tree) => tree,
+            Err(syntax) => {
+                return Read {
+                    value: None,
+                    problems: vec![Diagnostic::new(
+                        &self.path,
+                        syntax.position,
+                        "",
+                        format!("YAML syntax: {}", syntax.message),
+                    )
+                    .hint("check brackets, quotes and indentation at the lines named; a `{` or `[` may be unclosed")],
+                    incomplete: Vec::new(),
                 }
             }
-            message = strip_first_position(&message);
-            // For an unclosed `{`/`[`, the place it was opened is where the fix goes.
-            let (position, message) = match opened_at(&message) {
-                Some(opened) => (
-                    opened,
-                    message.replacen(
-                        ", while parsing",
-                        &format!(
-                            " (noticed at line {} column {}), while parsing",
-                            position.line, position.column
-                        ),
-                        1,
-                    ),
-                ),
-                None => (position, message),
-            };
-            let hint = match (did_you_mean(&message), hint_for(&message)) {
-                (Some(suggestion), Some(hint)) => Some(format!("{suggestion} Otherwise, {hint}")),
-                (Some(suggestion), None) => Some(suggestion),
-                (None, hint) => hint.map(str::to_owned),
-            };
-            let mut diagnostic = Diagnostic::new(&self.path, position, path, message);
-            if let Some(hint) = hint {
-                diagnostic = diagnostic.hint(hint);
-            }
-            diagnostic
-        })
-    }
-}
-
-/// The position in "while parsing a flow mapping at line 51 column 5", if present.
-fn opened_at(message: &str) -> Option<Position> {
-    let context = &message[message.find("while parsing")?..];
-    let rest = &context[context.find(" at line ")? + " at line ".len()..];
-    let (line, rest) = rest.split_once(" column ")?;
-    let column: String = rest.chars().take_while(char::is_ascii_digit).collect();
-    Some(Position {
-        line: line.trim().parse().ok()?,
-        column: column.parse().ok()?,
-    })
-}
-
-/// Removes the first " at line N column M" (the diagnostic's own position) and keeps any
-/// later context such as "while parsing a flow mapping at line 51 column 5".
-fn strip_first_position(message: &str) -> String {
-    let Some(start) = message.find(" at line ") else {
-        return message.to_owned();
-    };
-    let after = &message[start + " at line ".len()..];
-    let end = after
-        .find(" column ")
-        .map(|c| {
-            let digits = after[c + " column ".len()..]
-                .chars()
-                .take_while(char::is_ascii_digit)
-                .count();
-            c + " column ".len() + digits
-        })
-        .unwrap_or(0);
-    format!("{}{}", &message[..start], &after[end..])
-}
-
-/// "did you mean `format`?" for serde's "unknown field `fromat`, expected one of `format`,
-/// ..." and "unknown variant `u16bee`, expected one of ...", when one known name is close
-/// to the one written (at most a third of its letters differ).
-fn did_you_mean(message: &str) -> Option<String> {
-    let rest = message
-        .strip_prefix("unknown field `")
-        .or_else(|| message.strip_prefix("unknown variant `"))?;
-    let (written, known) = rest.split_once('`')?;
-    let best = known
-        .split('`')
-        .skip(1)
-        .step_by(2)
-        .map(|candidate| (edit_distance(written, candidate), candidate))
-        .min_by_key(|(distance, _)| *distance)?;
-    let limit = (written.chars().count() / 3).max(1);
-    (best.0 <= limit).then(|| format!("did you mean `{}`?", best.1))
-}
-
-/// Levenshtein distance between two short names.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut previous: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut current = vec![i + 1];
-        for (j, cb) in b.iter().enumerate() {
-            let substitution = previous[j] + usize::from(ca != *cb);
-            current.push(substitution.min(previous[j + 1] + 1).min(current[j] + 1));
+        };
+        let outcome = reader::read::<T>(tree);
+        let problems = outcome
+            .problems
+            .into_iter()
+            .map(|problem| {
+                let diagnostic =
+                    Diagnostic::new(&self.path, problem.position, problem.path, problem.message);
+                match problem.hint {
+                    Some(hint) => diagnostic.hint(hint),
+                    None => diagnostic,
+                }
+            })
+            .collect();
+        Read {
+            value: outcome.value,
+            problems,
+            incomplete: outcome.incomplete,
         }
-        previous = current;
     }
-    previous[b.len()]
 }
 
-fn hint_for(message: &str) -> Option<&'static str> {
-    if message.contains("while parsing")
-        || message.contains("did not find expected")
-        || message.contains("mapping values are not allowed")
-    {
-        Some("YAML syntax: check brackets, quotes and indentation at the lines named; a `{` or `[` may be unclosed")
-    } else if message.contains("unknown field `")
-        && message
-            .split('`')
-            .nth(1)
-            .is_some_and(|field| field.contains(' '))
-    {
-        Some("inside `{ ... }` an unquoted comma ends the value: put text containing commas in quotes")
-    } else if message.contains("unknown field") {
-        Some("remove the key or fix its spelling; drives/README.md lists every key")
-    } else if message.contains("missing field") {
-        Some("add the key; drives/README.md says what it holds")
-    } else if message.contains("untagged enum BoundModel") {
+/// A hint for a complaint from one of the model's hand-written readers.
+pub(crate) fn hint_for(message: &str) -> Option<&'static str> {
+    if message.contains("untagged enum BoundModel") {
         Some("a range bound is a number in the register's unit, or the code of another register (\"FH\")")
-    } else if message.starts_with("unknown variant `")
-        || message.starts_with("invalid value: string")
-    {
+    } else if message.contains("untagged enum") {
+        Some("check the value's type against drives/README.md")
+    } else if message.starts_with("invalid value") {
         Some("write one of the values listed, spelled exactly so; drives/README.md says what each means")
-    } else if message.contains("invalid type") {
+    } else if message.starts_with("invalid type") {
         Some("check the value's type against drives/README.md (numbers may be decimal or 0x-hex)")
     } else {
         None
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::did_you_mean;
-
-    #[test]
-    fn a_close_known_name_is_suggested() {
-        assert_eq!(
-            did_you_mean(
-                "unknown field `fromat`, expected one of `literal`, `field`, `format`, `width`"
-            ),
-            Some("did you mean `format`?".to_owned())
-        );
-        assert_eq!(
-            did_you_mean("unknown variant `readonly`, expected one of `read-only`, `read-write`, `write-only`"),
-            Some("did you mean `read-only`?".to_owned())
-        );
-        assert_eq!(
-            did_you_mean("unknown variant `register`, expected `parameter` or `coil`"),
-            None,
-            "nothing close"
-        );
-        assert_eq!(did_you_mean("missing field `id`"), None);
     }
 }

@@ -223,7 +223,7 @@ pub(super) fn check_rust_names(
     }
     for (rust, mut names) in by_rust_name {
         let position = |name: &&String| {
-            let at = source.index.find(&format!("layouts.{name}"));
+            let at = source.position(&format!("layouts.{name}"));
             (at.line, at.column)
         };
         names.sort_by_key(position);
@@ -344,7 +344,8 @@ mod tests {
     #[test]
     fn inline_parts_are_named_by_name_role_or_kind() {
         let yaml = "- { field: data, name: pwe }\n- { field: data }\n- { checksum: xor8 }\n- { length: u8 }\n- { literal: \"(\" }";
-        let entries: Vec<PartRefModel> = serde_yaml::from_str(yaml).unwrap();
+        let tree = crate::parse::tree::read(yaml).unwrap();
+        let entries: Vec<PartRefModel> = crate::parse::reader::read(&tree).value.unwrap();
         let names: Vec<String> = entries
             .iter()
             .enumerate()

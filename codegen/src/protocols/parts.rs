@@ -704,14 +704,17 @@ mod tests {
     }
 
     #[test]
-    fn a_misspelt_value_is_reported_by_serde_at_its_key() {
+    fn a_misspelt_value_is_reported_at_its_key() {
         let yaml = protocol_with(&[(
             "format: hex, width: 4 }, sum, cr]\n  error",
             "format: u16bee, width: 4 }, sum, cr]\n  error",
         )]);
         assert_eq!(
             problems(&yaml),
-            [format!("{} layouts.reply[4].format: unknown variant `u16bee`, expected one of `decimal`, `hex`, `char`, `u8`, `u16be`, `u16le`, `u32be`, `u32le`, `uint_be`, `uint_le`, `bytes`", at(&yaml, "u16bee"))]
+            [format!(
+                "{} layouts.reply[4].format: unknown value `u16bee`",
+                at(&yaml, "u16bee")
+            )]
         );
         let yaml = protocol_with(&[("optional: if_format_matches", "optional: sometimes")]);
         assert_eq!(
@@ -721,7 +724,10 @@ mod tests {
         let yaml = protocol_with(&[("checksum: sum8", "checksum: sum16")]);
         assert_eq!(
             problems(&yaml),
-            [format!("{} parts.sum.checksum: unknown variant `sum16`, expected one of `sum8`, `xor8`, `crc16_modbus`, `lrc8`", at(&yaml, "sum16"))]
+            [format!(
+                "{} parts.sum.checksum: unknown value `sum16`",
+                at(&yaml, "sum16")
+            )]
         );
     }
 
@@ -742,8 +748,8 @@ mod tests {
         assert_eq!(
             problems(&yaml),
             [format!(
-                "{} layouts.read_request[4].counts: missing field `through`",
-                at(&yaml, "{ from: sum }")
+                "{} layouts.read_request[4].counts: missing key `through`",
+                at(&yaml, "counts: { from: sum }")
             )]
         );
     }

@@ -126,11 +126,14 @@ mod tests {
     }
 
     #[test]
-    fn an_unknown_step_stops_the_drive_file() {
+    fn an_unknown_step_is_reported_in_the_drive_file() {
         let drive = drive_with("    pre_steps:\n      - { step: reboot, register: 1 }");
         assert_eq!(
             problems_of(lower_both(&drive, &protocol_with(&[]))),
-            [format!("{} protocols[0].pre_steps[0].step: unknown variant `reboot`, expected `index` or `persistence`", at(&drive, "reboot"))]
+            [format!(
+                "{} protocols[0].pre_steps[0].step: unknown value `reboot`",
+                at(&drive, "reboot")
+            )]
         );
     }
 }

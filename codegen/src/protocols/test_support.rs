@@ -97,15 +97,24 @@ pub(super) fn protocol_with(edits: &[(&str, &str)]) -> String {
     yaml
 }
 
+/// Reads a file that must have no problem.
+fn read_whole<T: serde::de::DeserializeOwned + schemars::JsonSchema>(
+    source: &SourceFile,
+) -> Result<T, Vec<Diagnostic>> {
+    let read = source.read_model::<T>();
+    match read.value {
+        Some(value) if read.problems.is_empty() => Ok(value),
+        _ => Err(read.problems),
+    }
+}
+
 /// Parses both files and lowers the protocol: the runtime protocol, or every problem found
 /// (a parse error alone, as the generator reports it), in file and position order.
 pub(super) fn lower_both(drive: &str, protocol: &str) -> Result<Protocol, Vec<Diagnostic>> {
     let drive_source = SourceFile::from_text(Path::new("drive.yaml"), drive.to_owned());
-    let model = drive_source
-        .deserialize()
-        .map_err(|problem| vec![problem])?;
+    let model = read_whole(&drive_source)?;
     let source = SourceFile::from_text(Path::new(PROTOCOL_FILE), protocol.to_owned());
-    let file = source.deserialize().map_err(|problem| vec![problem])?;
+    let file = read_whole(&source)?;
     let loaded = LoadedDrive {
         source: drive_source,
         model,
@@ -115,6 +124,7 @@ pub(super) fn lower_both(drive: &str, protocol: &str) -> Result<Protocol, Vec<Di
             file,
         }],
         sources: Vec::new(),
+        incomplete: Vec::new(),
     };
     let mut out = Diagnostics::default();
     let lowered = lower(&loaded, &mut out);
