@@ -1,0 +1,6 @@
+//! The request decoders of the `toshiba-binary` protocol file, as `vfd_drives::yd1000::protocols::BINARY` uses it.
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    vfd_fuzz::requests(&vfd_drives::yd1000::protocols::BINARY, data);
+});

@@ -1,0 +1,55 @@
+//! Writes the seed corpora: every example frame of every described drive (as printed and as
+//! corrected) into `corpus/<protocol file>_request/` and `_reply/`, and every drive file and
+//! broken-description fixture into `corpus/description/`. Run from `fuzz/`:
+//! `cargo run --bin seed_corpus`.
+
+use std::fs;
+use std::path::Path;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let drives = root.join("../drives");
+    let corpus = root.join("corpus");
+    let mut written = 0;
+    let description = corpus.join("description");
+    fs::create_dir_all(&description)?;
+    let fixtures = root.join("../tests/fixtures/broken");
+    for dir in [&drives, &fixtures] {
+        for entry in fs::read_dir(dir)? {
+            let path = entry?.path();
+            if path.extension().is_some_and(|e| e == "yaml") {
+                fs::copy(&path, description.join(path.file_name().unwrap_or_default()))?;
+                written += 1;
+            }
+        }
+    }
+    for entry in fs::read_dir(&drives)? {
+        let path = entry?.path();
+        if path.extension().is_none_or(|e| e != "yaml") {
+            continue;
+        }
+        let drive = vfd_codegen::compile(&path, None).map_err(|e| e.to_string())?;
+        for example in &drive.examples {
+            let Some(protocol) = drive.protocols.iter().find(|p| p.id == example.protocol) else {
+                continue;
+            };
+            let file_name = protocol.uses.replace('-', "_");
+            for (side, frame) in [("request", &example.request), ("reply", &example.reply)] {
+                let Some(frame) = frame else { continue };
+                let dir = corpus.join(format!("{file_name}_{side}"));
+                fs::create_dir_all(&dir)?;
+                fs::write(dir.join(format!("{}_{}", drive.id, example.id)), &frame.bytes)?;
+                written += 1;
+                if let Some(printed) = &frame.printed {
+                    fs::write(
+                        dir.join(format!("{}_{}_printed", drive.id, example.id)),
+                        &printed.bytes,
+                    )?;
+                    written += 1;
+                }
+            }
+        }
+    }
+    println!("{written} seeds written under {}", corpus.display());
+    Ok(())
+}
