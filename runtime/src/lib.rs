@@ -14,7 +14,8 @@
 //!   [`Request`]; [`units`] the quantities and value conversions (scaling, ranges);
 //! * [`transaction`] runs request/reply exchanges with timeouts derived from the baud rate;
 //! * [`transport`] moves bytes: serial ports, pseudo-terminals and in-memory pipes;
-//! * [`behaviour`] holds a drive's declared behaviour model.
+//! * [`behaviour`] holds a drive's declared behaviour model and [`virtual_drive`] the
+//!   simulator that follows it: the slave side of every protocol, from the same data.
 //!
 //! `use vfd_runtime::prelude::*` brings the register traits and the common types into scope.
 //!
@@ -62,6 +63,7 @@ pub mod testing;
 pub mod transaction;
 pub mod transport;
 pub mod units;
+pub mod virtual_drive;
 
 pub use codec::{FieldValue, FrameValues, Roles};
 pub use drive::DriveInfo;
