@@ -340,3 +340,60 @@ mod faults {
         }
     }
 }
+
+mod over_a_pseudo_terminal {
+    use super::*;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    use vfd_runtime::transport::PseudoTerminal;
+    use vfd_runtime::virtual_drive::serve;
+
+    #[test]
+    fn the_serve_loop_answers_a_master_with_the_lines_timing() {
+        let (line, mut drive_end) = PseudoTerminal::open().unwrap().into_transports().unwrap();
+        let sim = Simulator::new(&fc51::DRIVE);
+        let stop = Arc::new(AtomicBool::new(false));
+        let server = {
+            let (sim, stop) = (sim.clone(), Arc::clone(&stop));
+            std::thread::spawn(move || {
+                serve(
+                    &sim,
+                    fc51::protocols::MODBUS.protocol(),
+                    &mut drive_end,
+                    fc51::SERIAL.default,
+                    &stop,
+                )
+            })
+        };
+        let mut master = Master::new(
+            line,
+            &fc51::protocols::MODBUS,
+            fc51::SERIAL.default,
+            fc51::SERIAL.timing,
+        )
+        .with_address(Some(1));
+        master
+            .write_persistent::<fc51::registers::MaximumReference>(50.0)
+            .unwrap();
+        assert_eq!(
+            master.read::<fc51::registers::MaximumReference>().unwrap(),
+            50.0
+        );
+        sim.inject(Fault::SplitBytes(1));
+        assert_eq!(
+            master.read::<fc51::registers::MaximumReference>().unwrap(),
+            50.0
+        );
+        let mut other = Master::new(
+            master.into_transport(),
+            &fc51::protocols::MODBUS,
+            fc51::SERIAL.default,
+            fc51::SERIAL.timing,
+        )
+        .with_address(Some(2));
+        timed_out(other.read::<fc51::registers::MaximumReference>());
+        stop.store(true, Ordering::Relaxed);
+        server.join().unwrap().unwrap();
+        drop(other);
+    }
+}

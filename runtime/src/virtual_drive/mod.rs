@@ -21,11 +21,13 @@ mod faults;
 mod link;
 mod motor;
 mod respond;
+mod serve;
 mod storage;
 
 pub use faults::Fault;
 pub use link::SimLink;
 pub use respond::{Outcome, Refusal};
+pub use serve::serve;
 
 use crate::drive::DriveInfo;
 use crate::error::DecodeErrorKind;
