@@ -1,6 +1,7 @@
 //! What a generated drive module exposes about itself, so tools can work with any
 //! described drive without naming it.
 
+use crate::behaviour::Behaviour;
 use crate::info::RegisterInfo;
 use crate::protocol::Protocol;
 use crate::serial::SerialSpec;
@@ -26,6 +27,8 @@ pub struct DriveInfo {
     pub protocols: &'static [&'static Protocol],
     /// Registers, in the manual's order.
     pub registers: &'static [&'static RegisterInfo],
+    /// The behaviour model the virtual drive follows, when the description declares one.
+    pub behaviour: Option<&'static Behaviour>,
 }
 
 impl DriveInfo {

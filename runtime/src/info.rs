@@ -51,6 +51,9 @@ pub struct RegisterInfo {
     pub panel_only: bool,
     /// When a written value takes effect.
     pub takes_effect: TakesEffect,
+    /// Factory value as a raw word (what the drive holds after a factory reset), when the
+    /// manual gives one.
+    pub default_raw: Option<u32>,
 }
 
 /// Const builders: generated code writes a register as `RegisterInfo::new(..)` followed by
@@ -135,6 +138,12 @@ impl RegisterInfo {
         self
     }
 
+    /// With this factory value, as a raw word.
+    pub const fn with_default_raw(mut self, raw: u32) -> Self {
+        self.default_raw = Some(raw);
+        self
+    }
+
     /// With this shape on the wire.
     pub const fn with_data_type(mut self, data_type: DataType) -> Self {
         self.data_type = data_type;
@@ -180,6 +189,7 @@ impl RegisterInfo {
         writable_while_running: false,
         panel_only: false,
         takes_effect: TakesEffect::Immediately,
+        default_raw: None,
     };
 
     /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.

@@ -22,7 +22,7 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
         .iter()
         .map(|r| lower_register(drive, &index, r))
         .collect();
-    DriveIr {
+    let mut ir = DriveIr {
         id: model.drive.id.clone(),
         module: module_name(&model.drive.id),
         vendor: model.drive.vendor.clone(),
@@ -215,7 +215,13 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
         examples: lower_examples(drive, &registers),
         warnings: model.warnings.clone(),
         registers,
-    }
+        behaviour: None,
+    };
+    ir.behaviour = model
+        .behaviour
+        .as_ref()
+        .map(|behaviour| super::behaviour::lower(behaviour, &index, &ir));
+    ir
 }
 
 fn lower_register(

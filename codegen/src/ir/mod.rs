@@ -4,6 +4,7 @@
 //! (enums for every enumerated key, the runtime's own layouts and frame meanings), with Rust
 //! names chosen and ranges resolved. It serialises; `vfd generate --dump-ir DRIVE` prints it.
 
+mod behaviour;
 mod lower;
 mod types;
 

@@ -64,6 +64,112 @@ pub struct DriveIr {
     pub examples: Vec<ExampleIr>,
     /// Safety warnings for the drive as a whole.
     pub warnings: Vec<WarningIr>,
+    /// The behaviour model for the virtual drive, when the description declares one.
+    pub behaviour: Option<BehaviourIr>,
+}
+
+/// A bit of a bit-field word, resolved: its id, mask and the level at which it acts.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct BitRefIr {
+    /// The bit's id in its bit field.
+    pub id: String,
+    /// The bit's mask in the word.
+    pub mask: u32,
+    /// It acts when it is 0.
+    pub active_low: bool,
+}
+
+/// A number, or the current value of a register (by id).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[serde(rename_all = "snake_case")]
+pub enum AmountIr {
+    /// A constant.
+    Number(f64),
+    /// The register with this id.
+    Register(String),
+}
+
+/// The behaviour model, resolved: register ids and bit masks.
+#[derive(Debug, Clone, Serialize)]
+pub struct BehaviourIr {
+    /// Manual sections.
+    pub source: String,
+    /// What the model assumes.
+    pub note: String,
+    /// Id of the command-word register.
+    pub command_register: String,
+    /// Bits that must all act for the command word to act.
+    pub command_require: Vec<BitRefIr>,
+    /// Run bit.
+    pub run: BitRefIr,
+    /// Reverse bit.
+    pub reverse: Option<BitRefIr>,
+    /// Fault-reset bit.
+    pub reset: Option<BitRefIr>,
+    /// Coast-stop bit.
+    pub coast: Option<BitRefIr>,
+    /// Id of the frequency-command register.
+    pub frequency_command: String,
+    /// Command-word bits that make the frequency command effective.
+    pub frequency_require: Vec<BitRefIr>,
+    /// Acceleration time (seconds per span).
+    pub acceleration: AmountIr,
+    /// Deceleration time (seconds per span).
+    pub deceleration: AmountIr,
+    /// The change the ramp times refer to.
+    pub span: AmountIr,
+    /// Monitors showing the output.
+    pub output: Vec<String>,
+    /// Monitors showing the frequency command in use.
+    pub reference: Vec<String>,
+    /// Output current model: monitors, value at zero output, value at the span.
+    pub current: Option<(Vec<String>, f64, f64)>,
+    /// Status-word registers.
+    pub status_registers: Vec<String>,
+    /// Status bits: running, reverse, at reference, tripped, enabled, always.
+    pub status: StatusBitsIr,
+    /// Registers showing the present trip code.
+    pub trip_code: Vec<String>,
+    /// Trip-history registers, newest first.
+    pub trip_history: Vec<String>,
+    /// Process words: control, reference, status, output register ids.
+    pub process: Option<[String; 4]>,
+    /// Error codes per protocol id.
+    pub refusals: Vec<RefusalsIr>,
+}
+
+/// The status bits of a behaviour model.
+#[derive(Debug, Clone, Serialize, Default)]
+pub struct StatusBitsIr {
+    /// Set while running.
+    pub running: Vec<BitRefIr>,
+    /// Set while reverse.
+    pub reverse: Vec<BitRefIr>,
+    /// Set while running at the reference.
+    pub at_reference: Vec<BitRefIr>,
+    /// Set while tripped.
+    pub tripped: Vec<BitRefIr>,
+    /// Set unless coasting.
+    pub enabled: Vec<BitRefIr>,
+    /// Always set.
+    pub always: Vec<BitRefIr>,
+}
+
+/// Error codes one protocol answers refused requests with (`None`: silence).
+#[derive(Debug, Clone, Serialize)]
+pub struct RefusalsIr {
+    /// Protocol id.
+    pub protocol: String,
+    /// No register at that number.
+    pub unknown_register: Option<u16>,
+    /// Write to a read-only register.
+    pub read_only: Option<u16>,
+    /// Value out of range.
+    pub out_of_range: Option<u16>,
+    /// Write that cannot be made while running.
+    pub while_running: Option<u16>,
+    /// Bad checksum.
+    pub bad_checksum: Option<u16>,
 }
 
 /// Line-level facts of the serial link; `None` where the description does not say.
@@ -456,6 +562,20 @@ impl RegisterIr {
     /// The lowest and highest raw values the word accepts without a range.
     pub fn raw_limits(&self) -> (i64, i64) {
         self.data_type.raw_limits(self.signed)
+    }
+
+    /// The factory value as the raw word on the wire (two's complement for signed
+    /// values), when the description gives a default.
+    pub fn default_raw(&self) -> Option<u32> {
+        let default = self.default?;
+        let raw = (default / self.scale).round() as i64;
+        let bits = u32::from(self.data_type.size().max(1)) * 8;
+        let mask = if bits >= 32 {
+            u32::MAX
+        } else {
+            (1u32 << bits) - 1
+        };
+        Some((raw as u32) & mask)
     }
 
     /// Static raw bounds: the range's, else the word's.

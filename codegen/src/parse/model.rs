@@ -53,6 +53,205 @@ pub struct DriveFile {
     /// a whole, shown prominently on the reference page.
     #[serde(default)]
     pub warnings: Vec<WarningModel>,
+    /// How the drive behaves, for the virtual drive (simulator): which command bits run,
+    /// stop, reverse, reset and coast it, how the output follows the frequency command,
+    /// which status bits show its state, where trips are recorded and which error code
+    /// answers each refused request.
+    pub behaviour: Option<BehaviourModel>,
+}
+
+/// A bit of a bit-field word: its id (`run`), or `{ bit: no_coast, active: 0 }` for a bit
+/// that acts when it is 0.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, JsonSchema)]
+#[serde(untagged)]
+pub enum BitRefModel {
+    /// An active-high bit, by its id in the word's bit field.
+    Id(String),
+    /// A bit with the level at which it acts.
+    Level(BitLevelModel),
+}
+
+/// A bit and the level at which it acts.
+#[derive(Debug, Clone, Deserialize, Serialize, PartialEq, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BitLevelModel {
+    /// The bit's id in the word's bit field.
+    pub bit: String,
+    /// 1 (default): the bit acts when set; 0: it acts when clear (active low).
+    #[serde(default = "one")]
+    pub active: u8,
+}
+
+fn one() -> u8 {
+    1
+}
+
+impl BitRefModel {
+    /// The bit's id.
+    pub fn id(&self) -> &str {
+        match self {
+            BitRefModel::Id(id) => id,
+            BitRefModel::Level(level) => &level.bit,
+        }
+    }
+
+    /// Whether the bit acts when it is 0.
+    pub fn active_low(&self) -> bool {
+        matches!(self, BitRefModel::Level(level) if level.active == 0)
+    }
+}
+
+/// The behaviour model of a drive (`behaviour:`), for the virtual drive.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BehaviourModel {
+    /// The manual sections the model comes from.
+    pub source: String,
+    /// What the model assumes where the manual is silent.
+    #[serde(default)]
+    pub note: String,
+    /// The command word: which bits run, stop, reverse, reset and coast the motor.
+    pub command: CommandBehaviourModel,
+    /// The frequency command, the ramp and the monitors that follow the output.
+    pub frequency: FrequencyBehaviourModel,
+    /// The output current as a simple function of the output.
+    pub current: Option<CurrentBehaviourModel>,
+    /// The status-word bits that show the drive's state.
+    pub status: StatusBehaviourModel,
+    /// Where a trip is recorded.
+    #[serde(default)]
+    pub trip: TripBehaviourModel,
+    /// Which registers the process words of process exchanges carry.
+    pub process: Option<ProcessBehaviourModel>,
+    /// The error code each protocol (by the drive's protocol id) answers each refused
+    /// request with; a refusal left out means the drive stays silent.
+    #[serde(default)]
+    pub refusals: BTreeMap<String, RefusalsModel>,
+}
+
+/// How the command word drives the motor.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CommandBehaviourModel {
+    /// Id of the command-word register (a bit-field register).
+    pub register: String,
+    /// Bits that must all act for the word to act at all.
+    #[serde(default)]
+    pub require: Vec<BitRefModel>,
+    /// The run/stop bit.
+    pub run: BitRefModel,
+    /// The reverse bit.
+    pub reverse: Option<BitRefModel>,
+    /// The fault-reset bit (acts on its rising edge).
+    pub reset: Option<BitRefModel>,
+    /// The coast-stop bit.
+    pub coast: Option<BitRefModel>,
+}
+
+/// A number, or the id or code of a register whose value gives it.
+pub type AmountModel = BoundModel;
+
+/// How the output follows the frequency command.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FrequencyBehaviourModel {
+    /// Id of the frequency-command register.
+    pub command: String,
+    /// Command-word bits that make the frequency command effective.
+    #[serde(default)]
+    pub require: Vec<BitRefModel>,
+    /// Seconds the output takes to rise by `span`: a number or a register.
+    pub acceleration: AmountModel,
+    /// Seconds the output takes to fall by `span`: a number or a register.
+    pub deceleration: AmountModel,
+    /// The change the ramp times refer to, in the command's units: a number or a register.
+    pub span: AmountModel,
+    /// Ids of the monitors that show the output (in the command's units).
+    #[serde(default)]
+    pub output: Vec<String>,
+    /// Ids of the monitors that show the frequency command in use.
+    #[serde(default)]
+    pub reference: Vec<String>,
+}
+
+/// Output current: `at_zero + (at_span - at_zero) x |output| / span` while running, 0 when stopped.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CurrentBehaviourModel {
+    /// Ids of the monitors that show it.
+    pub registers: Vec<String>,
+    /// Value at zero output while running, in the monitors' units.
+    pub at_zero: f64,
+    /// Value at an output of `span`.
+    pub at_span: f64,
+}
+
+/// The status-word bits; each entry lists bits of the status word's bit field.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StatusBehaviourModel {
+    /// Ids of the status-word registers (bit-field registers sharing one bit field).
+    pub registers: Vec<String>,
+    /// Set while the motor runs.
+    #[serde(default)]
+    pub running: Vec<BitRefModel>,
+    /// Set while the direction is reverse.
+    #[serde(default)]
+    pub reverse: Vec<BitRefModel>,
+    /// Set while running at the frequency command.
+    #[serde(default)]
+    pub at_reference: Vec<BitRefModel>,
+    /// Set while tripped.
+    #[serde(default)]
+    pub tripped: Vec<BitRefModel>,
+    /// Set unless a coast stop is commanded.
+    #[serde(default)]
+    pub enabled: Vec<BitRefModel>,
+    /// Always set (ready bits).
+    #[serde(default)]
+    pub always: Vec<BitRefModel>,
+}
+
+/// Where a trip is recorded.
+#[derive(Debug, Clone, Default, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TripBehaviourModel {
+    /// Ids of the registers showing the present trip code (0 after a reset).
+    #[serde(default)]
+    pub code: Vec<String>,
+    /// Ids of the trip-history registers, newest first.
+    #[serde(default)]
+    pub history: Vec<String>,
+}
+
+/// Which registers the process words carry.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ProcessBehaviourModel {
+    /// Id of the register the first request word writes (control word).
+    pub control: String,
+    /// Id of the register the second request word writes (reference).
+    pub reference: String,
+    /// Id of the register the first reply word reads (status word).
+    pub status: String,
+    /// Id of the register the second reply word reads (output).
+    pub output: String,
+}
+
+/// Error codes one protocol answers refused requests with; a code left out: silence.
+#[derive(Debug, Clone, Default, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RefusalsModel {
+    /// No register at that number.
+    pub unknown_register: Option<u16>,
+    /// A write to a read-only register.
+    pub read_only: Option<u16>,
+    /// A value outside the range (bounds named after other registers included).
+    pub out_of_range: Option<u16>,
+    /// A write to a register that cannot change while the motor runs.
+    pub while_running: Option<u16>,
+    /// A frame whose checksum does not match.
+    pub bad_checksum: Option<u16>,
 }
 
 /// A safety warning: what can go wrong, and where the manual says so.

@@ -6,6 +6,7 @@
 
 pub(crate) mod ranges;
 
+mod behaviour_resolves;
 mod bit_examples_match;
 mod bit_fields_do_not_overlap;
 mod code_values_are_unique;
@@ -46,7 +47,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 17] = [
+    let checks: [fn(&Context, &mut Diagnostics); 18] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -64,6 +65,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         value_examples_match::value_examples_match,
         bit_examples_match::bit_examples_match,
         reference_scaling_resolves::reference_scaling_resolves,
+        behaviour_resolves::behaviour_resolves,
     ];
     for check in checks {
         check(drive, out);

@@ -5,6 +5,7 @@
 //! [`protocols`]; runtime values become tokens through [`bake::Bake`] only.
 
 pub(crate) mod bake;
+mod behaviour;
 mod bitfields;
 mod code_tables;
 mod protocols;
@@ -75,6 +76,7 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
     let codes = codes_module(drive);
     let errors = error_code_enum(drive);
     let scaling = reference_scaling(drive);
+    let (behaviour, behaviour_ref) = behaviour::behaviour_static(drive);
     quote! {
         #(#[doc = #docs])*
         #[allow(clippy::excessive_precision, clippy::unreadable_literal)]
@@ -103,6 +105,7 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
                 serial: &SERIAL,
                 protocols: &protocols::ALL,
                 registers: &registers::ALL,
+                behaviour: #behaviour_ref,
             };
             #own_layouts
             #protocols
@@ -111,6 +114,7 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
             #codes
             #errors
             #scaling
+            #behaviour
         }
     }
 }

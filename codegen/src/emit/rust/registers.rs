@@ -128,6 +128,10 @@ fn info_chain(register: &RegisterIr) -> TokenStream {
         let len = int_literal(register.array_len);
         chain.extend(quote!(.with_array(#len)));
     }
+    if let Some(raw) = register.default_raw() {
+        let raw = int_literal(raw);
+        chain.extend(quote!(.with_default_raw(#raw)));
+    }
     chain
 }
 

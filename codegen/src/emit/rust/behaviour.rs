@@ -1,0 +1,165 @@
+//! Emits a drive's behaviour model as one `BEHAVIOUR` static of the runtime's
+//! `vfd_runtime::behaviour::Behaviour`, for the virtual drive.
+
+use super::*;
+use crate::ir::{AmountIr, BehaviourIr, BitRefIr};
+
+fn bit(bit: &BitRefIr) -> TokenStream {
+    let mask = int_literal(bit.mask);
+    if bit.active_low {
+        quote!(Bit::low(#mask))
+    } else {
+        quote!(Bit::high(#mask))
+    }
+}
+
+fn bits(list: &[BitRefIr]) -> TokenStream {
+    let list = list.iter().map(bit);
+    quote!(&[#(#list),*])
+}
+
+fn optional_bit(value: Option<&BitRefIr>) -> TokenStream {
+    match value {
+        Some(value) => {
+            let value = bit(value);
+            quote!(Some(#value))
+        }
+        None => quote!(None),
+    }
+}
+
+fn amount(amount: &AmountIr) -> TokenStream {
+    match amount {
+        AmountIr::Number(value) => {
+            let value = f64_literal(*value);
+            quote!(Amount::Value(#value))
+        }
+        AmountIr::Register(id) => quote!(Amount::Register(#id)),
+    }
+}
+
+fn ids(ids: &[String]) -> TokenStream {
+    quote!(&[#(#ids),*])
+}
+
+fn code(code: Option<u16>) -> TokenStream {
+    match code {
+        Some(code) => {
+            let code = int_literal(code);
+            quote!(Some(#code))
+        }
+        None => quote!(None),
+    }
+}
+
+/// `pub static BEHAVIOUR` and the `DriveInfo::behaviour` value naming it (`None` when the
+/// drive declares no behaviour).
+pub(super) fn behaviour_static(drive: &DriveIr) -> (TokenStream, TokenStream) {
+    let Some(b) = &drive.behaviour else {
+        return (quote!(), quote!(None));
+    };
+    (behaviour_tokens(b), quote!(Some(&BEHAVIOUR)))
+}
+
+fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
+    let source = &b.source;
+    let (register, require, run) = (&b.command_register, bits(&b.command_require), bit(&b.run));
+    let (reverse, reset, coast) = (
+        optional_bit(b.reverse.as_ref()),
+        optional_bit(b.reset.as_ref()),
+        optional_bit(b.coast.as_ref()),
+    );
+    let (command, frequency_require) = (&b.frequency_command, bits(&b.frequency_require));
+    let (acceleration, deceleration, span) = (
+        amount(&b.acceleration),
+        amount(&b.deceleration),
+        amount(&b.span),
+    );
+    let (output, reference) = (ids(&b.output), ids(&b.reference));
+    let current = match &b.current {
+        Some((registers, at_zero, at_span)) => {
+            let registers = ids(registers);
+            let (at_zero, at_span) = (f64_literal(*at_zero), f64_literal(*at_span));
+            quote!(Some(CurrentBehaviour { registers: #registers, at_zero: #at_zero, at_span: #at_span }))
+        }
+        None => quote!(None),
+    };
+    let status_registers = ids(&b.status_registers);
+    let s = &b.status;
+    let (running, reverse_bits, at_reference, tripped, enabled, always) = (
+        bits(&s.running),
+        bits(&s.reverse),
+        bits(&s.at_reference),
+        bits(&s.tripped),
+        bits(&s.enabled),
+        bits(&s.always),
+    );
+    let (trip_code, trip_history) = (ids(&b.trip_code), ids(&b.trip_history));
+    let process = match &b.process {
+        Some([control, reference, status, output]) => quote!(Some(ProcessBehaviour {
+            control: #control, reference: #reference, status: #status, output: #output
+        })),
+        None => quote!(None),
+    };
+    let refusals = b.refusals.iter().map(|r| {
+        let protocol = &r.protocol;
+        let (unknown, read_only, out_of_range, while_running, bad_checksum) = (
+            code(r.unknown_register),
+            code(r.read_only),
+            code(r.out_of_range),
+            code(r.while_running),
+            code(r.bad_checksum),
+        );
+        quote!(Refusals {
+            protocol: #protocol,
+            unknown_register: #unknown,
+            read_only: #read_only,
+            out_of_range: #out_of_range,
+            while_running: #while_running,
+            bad_checksum: #bad_checksum,
+        })
+    });
+    let doc = doc_text(format!(
+        "The behaviour model the virtual drive follows (manual: {}). {}",
+        b.source, b.note
+    ));
+    quote! {
+        #[doc = #doc]
+        pub static BEHAVIOUR: ::vfd_runtime::behaviour::Behaviour = {
+            use ::vfd_runtime::behaviour::*;
+            Behaviour {
+                source: #source,
+                command: CommandBehaviour {
+                    register: #register,
+                    require: #require,
+                    run: #run,
+                    reverse: #reverse,
+                    reset: #reset,
+                    coast: #coast,
+                },
+                frequency: FrequencyBehaviour {
+                    command: #command,
+                    require: #frequency_require,
+                    acceleration: #acceleration,
+                    deceleration: #deceleration,
+                    span: #span,
+                    output: #output,
+                    reference: #reference,
+                },
+                current: #current,
+                status: StatusBehaviour {
+                    registers: #status_registers,
+                    running: #running,
+                    reverse: #reverse_bits,
+                    at_reference: #at_reference,
+                    tripped: #tripped,
+                    enabled: #enabled,
+                    always: #always,
+                },
+                trip: TripBehaviour { code: #trip_code, history: #trip_history },
+                process: #process,
+                refusals: &[#(#refusals),*],
+            }
+        };
+    }
+}

@@ -1,0 +1,112 @@
+//! Lowers a drive's `behaviour:` section: register names (codes or ids) become ids, and
+//! bit ids become masks within the bit field of the word they belong to.
+
+use super::types::*;
+use crate::parse::model::{BehaviourModel, BitRefModel, BoundModel};
+use crate::validate::ranges::RegisterIndex;
+
+/// Lowers a behaviour model that passed validation (`ir` holds the lowered registers and
+/// bit fields).
+pub(crate) fn lower(
+    model: &BehaviourModel,
+    index: &RegisterIndex<'_>,
+    ir: &DriveIr,
+) -> BehaviourIr {
+    let id_of = |name: &str| {
+        index
+            .find(name)
+            .map_or_else(|| name.to_owned(), |r| r.id.clone())
+    };
+    let ids = |names: &[String]| names.iter().map(|n| id_of(n)).collect::<Vec<_>>();
+    let amount = |amount: &BoundModel| match amount {
+        BoundModel::Number(value) => AmountIr::Number(*value),
+        BoundModel::Register(name) => AmountIr::Register(id_of(name)),
+    };
+    let command_bits = bitfield_of(ir, &id_of(&model.command.register));
+    let status_bits = model
+        .status
+        .registers
+        .first()
+        .and_then(|name| bitfield_of(ir, &id_of(name)));
+    let command_bit = |bit: &BitRefModel| resolve(command_bits, bit);
+    let command_list = |bits: &[BitRefModel]| bits.iter().map(command_bit).collect::<Vec<_>>();
+    let status_list = |bits: &[BitRefModel]| {
+        bits.iter()
+            .map(|bit| resolve(status_bits, bit))
+            .collect::<Vec<_>>()
+    };
+    let status = &model.status;
+    BehaviourIr {
+        source: model.source.clone(),
+        note: model.note.trim().to_owned(),
+        command_register: id_of(&model.command.register),
+        command_require: command_list(&model.command.require),
+        run: command_bit(&model.command.run),
+        reverse: model.command.reverse.as_ref().map(command_bit),
+        reset: model.command.reset.as_ref().map(command_bit),
+        coast: model.command.coast.as_ref().map(command_bit),
+        frequency_command: id_of(&model.frequency.command),
+        frequency_require: command_list(&model.frequency.require),
+        acceleration: amount(&model.frequency.acceleration),
+        deceleration: amount(&model.frequency.deceleration),
+        span: amount(&model.frequency.span),
+        output: ids(&model.frequency.output),
+        reference: ids(&model.frequency.reference),
+        current: model
+            .current
+            .as_ref()
+            .map(|c| (ids(&c.registers), c.at_zero, c.at_span)),
+        status_registers: ids(&status.registers),
+        status: StatusBitsIr {
+            running: status_list(&status.running),
+            reverse: status_list(&status.reverse),
+            at_reference: status_list(&status.at_reference),
+            tripped: status_list(&status.tripped),
+            enabled: status_list(&status.enabled),
+            always: status_list(&status.always),
+        },
+        trip_code: ids(&model.trip.code),
+        trip_history: ids(&model.trip.history),
+        process: model.process.as_ref().map(|p| {
+            [
+                id_of(&p.control),
+                id_of(&p.reference),
+                id_of(&p.status),
+                id_of(&p.output),
+            ]
+        }),
+        refusals: model
+            .refusals
+            .iter()
+            .map(|(protocol, r)| RefusalsIr {
+                protocol: protocol.clone(),
+                unknown_register: r.unknown_register,
+                read_only: r.read_only,
+                out_of_range: r.out_of_range,
+                while_running: r.while_running,
+                bad_checksum: r.bad_checksum,
+            })
+            .collect(),
+    }
+}
+
+/// The bit field of the register with this id.
+fn bitfield_of<'a>(ir: &'a DriveIr, register: &str) -> Option<&'a BitfieldIr> {
+    let name = ir.register(register).and_then(|r| match &r.value {
+        ValueKind::Bitfield(type_name) => Some(type_name.clone()),
+        _ => None,
+    })?;
+    ir.bitfields.iter().find(|b| b.type_name == name)
+}
+
+/// A bit by id within `bitfield` (validation has checked that it is there).
+fn resolve(bitfield: Option<&BitfieldIr>, bit: &BitRefModel) -> BitRefIr {
+    let mask = bitfield
+        .and_then(|b| b.fields.iter().find(|f| f.id == bit.id()))
+        .map_or(0, |f| ((1u32 << f.width) - 1) << f.lsb);
+    BitRefIr {
+        id: bit.id().to_owned(),
+        mask,
+        active_low: bit.active_low(),
+    }
+}

@@ -1,0 +1,257 @@
+//! Check: the behaviour model names registers, bits and protocols that exist: the
+//! command and status words are bit-field registers, every bit is a field of their bit
+//! field, and every protocol with refusal codes is one of the drive's.
+
+use crate::diagnostics::Diagnostics;
+use crate::parse::model::{BehaviourModel, BitRefModel, BoundModel, DriveFile};
+use crate::validate::ranges::RegisterIndex;
+use crate::validate::Context;
+
+/// The behaviour model names registers, bits and protocols that exist.
+pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
+    let model = &drive.model;
+    let Some(behaviour) = &model.behaviour else {
+        return;
+    };
+    let index = RegisterIndex::new(model);
+    let mut problem = |path: String, message: String, hint: &str| {
+        out.push(drive.source.error(&path, message).hint(hint));
+    };
+    let mut register = |path: String, name: &str| {
+        if index.find(name).is_none() {
+            problem(
+                path,
+                format!("register `{name}` is not defined"),
+                "name a register by its code or id",
+            );
+        }
+    };
+    for (path, name) in registers_named(behaviour) {
+        register(path, name);
+    }
+    let bitfield_of = |name: &str| {
+        index
+            .find(name)
+            .and_then(|r| r.bitfield.as_deref())
+            .and_then(|id| model.bitfields.iter().find(|b| b.id == id))
+    };
+    let words = [
+        (
+            "behaviour.command.register",
+            behaviour.command.register.as_str(),
+            command_bits(behaviour),
+        ),
+        (
+            "behaviour.status.registers[0]",
+            behaviour
+                .status
+                .registers
+                .first()
+                .map_or("", String::as_str),
+            status_bits(behaviour),
+        ),
+    ];
+    for (path, word, bits) in words {
+        if word.is_empty() || index.find(word).is_none() {
+            continue;
+        }
+        let Some(bitfield) = bitfield_of(word) else {
+            problem(
+                path.to_owned(),
+                format!("register `{word}` is not a bit-field word"),
+                "name a register with `bitfield:`",
+            );
+            continue;
+        };
+        for (bit_path, bit) in bits {
+            if !bitfield
+                .fields
+                .iter()
+                .any(|f| f.id.as_deref() == Some(bit.id()))
+            {
+                problem(
+                    bit_path,
+                    format!("bit `{}` is not a field of `{}`", bit.id(), bitfield.id),
+                    "name a bit by its id in the word's bit field",
+                );
+            }
+        }
+    }
+    for protocol in behaviour.refusals.keys() {
+        if !model.protocols.iter().any(|p| &p.id == protocol) {
+            problem(
+                format!("behaviour.refusals.{protocol}"),
+                format!("protocol `{protocol}` is not one of the drive's"),
+                &protocol_hint(model),
+            );
+        }
+    }
+}
+
+fn protocol_hint(model: &DriveFile) -> String {
+    let ids: Vec<&str> = model.protocols.iter().map(|p| p.id.as_str()).collect();
+    format!("the drive's protocols are: {}", ids.join(", "))
+}
+
+/// Every register the model names, with its path.
+fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
+    let mut named = vec![
+        (
+            "behaviour.command.register".to_owned(),
+            b.command.register.as_str(),
+        ),
+        (
+            "behaviour.frequency.command".to_owned(),
+            b.frequency.command.as_str(),
+        ),
+    ];
+    for (key, amount) in [
+        ("acceleration", &b.frequency.acceleration),
+        ("deceleration", &b.frequency.deceleration),
+        ("span", &b.frequency.span),
+    ] {
+        if let BoundModel::Register(name) = amount {
+            named.push((format!("behaviour.frequency.{key}"), name));
+        }
+    }
+    let lists: [(&str, &[String]); 6] = [
+        ("frequency.output", &b.frequency.output),
+        ("frequency.reference", &b.frequency.reference),
+        ("status.registers", &b.status.registers),
+        ("trip.code", &b.trip.code),
+        ("trip.history", &b.trip.history),
+        (
+            "current.registers",
+            b.current.as_ref().map_or(&[][..], |c| &c.registers),
+        ),
+    ];
+    for (key, list) in lists {
+        for (i, name) in list.iter().enumerate() {
+            named.push((format!("behaviour.{key}[{i}]"), name));
+        }
+    }
+    if let Some(p) = &b.process {
+        for (key, name) in [
+            ("control", &p.control),
+            ("reference", &p.reference),
+            ("status", &p.status),
+            ("output", &p.output),
+        ] {
+            named.push((format!("behaviour.process.{key}"), name));
+        }
+    }
+    named
+}
+
+/// The command word's bits, with their paths.
+fn command_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
+    let c = &b.command;
+    let mut bits = vec![("behaviour.command.run".to_owned(), &c.run)];
+    for (key, bit) in [
+        ("reverse", &c.reverse),
+        ("reset", &c.reset),
+        ("coast", &c.coast),
+    ] {
+        if let Some(bit) = bit {
+            bits.push((format!("behaviour.command.{key}"), bit));
+        }
+    }
+    for (key, list) in [
+        ("command.require", &c.require),
+        ("frequency.require", &b.frequency.require),
+    ] {
+        for (i, bit) in list.iter().enumerate() {
+            bits.push((format!("behaviour.{key}[{i}]"), bit));
+        }
+    }
+    bits
+}
+
+/// The status word's bits, with their paths.
+fn status_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
+    let s = &b.status;
+    let lists: [(&str, &Vec<BitRefModel>); 6] = [
+        ("running", &s.running),
+        ("reverse", &s.reverse),
+        ("at_reference", &s.at_reference),
+        ("tripped", &s.tripped),
+        ("enabled", &s.enabled),
+        ("always", &s.always),
+    ];
+    let mut bits = Vec::new();
+    for (key, list) in lists {
+        for (i, bit) in list.iter().enumerate() {
+            bits.push((format!("behaviour.status.{key}[{i}]"), bit));
+        }
+    }
+    bits
+}
+
+#[cfg(test)]
+mod tests {
+    use super::behaviour_resolves as check;
+    use crate::validate::testing::{check_yaml, only, VALID};
+
+    const BEHAVIOUR: &str = r#"
+behaviour:
+  source: "7"
+  command: { register: FA00, require: [command_enabled], run: run }
+  frequency: { command: FH, acceleration: Acc, deceleration: 10.0, span: FH }
+  status: { registers: [FA00], running: [run] }
+  refusals:
+    ascii: { out_of_range: 1 }
+"#;
+
+    fn with_behaviour(edit: (&str, &str)) -> String {
+        format!("{VALID}{}", BEHAVIOUR.replace(edit.0, edit.1))
+    }
+
+    #[test]
+    fn accepts_a_model_naming_what_exists() {
+        assert!(check_yaml(check, VALID).is_empty());
+        let found = check_yaml(check, &with_behaviour(("", "")));
+        assert!(found.is_empty(), "{found:#?}");
+    }
+
+    #[test]
+    fn reports_an_unknown_register() {
+        let found = check_yaml(
+            check,
+            &with_behaviour(("acceleration: Acc", "acceleration: ACC2")),
+        );
+        let problem = only(&found);
+        assert_eq!(problem.message, "register `ACC2` is not defined");
+        assert_eq!(problem.path, "behaviour.frequency.acceleration");
+    }
+
+    #[test]
+    fn reports_an_unknown_bit_and_a_word_without_bit_field() {
+        let found = check_yaml(check, &with_behaviour(("run: run", "run: start")));
+        assert_eq!(
+            only(&found).message,
+            "bit `start` is not a field of `command_word`"
+        );
+        let found = check_yaml(
+            check,
+            &with_behaviour(("registers: [FA00]", "registers: [FH]")),
+        );
+        assert_eq!(
+            only(&found).message,
+            "register `FH` is not a bit-field word"
+        );
+    }
+
+    #[test]
+    fn reports_refusals_for_a_protocol_the_drive_lacks() {
+        let found = check_yaml(check, &with_behaviour(("ascii: {", "modbus: {")));
+        let problem = only(&found);
+        assert_eq!(
+            problem.message,
+            "protocol `modbus` is not one of the drive's"
+        );
+        assert_eq!(
+            problem.hint.as_deref(),
+            Some("the drive's protocols are: ascii")
+        );
+    }
+}

@@ -1,0 +1,271 @@
+//! The behaviour model a drive description declares (its `behaviour:` section), as static
+//! data for the virtual drive: which command-word bits start, stop, reverse, reset and
+//! coast the simulated motor, which register is the frequency command, which monitors
+//! follow the output, which status bits show the drive's state, where trips are recorded
+//! and which error code each protocol answers a refused request with.
+//!
+//! Registers are named by their description id; bits are resolved to masks by the code
+//! generator. Nothing here names a drive.
+
+/// One bit of a word, resolved from a bit-field id: its mask and whether it acts when 0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Bit {
+    /// The bit's mask in the word.
+    pub mask: u32,
+    /// The bit acts when it is 0 (FC "coast stop" is active low).
+    pub active_low: bool,
+}
+
+impl Bit {
+    /// An active-high bit with this mask.
+    pub const fn high(mask: u32) -> Bit {
+        Bit {
+            mask,
+            active_low: false,
+        }
+    }
+
+    /// An active-low bit with this mask.
+    pub const fn low(mask: u32) -> Bit {
+        Bit {
+            mask,
+            active_low: true,
+        }
+    }
+
+    /// Whether the bit acts in `word`.
+    pub const fn is_active(self, word: u32) -> bool {
+        (word & self.mask != 0) != self.active_low
+    }
+
+    /// `word` with the bit set to act (`on`) or not.
+    pub const fn apply(self, word: u32, on: bool) -> u32 {
+        if on != self.active_low {
+            word | self.mask
+        } else {
+            word & !self.mask
+        }
+    }
+}
+
+/// A quantity the model needs: a fixed number, or the current value of a register (by id),
+/// in that register's engineering units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Amount {
+    /// A fixed number.
+    Value(f64),
+    /// The value of the register with this id.
+    Register(&'static str),
+}
+
+/// How the command word drives the simulated motor.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CommandBehaviour {
+    /// Id of the command-word register.
+    pub register: &'static str,
+    /// Bits that must all act for the word to act at all (YD1000 bit 15, FC "data valid").
+    pub require: &'static [Bit],
+    /// Run (1) or stop (0).
+    pub run: Bit,
+    /// Reverse direction.
+    pub reverse: Option<Bit>,
+    /// Fault reset, on the rising edge.
+    pub reset: Option<Bit>,
+    /// Coast stop: the output drops to zero at once.
+    pub coast: Option<Bit>,
+}
+
+/// How the output frequency follows the frequency command.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrequencyBehaviour {
+    /// Id of the frequency-command register.
+    pub command: &'static str,
+    /// Command-word bits that make the frequency command effective.
+    pub require: &'static [Bit],
+    /// Time the output takes to rise by `span`, in seconds.
+    pub acceleration: Amount,
+    /// Time the output takes to fall by `span`, in seconds.
+    pub deceleration: Amount,
+    /// The change the ramp times refer to, in the frequency command's units.
+    pub span: Amount,
+    /// Ids of the monitors that show the output (same units as the command).
+    pub output: &'static [&'static str],
+    /// Ids of the monitors that show the frequency command in use.
+    pub reference: &'static [&'static str],
+}
+
+/// Output current as a simple function of the output: `at_zero + (at_span - at_zero) x
+/// |output| / span` while running, 0 when stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurrentBehaviour {
+    /// Ids of the monitors that show it.
+    pub registers: &'static [&'static str],
+    /// Value at zero output while running.
+    pub at_zero: f64,
+    /// Value at an output of `span`.
+    pub at_span: f64,
+}
+
+/// Which status bits show the drive's state. Each entry lists the bits set while it holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StatusBehaviour {
+    /// Ids of the status-word registers.
+    pub registers: &'static [&'static str],
+    /// Set while the motor runs (run commanded or output not zero).
+    pub running: &'static [Bit],
+    /// Set while the direction is reverse.
+    pub reverse: &'static [Bit],
+    /// Set while running with the output at the frequency command.
+    pub at_reference: &'static [Bit],
+    /// Set while tripped.
+    pub tripped: &'static [Bit],
+    /// Set unless a coast stop is commanded.
+    pub enabled: &'static [Bit],
+    /// Always set (ready bits).
+    pub always: &'static [Bit],
+}
+
+/// Where a trip is recorded.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TripBehaviour {
+    /// Ids of the registers showing the present trip code (0 after a reset).
+    pub code: &'static [&'static str],
+    /// Ids of the trip-history registers, newest first.
+    pub history: &'static [&'static str],
+}
+
+/// Which registers the process words of a process exchange carry.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProcessBehaviour {
+    /// Id of the register the first request word is written to (control word).
+    pub control: &'static str,
+    /// Id of the register the second request word is written to (reference).
+    pub reference: &'static str,
+    /// Id of the register the first reply word reads (status word).
+    pub status: &'static str,
+    /// Id of the register the second reply word reads (output).
+    pub output: &'static str,
+}
+
+/// The error code one protocol answers each kind of refused request with; `None`: the
+/// drive stays silent.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Refusals {
+    /// Protocol id (within the drive).
+    pub protocol: &'static str,
+    /// No register at that number.
+    pub unknown_register: Option<u16>,
+    /// Write to a read-only register.
+    pub read_only: Option<u16>,
+    /// Value outside the range, including bounds named after other registers.
+    pub out_of_range: Option<u16>,
+    /// Write to a register that cannot change while the motor runs.
+    pub while_running: Option<u16>,
+    /// A frame whose checksum does not match.
+    pub bad_checksum: Option<u16>,
+}
+
+impl Refusals {
+    /// Silent for every refusal.
+    pub const SILENT: Refusals = Refusals {
+        protocol: "",
+        unknown_register: None,
+        read_only: None,
+        out_of_range: None,
+        while_running: None,
+        bad_checksum: None,
+    };
+}
+
+/// A drive's behaviour model, as its description declares it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Behaviour {
+    /// The manual sections it comes from.
+    pub source: &'static str,
+    /// The command word.
+    pub command: CommandBehaviour,
+    /// The frequency command and the output.
+    pub frequency: FrequencyBehaviour,
+    /// The output current, if modelled.
+    pub current: Option<CurrentBehaviour>,
+    /// The status bits.
+    pub status: StatusBehaviour,
+    /// Trip records.
+    pub trip: TripBehaviour,
+    /// Process words, for protocols that carry them.
+    pub process: Option<ProcessBehaviour>,
+    /// Error codes per protocol.
+    pub refusals: &'static [Refusals],
+}
+
+impl Behaviour {
+    /// The refusal codes of the protocol with this id (silent when it has none).
+    pub fn refusals(&self, protocol: &str) -> &Refusals {
+        self.refusals
+            .iter()
+            .find(|r| r.protocol == protocol)
+            .unwrap_or(&Refusals::SILENT)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bits_act_high_or_low() {
+        let run = Bit::high(0x0400);
+        assert!(run.is_active(0x0400) && !run.is_active(0));
+        assert_eq!(run.apply(0, true), 0x0400);
+        let coast = Bit::low(0x0008);
+        assert!(coast.is_active(0) && !coast.is_active(0x0008));
+        assert_eq!(coast.apply(0, false), 0x0008);
+        assert_eq!(coast.apply(0x0008, true), 0);
+    }
+
+    #[test]
+    fn unknown_protocols_are_silent() {
+        let behaviour = Behaviour {
+            source: "",
+            command: CommandBehaviour {
+                register: "c",
+                require: &[],
+                run: Bit::high(1),
+                reverse: None,
+                reset: None,
+                coast: None,
+            },
+            frequency: FrequencyBehaviour {
+                command: "f",
+                require: &[],
+                acceleration: Amount::Value(1.0),
+                deceleration: Amount::Value(1.0),
+                span: Amount::Value(50.0),
+                output: &[],
+                reference: &[],
+            },
+            current: None,
+            status: StatusBehaviour {
+                registers: &[],
+                running: &[],
+                reverse: &[],
+                at_reference: &[],
+                tripped: &[],
+                enabled: &[],
+                always: &[],
+            },
+            trip: TripBehaviour {
+                code: &[],
+                history: &[],
+            },
+            process: None,
+            refusals: &[Refusals {
+                protocol: "ascii",
+                out_of_range: Some(1),
+                ..Refusals::SILENT
+            }],
+        };
+        assert_eq!(behaviour.refusals("ascii").out_of_range, Some(1));
+        assert_eq!(behaviour.refusals("modbus").out_of_range, None);
+    }
+}

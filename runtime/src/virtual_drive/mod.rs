@@ -1,0 +1,381 @@
+//! The virtual drive: the slave side of every described drive and protocol, generated from
+//! the same description as the master. It decodes requests with the protocol's layouts and
+//! encodes replies with them; the register table gives ranges, access and "writable while
+//! running"; the drive's `behaviour:` section ([`crate::behaviour`]) drives a simulated
+//! motor on a clock that tests advance. Nothing here names a drive or a protocol.
+//!
+//! One concern per file: `storage` (RAM, EEPROM, values in effect), `motor` (the behaviour
+//! model), `respond` (one request, one reply), `faults` (misbehaviour on request), `link`
+//! (in-process transport) and `serve` (a loop over any transport, in wall time).
+//!
+//! In process, a typed master is two lines away:
+//!
+//! ```text
+//! let sim = Simulator::new(&my_drive::DRIVE);
+//! let mut master = sim.master(&my_drive::protocols::BINARY);
+//! ```
+//!
+//! (see `vfd_drives::guide` for a complete, tested example).
+
+mod faults;
+mod link;
+mod motor;
+mod respond;
+mod serve;
+mod storage;
+
+pub use faults::Fault;
+pub use link::SimLink;
+pub use respond::{Outcome, Refusal};
+pub use serve::serve;
+
+use crate::drive::DriveInfo;
+use crate::error::DecodeErrorKind;
+use crate::protocol::{DriveProtocol, Found, Protocol};
+use crate::transaction::Master;
+use motor::Motor;
+use std::collections::VecDeque;
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
+use std::time::Duration;
+use storage::Storage;
+
+/// The longest simulated step: ramps are integrated in steps no longer than this.
+const MAX_STEP: Duration = Duration::from_millis(100);
+
+/// A simulated drive: its registers, its motor, its clock and the faults it is told to
+/// commit. Use it through a [`Simulator`] (shared between a test and its master).
+#[derive(Debug)]
+pub struct VirtualDrive {
+    drive: &'static DriveInfo,
+    address: u8,
+    storage: Storage,
+    motor: Motor,
+    now: Duration,
+    selected_index: u16,
+    persistent_writes: bool,
+    faults: VecDeque<Fault>,
+    noise: bool,
+}
+
+/// Bytes the drive sends in answer to one request, and how.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Transmission {
+    /// The bytes.
+    pub bytes: Vec<u8>,
+    /// Sent only after the master's reply timeout.
+    pub delayed: bool,
+    /// Sent one byte at a time with gaps of this many character times.
+    pub split: Option<u32>,
+    /// Length of the request answered, in bytes (for the reply timing).
+    pub request_len: usize,
+}
+
+impl VirtualDrive {
+    /// A drive in its factory state: every register at its default, at the lowest station
+    /// number its first protocol accepts (at least 1), motor stopped, clock at zero.
+    pub fn new(drive: &'static DriveInfo) -> VirtualDrive {
+        let address = drive
+            .protocols
+            .first()
+            .map_or(1, |p| p.address_range.0.max(1));
+        let mut virtual_drive = VirtualDrive {
+            drive,
+            address,
+            storage: Storage::new(drive.registers),
+            motor: Motor::default(),
+            now: Duration::ZERO,
+            selected_index: 0,
+            persistent_writes: false,
+            faults: VecDeque::new(),
+            noise: false,
+        };
+        virtual_drive.refresh();
+        virtual_drive
+    }
+
+    /// The described drive.
+    pub fn drive(&self) -> &'static DriveInfo {
+        self.drive
+    }
+
+    /// Its station number.
+    pub fn address(&self) -> u8 {
+        self.address
+    }
+
+    /// Sets its station number.
+    pub fn set_address(&mut self, address: u8) {
+        self.address = address;
+    }
+
+    /// Simulated time since power-up.
+    pub fn now(&self) -> Duration {
+        self.now
+    }
+
+    /// Advances the simulated clock: the output ramps, monitors follow.
+    pub fn advance(&mut self, elapsed: Duration) {
+        let mut left = elapsed;
+        while !left.is_zero() {
+            let step = left.min(MAX_STEP);
+            self.step(step);
+            left -= step;
+        }
+        self.now += elapsed;
+    }
+
+    /// Power off and on: values written to RAM only are lost, the motor stops, a trip is
+    /// cleared and parameters that take effect after a reset take their stored values.
+    pub fn power_cycle(&mut self) {
+        self.storage.power_cycle(self.drive.registers);
+        self.motor = Motor::default();
+        self.selected_index = 0;
+        self.persistent_writes = false;
+        self.refresh();
+    }
+
+    /// The raw value in RAM of the register with this code or id (element 0 of arrays).
+    pub fn raw(&self, name: &str) -> Option<u32> {
+        let info = self.drive.register(name)?;
+        Some(self.storage.get(info, 0))
+    }
+
+    /// The raw value the drive acts on: for parameters that take effect after a reset, the
+    /// value at the last reset.
+    pub fn raw_in_effect(&self, name: &str) -> Option<u32> {
+        let info = self.drive.register(name)?;
+        Some(self.storage.in_effect(info, 0))
+    }
+
+    /// Sets a register as the operator panel would (no checks, RAM only). Returns false
+    /// when there is no such register.
+    pub fn set_raw(&mut self, name: &str, raw: u32) -> bool {
+        let Some(info) = self.drive.register(name) else {
+            return false;
+        };
+        self.storage.set(info, 0, raw, false);
+        self.refresh();
+        true
+    }
+
+    /// The output, signed (negative in reverse), in the frequency command's units.
+    pub fn output(&self) -> f64 {
+        self.motor.output
+    }
+
+    /// Commits `fault` (see [`Fault`] for how long it lasts).
+    pub fn inject(&mut self, fault: Fault) {
+        if fault == Fault::Noise {
+            self.noise = true;
+        } else {
+            self.faults.push_back(fault);
+        }
+    }
+
+    /// Stops every fault.
+    pub fn clear_faults(&mut self) {
+        self.faults.clear();
+        self.noise = false;
+    }
+
+    /// Whether `fault` is pending (noise: in force).
+    pub fn has_fault(&self, fault: &Fault) -> bool {
+        match fault {
+            Fault::Noise => self.noise,
+            other => self.faults.contains(other),
+        }
+    }
+
+    /// Answers one whole request frame (no bytes before or after it).
+    pub fn respond(&mut self, protocol: &Protocol, frame: &[u8]) -> Outcome {
+        match protocol.decode_request_exact(frame) {
+            Ok(request) => self.answer(protocol, &request),
+            Err(error) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
+                self.refuse(protocol, None, Refusal::BadChecksum)
+            }
+            Err(_) => Outcome::Silent("not a request frame"),
+        }
+    }
+
+    /// Takes the request frames out of `input` (bytes received so far; noise before a
+    /// start sequence is skipped, an unfinished frame is left in it) and returns what the
+    /// drive sends in answer, faults applied.
+    pub fn receive(&mut self, protocol: &Protocol, input: &mut Vec<u8>) -> Vec<Transmission> {
+        let mut sent = Vec::new();
+        let start = protocol
+            .commands
+            .first()
+            .and_then(|c| c.request.start_bytes())
+            .unwrap_or(&[]);
+        loop {
+            if !start.is_empty() {
+                match find(input, start) {
+                    Some(offset) => drop(input.drain(..offset)),
+                    None => {
+                        let keep = input.len().min(start.len() - 1);
+                        input.drain(..input.len() - keep);
+                        break;
+                    }
+                }
+            }
+            if input.is_empty() {
+                break;
+            }
+            let (outcome, used) = match protocol.decode_request(input) {
+                Ok(Found::Frame { frame, .. }) => {
+                    let mut pending = self.faults.front().cloned();
+                    let outcome = if pending == Some(Fault::AnswerBroadcast) {
+                        self.faults.pop_front();
+                        pending = None;
+                        let own = self.address;
+                        self.address = frame.address.unwrap_or(own);
+                        let outcome = self.answer(protocol, &frame);
+                        self.address = own;
+                        outcome
+                    } else {
+                        self.answer(protocol, &frame)
+                    };
+                    let outcome = match (pending, outcome) {
+                        (Some(Fault::WrongStation), Outcome::Reply(_)) => {
+                            self.faults.pop_front();
+                            let own = self.address;
+                            let other = own.wrapping_add(1);
+                            self.address = frame.address.map_or(own, |_| other);
+                            let mut wrong = frame;
+                            wrong.address = frame.address.map(|_| other);
+                            let outcome = self.answer(protocol, &wrong);
+                            self.address = own;
+                            outcome
+                        }
+                        (_, outcome) => outcome,
+                    };
+                    (outcome, frame.len)
+                }
+                Ok(Found::Incomplete) => break,
+                Err(error) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
+                    let outcome = self.refuse(protocol, None, Refusal::BadChecksum);
+                    (outcome, input.len().min(start.len().max(1)))
+                }
+                Err(_) => (
+                    Outcome::Silent("framing error"),
+                    if start.is_empty() { input.len() } else { 1 },
+                ),
+            };
+            let request: Vec<u8> = input.drain(..used).collect();
+            if self.noise {
+                // The line is jammed: no reply gets through the noise.
+                continue;
+            }
+            if let Outcome::Reply(bytes) = outcome {
+                if let Some(transmission) = self.commit_faults(protocol, &request, bytes) {
+                    sent.push(transmission);
+                }
+            }
+        }
+        sent
+    }
+
+    /// Applies the next pending fault to a reply.
+    fn commit_faults(
+        &mut self,
+        protocol: &Protocol,
+        request: &[u8],
+        mut bytes: Vec<u8>,
+    ) -> Option<Transmission> {
+        let mut transmission = Transmission {
+            bytes: Vec::new(),
+            delayed: false,
+            split: None,
+            request_len: request.len(),
+        };
+        match self.faults.pop_front() {
+            Some(Fault::DropReply) => return None,
+            Some(Fault::CorruptChecksum) => {
+                faults::corrupt_checksum(protocol, &mut bytes);
+            }
+            Some(Fault::Delay) => transmission.delayed = true,
+            Some(Fault::GarbageBefore(garbage)) => transmission.bytes.extend(garbage),
+            Some(Fault::EchoRequest) => transmission.bytes.extend_from_slice(request),
+            Some(Fault::SplitBytes(gap)) => transmission.split = Some(gap),
+            Some(other) => self.faults.push_front(other),
+            None => {}
+        }
+        transmission.bytes.extend(bytes);
+        Some(transmission)
+    }
+}
+
+fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
+    haystack.windows(needle.len()).position(|w| w == needle)
+}
+
+/// A virtual drive shared between a test (or a server) and the masters talking to it.
+/// Cloning it shares the same drive.
+#[derive(Debug, Clone)]
+pub struct Simulator {
+    drive: Arc<Mutex<VirtualDrive>>,
+}
+
+impl Simulator {
+    /// A drive in its factory state (see [`VirtualDrive::new`]).
+    pub fn new(drive: &'static DriveInfo) -> Simulator {
+        Simulator::from_drive(VirtualDrive::new(drive))
+    }
+
+    /// Shares `drive`.
+    pub fn from_drive(drive: VirtualDrive) -> Simulator {
+        Simulator {
+            drive: Arc::new(Mutex::new(drive)),
+        }
+    }
+
+    /// The drive, locked. A poisoned lock only means a thread panicked while holding it;
+    /// the drive's state is still usable.
+    pub fn lock(&self) -> MutexGuard<'_, VirtualDrive> {
+        self.drive.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// An in-process transport to the drive, speaking `protocol`.
+    pub fn link(&self, protocol: &'static Protocol) -> SimLink {
+        SimLink::new(self.clone(), protocol)
+    }
+
+    /// A typed master connected to the drive over `protocol`, with the drive's default
+    /// serial settings and timing, addressing the drive's station.
+    pub fn master<D: 'static>(&self, protocol: &'static DriveProtocol<D>) -> Master<SimLink, D> {
+        let info = self.lock().drive;
+        let address = self.lock().address;
+        Master::new(
+            self.link(protocol.protocol()),
+            protocol,
+            info.serial.default,
+            info.serial.timing,
+        )
+        .with_address(Some(address))
+    }
+
+    /// Advances the simulated clock (see [`VirtualDrive::advance`]).
+    pub fn advance(&self, elapsed: Duration) {
+        self.lock().advance(elapsed);
+    }
+
+    /// Commits `fault` (see [`VirtualDrive::inject`]).
+    pub fn inject(&self, fault: Fault) {
+        self.lock().inject(fault);
+    }
+
+    /// Whether `fault` is pending or in force.
+    pub fn has_fault(&self, fault: &Fault) -> bool {
+        self.lock().has_fault(fault)
+    }
+
+    /// Trips the drive (see [`VirtualDrive::inject_trip`]).
+    pub fn inject_trip(&self, code: u16) {
+        self.lock().inject_trip(code);
+    }
+
+    /// Powers the drive off and on (see [`VirtualDrive::power_cycle`]).
+    pub fn power_cycle(&self) {
+        self.lock().power_cycle();
+    }
+}

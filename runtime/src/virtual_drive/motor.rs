@@ -1,0 +1,252 @@
+//! The simulated motor: the drive's behaviour model applied to its registers. Command-word
+//! writes start, stop, reverse, reset and coast it; the output ramps towards the frequency
+//! command on the simulated clock; monitors and status bits follow.
+
+use super::VirtualDrive;
+use crate::behaviour::{Amount, Behaviour, Bit};
+use crate::info::RegisterInfo;
+use std::time::Duration;
+
+/// State of the simulated motor.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Motor {
+    /// A run command is in force.
+    pub run: bool,
+    /// The commanded direction is reverse.
+    pub reverse: bool,
+    /// A coast stop is commanded.
+    pub coast: bool,
+    /// The output, signed (negative: reverse), in the frequency command's units.
+    pub output: f64,
+    /// The trip code while tripped.
+    pub trip: Option<u16>,
+    /// The last command word that acted, for reset edges.
+    pub last_word: u32,
+}
+
+fn all_active(bits: &[Bit], word: u32) -> bool {
+    bits.iter().all(|bit| bit.is_active(word))
+}
+
+/// A raw word as an engineering value.
+pub(crate) fn engineering(info: &RegisterInfo, raw: u32) -> f64 {
+    let value = if info.signed {
+        match info.data_type.size() {
+            4 => f64::from(raw as i32),
+            _ => f64::from(raw as u16 as i16),
+        }
+    } else {
+        f64::from(raw)
+    };
+    value * info.scale
+}
+
+/// An engineering value as a raw word, clamped to the register's static bounds.
+pub(crate) fn raw_of(info: &RegisterInfo, value: f64) -> u32 {
+    let raw = (value / info.scale).round() as i64;
+    raw.clamp(info.raw_min, info.raw_max) as u32
+}
+
+impl VirtualDrive {
+    pub(crate) fn behaviour(&self) -> Option<&'static Behaviour> {
+        self.drive.behaviour
+    }
+
+    /// The engineering value of the register with this id, as the drive acts on it.
+    pub(crate) fn value_of(&self, id: &str) -> Option<f64> {
+        let info = self.drive.register(id)?;
+        Some(engineering(info, self.storage.in_effect(info, 0)))
+    }
+
+    fn amount(&self, amount: Amount) -> f64 {
+        match amount {
+            Amount::Value(value) => value,
+            Amount::Register(id) => self.value_of(id).unwrap_or(0.0),
+        }
+    }
+
+    /// Whether the motor runs: a run command in force, or an output not yet zero.
+    pub fn is_running(&self) -> bool {
+        (self.motor.run && !self.motor.coast && self.motor.trip.is_none())
+            || self.motor.output.abs() > 1e-9
+    }
+
+    /// A command word was written: it acts when its required bits are.
+    pub(crate) fn command_written(&mut self, word: u32) {
+        let Some(behaviour) = self.behaviour() else {
+            return;
+        };
+        let command = &behaviour.command;
+        if !all_active(command.require, word) {
+            return;
+        }
+        let edge = |bit: Option<Bit>| {
+            bit.is_some_and(|bit| bit.is_active(word) && !bit.is_active(self.motor.last_word))
+        };
+        if edge(command.reset) {
+            self.reset();
+        }
+        self.motor.run = command.run.is_active(word) && self.motor.trip.is_none();
+        self.motor.reverse = command.reverse.is_some_and(|bit| bit.is_active(word));
+        self.motor.coast = command.coast.is_some_and(|bit| bit.is_active(word));
+        if self.motor.coast {
+            self.motor.output = 0.0;
+        }
+        self.motor.last_word = word;
+        self.refresh();
+    }
+
+    /// The frequency command in force: the command register's value when the command word
+    /// makes it effective, else 0.
+    pub(crate) fn target(&self) -> f64 {
+        let Some(behaviour) = self.behaviour() else {
+            return 0.0;
+        };
+        let frequency = &behaviour.frequency;
+        let word = self
+            .drive
+            .register(behaviour.command.register)
+            .map_or(0, |info| self.storage.get(info, 0));
+        if !all_active(frequency.require, word) {
+            return 0.0;
+        }
+        self.value_of(frequency.command).unwrap_or(0.0)
+    }
+
+    /// Runs the motor model for `elapsed` of simulated time.
+    pub(crate) fn step(&mut self, elapsed: Duration) {
+        let Some(behaviour) = self.behaviour() else {
+            return;
+        };
+        let frequency = &behaviour.frequency;
+        let goal = if self.motor.run && !self.motor.coast && self.motor.trip.is_none() {
+            let target = self.target();
+            if self.motor.reverse {
+                -target
+            } else {
+                target
+            }
+        } else {
+            0.0
+        };
+        let span = self.amount(frequency.span).abs().max(f64::EPSILON);
+        let output = self.motor.output;
+        // Away from zero: accelerating; towards zero (or across it): decelerating.
+        let accelerating = goal.abs() > output.abs() && goal * output >= 0.0;
+        let time = if accelerating {
+            self.amount(frequency.acceleration)
+        } else {
+            self.amount(frequency.deceleration)
+        };
+        let change = if time <= 0.0 {
+            f64::INFINITY
+        } else {
+            span / time * elapsed.as_secs_f64()
+        };
+        self.motor.output = if (goal - output).abs() <= change {
+            goal
+        } else {
+            output + change.copysign(goal - output)
+        };
+        self.refresh();
+    }
+
+    /// Trips the drive with `code`: the output drops to zero, the code goes into the trip
+    /// registers and the trip history.
+    pub fn inject_trip(&mut self, code: u16) {
+        self.motor.trip = Some(code);
+        self.motor.run = false;
+        self.motor.output = 0.0;
+        if let Some(behaviour) = self.behaviour() {
+            let history: Vec<&RegisterInfo> = behaviour
+                .trip
+                .history
+                .iter()
+                .filter_map(|id| self.drive.register(id))
+                .collect();
+            for pair in (1..history.len()).rev() {
+                let older = self.storage.get(history[pair - 1], 0);
+                self.storage.set(history[pair], 0, older, false);
+            }
+            if let Some(newest) = history.first() {
+                self.storage.set(newest, 0, u32::from(code), false);
+            }
+        }
+        self.refresh();
+    }
+
+    /// A fault reset: clears a trip, and parameters that take effect after a reset take
+    /// their new values.
+    pub fn reset(&mut self) {
+        self.motor.trip = None;
+        self.motor.run = false;
+        self.storage.take_effect(self.drive.registers);
+        self.refresh();
+    }
+
+    /// The trip code while the drive is tripped.
+    pub fn trip(&self) -> Option<u16> {
+        self.motor.trip
+    }
+
+    /// Writes the monitors and status words from the motor state.
+    pub(crate) fn refresh(&mut self) {
+        let Some(behaviour) = self.behaviour() else {
+            return;
+        };
+        let running = self.is_running();
+        let output = self.motor.output;
+        let target = self.target();
+        let monitor = |drive: &mut VirtualDrive, id: &str, value: f64| {
+            if let Some(info) = drive.drive.register(id) {
+                drive.storage.set(info, 0, raw_of(info, value), false);
+            }
+        };
+        for id in behaviour.frequency.output {
+            monitor(self, id, output.abs());
+        }
+        for id in behaviour.frequency.reference {
+            monitor(self, id, target);
+        }
+        if let Some(current) = &behaviour.current {
+            let span = self
+                .amount(behaviour.frequency.span)
+                .abs()
+                .max(f64::EPSILON);
+            let value = if running {
+                current.at_zero + (current.at_span - current.at_zero) * output.abs() / span
+            } else {
+                0.0
+            };
+            for id in current.registers {
+                monitor(self, id, value);
+            }
+        }
+        let code = f64::from(self.motor.trip.unwrap_or(0));
+        for id in behaviour.trip.code {
+            monitor(self, id, code);
+        }
+        let status = &behaviour.status;
+        let mut word = 0u32;
+        let mut set = |bits: &[Bit], on: bool| {
+            for bit in bits {
+                word = bit.apply(word, on);
+            }
+        };
+        set(status.always, true);
+        set(status.running, running);
+        set(
+            status.reverse,
+            running && output < 0.0 || self.motor.reverse,
+        );
+        let reached = running && (output.abs() - target).abs() < 1e-6 && target > 0.0;
+        set(status.at_reference, reached);
+        set(status.tripped, self.motor.trip.is_some());
+        set(status.enabled, !self.motor.coast);
+        for id in status.registers {
+            if let Some(info) = self.drive.register(id) {
+                self.storage.set(info, 0, word, false);
+            }
+        }
+    }
+}

@@ -1,0 +1,432 @@
+//! Answering one request: the reverse of the master. The request is decoded with the
+//! protocol's layouts, checked against the register table and the drive's state, and the
+//! reply (or the manual's error reply) is encoded with the same layouts.
+
+use super::motor::engineering;
+use super::VirtualDrive;
+use crate::behaviour::Refusals;
+use crate::codec::{self, FrameValues, Roles};
+use crate::info::RegisterInfo;
+use crate::kinds::{CommandKind, DataType, Space};
+use crate::layout::{FrameLayout, Part, Role};
+use crate::protocol::{CommandSpec, DecodedRequest, PreStep, Protocol};
+
+/// Why the virtual drive refused a request.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refusal {
+    /// No register at that number (or index).
+    UnknownRegister,
+    /// A write to a read-only register (or a persistent write of a RAM-only one).
+    ReadOnly,
+    /// A value outside the register's range, bounds named after other registers included.
+    OutOfRange,
+    /// A write to a register that cannot change while the motor runs.
+    WhileRunning,
+    /// A frame whose checksum does not match.
+    BadChecksum,
+}
+
+impl Refusal {
+    /// The error code `refusals` gives for it; `None`: the drive stays silent.
+    pub fn code(self, refusals: &Refusals) -> Option<u16> {
+        match self {
+            Refusal::UnknownRegister => refusals.unknown_register,
+            Refusal::ReadOnly => refusals.read_only,
+            Refusal::OutOfRange => refusals.out_of_range,
+            Refusal::WhileRunning => refusals.while_running,
+            Refusal::BadChecksum => refusals.bad_checksum,
+        }
+    }
+}
+
+/// What the drive does with one request frame.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Outcome {
+    /// It answers with these bytes.
+    Reply(Vec<u8>),
+    /// It stays silent, for this reason.
+    Silent(&'static str),
+}
+
+/// The codes a layout allows for its command field (a field, or bits of a word).
+fn allowed_commands(layout: &FrameLayout) -> &[u32] {
+    for part in layout.parts.iter() {
+        match part {
+            Part::Field(field) if field.role == Role::Command => return &field.allowed,
+            Part::Word(word) => {
+                if let Some(bits) = word.fields.iter().find(|b| b.role == Role::Command) {
+                    return &bits.allowed;
+                }
+            }
+            _ => {}
+        }
+    }
+    &[]
+}
+
+/// The code a normal reply to `command` carries for a register of `data_type`: the
+/// request's own code, or the reply code listed at the data type's position.
+fn reply_code(command: &CommandSpec, data_type: DataType) -> u32 {
+    match command.reply_codes.len() {
+        0 => command.code,
+        1 => command.reply_codes[0],
+        _ => command
+            .data_types
+            .iter()
+            .position(|t| *t == data_type)
+            .and_then(|i| command.reply_codes.get(i).copied())
+            .unwrap_or(command.reply_codes[0]),
+    }
+}
+
+/// The code of an error reply to `command`: the one code the error layout allows, or the
+/// allowed code that carries the request's code in its low bits (Modbus: function | 80h).
+fn error_code_for(layout: &FrameLayout, command: u32) -> u32 {
+    let allowed = allowed_commands(layout);
+    match allowed {
+        [only] => *only,
+        _ => allowed
+            .iter()
+            .copied()
+            .find(|code| *code != command && code & command == command && code & 0x7F == command)
+            .unwrap_or(command),
+    }
+}
+
+impl VirtualDrive {
+    /// Lower-case letters while tripped, when the protocol says so.
+    fn shown(&self, protocol: &Protocol, code: u32) -> u32 {
+        if protocol.lowercase_means_tripped && self.motor.trip.is_some() {
+            if let Ok(byte) = u8::try_from(code) {
+                return u32::from(byte.to_ascii_lowercase());
+            }
+        }
+        code
+    }
+
+    /// Answers a decoded request addressed to this drive.
+    pub(crate) fn answer(&mut self, protocol: &Protocol, request: &DecodedRequest<'_>) -> Outcome {
+        if let Some(address) = request.address {
+            if address != self.address {
+                return Outcome::Silent("another station's request");
+            }
+        }
+        if let (Some(process), Some(behaviour)) = (request.process, self.behaviour()) {
+            self.process_words(behaviour, process);
+        }
+        let result = match request.command.kind {
+            CommandKind::Read => self.read(protocol, request),
+            CommandKind::WriteRam | CommandKind::WritePersistent => self.write(protocol, request),
+            CommandKind::Process => Ok((0, 0)),
+            CommandKind::ReadText => Err(Refusal::UnknownRegister),
+        };
+        match result {
+            Ok((data, data_size)) => self.reply(protocol, request, data, data_size),
+            Err(refusal) => self.refuse(protocol, Some(request), refusal),
+        }
+    }
+
+    /// The error reply for `refusal`, or silence when the protocol has no code for it.
+    pub(crate) fn refuse(
+        &self,
+        protocol: &Protocol,
+        request: Option<&DecodedRequest<'_>>,
+        refusal: Refusal,
+    ) -> Outcome {
+        let refusals = self
+            .behaviour()
+            .map_or(&Refusals::SILENT, |b| b.refusals(&protocol.id));
+        let (Some(code), Some(layout)) = (refusal.code(refusals), &protocol.error_reply) else {
+            return Outcome::Silent("the manual gives no error reply for this");
+        };
+        let command = request.map_or(0, |r| r.command.code);
+        let mut values = FrameValues::default();
+        match request {
+            Some(request) => mirror_optional_parts(
+                &request.command.request,
+                &request.values,
+                layout,
+                &mut values,
+            ),
+            None => {
+                for name in protocol.default_optional_parts.iter() {
+                    values.include(layout, &[name]);
+                }
+            }
+        }
+        let roles = Roles {
+            address: request.and_then(|r| r.address).map(u32::from),
+            command: Some(self.shown(protocol, error_code_for(layout, command))),
+            register: request.and_then(|r| r.wire_register).map(u32::from),
+            index: request.and_then(|r| r.index).map(u32::from),
+            error_code: Some(u32::from(code)),
+            ..self.process_roles(layout)
+        };
+        values.fill(layout, &roles);
+        encode(layout, &values, protocol)
+    }
+
+    fn reply(
+        &self,
+        protocol: &Protocol,
+        request: &DecodedRequest<'_>,
+        data: u32,
+        data_size: u8,
+    ) -> Outcome {
+        let command = request.command;
+        let layout = &command.reply;
+        let mut values = FrameValues {
+            data_size: if data_size == 0 {
+                request.values.data_size
+            } else {
+                data_size
+            },
+            ..FrameValues::default()
+        };
+        mirror_optional_parts(&command.request, &request.values, layout, &mut values);
+        let data_type = match data_size {
+            4 => DataType::DoubleWord,
+            _ => DataType::Word,
+        };
+        let roles = Roles {
+            address: request.address.map(u32::from),
+            command: Some(self.shown(protocol, reply_code(command, data_type))),
+            register: request.wire_register.map(u32::from),
+            index: request.index.map(u32::from),
+            data: Some(data),
+            ..self.process_roles(layout)
+        };
+        values.fill(layout, &roles);
+        encode(layout, &values, protocol)
+    }
+
+    /// Status word and output as the reply's process words, when the drive has them.
+    fn process_roles(&self, layout: &FrameLayout) -> Roles {
+        let Some(process) = self.behaviour().and_then(|b| b.process.as_ref()) else {
+            return Roles::default();
+        };
+        if !layout.has(Role::Process1) {
+            return Roles::default();
+        }
+        let word = |id: &str| {
+            self.drive
+                .register(id)
+                .map(|info| self.storage.get(info, 0))
+        };
+        Roles {
+            process_1: word(process.status),
+            process_2: word(process.output),
+            ..Roles::default()
+        }
+    }
+
+    /// Process words from the master: control word and reference, applied only when the
+    /// control word acts (its required bits are set).
+    fn process_words(&mut self, behaviour: &crate::behaviour::Behaviour, words: [u16; 2]) {
+        let Some(process) = &behaviour.process else {
+            return;
+        };
+        let [control, reference] = words.map(u32::from);
+        if !behaviour
+            .command
+            .require
+            .iter()
+            .all(|bit| bit.is_active(control))
+        {
+            return;
+        }
+        if let Some(info) = self.drive.register(process.reference) {
+            self.storage.set(info, 0, reference, false);
+        }
+        if let Some(info) = self.drive.register(process.control) {
+            self.storage.set(info, 0, control, false);
+        }
+        self.command_written(control);
+    }
+
+    /// The register a request names, in the command's space.
+    fn target_of(&self, request: &DecodedRequest<'_>) -> Result<&'static RegisterInfo, Refusal> {
+        let number = request.register.ok_or(Refusal::UnknownRegister)?;
+        self.drive
+            .register_at(request.command.space, number)
+            .ok_or(Refusal::UnknownRegister)
+    }
+
+    fn index_of(&self, info: &RegisterInfo, request: &DecodedRequest<'_>) -> Result<u16, Refusal> {
+        if info.array_len == 0 {
+            return Ok(0);
+        }
+        let index = request.index.unwrap_or(self.selected_index);
+        if index >= u16::from(info.array_len) {
+            return Err(Refusal::UnknownRegister);
+        }
+        Ok(index)
+    }
+
+    /// Registers a request of `size` bytes covers, from `first`: one, or consecutive
+    /// 16-coil words in coil space.
+    fn covered(
+        &self,
+        first: &'static RegisterInfo,
+        size: u8,
+    ) -> Result<Vec<&'static RegisterInfo>, Refusal> {
+        let own = first.data_type.size().max(1);
+        if size <= own || first.space != Space::Coil {
+            return Ok(vec![first]);
+        }
+        let mut covered = vec![first];
+        let mut address = first.address;
+        for _ in 1..size / own {
+            address = address.checked_add(16).ok_or(Refusal::UnknownRegister)?;
+            covered.push(
+                self.drive
+                    .register_at(Space::Coil, address)
+                    .ok_or(Refusal::UnknownRegister)?,
+            );
+        }
+        Ok(covered)
+    }
+
+    fn read(
+        &mut self,
+        _protocol: &Protocol,
+        request: &DecodedRequest<'_>,
+    ) -> Result<(u32, u8), Refusal> {
+        let first = self.target_of(request)?;
+        let index = self.index_of(first, request)?;
+        let size = request.values.data_size;
+        let registers = self.covered(first, size)?;
+        if registers.len() == 1 {
+            return Ok((
+                self.storage.get(first, index),
+                first.data_type.size().max(size),
+            ));
+        }
+        // Coil words: the first register in the lowest bits.
+        let mut data = 0u32;
+        for (i, info) in registers.iter().enumerate() {
+            data |= (self.storage.get(info, 0) & 0xFFFF) << (16 * i);
+        }
+        Ok((data, size))
+    }
+
+    fn write(
+        &mut self,
+        protocol: &Protocol,
+        request: &DecodedRequest<'_>,
+    ) -> Result<(u32, u8), Refusal> {
+        let space = request.command.space;
+        let mut persistent = request.command.kind == CommandKind::WritePersistent;
+        for step in protocol.pre_steps.iter() {
+            match *step {
+                PreStep::Index { register } => {
+                    if space == Space::Parameter && request.wire_register == Some(register) {
+                        self.selected_index = request.data as u16;
+                        return Ok((request.data, 0));
+                    }
+                }
+                PreStep::Persistence {
+                    space: selector_space,
+                    register,
+                    persistent: selects,
+                    ..
+                } => {
+                    if space == selector_space && request.register == Some(register) {
+                        self.persistent_writes = request.data == selects;
+                    } else if space == Space::Parameter && self.persistent_writes {
+                        persistent = true;
+                    }
+                }
+            }
+        }
+        let first = self.target_of(request)?;
+        let index = self.index_of(first, request)?;
+        let registers = self.covered(first, request.values.data_size)?;
+        let words: Vec<(&'static RegisterInfo, u32)> = if registers.len() == 1 {
+            vec![(first, request.data)]
+        } else {
+            registers
+                .iter()
+                .enumerate()
+                .map(|(i, info)| (*info, (request.data >> (16 * i)) & 0xFFFF))
+                .collect()
+        };
+        for (info, raw) in &words {
+            self.check_write(info, *raw, persistent)?;
+        }
+        let command = self.behaviour().map(|b| b.command.register);
+        for (info, raw) in words {
+            let index = if info.array_len == 0 { 0 } else { index };
+            self.storage
+                .set(info, index, raw, persistent && !info.ram_only);
+            if command == Some(info.id) {
+                self.command_written(raw);
+            }
+        }
+        self.refresh();
+        Ok((request.data, 0))
+    }
+
+    fn check_write(&self, info: &RegisterInfo, raw: u32, persistent: bool) -> Result<(), Refusal> {
+        if info.access == crate::kinds::Access::ReadOnly
+            || info.data_type == DataType::Text
+            || (persistent && info.ram_only && info.space == Space::Parameter)
+        {
+            return Err(Refusal::ReadOnly);
+        }
+        if !info.writable_while_running && self.is_running() {
+            return Err(Refusal::WhileRunning);
+        }
+        let signed = if info.signed {
+            match info.data_type.size() {
+                4 => i64::from(raw as i32),
+                _ => i64::from(raw as u16 as i16),
+            }
+        } else {
+            i64::from(raw)
+        };
+        if signed < info.raw_min || signed > info.raw_max {
+            return Err(Refusal::OutOfRange);
+        }
+        let value = engineering(info, raw);
+        let bound = |code: Option<&str>| code.and_then(|code| self.value_of(code));
+        if bound(info.min_bound).is_some_and(|low| value < low - 1e-9)
+            || bound(info.max_bound).is_some_and(|high| value > high + 1e-9)
+        {
+            return Err(Refusal::OutOfRange);
+        }
+        Ok(())
+    }
+}
+
+/// Marks present in `reply` the optional parts that were present in the request (a
+/// Toshiba-style reply carries the station number, `&SUM` and `)` only if the request did).
+fn mirror_optional_parts(
+    request: &FrameLayout,
+    request_values: &FrameValues,
+    reply: &FrameLayout,
+    values: &mut FrameValues,
+) {
+    for (index, part) in request.parts.iter().enumerate() {
+        let optional = match part {
+            Part::Field(field) => field.optional.is_some(),
+            Part::Checksum(checksum) => checksum.optional,
+            Part::Literal { optional, .. } => *optional,
+            _ => false,
+        };
+        if optional && request_values.parts[index].present {
+            values.include(reply, &[part.name()]);
+        }
+    }
+}
+
+fn encode(layout: &FrameLayout, values: &FrameValues, protocol: &Protocol) -> Outcome {
+    let mut out = vec![0u8; usize::from(protocol.max_frame_len).max(8) + 8];
+    match codec::encode(layout, values, &mut out) {
+        Ok(len) => {
+            out.truncate(len);
+            Outcome::Reply(out)
+        }
+        Err(_) => Outcome::Silent("the reply cannot be encoded"),
+    }
+}

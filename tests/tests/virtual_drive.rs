@@ -1,0 +1,399 @@
+//! The virtual drive, driven through the typed generated API for both described drives and
+//! every protocol: ramps on the simulated clock, status bits, trips, refusals with the
+//! manual's codes, RAM against EEPROM and silence for other stations.
+
+use std::time::Duration;
+use vfd_drives::{fc51, yd1000};
+use vfd_runtime::prelude::*;
+use vfd_runtime::virtual_drive::{Fault, Simulator};
+use vfd_runtime::{CommandKind, DriveProtocol, Request, Space, TransactionErrorKind};
+
+/// The manual's error code of a refused exchange.
+fn refused<T: std::fmt::Debug>(result: Result<T, TransactionError>) -> u16 {
+    match result {
+        Err(TransactionError {
+            kind: TransactionErrorKind::Rejected { code, .. },
+            ..
+        }) => code,
+        other => panic!("expected an error reply, got {other:?}"),
+    }
+}
+
+fn timed_out<T: std::fmt::Debug>(result: Result<T, TransactionError>) {
+    match result {
+        Err(TransactionError {
+            kind: TransactionErrorKind::Timeout { .. },
+            ..
+        }) => {}
+        other => panic!("expected silence, got {other:?}"),
+    }
+}
+
+const YD1000_PROTOCOLS: [&DriveProtocol<yd1000::Drive>; 2] =
+    [&yd1000::protocols::ASCII, &yd1000::protocols::BINARY];
+
+mod yd1000_drive {
+    use super::*;
+    use yd1000::bits::CommandWord as Word;
+    use yd1000::registers::*;
+
+    fn run_forward() -> Word {
+        Word::new()
+            .with_command_enabled(true)
+            .with_frequency_enabled(true)
+            .with_run(true)
+    }
+
+    #[test]
+    fn runs_to_60_hz_on_the_ramp_stops_trips_and_resets() {
+        for protocol in YD1000_PROTOCOLS {
+            let sim = Simulator::new(&yd1000::DRIVE);
+            let mut master = sim.master(protocol);
+            master.write_ram::<FrequencyCommand>(Hertz(60.0)).unwrap();
+            master.write_ram::<CommandWord>(run_forward()).unwrap();
+            // Acc = 10 s from 0 Hz to FH = 80 Hz: 8 Hz per second.
+            sim.advance(Duration::from_secs(5));
+            assert_eq!(master.read::<OutputFrequency>().unwrap(), Hertz(40.0));
+            assert!(master.read::<Status>().unwrap().running());
+            sim.advance(Duration::from_secs(5));
+            assert_eq!(master.read::<OutputFrequency>().unwrap(), Hertz(60.0));
+            assert_eq!(master.read::<OutputFrequencyNow>().unwrap(), Hertz(60.0));
+            assert_eq!(master.read::<FrequencyReference>().unwrap(), Hertz(60.0));
+            // The section 9 example: 077Bh at 60 Hz.
+            assert_eq!(master.read::<OutputCurrent>().unwrap(), Percent(19.15));
+            let status = master.read::<Status>().unwrap();
+            assert!(status.running() && !status.reverse() && !status.tripped);
+
+            master
+                .write_ram::<CommandWord>(run_forward().with_run(false))
+                .unwrap();
+            sim.advance(Duration::from_secs(4));
+            assert_eq!(master.read::<OutputFrequency>().unwrap(), Hertz(28.0));
+            sim.advance(Duration::from_secs(10));
+            assert_eq!(master.read::<OutputFrequency>().unwrap(), Hertz(0.0));
+            assert!(!master.read::<Status>().unwrap().running());
+
+            // Err5 (0018h), as section 9 reads it: lower-case replies, the code in FC90.
+            master.write_ram::<CommandWord>(run_forward()).unwrap();
+            sim.advance(Duration::from_secs(3));
+            sim.inject_trip(0x0018);
+            let alarm = master.read::<AlarmCode>().unwrap();
+            assert!(alarm.tripped, "{}", protocol.id);
+            assert_eq!(alarm.value, 0x0018);
+            assert_eq!(master.read::<PastTrip1>().unwrap(), 0x0018);
+            assert_eq!(master.read::<OutputFrequency>().unwrap(), Hertz(0.0));
+            master
+                .write_ram::<CommandWord>(Word::new().with_command_enabled(true).with_reset(true))
+                .unwrap();
+            let alarm = master.read::<AlarmCode>().unwrap();
+            assert!(!alarm.tripped);
+            assert_eq!(alarm.value, 0);
+            assert_eq!(master.read::<PastTrip1>().unwrap(), 0x0018);
+        }
+    }
+
+    #[test]
+    fn refuses_out_of_range_read_only_and_running_writes_with_the_manuals_codes() {
+        for protocol in YD1000_PROTOCOLS {
+            let sim = Simulator::new(&yd1000::DRIVE);
+            let mut master = sim.master(protocol);
+            // FA01 may go up to FH (80 Hz by default), UL up to FH, LL up to UL.
+            assert_eq!(
+                refused(master.write_ram::<FrequencyCommand>(Hertz(85.0))),
+                1
+            );
+            master
+                .write_ram::<UpperLimitFrequency>(Hertz(50.0))
+                .unwrap();
+            assert_eq!(
+                refused(master.write_ram::<LowerLimitFrequency>(Hertz(55.0))),
+                1
+            );
+            master
+                .write_ram::<LowerLimitFrequency>(Hertz(45.0))
+                .unwrap();
+            // A read-only monitor: "cannot execute".
+            let write_monitor = Request::raw(CommandKind::WriteRam, 0xFE00, 0x1770);
+            assert_eq!(refused(master.transact(&write_monitor)), 0);
+            // An unknown communication number.
+            let nowhere = Request::raw(CommandKind::Read, 0x7777, 0);
+            assert_eq!(refused(master.transact(&nowhere)), 2);
+            // FH cannot change while running; UL can.
+            master.write_ram::<FrequencyCommand>(Hertz(30.0)).unwrap();
+            master.write_ram::<CommandWord>(run_forward()).unwrap();
+            sim.advance(Duration::from_secs(1));
+            assert_eq!(
+                refused(master.write_ram::<MaximumFrequency>(Hertz(100.0))),
+                0
+            );
+            master
+                .write_ram::<UpperLimitFrequency>(Hertz(60.0))
+                .unwrap();
+        }
+    }
+
+    #[test]
+    fn a_power_cycle_drops_ram_writes_and_after_reset_parameters_wait() {
+        for protocol in YD1000_PROTOCOLS {
+            let sim = Simulator::new(&yd1000::DRIVE);
+            let mut master = sim.master(protocol);
+            master
+                .write_ram::<DecelerationTime1>(Seconds(20.0))
+                .unwrap();
+            master
+                .write_persistent::<AccelerationTime1>(Seconds(5.0))
+                .unwrap();
+            master.write_ram::<FrequencyCommand>(Hertz(60.0)).unwrap();
+            sim.power_cycle();
+            assert_eq!(master.read::<DecelerationTime1>().unwrap(), Seconds(10.0));
+            assert_eq!(master.read::<AccelerationTime1>().unwrap(), Seconds(5.0));
+            assert_eq!(master.read::<FrequencyCommand>().unwrap(), Hertz(0.0));
+
+            // F800 (baud rate) takes effect after a reset.
+            master
+                .write_persistent::<BaudRate>(yd1000::codes::BaudRate::Bps4800)
+                .unwrap();
+            assert_eq!(sim.lock().raw_in_effect("F800"), Some(3));
+            sim.lock().reset();
+            assert_eq!(sim.lock().raw_in_effect("F800"), Some(2));
+        }
+    }
+
+    #[test]
+    fn other_stations_requests_and_bad_checksums() {
+        for protocol in YD1000_PROTOCOLS {
+            let sim = Simulator::new(&yd1000::DRIVE);
+            let mut master = sim.master(protocol).with_address(Some(7));
+            timed_out(master.read::<MaximumFrequency>());
+            // Without a station number every drive on the line answers.
+            let mut master = sim.master(protocol).with_address(None);
+            assert_eq!(master.read::<MaximumFrequency>().unwrap(), Hertz(80.0));
+        }
+        // A bad checksum gets the manual's checksum error (N0004).
+        let sim = Simulator::new(&yd1000::DRIVE);
+        let mut drive = sim.lock();
+        let outcome = drive.respond(yd1000::protocols::ASCII.protocol(), b"(R0011&00)\r");
+        assert_eq!(
+            outcome,
+            vfd_runtime::virtual_drive::Outcome::Reply(b"(N0004&60)\r".to_vec())
+        );
+    }
+}
+
+mod fc51_drive {
+    use super::*;
+    use fc51::bits::ControlWord as Word;
+    use fc51::registers::*;
+
+    fn run() -> Word {
+        Word::new()
+            .with_no_dc_brake(true)
+            .with_no_coast(true)
+            .with_no_quick_stop(true)
+            .with_no_freeze(true)
+            .with_start(true)
+            .with_data_valid(true)
+    }
+
+    #[test]
+    fn fc_process_telegrams_run_to_the_reference_and_show_a_trip() {
+        let sim = Simulator::new(&fc51::DRIVE);
+        let mut master = sim.master(&fc51::protocols::FC);
+        let sixty_percent: u16 = 9830; // 60 % of 4000h
+        let [status, output] = master
+            .exchange_process(run().bits(), sixty_percent)
+            .unwrap();
+        assert_eq!((status & 0x0800, output), (0x0800, 0));
+        sim.advance(Duration::from_secs(3));
+        let [status, output] = master
+            .exchange_process(run().bits(), sixty_percent)
+            .unwrap();
+        assert_eq!(
+            status, 0x0D07,
+            "running at the reference, as the manual's example"
+        );
+        assert_eq!(output, sixty_percent);
+        // The parameter telegram's PCD words carry the status word and the output too.
+        sim.inject_trip(1);
+        let [status, output] = master
+            .exchange_process(run().bits(), sixty_percent)
+            .unwrap();
+        assert_eq!((status & 0x0008, output), (0x0008, 0));
+        let reset = run().with_reset(true).with_start(false);
+        let [status, _] = master.exchange_process(reset.bits(), 0).unwrap();
+        assert_eq!(status & 0x0008, 0);
+        assert_eq!(sim.lock().trip(), None);
+    }
+
+    #[test]
+    fn modbus_coils_run_to_the_reference_and_show_a_trip() {
+        let sim = Simulator::new(&fc51::DRIVE);
+        let mut master = sim.master(&fc51::protocols::MODBUS);
+        master.write_ram::<BusReference>(Percent(60.0)).unwrap();
+        master.write_ram::<ControlWord>(run()).unwrap();
+        sim.advance(Duration::from_secs(1));
+        let status = master.read::<StatusWord>().unwrap();
+        assert!(status.running() && !status.at_reference());
+        sim.advance(Duration::from_secs(2));
+        let output = master.read::<OutputFrequency>().unwrap();
+        assert!((output.0 - 60.0).abs() < 0.01, "{output:?}");
+        let status = master.read::<StatusWord>().unwrap();
+        assert!(status.running() && status.at_reference() && !status.tripped());
+        master
+            .write_ram::<ControlWord>(run().with_start(false))
+            .unwrap();
+        sim.advance(Duration::from_secs(3));
+        assert!(!master.read::<StatusWord>().unwrap().running());
+        sim.inject_trip(1);
+        assert!(master.read::<StatusWord>().unwrap().tripped());
+        master
+            .write_ram::<ControlWord>(run().with_start(false).with_reset(true))
+            .unwrap();
+        assert!(!master.read::<StatusWord>().unwrap().tripped());
+    }
+
+    #[test]
+    fn refuses_with_the_manuals_error_numbers() {
+        let sim = Simulator::new(&fc51::DRIVE);
+        let mut fc = sim.master(&fc51::protocols::FC);
+        let mut modbus = sim.master(&fc51::protocols::MODBUS);
+        // A word parameter written beyond 16 bits: above the upper limit (2).
+        let too_big = Request::raw(CommandKind::WriteRam, 310, 0x1_0000);
+        assert_eq!(refused(fc.transact(&too_big)), 2);
+        // No such parameter: 0 in FC telegrams, invalid data address (64) over Modbus.
+        let nowhere = Request::raw(CommandKind::Read, 999, 0);
+        assert_eq!(refused(fc.transact(&nowhere)), 0);
+        assert_eq!(refused(modbus.transact(&nowhere)), 64);
+        // The status word is read-only (1).
+        let write_status = Request::raw(CommandKind::WriteRam, 33, 0).in_space(Space::Coil);
+        assert_eq!(refused(modbus.transact(&write_status)), 1);
+        // Parameters cannot be written while the motor runs (17).
+        modbus.write_ram::<BusReference>(Percent(50.0)).unwrap();
+        modbus.write_ram::<ControlWord>(run()).unwrap();
+        sim.advance(Duration::from_secs(1));
+        assert_eq!(refused(fc.write_ram::<MaximumReference>(60.0)), 17);
+        assert_eq!(refused(modbus.write_ram::<MaximumReference>(60.0)), 17);
+    }
+
+    #[test]
+    fn a_power_cycle_drops_ram_writes_over_both_protocols() {
+        let sim = Simulator::new(&fc51::DRIVE);
+        let mut fc = sim.master(&fc51::protocols::FC);
+        let mut modbus = sim.master(&fc51::protocols::MODBUS);
+        fc.write_persistent::<MaximumReference>(50.0).unwrap();
+        fc.write_ram::<MaximumReference>(60.0).unwrap();
+        modbus.write_persistent_at::<PresetReference>(2, 7).unwrap();
+        modbus.write_ram_at::<PresetReference>(2, 9).unwrap();
+        assert_eq!(modbus.read::<MaximumReference>().unwrap(), 60.0);
+        assert_eq!(fc.read_at::<PresetReference>(2).unwrap(), 9);
+        sim.power_cycle();
+        assert_eq!(modbus.read::<MaximumReference>().unwrap(), 50.0);
+        assert_eq!(fc.read_at::<PresetReference>(2).unwrap(), 7);
+        assert_eq!(modbus.read_at::<PresetReference>(2).unwrap(), 7);
+    }
+
+    #[test]
+    fn other_stations_get_no_answer() {
+        let sim = Simulator::new(&fc51::DRIVE);
+        timed_out(
+            sim.master(&fc51::protocols::FC)
+                .with_address(Some(9))
+                .read::<MaximumReference>(),
+        );
+        timed_out(
+            sim.master(&fc51::protocols::MODBUS)
+                .with_address(Some(9))
+                .read::<MaximumReference>(),
+        );
+    }
+}
+
+mod faults {
+    use super::*;
+    use yd1000::registers::MaximumFrequency;
+
+    #[test]
+    fn injected_faults_become_typed_errors_and_tolerated_ones_do_not() {
+        for protocol in YD1000_PROTOCOLS {
+            let sim = Simulator::new(&yd1000::DRIVE);
+            let mut master = sim.master(protocol);
+            sim.inject(Fault::DropReply);
+            timed_out(master.read::<MaximumFrequency>());
+            sim.inject(Fault::Delay);
+            timed_out(master.read::<MaximumFrequency>());
+            sim.inject(Fault::CorruptChecksum);
+            assert!(master.read::<MaximumFrequency>().is_err());
+            sim.inject(Fault::WrongStation);
+            assert!(master.read::<MaximumFrequency>().is_err());
+            // Noise before the start byte, a split reply and an echo are read through.
+            sim.inject(Fault::GarbageBefore(vec![0x00, 0xFF, 0x55]));
+            assert_eq!(master.read::<MaximumFrequency>().unwrap(), Hertz(80.0));
+            sim.inject(Fault::SplitBytes(2));
+            assert_eq!(master.read::<MaximumFrequency>().unwrap(), Hertz(80.0));
+            sim.inject(Fault::Noise);
+            assert!(master.read::<MaximumFrequency>().is_err());
+            sim.lock().clear_faults();
+            assert_eq!(master.read::<MaximumFrequency>().unwrap(), Hertz(80.0));
+            let mut other = sim.master(protocol).with_address(Some(9));
+            sim.inject(Fault::AnswerBroadcast);
+            assert_eq!(other.read::<MaximumFrequency>().unwrap(), Hertz(80.0));
+        }
+    }
+}
+
+mod over_a_pseudo_terminal {
+    use super::*;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    use vfd_runtime::transport::PseudoTerminal;
+    use vfd_runtime::virtual_drive::serve;
+
+    #[test]
+    fn the_serve_loop_answers_a_master_with_the_lines_timing() {
+        let (line, mut drive_end) = PseudoTerminal::open().unwrap().into_transports().unwrap();
+        let sim = Simulator::new(&fc51::DRIVE);
+        let stop = Arc::new(AtomicBool::new(false));
+        let server = {
+            let (sim, stop) = (sim.clone(), Arc::clone(&stop));
+            std::thread::spawn(move || {
+                serve(
+                    &sim,
+                    fc51::protocols::MODBUS.protocol(),
+                    &mut drive_end,
+                    fc51::SERIAL.default,
+                    &stop,
+                )
+            })
+        };
+        let mut master = Master::new(
+            line,
+            &fc51::protocols::MODBUS,
+            fc51::SERIAL.default,
+            fc51::SERIAL.timing,
+        )
+        .with_address(Some(1));
+        master
+            .write_persistent::<fc51::registers::MaximumReference>(50.0)
+            .unwrap();
+        assert_eq!(
+            master.read::<fc51::registers::MaximumReference>().unwrap(),
+            50.0
+        );
+        sim.inject(Fault::SplitBytes(1));
+        assert_eq!(
+            master.read::<fc51::registers::MaximumReference>().unwrap(),
+            50.0
+        );
+        let mut other = Master::new(
+            master.into_transport(),
+            &fc51::protocols::MODBUS,
+            fc51::SERIAL.default,
+            fc51::SERIAL.timing,
+        )
+        .with_address(Some(2));
+        timed_out(other.read::<fc51::registers::MaximumReference>());
+        stop.store(true, Ordering::Relaxed);
+        server.join().unwrap().unwrap();
+        drop(other);
+    }
+}
