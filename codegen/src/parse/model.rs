@@ -506,7 +506,7 @@ pub struct CodeTableModel {
     pub name_zh: String,
     /// The manual section the values come from.
     pub source: String,
-    /// Whether the values listed are all there are (default true); false: registers using the table read as plain numbers.
+    /// Whether the values listed are all there are (default true): a register using an exhaustive table and giving no `range` accepts writes from its lowest to its highest value only. False: registers using the table read as plain numbers.
     #[serde(default = "yes")]
     pub exhaustive: bool,
     /// Anything the manual says about the table that fits nowhere else.

@@ -92,7 +92,7 @@ mod tests {
     }
 
     #[test]
-    fn checks_a_register_without_a_range_against_its_word() {
+    fn checks_a_register_without_a_range_against_its_code_table() {
         let yaml = valid_with(&[(
             "code_table: parity, default: 1",
             "code_table: parity, default: 70000",
@@ -102,7 +102,7 @@ mod tests {
             only(&found),
             &yaml,
             "registers[3].default",
-            "default 70000 is outside the range 0 to 65535",
+            "default 70000 is outside the range 0 to 1",
             "code: F601,",
         );
     }

@@ -47,6 +47,7 @@ pub fn raw_range(drive: &DriveFile, register: &RegisterModel) -> (i64, i64) {
 /// every register looks names up in constant time.
 pub struct RegisterIndex<'a> {
     registers: &'a [RegisterModel],
+    code_tables: &'a [crate::parse::model::CodeTableModel],
     by_code: HashMap<&'a str, usize>,
     by_id: HashMap<&'a str, usize>,
 }
@@ -63,6 +64,7 @@ impl<'a> RegisterIndex<'a> {
         }
         RegisterIndex {
             registers,
+            code_tables: &drive.codes,
             by_code,
             by_id,
         }
@@ -110,11 +112,25 @@ impl<'a> RegisterIndex<'a> {
         }
     }
 
-    /// Static raw bounds, falling back to the whole word.
+    /// Static raw bounds: the range's; without a range, the lowest and highest value of an
+    /// exhaustive code table the register uses; else the whole word.
     pub fn raw_range(&self, register: &RegisterModel) -> (i64, i64) {
         let (word_min, word_max) = word_limits(register);
         let Some(range) = &register.range else {
-            return (word_min, word_max);
+            let table = register
+                .code_table
+                .as_ref()
+                .and_then(|id| self.code_tables.iter().find(|t| &t.id == id))
+                .filter(|table| table.exhaustive && !table.values.is_empty());
+            return match table {
+                Some(table) => {
+                    let values = table.values.iter().map(|v| i64::from(v.value));
+                    let low = values.clone().min().unwrap_or(word_min);
+                    let high = values.max().unwrap_or(word_max);
+                    (low.max(word_min), high.min(word_max))
+                }
+                None => (word_min, word_max),
+            };
         };
         let min = self
             .resolve_bound(&range.min, End::Min)
@@ -252,7 +268,10 @@ mod tests {
     fn raw_ranges_take_static_bounds() {
         let drive = context(VALID).model;
         assert_eq!(raw_range(&drive, &drive.registers[2]), (50, 32000));
-        assert_eq!(raw_range(&drive, &drive.registers[3]), (0, 65535));
+        // No range, but an exhaustive code table (parity: 0 to 2).
+        let (low, high) = raw_range(&drive, &drive.registers[3]);
+        assert_eq!(low, 0);
+        assert!(high < 65535, "{high}");
         // An unresolvable bound falls back to the word's limit.
         let drive = context(&valid_with(&[("max: FH }", "max: XX }")])).model;
         assert_eq!(raw_range(&drive, &drive.registers[2]), (50, 65535));
