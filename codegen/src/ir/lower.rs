@@ -259,13 +259,7 @@ fn lower_register(
         }
     };
     let (raw_min, raw_max) = index.raw_range(register);
-    let bound = |bound: &BoundModel, raw: i64| BoundIr {
-        raw,
-        register: match bound {
-            BoundModel::Register(name) => Some(name.clone()),
-            BoundModel::Number(_) => None,
-        },
-    };
+    let word = crate::validate::ranges::word_limits(register);
     RegisterIr {
         address: register.address as u16,
         id: register.id.clone(),
@@ -278,8 +272,8 @@ fn lower_register(
         unit,
         scale,
         signed: register.signed,
-        min: register.range.as_ref().map(|r| bound(&r.min, raw_min)),
-        max: register.range.as_ref().map(|r| bound(&r.max, raw_max)),
+        min: derived_bound(register.range.as_ref().map(|r| &r.min), raw_min, word.0),
+        max: derived_bound(register.range.as_ref().map(|r| &r.max), raw_max, word.1),
         default: register.default,
         access: register.access.unwrap_or(Access::ReadWrite),
         ram_only: register.ram_only,
@@ -293,6 +287,24 @@ fn lower_register(
         source: register.source.clone(),
         inferred: register.inferred.clone(),
         warnings: register.warnings.clone(),
+    }
+}
+
+/// A range bound as written; without a range, the raw bound an exhaustive code table gives
+/// (when narrower than the word).
+fn derived_bound(written: Option<&BoundModel>, raw: i64, word: i64) -> Option<BoundIr> {
+    match written {
+        Some(bound) => Some(BoundIr {
+            raw,
+            register: match bound {
+                BoundModel::Register(name) => Some(name.clone()),
+                BoundModel::Number(_) => None,
+            },
+        }),
+        None => (raw != word).then_some(BoundIr {
+            raw,
+            register: None,
+        }),
     }
 }
 
