@@ -2,5 +2,5 @@
 #![no_main]
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    vfd_fuzz::replies(&vfd_drives::fc51::protocols::MODBUS, data);
+    vfd_fuzz::replies(vfd_drives::fc51::protocols::MODBUS.protocol(), data);
 });

@@ -2,5 +2,5 @@
 #![no_main]
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    vfd_fuzz::replies(&vfd_drives::yd1000::protocols::BINARY, data);
+    vfd_fuzz::replies(vfd_drives::yd1000::protocols::BINARY.protocol(), data);
 });
