@@ -307,7 +307,98 @@ fn endless_noise_ends_at_the_reply_deadline() {
     }
 }
 
-// Fault 5 (error tables per protocol) is covered by `protocol_error_tables` below.
+// Fault 5: error replies were always named from the drive's table.
+
+#[test]
+fn an_error_reply_is_named_from_the_table_of_the_protocol_that_answered() {
+    use vfd_codegen::ir::ErrorTableIr;
+    let name_of = |table: &ErrorTableIr, drive: &vfd_codegen::DriveIr, code: u16| {
+        let codes = match table {
+            ErrorTableIr::Drive => &drive.error_codes.codes,
+            ErrorTableIr::Protocol(own) => &own.codes,
+        };
+        codes
+            .iter()
+            .find(|c| c.code == code)
+            .map(|c| c.name.clone())
+    };
+    // The fc51 manual lists its Errornum table for Modbus exception replies too, so its
+    // table names both protocols' errors: exception 02 is its "value above the upper limit".
+    let path = std::path::Path::new("../drives/fc51.yaml");
+    let text = std::fs::read_to_string(path).expect("drives/fc51.yaml");
+    let drive = vfd_codegen::compile_text(path, text.clone(), None).expect("fc51 compiles");
+    for protocol in &drive.protocols {
+        assert!(
+            matches!(protocol.error_table, ErrorTableIr::Drive),
+            "{}",
+            protocol.id
+        );
+    }
+    let exception = protocols::MODBUS
+        .decode_reply_exact(None, &with_crc("01 83 02"))
+        .expect("an exception reply");
+    let vfd_runtime::Reply::Error { info, .. } = exception else {
+        panic!("an error reply: {exception:?}")
+    };
+    assert_eq!(
+        info.map(|i| i.name.as_ref()),
+        Some("Value above the upper limit")
+    );
+    // A drive whose table covers only its FC telegrams: Modbus replies take the Modbus
+    // protocol file's own exception codes.
+    let fc_only = text.replace("protocols: [fc, modbus]", "protocols: [fc]");
+    assert_ne!(fc_only, text);
+    let drive = vfd_codegen::compile_text(path, fc_only, None).expect("still valid");
+    let table = |id: &str| {
+        &drive
+            .protocols
+            .iter()
+            .find(|p| p.id == id)
+            .expect(id)
+            .error_table
+    };
+    assert_eq!(
+        name_of(table("modbus"), &drive, 2).as_deref(),
+        Some("Illegal data address")
+    );
+    assert_eq!(
+        name_of(table("fc"), &drive, 2).as_deref(),
+        Some("Value above the upper limit")
+    );
+    assert_eq!(drive.error_codes.protocols, ["fc"]);
+}
+
+vfd_macros::include_drive!(
+    "fixtures/error-tables/drive.yaml",
+    protocols = "../drives/protocols"
+);
+
+#[test]
+fn a_modbus_exception_is_named_from_the_modbus_table_when_the_drive_s_does_not_apply() {
+    use error_tables::{protocols as own, registers as regs, SERIAL};
+    let run = |protocol: &'static DriveProtocol<error_tables::Drive>, reply: Vec<u8>| {
+        let (ours, theirs) = memory_pair();
+        let _drive = answer(theirs, protocol, vec![reply]);
+        let mut master =
+            Master::new(ours, protocol, SERIAL.default, timing()).with_address(Some(1));
+        master.read::<regs::MaximumFrequency>().unwrap_err()
+    };
+    let named = |error: vfd_runtime::TransactionError| match error.kind {
+        TransactionErrorKind::Rejected {
+            code,
+            info: Some(info),
+            ..
+        } => (code, info.name.to_string()),
+        other => panic!("a rejection naming the code: {other:?}"),
+    };
+    // Modbus exception 02: the protocol's own "illegal data address".
+    let error = run(&own::MODBUS, with_crc("01 83 02"));
+    assert!(error.to_string().contains("非法数据地址"), "{error}");
+    assert_eq!(named(error), (2, "Illegal data address".to_owned()));
+    // Binary error reply 0002h: the drive's own table.
+    let error = run(&own::BINARY, vec![0x2F, 0x01, 0x4E, 0x00, 0x02, 0x80]);
+    assert_eq!(named(error), (2, "Communication number error".to_owned()));
+}
 
 // Fault 6: Modbus found no reply after noise or an echo.
 
