@@ -497,7 +497,8 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 .receive(&mut self.reply[reading.filled..], deadline)
                 .map_err(io)?;
             if got == 0 {
-                continue;
+                // A transport returns nothing only once the deadline has passed.
+                return self.out_of_time(reading, timeout);
             }
             self.last_activity = Some(Instant::now());
             if let (Some(limit), Some(gap)) = (silence_limit, self.transport.last_gap()) {
@@ -540,7 +541,12 @@ impl<T: Transport, D: 'static> Master<T, D> {
         if filled < len {
             // Perhaps our own request coming back: wait for the rest of it (or, should these
             // bytes be a whole reply after all, for the deadline).
-            if let Some((frame, skipped)) = self.search(reading, 0, filled).found {
+            let found = self
+                .echo
+                .is_none()
+                .then(|| self.search(reading, 0, filled).found)
+                .flatten();
+            if let Some((frame, skipped)) = found {
                 reading.fallback = Some(check_reply(reading.request, frame).map(|answer| Answer {
                     text: answer.text.map(|(start, len)| (start + skipped, len)),
                     ..answer
