@@ -430,6 +430,32 @@ struct Cursor<'b> {
 /// Returns [`DecodeStatus::Incomplete`] while `bytes` is a proper prefix of a frame that
 /// fits the layout, and an error as soon as a byte cannot belong to one.
 pub fn decode(layout: &FrameLayout, bytes: &[u8]) -> Result<DecodeStatus, DecodeError> {
+    Ok(match decode_prefix(layout, bytes)? {
+        Progress::Complete { values, len } => DecodeStatus::Complete { values, len },
+        Progress::Incomplete { .. } => DecodeStatus::Incomplete,
+    })
+}
+
+/// How far [`decode_prefix`] got.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Progress {
+    /// A whole frame, as [`DecodeStatus::Complete`].
+    Complete {
+        /// Decoded values.
+        values: FrameValues,
+        /// Bytes the frame occupies from the start of the input.
+        len: usize,
+    },
+    /// The bytes so far fit the layout: the values of the parts they hold whole (marked
+    /// present), so a caller can tell early that a frame cannot be the one it waits for.
+    Incomplete {
+        /// Values of the parts decoded so far.
+        values: FrameValues,
+    },
+}
+
+/// [`decode`], with the values of the parts already decoded when the frame is not finished.
+pub fn decode_prefix(layout: &FrameLayout, bytes: &[u8]) -> Result<Progress, DecodeError> {
     let mut values = FrameValues::default();
     let mut starts = [0usize; MAX_PARTS];
     let mut ends = [0usize; MAX_PARTS];
@@ -444,7 +470,7 @@ pub fn decode(layout: &FrameLayout, bytes: &[u8]) -> Result<DecodeStatus, Decode
         starts[index] = cursor.pos;
         let outcome = decode_part(layout, index, part, &mut cursor, &starts, &mut values)?;
         if outcome == PartOutcome::Incomplete {
-            return Ok(DecodeStatus::Incomplete);
+            return Ok(Progress::Incomplete { values });
         }
         ends[index] = cursor.pos;
         if let Some(end) = cursor.frame_end {
@@ -471,7 +497,7 @@ pub fn decode(layout: &FrameLayout, bytes: &[u8]) -> Result<DecodeStatus, Decode
             }
         }
     }
-    Ok(DecodeStatus::Complete {
+    Ok(Progress::Complete {
         values,
         len: cursor.pos,
     })

@@ -75,6 +75,12 @@ impl CommandKind {
     pub const fn is_write(self) -> bool {
         matches!(self, CommandKind::WriteRam | CommandKind::WritePersistent)
     }
+
+    /// Whether the command only reads: sending it again changes nothing in the drive, so a
+    /// master may repeat it after a failed exchange.
+    pub const fn only_reads(self) -> bool {
+        matches!(self, CommandKind::Read | CommandKind::ReadText)
+    }
 }
 
 /// The shape of a register's value on the wire.

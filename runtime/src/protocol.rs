@@ -2,7 +2,7 @@
 //! drive's error-code table and any steps a request needs first; this module encodes
 //! requests and decodes replies with it.
 
-use crate::codec::{self, DecodeStatus, FrameValues, Roles};
+use crate::codec::{self, DecodeStatus, FrameValues, Progress, Roles};
 use crate::error::{DecodeError, EncodeError};
 pub use crate::info::ErrorCodeInfo;
 pub use crate::kinds::{CommandKind, DataType, Space};
@@ -577,19 +577,24 @@ impl Protocol {
         match codec::decode(layout, bytes)? {
             DecodeStatus::Incomplete => Ok(None),
             DecodeStatus::Complete { values, len } => {
-                let roles = values.roles(layout);
-                let code = roles.command.unwrap_or(0);
-                let error = roles.error_code.unwrap_or(0) as u16;
-                Ok(Some(Reply::Error {
-                    address: roles.address.map(|a| a as u8),
-                    tripped: self.is_tripped(code),
-                    code,
-                    error,
-                    info: self.error_code(error),
-                    values,
-                    len,
-                }))
+                Ok(Some(self.error_reply_from(layout, values, len)))
             }
+        }
+    }
+
+    /// The error reply with these decoded `values`.
+    fn error_reply_from(&self, layout: &FrameLayout, values: FrameValues, len: usize) -> Reply<'_> {
+        let roles = values.roles(layout);
+        let code = roles.command.unwrap_or(0);
+        let error = roles.error_code.unwrap_or(0) as u16;
+        Reply::Error {
+            address: roles.address.map(|a| a as u8),
+            tripped: self.is_tripped(code),
+            code,
+            error,
+            info: self.error_code(error),
+            values,
+            len,
         }
     }
 
@@ -599,43 +604,54 @@ impl Protocol {
         command: &'p CommandSpec,
         bytes: &[u8],
     ) -> Result<Option<Reply<'p>>, DecodeError> {
-        let layout = &command.reply;
-        match codec::decode(layout, bytes)? {
+        match codec::decode(&command.reply, bytes)? {
             DecodeStatus::Incomplete => Ok(None),
             DecodeStatus::Complete { values, len } => {
-                let roles = values.roles(layout);
-                let code = roles.command;
-                if let Some(code) = code.filter(|code| !self.reply_code_matches(command, *code)) {
-                    return Err(DecodeError::NotAllowed {
-                        layout: layout.name.clone(),
-                        part: "command".into(),
-                        offset: 0,
-                        value: code,
-                        format: crate::layout::Format::U8,
-                    });
-                }
-                let text = layout.index_of(Role::Text).map(|index| {
-                    let slot = values.parts[index];
-                    (slot.value as usize, usize::from(slot.width))
-                });
-                Ok(Some(Reply::Data {
-                    command,
-                    code: code.unwrap_or(command.code),
-                    address: roles.address.map(|a| a as u8),
-                    tripped: code.is_some_and(|code| self.is_tripped(code)),
-                    wire_register: roles.register.map(|r| r as u16),
-                    index: roles.index.map(|i| i as u16),
-                    data: roles.data.unwrap_or(0),
-                    process: match (roles.process_1, roles.process_2) {
-                        (Some(first), Some(second)) => Some([first as u16, second as u16]),
-                        _ => None,
-                    },
-                    text,
-                    values,
-                    len,
-                }))
+                self.data_reply_from(command, values, len).map(Some)
             }
         }
+    }
+
+    /// `command`'s normal reply with these decoded `values`; an error when the reply
+    /// carries a code the command does not answer with.
+    fn data_reply_from<'p>(
+        &'p self,
+        command: &'p CommandSpec,
+        values: FrameValues,
+        len: usize,
+    ) -> Result<Reply<'p>, DecodeError> {
+        let layout = &command.reply;
+        let roles = values.roles(layout);
+        let code = roles.command;
+        if let Some(code) = code.filter(|code| !self.reply_code_matches(command, *code)) {
+            return Err(DecodeError::NotAllowed {
+                layout: layout.name.clone(),
+                part: "command".into(),
+                offset: 0,
+                value: code,
+                format: crate::layout::Format::U8,
+            });
+        }
+        let text = layout.index_of(Role::Text).map(|index| {
+            let slot = values.parts[index];
+            (slot.value as usize, usize::from(slot.width))
+        });
+        Ok(Reply::Data {
+            command,
+            code: code.unwrap_or(command.code),
+            address: roles.address.map(|a| a as u8),
+            tripped: code.is_some_and(|code| self.is_tripped(code)),
+            wire_register: roles.register.map(|r| r as u16),
+            index: roles.index.map(|i| i as u16),
+            data: roles.data.unwrap_or(0),
+            process: match (roles.process_1, roles.process_2) {
+                (Some(first), Some(second)) => Some([first as u16, second as u16]),
+                _ => None,
+            },
+            text,
+            values,
+            len,
+        })
     }
 
     fn is_tripped(&self, code: u32) -> bool {
@@ -745,6 +761,198 @@ impl Protocol {
             protocol: self.id.clone(),
             what,
             closest: Box::new(closest),
+        }
+    }
+}
+
+/// What a reply must carry to answer one request: [`Protocol::search_reply`] passes over
+/// frames that carry something else (another station's reply, a late reply to an earlier
+/// request).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Expectation {
+    /// The station the request went to (`None`: not checked).
+    pub address: Option<u8>,
+    /// The register number on the wire (`None`: not checked).
+    pub wire_register: Option<u16>,
+    /// The array index (`None`: not checked).
+    pub index: Option<u16>,
+}
+
+/// A value a reply carries that is not the one its request expects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Difference {
+    /// Which value: [`Role::Address`], [`Role::Register`] or [`Role::Index`].
+    pub role: Role,
+    /// The value the request expects.
+    pub expected: u32,
+    /// The value the reply carries.
+    pub found: u32,
+}
+
+impl Expectation {
+    /// The first of `roles` (of a whole frame, or of the parts of one decoded so far) that
+    /// differs from what is expected; values a frame does not carry are not compared.
+    pub fn difference(&self, roles: &Roles) -> Option<Difference> {
+        [
+            (Role::Address, self.address.map(u32::from), roles.address),
+            (
+                Role::Register,
+                self.wire_register.map(u32::from),
+                roles.register,
+            ),
+            (Role::Index, self.index.map(u32::from), roles.index),
+        ]
+        .into_iter()
+        .find_map(|(role, expected, found)| match (expected, found) {
+            (Some(expected), Some(found)) if expected != found => Some(Difference {
+                role,
+                expected,
+                found,
+            }),
+            _ => None,
+        })
+    }
+}
+
+/// What [`Protocol::search_reply`] made of the bytes received so far.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Search<'p> {
+    /// The reply that answers the request, and the number of bytes before it.
+    pub found: Option<(Reply<'p>, usize)>,
+    /// More bytes could still bring a reply. With `found`: a frame that would answer the
+    /// request starts inside the one found, and bytes follow the found one (a reply is
+    /// followed by silence, so it may have been a false start).
+    pub waiting: bool,
+    /// The first whole frame that answers something else, and how it differs.
+    pub foreign: Option<Difference>,
+    /// The first whole frame whose checksum does not match its bytes.
+    pub corrupt: Option<DecodeError>,
+    /// The error of the attempt that got furthest, when no frame was found.
+    pub last_error: Option<DecodeError>,
+}
+
+/// What the bytes at one offset may be.
+enum Candidate<'p> {
+    /// A whole frame that answers the request.
+    Fits(Reply<'p>),
+    /// The start of a frame that may still answer it.
+    Waiting,
+    /// A whole frame that answers something else.
+    Foreign(Difference),
+    /// Not a frame of the protocol.
+    Invalid(DecodeError),
+}
+
+impl Protocol {
+    /// Looks for the reply to a request of `command` in `bytes`, whatever comes before it:
+    /// every offset where a frame may start (where the protocol's start sequence is, or
+    /// every byte when it has none) is tried with the command's reply layout and the
+    /// error-reply layout, and frames that do not meet `expectation` are passed over. Of
+    /// frames that overlap, the one starting last wins: bytes that follow a frame and hold
+    /// another one beginning inside it mean the first was a false start that a weak
+    /// checksum let through. See [`Search`] for what is reported when nothing fits.
+    pub fn search_reply<'p>(
+        &'p self,
+        command: &'p CommandSpec,
+        expectation: &Expectation,
+        bytes: &[u8],
+    ) -> Search<'p> {
+        let start = self.start_bytes();
+        let mut search = Search {
+            found: None,
+            waiting: false,
+            foreign: None,
+            corrupt: None,
+            last_error: None,
+        };
+        for offset in 0..bytes.len() {
+            if !bytes[offset..].starts_with(start) {
+                continue;
+            }
+            if let Some((frame, at)) = &search.found {
+                if offset >= at + frame.len() {
+                    break;
+                }
+            }
+            match self.candidate_at(command, expectation, &bytes[offset..]) {
+                Candidate::Fits(reply) => {
+                    search.found = Some((reply, offset));
+                    search.waiting = false;
+                }
+                Candidate::Waiting => search.waiting = true,
+                Candidate::Foreign(difference) => {
+                    search.foreign = search.foreign.or(Some(difference));
+                }
+                Candidate::Invalid(error) => {
+                    if search.corrupt.is_none()
+                        && error.kind() == crate::error::DecodeErrorKind::ChecksumMismatch
+                    {
+                        search.corrupt = Some(error.clone());
+                    }
+                    search.last_error = Some(furthest(search.last_error.take(), error));
+                }
+            }
+        }
+        if let Some((frame, at)) = &search.found {
+            // Nothing follows the frame: it is the reply, whatever may start inside it.
+            if at + frame.len() == bytes.len() {
+                search.waiting = false;
+            }
+            search.last_error = None;
+        }
+        search
+    }
+
+    /// What the bytes starting at `bytes[0]` may be, for a request of `command`.
+    fn candidate_at<'p>(
+        &'p self,
+        command: &'p CommandSpec,
+        expectation: &Expectation,
+        bytes: &[u8],
+    ) -> Candidate<'p> {
+        let mut waiting = false;
+        let mut foreign = None;
+        let mut best: Option<DecodeError> = None;
+        let layouts = [
+            Some((&command.reply, true)),
+            self.error_reply.as_ref().map(|l| (l, false)),
+        ];
+        for (layout, normal) in layouts.into_iter().flatten() {
+            match codec::decode_prefix(layout, bytes) {
+                Ok(Progress::Complete { values, len }) => {
+                    let reply = if normal {
+                        match self.data_reply_from(command, values, len) {
+                            Ok(reply) => reply,
+                            Err(error) => {
+                                best = Some(furthest(best, error));
+                                continue;
+                            }
+                        }
+                    } else {
+                        self.error_reply_from(layout, values, len)
+                    };
+                    match expectation.difference(&values.roles(layout)) {
+                        None => return Candidate::Fits(reply),
+                        Some(difference) => foreign = foreign.or(Some(difference)),
+                    }
+                }
+                Ok(Progress::Incomplete { values }) => {
+                    if expectation.difference(&values.roles(layout)).is_none() {
+                        waiting = true;
+                    }
+                }
+                Err(error) => best = Some(furthest(best, error)),
+            }
+        }
+        if waiting {
+            Candidate::Waiting
+        } else if let Some(difference) = foreign {
+            Candidate::Foreign(difference)
+        } else {
+            Candidate::Invalid(best.unwrap_or(DecodeError::Truncated {
+                layout: self.id.clone(),
+                len: bytes.len(),
+            }))
         }
     }
 }

@@ -1,12 +1,20 @@
 //! Request/reply exchanges: run any steps a request needs first, encode, send, collect the
 //! reply within a timeout derived from the baud rate, check it answers the request, and
 //! map error replies to typed errors.
+//!
+//! Finding the reply in what the line delivers is generic: stale input is dropped before a
+//! request goes out, the master's own request coming back (an echoing half-duplex adapter)
+//! is skipped, noise and frames that answer something else are passed over, a silence
+//! longer than a frame allows starts a new frame (where the transport can tell), and of
+//! overlapping frames the one starting last wins. Every wait ends at the reply deadline.
 
-use crate::error::{hex, DecodeError, DecodeErrorKind, EncodeError, ValueError};
+use crate::error::{hex, DecodeError, EncodeError, ValueError};
 use crate::info::ErrorCodeInfo;
 use crate::kinds::{CommandKind, DataType, Space};
 use crate::layout::Role;
-use crate::protocol::{DriveProtocol, Found, PreStep, Protocol, Reply};
+use crate::protocol::{
+    CommandSpec, Difference, DriveProtocol, Expectation, PreStep, Protocol, Reply, Search,
+};
 use crate::register::{Persistable, Register, RegisterValue, Request, Writable};
 use crate::serial::{DriveTiming, SerialSettings};
 use crate::transport::Transport;
@@ -99,6 +107,9 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     reply: [u8; MAX_FRAME],
     reply_len: usize,
     last_activity: Option<Instant>,
+    retries: u8,
+    echo: Option<bool>,
+    echo_fixed: bool,
 }
 
 impl<T: Transport> Master<T, AnyDrive> {
@@ -143,6 +154,9 @@ impl<T: Transport, D: 'static> Master<T, D> {
             reply: [0; MAX_FRAME],
             reply_len: 0,
             last_activity: None,
+            retries: 0,
+            echo: None,
+            echo_fixed: false,
         }
     }
 
@@ -150,6 +164,33 @@ impl<T: Transport, D: 'static> Master<T, D> {
     /// Toshiba-style protocols accept when one drive is on the line).
     pub fn with_address(mut self, address: Option<u8>) -> Self {
         self.address = address;
+        self
+    }
+
+    /// Repeats a request whose exchange failed (no reply in time, a garbled reply, a reply
+    /// to something else) up to `retries` more times, **for requests that only read**
+    /// ([`CommandKind::Read`], [`CommandKind::ReadText`]: register and text reads, including
+    /// the read after an index step). Writes, process-data exchanges and the steps before a
+    /// request (index and RAM/EEPROM selection) are never repeated: a write whose reply was
+    /// lost may have been carried out. A refusal by the drive, a value or request that
+    /// cannot be sent and transport failures are not retried either. A read then takes at
+    /// most `retries + 1` reply timeouts. Default: 0.
+    pub fn with_retries(mut self, retries: u8) -> Self {
+        self.retries = retries;
+        self
+    }
+
+    /// States whether the line returns every request to the master (a half-duplex adapter
+    /// that echoes what it sends): `Some(true)` skips that copy before the reply,
+    /// `Some(false)` never looks for one. `None` (the default) detects it: the bytes
+    /// identical to the request at the start of what comes back are skipped when a reply
+    /// follows them or when they cannot be a reply; the first replies teach the master
+    /// which kind of line it is on. Until then, a reply that is byte for byte the request
+    /// (Modbus RTU answers writes of one register or coil so) is taken only at the reply
+    /// deadline, when no second copy came.
+    pub fn with_local_echo(mut self, echo: Option<bool>) -> Self {
+        self.echo = echo;
+        self.echo_fixed = echo.is_some();
         self
     }
 
@@ -172,6 +213,13 @@ impl<T: Transport, D: 'static> Master<T, D> {
         self.settings
             .char_time()
             .mul_f32(self.protocol.frame_gap_chars)
+    }
+
+    /// The longest silence a frame may hold, from the protocol's timing: a longer one
+    /// inside a reply starts a new frame. `None` when the protocol states no such limit.
+    pub fn silence_limit(&self) -> Option<Duration> {
+        let chars = self.protocol.frame_gap_chars;
+        (chars > 0.0).then(|| self.settings.char_time().mul_f32(chars))
     }
 
     /// Reads register `R`: its typed value, and whether the reply said the drive is tripped.
@@ -292,68 +340,56 @@ impl<T: Transport, D: 'static> Master<T, D> {
     }
 
     /// Runs one request, with any steps the protocol needs first (selecting an array
-    /// index, choosing RAM or EEPROM).
+    /// index, choosing RAM or EEPROM). Every frame is built and checked before the first
+    /// is sent: when the protocol cannot carry any of them, nothing goes on the line.
     pub fn transact(&mut self, request: &Request) -> Result<Answer, TransactionError> {
-        for step in self.protocol.pre_steps.iter() {
-            match *step {
-                PreStep::Index { register } => {
-                    if let Some(index) = request.index {
-                        let select = Request {
-                            wire_register: true,
-                            index: None,
-                            info: None,
-                            ..Request::raw(CommandKind::WriteRam, register, u32::from(index))
-                        };
-                        self.exchange(&select)?;
-                    }
-                }
-                PreStep::Persistence {
-                    space,
-                    register,
-                    data_type,
-                    ram,
-                    persistent,
-                } => {
-                    // Coil writes (process data) are not parameter writes: no selector for them.
-                    if request.kind.is_write() && request.space == Space::Parameter {
-                        let value = if request.kind == CommandKind::WritePersistent {
-                            persistent
-                        } else {
-                            ram
-                        };
-                        let select = Request::raw(CommandKind::WriteRam, register, value)
-                            .in_space(space)
-                            .with_data_type(data_type);
-                        self.exchange(&select)?;
-                    }
-                }
+        let protocol = self.protocol;
+        let main = self.main_request(request);
+        for step in protocol.pre_steps.iter() {
+            if let Some(step) = step_request(step, request) {
+                self.check_encodes(&step, &step)?;
             }
         }
-        // With the protocol's steps done, the selector is set: send the request itself.
-        let main = if self.has_index_step() {
-            Request {
-                index: None,
-                ..*request
+        // Errors of the main request name the caller's request, not the adjusted one.
+        self.check_encodes(&main, request)?;
+        for step in protocol.pre_steps.iter() {
+            if let Some(step) = step_request(step, request) {
+                self.exchange(&step)?;
             }
-        } else {
-            *request
-        };
-        let main = if self.has_persistence_step()
-            && request.kind == CommandKind::WritePersistent
-            && request.space == Space::Parameter
-        {
-            Request {
-                kind: CommandKind::WriteRam,
-                ..main
-            }
-        } else {
-            main
-        };
-        // Errors of the main exchange name the caller's request, not the adjusted one.
+        }
         self.exchange(&main).map_err(|error| TransactionError {
             request: Some(*request),
             ..error
         })
+    }
+
+    /// `request` as sent once the protocol's steps have selected what it leaves out.
+    fn main_request(&self, request: &Request) -> Request {
+        let mut main = *request;
+        if self.has_index_step() {
+            main.index = None;
+        }
+        if self.has_persistence_step()
+            && request.kind == CommandKind::WritePersistent
+            && request.space == Space::Parameter
+        {
+            main.kind = CommandKind::WriteRam;
+        }
+        main
+    }
+
+    /// Builds `request`'s frame without sending it; a failure names `named`.
+    fn check_encodes(
+        &mut self,
+        request: &Request,
+        named: &Request,
+    ) -> Result<(), TransactionError> {
+        self.protocol
+            .encode_request(request, self.address, &mut self.request)
+            .map(|_| ())
+            .map_err(|error| {
+                TransactionError::new(Some(named), TransactionErrorKind::Encode(error))
+            })
     }
 
     fn has_index_step(&self) -> bool {
@@ -370,8 +406,39 @@ impl<T: Transport, D: 'static> Master<T, D> {
             .any(|s| matches!(s, PreStep::Persistence { .. }))
     }
 
-    /// One request frame, one reply frame.
+    /// One request, repeated as [`Master::with_retries`] allows.
     fn exchange(&mut self, request: &Request) -> Result<Answer, TransactionError> {
+        let mut retries = if request.kind.only_reads() {
+            self.retries
+        } else {
+            0
+        };
+        loop {
+            match self.exchange_once(request) {
+                Err(error) if retries > 0 && error.kind.worth_repeating() => retries -= 1,
+                outcome => return outcome,
+            }
+        }
+    }
+
+    /// Drops what arrived before the request: what the transport can clear, then whatever
+    /// it still holds (a bounded amount, so a line full of noise cannot keep it here).
+    fn discard_stale_input(&mut self) -> std::io::Result<()> {
+        self.transport.clear_input()?;
+        let now = Instant::now();
+        let mut dropped = 0usize;
+        while dropped < 4 * MAX_FRAME {
+            let got = self.transport.receive(&mut self.reply, now)?;
+            if got == 0 {
+                break;
+            }
+            dropped += got;
+        }
+        Ok(())
+    }
+
+    /// One request frame, one reply frame.
+    fn exchange_once(&mut self, request: &Request) -> Result<Answer, TransactionError> {
         let protocol = self.protocol;
         let fail = |kind| TransactionError::new(Some(request), kind);
         let io = |error| fail(TransactionErrorKind::Io(error));
@@ -380,6 +447,15 @@ impl<T: Transport, D: 'static> Master<T, D> {
         let len = protocol
             .encode_request(request, self.address, &mut self.request)
             .map_err(cannot_send)?;
+        let expectation = Expectation {
+            address: self.address,
+            wire_register: if request.wire_register {
+                Some(request.register)
+            } else {
+                command.address_map.to_wire(request.register)
+            },
+            index: request.index,
+        };
         if let Some(last) = self.last_activity {
             let gap = self.frame_gap();
             let since = last.elapsed();
@@ -387,56 +463,305 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 std::thread::sleep(gap - since);
             }
         }
-        self.transport.clear_input().map_err(io)?;
+        self.discard_stale_input().map_err(io)?;
         self.transport.send(&self.request[..len]).map_err(io)?;
         let timeout = self.reply_timeout(len);
         let deadline = Instant::now() + timeout;
-        let mut filled = 0usize;
-        let mut last_error = None;
+        let silence_limit = self.silence_limit();
+        let mut reading = Collecting {
+            request,
+            command,
+            expectation,
+            request_len: len,
+            filled: 0,
+            echo_passed: false,
+            fallback: None,
+            copy_fallback: false,
+            corrupt: None,
+            foreign: None,
+            last_error: None,
+        };
         loop {
-            if filled == self.reply.len() {
+            // The deadline bounds the loop, however readily the transport delivers bytes.
+            if Instant::now() >= deadline {
+                return self.out_of_time(reading, timeout);
+            }
+            if reading.filled == self.reply.len() {
                 // Only noise could fill the buffer: keep the last half and go on looking.
                 self.reply.copy_within(MAX_FRAME / 2.., 0);
-                filled = MAX_FRAME - MAX_FRAME / 2;
+                reading.filled = MAX_FRAME - MAX_FRAME / 2;
+                reading.echo_passed = true;
             }
             let got = self
                 .transport
-                .receive(&mut self.reply[filled..], deadline)
+                .receive(&mut self.reply[reading.filled..], deadline)
                 .map_err(io)?;
-            self.last_activity = Some(Instant::now());
             if got == 0 {
-                return Err(fail(TransactionErrorKind::Timeout {
-                    waited: timeout,
-                    received: self.reply[..filled.min(64)].to_vec(),
-                    received_len: filled,
-                    last_error,
+                // A transport returns nothing only once the deadline has passed.
+                return self.out_of_time(reading, timeout);
+            }
+            self.last_activity = Some(Instant::now());
+            if let (Some(limit), Some(gap)) = (silence_limit, self.transport.last_gap()) {
+                if reading.filled > 0 && gap > limit {
+                    // A silence no frame holds: what came before is not part of the reply
+                    // (a false start, noise, our own echo).
+                    let filled = reading.filled;
+                    self.reply.copy_within(filled..filled + got, 0);
+                    reading.filled = 0;
+                    reading.echo_passed = true;
+                }
+            }
+            reading.filled += got;
+            if let Some(outcome) = self.settle(&mut reading) {
+                return outcome;
+            }
+        }
+    }
+
+    /// Looks at the bytes received so far: `Some` when the exchange is decided.
+    fn settle(&mut self, reading: &mut Collecting<'_>) -> Option<Result<Answer, TransactionError>> {
+        let (filled, len) = (reading.filled, reading.request_len);
+        let shared = filled.min(len);
+        let echo_possible = !reading.echo_passed
+            && self.echo != Some(false)
+            && self.reply[..shared] == self.request[..shared];
+        if !echo_possible {
+            let search = self.search(reading, 0, filled);
+            if !reading.echo_passed
+                && search
+                    .found
+                    .as_ref()
+                    .is_some_and(|(_, skipped)| *skipped == 0)
+            {
+                // The first bytes back are a reply, not our request: the line does not echo.
+                self.learn_echo(false);
+            }
+            return self.decide(reading, search, 0);
+        }
+        if filled < len {
+            // Perhaps our own request coming back: wait for the rest of it (or, should these
+            // bytes be a whole reply after all, for the deadline).
+            let found = self
+                .echo
+                .is_none()
+                .then(|| self.search(reading, 0, filled).found)
+                .flatten();
+            if let Some((frame, skipped)) = found {
+                reading.fallback = Some(check_reply(reading.request, frame).map(|answer| Answer {
+                    text: answer.text.map(|(start, len)| (start + skipped, len)),
+                    ..answer
                 }));
             }
-            filled += got;
-            match protocol.find_reply(Some(command), &self.reply[..filled]) {
-                Ok(Found::Incomplete) => continue,
-                Ok(Found::Frame { frame, skipped }) => {
-                    self.reply_len = filled;
-                    let answer = check_reply(request, self.address, frame)?;
-                    return Ok(Answer {
-                        text: answer.text.map(|(start, len)| (start + skipped, len)),
-                        ..answer
-                    });
-                }
-                Err(error) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
-                    return Err(fail(TransactionErrorKind::Decode(Box::new(error))));
-                }
-                Err(error) => last_error = Some(Box::new(error)),
+            return None;
+        }
+        // A whole copy of the request. Is it a reply too (Modbus answers a single write with
+        // the request's own bytes)?
+        let copy = self
+            .search(reading, 0, len)
+            .found
+            .filter(|(frame, skipped)| *skipped == 0 && frame.len() == len)
+            .map(|(frame, _)| check_reply(reading.request, frame));
+        let after = (filled > len).then(|| self.search(reading, len, filled));
+        let Some(copy) = copy else {
+            // It cannot be a reply: it is our own request coming back.
+            self.learn_echo(true);
+            return after.and_then(|search| self.decide(reading, search, len));
+        };
+        if let Some(search) = after {
+            if search.found.is_some() || search.corrupt.is_some() || search.foreign.is_some() {
+                // A frame follows the copy: the copy was our own request coming back.
+                self.learn_echo(true);
+                return self.decide(reading, search, len);
             }
+            if self.echo == Some(true) || search.waiting {
+                reading.fallback = reading.fallback.take().or(match self.echo {
+                    Some(true) => None,
+                    _ => Some(copy),
+                });
+                return self.decide(reading, search, len);
+            }
+            if self.echo == Some(false) {
+                // Noise after a reply on a line that does not echo.
+                return Some(copy);
+            }
+        }
+        match self.echo {
+            // The line does not echo: the copy is the reply.
+            Some(false) => Some(copy),
+            // It does: the reply is still to come.
+            Some(true) => None,
+            // Not known yet: the copy answers only if no second one comes by the deadline.
+            None => {
+                if reading.fallback.is_none() {
+                    reading.fallback = Some(copy);
+                    reading.copy_fallback = true;
+                }
+                None
+            }
+        }
+    }
+
+    /// Searches `self.reply[from..to]` for the reply.
+    fn search(&self, reading: &Collecting<'_>, from: usize, to: usize) -> Search<'static> {
+        self.protocol
+            .search_reply(reading.command, &reading.expectation, &self.reply[from..to])
+    }
+
+    /// What a search over the bytes after `base` means for the exchange: `Some` when it is
+    /// decided, `None` to read on (remembering what was seen, for the deadline).
+    fn decide(
+        &mut self,
+        reading: &mut Collecting<'_>,
+        search: Search<'static>,
+        base: usize,
+    ) -> Option<Result<Answer, TransactionError>> {
+        if let Some((frame, skipped)) = search.found {
+            let answer = check_reply(reading.request, frame).map(|answer| Answer {
+                text: answer
+                    .text
+                    .map(|(start, len)| (start + base + skipped, len)),
+                ..answer
+            });
+            if search.waiting {
+                // A frame that would answer may start inside this one: read on a little.
+                reading.fallback = Some(answer);
+                return None;
+            }
+            self.reply_len = reading.filled;
+            return Some(answer);
+        }
+        reading.corrupt = reading.corrupt.take().or(search.corrupt);
+        reading.foreign = reading.foreign.or(search.foreign);
+        if search.last_error.is_some() {
+            reading.last_error = search.last_error;
+        }
+        if search.waiting {
+            return None;
+        }
+        // Nothing more can come of these bytes: a damaged or foreign frame decides now;
+        // mere noise may still be followed by the reply.
+        if let Some(error) = reading.corrupt.take() {
+            return Some(Err(
+                reading.fail(TransactionErrorKind::Decode(Box::new(error)))
+            ));
+        }
+        if let Some(difference) = reading.foreign.take() {
+            return Some(Err(reading.fail(mismatch_of(difference))));
+        }
+        None
+    }
+
+    /// The outcome at the reply deadline: the best answer held back, else what went wrong.
+    fn out_of_time(
+        &mut self,
+        mut reading: Collecting<'_>,
+        waited: Duration,
+    ) -> Result<Answer, TransactionError> {
+        if let Some(answer) = reading.fallback {
+            if reading.copy_fallback {
+                // Only the one copy came: the line does not echo.
+                self.learn_echo(false);
+            }
+            self.reply_len = reading.filled;
+            return answer;
+        }
+        let kind = if let Some(error) = reading.corrupt.take() {
+            TransactionErrorKind::Decode(Box::new(error))
+        } else if let Some(difference) = reading.foreign {
+            mismatch_of(difference)
+        } else {
+            let filled = reading.filled;
+            TransactionErrorKind::Timeout {
+                waited,
+                received: self.reply[..filled.min(64)].to_vec(),
+                received_len: filled,
+                last_error: reading.last_error.take().map(Box::new),
+            }
+        };
+        Err(reading.fail(kind))
+    }
+
+    /// Records what the latest reply showed about the line, unless the caller stated it.
+    fn learn_echo(&mut self, echoes: bool) {
+        if !self.echo_fixed {
+            self.echo = Some(echoes);
         }
     }
 }
 
-fn check_reply(
-    request: &Request,
-    address: Option<u8>,
-    reply: Reply<'static>,
-) -> Result<Answer, TransactionError> {
+/// The state of one exchange while its reply is read.
+struct Collecting<'r> {
+    request: &'r Request,
+    command: &'static CommandSpec,
+    expectation: Expectation,
+    request_len: usize,
+    /// Bytes in the reply buffer.
+    filled: usize,
+    /// Bytes were dropped since the request went out: no echo can be ahead any more.
+    echo_passed: bool,
+    /// An answer to give at the deadline if no better one comes.
+    fallback: Option<Result<Answer, TransactionError>>,
+    /// The fallback is a copy of the request on a line not known to echo.
+    copy_fallback: bool,
+    /// A frame whose checksum did not match.
+    corrupt: Option<DecodeError>,
+    /// A frame that answered something else.
+    foreign: Option<Difference>,
+    /// The furthest decode error seen.
+    last_error: Option<DecodeError>,
+}
+
+impl Collecting<'_> {
+    fn fail(&self, kind: TransactionErrorKind) -> TransactionError {
+        TransactionError::new(Some(self.request), kind)
+    }
+}
+
+/// The mismatch error for a frame that answers something else.
+fn mismatch_of(difference: Difference) -> TransactionErrorKind {
+    TransactionErrorKind::Mismatch {
+        field: match difference.role {
+            Role::Address => ReplyField::Address,
+            Role::Index => ReplyField::Index,
+            _ => ReplyField::Register,
+        },
+        expected: difference.expected,
+        found: difference.found,
+    }
+}
+
+/// The exchange `step` needs before `request`, if it needs one.
+fn step_request(step: &PreStep, request: &Request) -> Option<Request> {
+    match *step {
+        PreStep::Index { register } => request.index.map(|index| Request {
+            wire_register: true,
+            index: None,
+            info: None,
+            ..Request::raw(CommandKind::WriteRam, register, u32::from(index))
+        }),
+        // Coil writes (process data) are not parameter writes: no selector for them.
+        PreStep::Persistence {
+            space,
+            register,
+            data_type,
+            ram,
+            persistent,
+        } => (request.kind.is_write() && request.space == Space::Parameter).then(|| {
+            let value = if request.kind == CommandKind::WritePersistent {
+                persistent
+            } else {
+                ram
+            };
+            Request::raw(CommandKind::WriteRam, register, value)
+                .in_space(space)
+                .with_data_type(data_type)
+        }),
+    }
+}
+
+/// The answer a reply gives to `request` (whose station, register and index the search
+/// already compared): an error reply becomes a rejection.
+fn check_reply(request: &Request, reply: Reply<'static>) -> Result<Answer, TransactionError> {
     match reply {
         Reply::Error {
             error,
@@ -453,49 +778,21 @@ fn check_reply(
         )),
         Reply::Data {
             command,
-            address: reply_address,
             tripped,
-            wire_register,
-            index,
             data,
             process,
             text,
             ..
         } => {
-            let mismatch = |field, expected: u32, found: u32| {
-                TransactionError::new(
+            if request.data_type == DataType::Text && text.is_none() {
+                return Err(TransactionError::new(
                     Some(request),
                     TransactionErrorKind::Mismatch {
-                        field,
-                        expected,
-                        found,
+                        field: ReplyField::Text,
+                        expected: 1,
+                        found: 0,
                     },
-                )
-            };
-            if let (Some(sent), Some(got)) = (address, reply_address) {
-                if sent != got {
-                    return Err(mismatch(ReplyField::Address, sent.into(), got.into()));
-                }
-            }
-            if let Some(got) = wire_register {
-                let sent = if request.wire_register {
-                    Some(request.register)
-                } else {
-                    command.address_map.to_wire(request.register)
-                };
-                if let Some(sent) = sent {
-                    if sent != got {
-                        return Err(mismatch(ReplyField::Register, sent.into(), got.into()));
-                    }
-                }
-            }
-            if let (Some(sent), Some(got)) = (request.index, index) {
-                if sent != got {
-                    return Err(mismatch(ReplyField::Index, sent.into(), got.into()));
-                }
-            }
-            if request.data_type == DataType::Text && text.is_none() {
-                return Err(mismatch(ReplyField::Text, 1, 0));
+                ));
             }
             Ok(Answer {
                 data: command.reply.has(Role::Data).then_some(data),
@@ -561,6 +858,20 @@ pub enum TransactionErrorKind {
         /// Value found.
         found: u32,
     },
+}
+
+impl TransactionErrorKind {
+    /// Whether sending the request again may succeed: no reply in time, a garbled reply or
+    /// a reply to something else. A refusal by the drive, a request that cannot be built
+    /// and a failing transport would fail again.
+    pub fn worth_repeating(&self) -> bool {
+        matches!(
+            self,
+            TransactionErrorKind::Timeout { .. }
+                | TransactionErrorKind::Decode(_)
+                | TransactionErrorKind::Mismatch { .. }
+        )
+    }
 }
 
 /// A part of a reply the master checks against its request.

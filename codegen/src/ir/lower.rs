@@ -5,8 +5,8 @@
 use super::types::*;
 use crate::frames::{register_of, DecodedFrame};
 use crate::naming::{const_name, method_name, module_name, type_name};
-use crate::parse::model::{BoundModel, FrameModel, RegisterModel};
-use crate::protocols::LoweredProtocol;
+use crate::parse::model::{BoundModel, DriveFile, ErrorCodeModel, FrameModel, RegisterModel};
+use crate::protocols::{drive_table_applies, LoweredProtocol};
 use crate::validate::ranges;
 use crate::validate::{bit_span, Context};
 use vfd_runtime::units::Unit;
@@ -62,22 +62,20 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             note: model.addressing.note.trim().to_owned(),
         },
         protocol_files: protocol_files(&drive.protocols),
-        protocols: drive.protocols.iter().map(lower_protocol).collect(),
+        protocols: drive
+            .protocols
+            .iter()
+            .map(|protocol| lower_protocol(model, protocol))
+            .collect(),
         error_codes: ErrorCodesIr {
             source: model.error_codes.source.clone(),
-            codes: model
-                .error_codes
-                .codes
+            protocols: model
+                .protocols
                 .iter()
-                .map(|c| ErrorCodeIr {
-                    code: c.code as u16,
-                    id: c.id.clone(),
-                    variant: type_name(&c.id),
-                    name: c.name.clone(),
-                    name_zh: c.name_zh.clone(),
-                    meaning: c.meaning.clone(),
-                })
+                .filter(|p| drive_table_applies(model, &p.id))
+                .map(|p| p.id.clone())
                 .collect(),
+            codes: lower_error_codes(&model.error_codes.codes),
             silent: model.error_codes.silent.clone(),
         },
         code_tables: model
@@ -341,7 +339,21 @@ fn protocol_files(protocols: &[LoweredProtocol]) -> Vec<ProtocolFileIr> {
     files
 }
 
-fn lower_protocol(protocol: &LoweredProtocol) -> ProtocolIr {
+fn lower_error_codes(codes: &[ErrorCodeModel]) -> Vec<ErrorCodeIr> {
+    codes
+        .iter()
+        .map(|c| ErrorCodeIr {
+            code: c.code as u16,
+            id: c.id.clone(),
+            variant: type_name(&c.id),
+            name: c.name.clone(),
+            name_zh: c.name_zh.clone(),
+            meaning: c.meaning.clone(),
+        })
+        .collect()
+}
+
+fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
     let runtime = &protocol.runtime;
     ProtocolIr {
         id: protocol.id.clone(),
@@ -375,6 +387,24 @@ fn lower_protocol(protocol: &LoweredProtocol) -> ProtocolIr {
         pre_steps: runtime.pre_steps.to_vec(),
         default_process: protocol.file.protocol.default_process,
         frame_gap_chars: runtime.frame_gap_chars,
+        error_table: if drive_table_applies(model, &protocol.id) {
+            ErrorTableIr::Drive
+        } else {
+            ErrorTableIr::Protocol(protocol.file.error_codes.as_ref().map_or_else(
+                || ErrorCodesIr {
+                    source: String::new(),
+                    protocols: vec![protocol.id.clone()],
+                    codes: Vec::new(),
+                    silent: Vec::new(),
+                },
+                |table| ErrorCodesIr {
+                    source: table.source.clone(),
+                    protocols: vec![protocol.id.clone()],
+                    codes: lower_error_codes(&table.codes),
+                    silent: Vec::new(),
+                },
+            ))
+        },
     }
 }
 

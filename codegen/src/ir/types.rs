@@ -287,6 +287,18 @@ pub struct ProtocolIr {
     pub default_process: Option<[u16; 2]>,
     /// Silence between frames, in character times.
     pub frame_gap_chars: f32,
+    /// The table its error replies are named from.
+    pub error_table: ErrorTableIr,
+}
+
+/// Where a protocol's error replies take their meaning from.
+#[derive(Debug, Clone, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ErrorTableIr {
+    /// The drive's own table ([`DriveIr::error_codes`]), which applies to this protocol.
+    Drive,
+    /// The protocol file's own table (empty when it has none): the drive's does not apply.
+    Protocol(ErrorCodesIr),
 }
 
 /// One command of a protocol.
@@ -315,6 +327,8 @@ pub struct CommandIr {
 pub struct ErrorCodesIr {
     /// Manual section.
     pub source: String,
+    /// Ids of the protocols whose error replies carry these codes.
+    pub protocols: Vec<String>,
     /// The codes.
     pub codes: Vec<ErrorCodeIr>,
     /// Conditions under which the drive stays silent.

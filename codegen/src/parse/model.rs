@@ -471,6 +471,10 @@ pub struct ProtocolRef {
 pub struct ErrorCodesModel {
     /// The manual section listing the codes.
     pub source: String,
+    /// The drive's protocols (their ids under `protocols`) whose error replies carry these
+    /// codes; left out: every one of them. A protocol not listed names its error codes
+    /// from its protocol file's own `error_codes`.
+    pub protocols: Option<Vec<String>>,
     /// The codes an error reply may carry.
     pub codes: Vec<ErrorCodeModel>,
     /// Conditions in which the drive does not answer at all (documentation only).
@@ -843,6 +847,20 @@ pub struct ProtocolFile {
     pub commands: Vec<CommandModel>,
     /// Name of the layout of an error reply.
     pub error_reply: Option<String>,
+    /// The codes the protocol's error replies carry, as the protocol itself defines them
+    /// (Modbus exception codes): used for a drive whose own `error_codes` do not apply to
+    /// this protocol.
+    pub error_codes: Option<ProtocolErrorCodesModel>,
+}
+
+/// A protocol's own error codes.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ProtocolErrorCodesModel {
+    /// Where the codes are defined (a specification, or the manuals that print them).
+    pub source: String,
+    /// The codes an error reply may carry.
+    pub codes: Vec<ErrorCodeModel>,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]

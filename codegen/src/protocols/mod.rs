@@ -5,10 +5,12 @@
 //!
 //! One module per thing lowered: [`layouts`] (layouts and their sizes), [`parts`] (one
 //! function per kind of part), [`commands`] (commands, codes and address maps),
-//! [`pre_steps`] and [`text`] (what `text: true` forbids). Every function reports into one
+//! [`pre_steps`], [`error_codes`] (which table names the error replies) and [`text`] (what
+//! `text: true` forbids). Every function reports into one
 //! [`Diagnostics`] and returns `None` when it cannot produce a value.
 
 mod commands;
+mod error_codes;
 mod layouts;
 mod parts;
 mod pre_steps;
@@ -19,13 +21,14 @@ use crate::load::LoadedDrive;
 use crate::parse::model::{DriveFile, ProtocolFile, ProtocolRef};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
-use vfd_runtime::{ErrorCodeInfo, Protocol, Space};
+use vfd_runtime::{Protocol, Space};
 
 /// Parses an address space.
 pub fn space_from_name(name: &str) -> Option<Space> {
     Space::ALL.into_iter().find(|s| s.as_str() == name)
 }
 
+pub(crate) use error_codes::drive_table_applies;
 pub use parts::parse_hex;
 
 /// A protocol as one drive uses it, lowered into the runtime's terms.
@@ -107,6 +110,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         .as_ref()
         .and_then(|name| layouts.find(name, "error_reply", out));
     layouts::check_default_optional_parts(file, source, out);
+    error_codes::check_error_codes(file, source, out);
     if out.items.len() > before {
         return None;
     }
@@ -128,7 +132,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         pre_steps: Cow::Owned(pre_steps),
         default_process: meta.default_process.unwrap_or([0, 0]),
         frame_gap_chars: meta.frame_gap_chars,
-        error_codes: Cow::Owned(error_codes(input.drive)),
+        error_codes: Cow::Owned(error_codes::error_table(input)),
     })
 }
 
@@ -146,22 +150,6 @@ fn check_id(input: &Input<'_>, out: &mut Diagnostics) {
                 .hint("make the id match the file name, which is how drive files refer to it"),
         );
     }
-}
-
-/// The drive's error table, as the runtime names error replies.
-fn error_codes(drive: &DriveFile) -> Vec<ErrorCodeInfo> {
-    drive
-        .error_codes
-        .codes
-        .iter()
-        .map(|code| ErrorCodeInfo {
-            code: code.code as u16,
-            id: Cow::Owned(code.id.clone()),
-            name: Cow::Owned(code.name.clone()),
-            name_zh: Cow::Owned(code.name_zh.clone()),
-            meaning: Cow::Owned(code.meaning.clone()),
-        })
-        .collect()
 }
 
 /// `a, b, c`: names for a hint.

@@ -1,12 +1,31 @@
-//! Check: bit-field words, code tables and value examples name things that exist.
+//! Check: bit-field words, code tables, value examples and the error table name things
+//! that exist.
 
 use crate::diagnostics::Diagnostics;
 use crate::validate::ranges;
 use crate::validate::Context;
 
-/// Bit-field words, code tables and value examples name things that exist.
+/// Bit-field words, code tables, value examples and the protocols the error table applies
+/// to name things that exist.
 pub fn references_resolve(drive: &Context, out: &mut Diagnostics) {
     let model = &drive.model;
+    for (index, id) in model.error_codes.protocols.iter().flatten().enumerate() {
+        if !model.protocols.iter().any(|protocol| &protocol.id == id) {
+            let ids: Vec<&str> = model.protocols.iter().map(|p| p.id.as_str()).collect();
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("error_codes.protocols[{index}]"),
+                        format!("protocol `{id}` is not one of the drive's protocols"),
+                    )
+                    .hint(format!(
+                        "name an id under `protocols:` ({})",
+                        ids.join(", ")
+                    )),
+            );
+        }
+    }
     for (index, register) in model.registers.iter().enumerate() {
         let extras: Vec<&str> = [
             ("code_table", register.code_table.is_some()),

@@ -1,16 +1,40 @@
 //! In-memory transport pairs for tests and simulations: two connected endpoints that
 //! pass bytes between threads without any operating-system device.
+//!
+//! Each [`Transport::send`] is one burst on the simulated line: a receive returns bytes of
+//! one burst at most, and [`Transport::last_gap`] tells the silence between bursts, so
+//! tests can script a drive that pauses.
 
 use std::collections::VecDeque;
 use std::io;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use super::Transport;
 
+/// Bytes sent in one direction and not yet read, with the bursts they were sent in.
+#[derive(Debug, Default)]
+struct Queue {
+    /// The bytes, oldest first.
+    bytes: VecDeque<u8>,
+    /// One entry per send still (partly) unread: bytes left of it, when it was sent, and
+    /// whether a receive already returned some of it.
+    bursts: VecDeque<Burst>,
+    /// When the burst read before the current one was sent (`None`: none since the pair
+    /// was made or the input was cleared).
+    previous: Option<Instant>,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Burst {
+    left: usize,
+    sent: Instant,
+    started: bool,
+}
+
 /// One direction of a memory pair: the queued bytes and a condition variable signalled
 /// whenever bytes are added.
-type Channel = Arc<(Mutex<VecDeque<u8>>, Condvar)>;
+type Channel = Arc<(Mutex<Queue>, Condvar)>;
 
 /// One end of an in-memory byte pipe created by [`memory_pair`].
 ///
@@ -22,34 +46,37 @@ type Channel = Arc<(Mutex<VecDeque<u8>>, Condvar)>;
 pub struct MemoryTransport {
     incoming: Channel,
     outgoing: Channel,
+    last_gap: Option<Duration>,
 }
 
 /// Creates two connected in-memory endpoints: bytes sent on either are received on
 /// the other.
 pub fn memory_pair() -> (MemoryTransport, MemoryTransport) {
-    let a_to_b: Channel = Arc::new((Mutex::new(VecDeque::new()), Condvar::new()));
-    let b_to_a: Channel = Arc::new((Mutex::new(VecDeque::new()), Condvar::new()));
+    let a_to_b: Channel = Arc::new((Mutex::new(Queue::default()), Condvar::new()));
+    let b_to_a: Channel = Arc::new((Mutex::new(Queue::default()), Condvar::new()));
     let a = MemoryTransport {
         incoming: Arc::clone(&b_to_a),
         outgoing: Arc::clone(&a_to_b),
+        last_gap: None,
     };
     let b = MemoryTransport {
         incoming: a_to_b,
         outgoing: b_to_a,
+        last_gap: None,
     };
     (a, b)
 }
 
 /// Locks a queue. A poisoned lock only means another thread panicked while holding it;
 /// a byte queue has no invariant that could be broken, so the data is used as is.
-fn lock(queue: &Mutex<VecDeque<u8>>) -> MutexGuard<'_, VecDeque<u8>> {
+fn lock(queue: &Mutex<Queue>) -> MutexGuard<'_, Queue> {
     queue.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 impl MemoryTransport {
     /// Number of bytes received from the peer and not yet read.
     pub fn pending(&self) -> usize {
-        lock(&self.incoming.0).len()
+        lock(&self.incoming.0).bytes.len()
     }
 
     /// Whether the peer endpoint has been dropped. Each channel is shared by exactly
@@ -71,7 +98,13 @@ impl Transport for MemoryTransport {
             return Ok(());
         }
         let (queue, ready) = &*self.outgoing;
-        lock(queue).extend(bytes.iter().copied());
+        let mut queue = lock(queue);
+        queue.bytes.extend(bytes.iter().copied());
+        queue.bursts.push_back(Burst {
+            left: bytes.len(),
+            sent: Instant::now(),
+            started: false,
+        });
         ready.notify_all();
         Ok(())
     }
@@ -83,10 +116,25 @@ impl Transport for MemoryTransport {
         let (queue, ready) = &*self.incoming;
         let mut pending = lock(queue);
         loop {
-            if !pending.is_empty() {
-                let count = buf.len().min(pending.len());
-                for (slot, byte) in buf.iter_mut().zip(pending.drain(..count)) {
+            let queue = &mut *pending;
+            if let Some(burst) = queue.bursts.front_mut() {
+                let count = buf.len().min(burst.left).min(queue.bytes.len());
+                for (slot, byte) in buf.iter_mut().zip(queue.bytes.drain(..count)) {
                     *slot = byte;
+                }
+                self.last_gap = if burst.started {
+                    Some(Duration::ZERO)
+                } else {
+                    let gap = queue
+                        .previous
+                        .map(|previous| burst.sent.saturating_duration_since(previous));
+                    queue.previous = Some(burst.sent);
+                    burst.started = true;
+                    gap
+                };
+                burst.left -= count;
+                if burst.left == 0 {
+                    queue.bursts.pop_front();
                 }
                 return Ok(count);
             }
@@ -102,8 +150,18 @@ impl Transport for MemoryTransport {
     }
 
     fn clear_input(&mut self) -> io::Result<()> {
-        lock(&self.incoming.0).clear();
+        let mut queue = lock(&self.incoming.0);
+        queue.bytes.clear();
+        queue.bursts.clear();
+        queue.previous = None;
+        self.last_gap = None;
         Ok(())
+    }
+
+    /// The time between the sends of the burst the last receive read from and of the
+    /// burst before it (the pipe itself takes no time).
+    fn last_gap(&self) -> Option<Duration> {
+        self.last_gap
     }
 }
 
@@ -216,6 +274,27 @@ mod tests {
         assert_eq!(receive_exact(&mut a, 3), b"bye");
         let mut buf = [0u8; 8];
         assert_eq!(a.receive(&mut buf, short_deadline()).unwrap(), 0);
+    }
+
+    #[test]
+    fn a_receive_returns_one_burst_at_most_and_tells_the_gap_before_it() {
+        let (mut a, mut b) = memory_pair();
+        a.send(b"one").unwrap();
+        thread::sleep(Duration::from_millis(20));
+        a.send(b"two").unwrap();
+        let mut buf = [0u8; 8];
+        assert_eq!(b.receive(&mut buf, soon()).unwrap(), 3);
+        assert_eq!(&buf[..3], b"one");
+        assert_eq!(b.last_gap(), None, "nothing came before the first burst");
+        let mut small = [0u8; 2];
+        assert_eq!(b.receive(&mut small, soon()).unwrap(), 2);
+        assert!(b.last_gap().unwrap() >= Duration::from_millis(20));
+        assert_eq!(b.receive(&mut small, soon()).unwrap(), 1);
+        assert_eq!(
+            b.last_gap(),
+            Some(Duration::ZERO),
+            "the rest of the same burst"
+        );
     }
 
     #[test]

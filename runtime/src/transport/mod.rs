@@ -5,7 +5,7 @@
 //! pseudo-terminal the `pty` feature on a Unix system (both features are on by default).
 
 use std::io;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 mod memory;
 #[cfg(all(unix, feature = "pty"))]
@@ -33,6 +33,16 @@ pub trait Transport {
     fn clear_input(&mut self) -> io::Result<()> {
         Ok(())
     }
+
+    /// The silence on the line just before the first byte the last [`Transport::receive`]
+    /// returned, when the transport can tell (`Some(Duration::ZERO)`: those bytes followed
+    /// earlier ones without a pause). `None` (the default) when it cannot: operating-system
+    /// buffers and USB adapters deliver bytes in chunks whose timing says little about the
+    /// line. The master uses it to start a new frame after a silence longer than the
+    /// protocol allows inside one.
+    fn last_gap(&self) -> Option<Duration> {
+        None
+    }
 }
 
 impl<T: Transport + ?Sized> Transport for &mut T {
@@ -44,5 +54,8 @@ impl<T: Transport + ?Sized> Transport for &mut T {
     }
     fn clear_input(&mut self) -> io::Result<()> {
         (**self).clear_input()
+    }
+    fn last_gap(&self) -> Option<Duration> {
+        (**self).last_gap()
     }
 }

@@ -20,6 +20,8 @@ pub(super) struct DriveView<'a> {
     serial: SerialView<'a>,
     protocols: Vec<ProtocolView<'a>>,
     error_codes: ErrorCodesView<'a>,
+    /// The protocols the drive's table does not apply to, with the tables they use.
+    protocol_error_tables: Vec<ProtocolErrorsView<'a>>,
     registers: Vec<RegisterView<'a>>,
     bitfields: Vec<BitfieldView<'a>>,
     code_tables: Vec<CodeTableView<'a>>,
@@ -83,6 +85,35 @@ struct ErrorCodesView<'a> {
     #[serde(flatten)]
     error_codes: &'a ErrorCodesIr,
     codes: Vec<ErrorCodeView<'a>>,
+    /// The protocols it applies to, as `` `fc`, `modbus` ``.
+    protocols_display: String,
+}
+
+#[derive(Serialize)]
+struct ProtocolErrorsView<'a> {
+    id: &'a str,
+    name: &'a str,
+    table: ErrorCodesView<'a>,
+}
+
+fn error_codes_view(table: &ErrorCodesIr) -> ErrorCodesView<'_> {
+    ErrorCodesView {
+        error_codes: table,
+        codes: table
+            .codes
+            .iter()
+            .map(|code| ErrorCodeView {
+                code,
+                code_hex: format!("{:04X}h", code.code),
+            })
+            .collect(),
+        protocols_display: table
+            .protocols
+            .iter()
+            .map(|id| format!("`{id}`"))
+            .collect::<Vec<_>>()
+            .join(", "),
+    }
 }
 
 #[derive(Serialize)]
@@ -263,18 +294,19 @@ impl<'a> DriveView<'a> {
                 .iter()
                 .map(|p| protocol_view(drive, p))
                 .collect(),
-            error_codes: ErrorCodesView {
-                error_codes: &drive.error_codes,
-                codes: drive
-                    .error_codes
-                    .codes
-                    .iter()
-                    .map(|code| ErrorCodeView {
-                        code,
-                        code_hex: format!("{:04X}h", code.code),
-                    })
-                    .collect(),
-            },
+            error_codes: error_codes_view(&drive.error_codes),
+            protocol_error_tables: drive
+                .protocols
+                .iter()
+                .filter_map(|p| match &p.error_table {
+                    ErrorTableIr::Drive => None,
+                    ErrorTableIr::Protocol(table) => Some(ProtocolErrorsView {
+                        id: &p.id,
+                        name: &p.name,
+                        table: error_codes_view(table),
+                    }),
+                })
+                .collect(),
             registers: drive
                 .registers
                 .iter()

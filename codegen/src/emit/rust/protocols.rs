@@ -4,7 +4,7 @@
 
 use super::bake::{int_literal, Bake};
 use super::*;
-use crate::ir::{CommandIr, ProtocolFileIr};
+use crate::ir::{CommandIr, ErrorCodeIr, ErrorTableIr, ProtocolFileIr};
 
 /// `layouts::<file>` modules, one per protocol file, each holding one `const` per layout.
 pub(crate) fn layouts_module(files: &[&ProtocolFileIr]) -> TokenStream {
@@ -81,11 +81,7 @@ fn layout_imports(file: &ProtocolFileIr) -> TokenStream {
 /// module (`super::layouts` when the drive holds its own, `super::super::layouts` when
 /// several drives share one).
 pub(crate) fn protocols_module(drive: &DriveIr, layouts: &TokenStream) -> TokenStream {
-    let error_codes = drive.error_codes.codes.iter().map(|code| {
-        let value = int_literal(code.code);
-        let (id, name, name_zh, meaning) = (&code.id, &code.name, &code.name_zh, &code.meaning);
-        quote!(ErrorCodeInfo::new(#value, #id, #name, #name_zh, #meaning))
-    });
+    let error_codes = drive.error_codes.codes.iter().map(error_code_tokens);
     let error_count = int_literal(drive.error_codes.codes.len());
     let protocols = drive
         .protocols
@@ -142,13 +138,19 @@ pub(crate) fn protocols_module(drive: &DriveIr, layouts: &TokenStream) -> TokenS
             use ::vfd_runtime::{#(#imports),*};
             use #layouts::{#(#files),*};
 
-            /// The manual's error codes, shared by the drive's protocols.
+            /// The manual's error codes, shared by the drive's protocols they apply to.
             pub static ERROR_CODES: [ErrorCodeInfo; #error_count] = [#(#error_codes),*];
             #(#protocols)*
             /// Every protocol of the drive.
             pub static ALL: [&Protocol; #count] = [#(#all),*];
         }
     }
+}
+
+fn error_code_tokens(code: &ErrorCodeIr) -> TokenStream {
+    let value = int_literal(code.code);
+    let (id, name, name_zh, meaning) = (&code.id, &code.name, &code.name_zh, &code.meaning);
+    quote!(ErrorCodeInfo::new(#value, #id, #name, #name_zh, #meaning))
 }
 
 fn command_tokens(command: &CommandIr, file: &Ident) -> TokenStream {
@@ -223,7 +225,29 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
         "{}, from the protocol file `{}`; manual section {}.",
         protocol.name, protocol.uses, protocol.source
     ));
+    // Error replies are named from the drive's table, or from the protocol's own.
+    let (error_table, error_codes) = match &protocol.error_table {
+        ErrorTableIr::Drive => (TokenStream::new(), quote!(ERROR_CODES)),
+        ErrorTableIr::Protocol(table) => {
+            let name = format_ident!("{}_ERROR_CODES", protocol.const_name);
+            let count = int_literal(table.codes.len());
+            let codes = table.codes.iter().map(error_code_tokens);
+            let doc = doc_text(format!(
+                "The error codes of {} replies, as the protocol defines them ({}): the \
+                 drive's table does not apply to this protocol.",
+                protocol.name, table.source
+            ));
+            (
+                quote! {
+                    #[doc = #doc]
+                    pub static #name: [ErrorCodeInfo; #count] = [#(#codes),*];
+                },
+                quote!(#name),
+            )
+        }
+    };
     quote! {
+        #error_table
         static #commands_name: [CommandSpec; #command_count] = [#(#commands),*];
         #[doc = #doc]
         pub static #name: DriveProtocol<super::Drive> = DriveProtocol::new(&#untyped);
@@ -236,7 +260,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             max_frame_len: #max,
             address_range: (#min_address, #max_address),
             default_optional_parts: Cow::Borrowed(&[#(#optional),*]),
-            error_codes: Cow::Borrowed(&ERROR_CODES),
+            error_codes: Cow::Borrowed(&#error_codes),
             pre_steps: Cow::Borrowed(&[#(#pre_steps),*]),
             default_process: [#first, #second],
             frame_gap_chars: #gap,
