@@ -39,3 +39,23 @@ pub fn description(data: &[u8]) {
         let _ = vfd_codegen::rust_tokens(&drive);
     }
 }
+
+/// The virtual drive's request handling on `data`: the first byte picks the drive and the
+/// protocol, the rest is the line input, answered whole and as a stream.
+pub fn virtual_drive(data: &[u8]) {
+    let Some((&selector, frame)) = data.split_first() else {
+        return;
+    };
+    let drives = &vfd_drives::ALL_DRIVES;
+    let drive = drives[usize::from(selector) % drives.len()];
+    if drive.protocols.is_empty() {
+        return;
+    }
+    let protocol = drive.protocols[usize::from(selector >> 4) % drive.protocols.len()];
+    let mut simulated = vfd_runtime::virtual_drive::VirtualDrive::new(drive);
+    let _ = simulated.respond(protocol, frame);
+    let mut input = frame.to_vec();
+    let _ = simulated.receive(protocol, &mut input);
+    simulated.advance(std::time::Duration::from_millis(u64::from(selector) * 100));
+    let _ = simulated.respond(protocol, frame);
+}

@@ -377,7 +377,8 @@ struct NodeDe<'a> {
     path: &'a Path<'a>,
     reader: &'a Reader,
     /// The mapping this node is a value of, read as a struct: its id and its keys.
-    parent: Option<(usize, &'static [&'static str])>,
+    /// With the keys it has, so that a key it already has is not said to belong there.
+    parent: Option<(usize, &'static [&'static str], &'a [&'a (Node, Node)])>,
 }
 
 impl<'a> NodeDe<'a> {
@@ -705,8 +706,9 @@ impl<'a> NodeDe<'a> {
         }
         drop(known);
         // Written too far right: the mapping around this one expects it.
-        if let Some((parent, parent_fields)) = self.parent {
-            if parent_fields.contains(&name) {
+        if let Some((parent, parent_fields, parent_entries)) = self.parent {
+            let has_it = parent_entries.iter().any(|(k, _)| k.text() == Some(name));
+            if parent_fields.contains(&name) && !has_it {
                 self.reader.push(problem(
                     format!(
                         "`{name}` is not a key of `{}`: it is indented too far",
@@ -1027,7 +1029,7 @@ impl<'de> de::MapAccess<'de> for StructDe<'_> {
             node,
             path: &path,
             reader: self.reader,
-            parent: (self.id != 0).then_some((self.id, self.fields)),
+            parent: (self.id != 0).then_some((self.id, self.fields, &self.entries[..])),
         })
     }
 }
@@ -1331,6 +1333,23 @@ mod tests {
         assert_eq!(
             messages(&outcome),
             ["6:7 items[0].range.name | `name` is not a key of `range`: it is indented too far | indent `name` like the keys of the mapping around it"]
+        );
+    }
+
+    #[test]
+    fn a_key_the_enclosing_mapping_already_has_is_just_unknown() {
+        let outcome = read_text(concat!(
+            "items:\n",
+            "  - address: 1\n",
+            "    name: a\n",
+            "    range:\n",
+            "      min: 0\n",
+            "      max: 10\n",
+            "      name: b\n",
+        ));
+        assert_eq!(
+            messages(&outcome),
+            ["7:7 items[0].range.name | unknown key `name` | the keys allowed here are `min`, `max`; drives/README.md says what each means"]
         );
     }
 

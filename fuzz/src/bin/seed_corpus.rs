@@ -1,6 +1,7 @@
 //! Writes the seed corpora: every example frame of every described drive (as printed and as
-//! corrected) into `corpus/<protocol file>_request/` and `_reply/`, and every drive file and
-//! broken-description fixture into `corpus/description/`. Run from `fuzz/`:
+//! corrected) into `corpus/<protocol file>_request/` and `_reply/` (requests also, behind a
+//! selector byte, into `corpus/virtual_drive/`), and every drive file and broken-description
+//! fixture into `corpus/description/`. Run from `fuzz/`:
 //! `cargo run --bin seed_corpus`.
 
 use std::fs;
@@ -40,6 +41,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 fs::create_dir_all(&dir)?;
                 fs::write(dir.join(format!("{}_{}", drive.id, example.id)), &frame.bytes)?;
                 written += 1;
+                if side == "request" {
+                    // The virtual drive's target: a selector byte (drive, protocol), then
+                    // the request; every selector of two drives and two protocols.
+                    let dir = corpus.join("virtual_drive");
+                    fs::create_dir_all(&dir)?;
+                    for selector in [0x00u8, 0x01, 0x10, 0x11] {
+                        let mut seed = vec![selector];
+                        seed.extend_from_slice(&frame.bytes);
+                        fs::write(
+                            dir.join(format!("{}_{}_{selector:02x}", drive.id, example.id)),
+                            seed,
+                        )?;
+                        written += 1;
+                    }
+                }
                 if let Some(printed) = &frame.printed {
                     fs::write(
                         dir.join(format!("{}_{}_printed", drive.id, example.id)),
