@@ -371,6 +371,10 @@ fn list(names: &[&str]) -> String {
         .join(", ")
 }
 
+/// The mapping a value sits in, read as a struct: its node id, the keys it accepts and the
+/// entries it has.
+type Enclosing<'a> = (usize, &'static [&'static str], &'a [&'a (Node, Node)]);
+
 /// Reads one node (or, with `node: None`, a placeholder for a missing one).
 struct NodeDe<'a> {
     node: Option<&'a Node>,
@@ -378,7 +382,7 @@ struct NodeDe<'a> {
     reader: &'a Reader,
     /// The mapping this node is a value of, read as a struct: its id and its keys.
     /// With the keys it has, so that a key it already has is not said to belong there.
-    parent: Option<(usize, &'static [&'static str], &'a [&'a (Node, Node)])>,
+    parent: Option<Enclosing<'a>>,
 }
 
 impl<'a> NodeDe<'a> {
