@@ -459,6 +459,23 @@ impl FrameLayout {
         self.locate(role).is_some()
     }
 
+    /// The codes the layout's command field (or command bits of a word) allows; empty when
+    /// it allows any or has none.
+    pub fn allowed_commands(&self) -> &[u32] {
+        for part in self.parts.iter() {
+            match part {
+                Part::Field(field) if field.role == Role::Command => return &field.allowed,
+                Part::Word(word) => {
+                    if let Some(bits) = word.fields.iter().find(|b| b.role == Role::Command) {
+                        return &bits.allowed;
+                    }
+                }
+                _ => {}
+            }
+        }
+        &[]
+    }
+
     /// The field with this role.
     pub fn field(&self, role: Role) -> Option<&FieldSpec> {
         self.parts.iter().find_map(|part| match part {

@@ -66,6 +66,10 @@ pub struct CommandSpec {
     pub reply: FrameLayout,
     /// Codes a normal reply may carry; empty means the request's own code.
     pub reply_codes: List<u32>,
+    /// The code an error reply to this command carries, where the error layout allows
+    /// several (a Modbus exception to function 03 carries 83h); `None`: the one code the
+    /// error layout allows.
+    pub error_code: Option<u32>,
 }
 
 /// Const constructors for generated code.
@@ -87,7 +91,14 @@ impl CommandSpec {
             request,
             reply,
             reply_codes: Cow::Borrowed(&[]),
+            error_code: None,
         }
+    }
+
+    /// An error reply to it carries this code.
+    pub const fn with_error_code(mut self, code: u32) -> CommandSpec {
+        self.error_code = Some(code);
+        self
     }
 
     /// Carries only these data types.

@@ -373,6 +373,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
                 request: c.request.name.to_string(),
                 reply: c.reply.name.to_string(),
                 reply_codes: c.reply_codes.to_vec(),
+                error_code: c.error_code,
             })
             .collect(),
         error_reply: runtime.error_reply.as_ref().map(|l| l.name.to_string()),

@@ -320,6 +320,9 @@ pub struct CommandIr {
     pub reply: String,
     /// Codes a normal reply may carry (empty: the request's).
     pub reply_codes: Vec<u32>,
+    /// The code an error reply to it carries, where the error layout allows several.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_code: Option<u32>,
 }
 
 /// The manual's error codes.

@@ -1186,6 +1186,10 @@ pub struct CommandModel {
     /// Codes a normal reply may carry; empty: the request's code.
     #[serde(default)]
     pub reply_codes: Vec<CodeModel>,
+    /// The code an error reply to this command carries, where the `error_reply` layout
+    /// allows several (a Modbus exception to function 0x03 carries 0x83); left out: the one
+    /// code the error layout allows.
+    pub error_code: Option<CodeModel>,
     /// Notes for people reading the protocol file; nothing is generated from them.
     #[serde(default)]
     #[allow(dead_code)]

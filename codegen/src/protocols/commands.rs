@@ -8,7 +8,7 @@ use crate::diagnostics::Diagnostics;
 use crate::parse::model::{CommandModel, ProtocolRef};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
-use vfd_runtime::{AddressMap, CommandKind, CommandSpec, Part, Role, Space};
+use vfd_runtime::{AddressMap, CommandKind, CommandSpec, Role, Space};
 
 /// A command that lowered, with its index under `commands:`.
 pub(super) struct LoweredCommand {
@@ -75,7 +75,60 @@ fn lower_command(
         request: request?,
         reply: reply?,
         reply_codes: Cow::Owned(reply_codes?),
+        error_code: match &command.error_code {
+            None => None,
+            Some(code) => Some(code.value().or_else(|| {
+                out.push(
+                    source
+                        .error(
+                            &format!("{path}.error_code"),
+                            "an error code is a number or a single character",
+                        )
+                        .hint("e.g. error_code: 0x83"),
+                );
+                None
+            })?),
+        },
     })
+}
+
+/// Each command's `error_code` is one the error reply layout allows.
+pub(super) fn check_error_codes(
+    commands: &[LoweredCommand],
+    error_reply: Option<&vfd_runtime::FrameLayout>,
+    source: &SourceFile,
+    out: &mut Diagnostics,
+) {
+    for command in commands {
+        let Some(code) = command.spec.error_code else {
+            continue;
+        };
+        let path = format!("{}.error_code", command.path());
+        match error_reply {
+            None => out.push(
+                source
+                    .error(&path, "an error code, but the protocol has no `error_reply` layout")
+                    .hint("name the error reply's layout under `error_reply`, or leave `error_code` out"),
+            ),
+            Some(layout) => {
+                let allowed = layout.allowed_commands();
+                if !allowed.is_empty() && !allowed.contains(&code) {
+                    out.push(
+                        source
+                            .error(
+                                &path,
+                                format!(
+                                    "error code {} is not among the codes layout `{}` allows",
+                                    vfd_runtime::protocol::code_label(code),
+                                    layout.name
+                                ),
+                            )
+                            .hint("add it to the error layout's `allowed` list, or fix the code"),
+                    );
+                }
+            }
+        }
+    }
 }
 
 /// The command's code on the wire (0 for layouts without a command field).
@@ -189,21 +242,7 @@ fn check_code_is_allowed(command: &LoweredCommand, source: &SourceFile, out: &mu
     if !spec.request.has(Role::Command) {
         return;
     }
-    let allowed: Vec<u32> = spec
-        .request
-        .parts
-        .iter()
-        .flat_map(|part| match part {
-            Part::Field(field) if field.role == Role::Command => field.allowed.to_vec(),
-            Part::Word(word) => word
-                .fields
-                .iter()
-                .filter(|bits| bits.role == Role::Command)
-                .flat_map(|bits| bits.allowed.to_vec())
-                .collect(),
-            _ => Vec::new(),
-        })
-        .collect();
+    let allowed = spec.request.allowed_commands();
     if !allowed.is_empty() && !allowed.contains(&spec.code) {
         out.push(
             source

@@ -97,6 +97,11 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     let layouts = layouts::lower_layouts(file, source, out);
     layouts::check_rust_names(&input.reference.id, file, source, out);
     let commands = commands::lower_commands(input, &layouts, out);
+    let error_reply = file
+        .error_reply
+        .as_ref()
+        .and_then(|name| layouts.find(name, "error_reply", out));
+    commands::check_error_codes(&commands, error_reply.as_ref(), source, out);
     commands::check_address_maps(input, out);
     commands::check_commands(&commands, source, out);
     layouts::check_frame_sizes(&commands, file, source, out);
@@ -105,10 +110,6 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     }
     check_id(input, out);
     let pre_steps = pre_steps::lower_pre_steps(input, out);
-    let error_reply = file
-        .error_reply
-        .as_ref()
-        .and_then(|name| layouts.find(name, "error_reply", out));
     layouts::check_default_optional_parts(file, source, out);
     error_codes::check_error_codes(file, source, out);
     if out.items.len() > before {

@@ -48,22 +48,6 @@ pub enum Outcome {
     Silent(&'static str),
 }
 
-/// The codes a layout allows for its command field (a field, or bits of a word).
-fn allowed_commands(layout: &FrameLayout) -> &[u32] {
-    for part in layout.parts.iter() {
-        match part {
-            Part::Field(field) if field.role == Role::Command => return &field.allowed,
-            Part::Word(word) => {
-                if let Some(bits) = word.fields.iter().find(|b| b.role == Role::Command) {
-                    return &bits.allowed;
-                }
-            }
-            _ => {}
-        }
-    }
-    &[]
-}
-
 /// The code a normal reply to `command` carries for a register of `data_type`: the
 /// request's own code, or the reply code listed at the data type's position.
 fn reply_code(command: &CommandSpec, data_type: DataType) -> u32 {
@@ -79,17 +63,16 @@ fn reply_code(command: &CommandSpec, data_type: DataType) -> u32 {
     }
 }
 
-/// The code of an error reply to `command`: the one code the error layout allows, or the
-/// allowed code that carries the request's code in its low bits (Modbus: function | 80h).
-fn error_code_for(layout: &FrameLayout, command: u32) -> u32 {
-    let allowed = allowed_commands(layout);
-    match allowed {
-        [only] => *only,
-        _ => allowed
-            .iter()
-            .copied()
-            .find(|code| *code != command && code & command == command && code & 0x7F == command)
-            .unwrap_or(command),
+/// The code of an error reply to `command`: the code the protocol file gives it, else the
+/// one code the error layout allows, else the request's own code.
+fn error_code_for(layout: &FrameLayout, command: Option<&CommandSpec>) -> u32 {
+    match (
+        command.and_then(|c| c.error_code),
+        layout.allowed_commands(),
+    ) {
+        (Some(code), _) => code,
+        (None, [only]) => *only,
+        _ => command.map_or(0, |c| c.code),
     }
 }
 
@@ -139,7 +122,7 @@ impl VirtualDrive {
         let (Some(code), Some(layout)) = (refusal.code(refusals), &protocol.error_reply) else {
             return Outcome::Silent("the manual gives no error reply for this");
         };
-        let command = request.map_or(0, |r| r.command.code);
+        let command = error_code_for(layout, request.map(|r| r.command));
         let mut values = FrameValues::default();
         match request {
             Some(request) => mirror_optional_parts(
@@ -156,7 +139,7 @@ impl VirtualDrive {
         }
         let roles = Roles {
             address: request.and_then(|r| r.address).map(u32::from),
-            command: Some(self.shown(protocol, error_code_for(layout, command))),
+            command: Some(self.shown(protocol, command)),
             register: request.and_then(|r| r.wire_register).map(u32::from),
             index: request.and_then(|r| r.index).map(u32::from),
             error_code: Some(u32::from(code)),

@@ -70,6 +70,7 @@ struct CommandView<'a> {
     space: &'a str,
     address_map: String,
     reply_codes: String,
+    error_code: String,
     request: &'a str,
     reply: &'a str,
 }
@@ -486,6 +487,9 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
                         .collect::<Vec<_>>()
                         .join(", ")
                 },
+                error_code: c
+                    .error_code
+                    .map_or_else(|| "the error layout's".to_owned(), vfd_runtime::protocol::code_label),
                 request: &c.request,
                 reply: &c.reply,
             })

@@ -184,6 +184,10 @@ fn command_tokens(command: &CommandIr, file: &Ident) -> TokenStream {
         let codes = command.reply_codes.iter().map(|c| int_literal(*c));
         tokens.extend(quote!(.with_reply_codes(&[#(#codes),*])));
     }
+    if let Some(code) = command.error_code {
+        let code = int_literal(code);
+        tokens.extend(quote!(.with_error_code(#code)));
+    }
     tokens
 }
 
