@@ -489,7 +489,7 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
                 },
                 error_code: c
                     .error_code
-                    .map_or_else(|| "the error layout's".to_owned(), vfd_runtime::protocol::code_label),
+                    .map_or_else(|| "—".to_owned(), vfd_runtime::protocol::code_label),
                 request: &c.request,
                 reply: &c.reply,
             })
