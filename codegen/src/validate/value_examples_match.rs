@@ -13,8 +13,18 @@ pub fn value_examples_match(drive: &Context, out: &mut Diagnostics) {
             continue;
         };
         // The runtime rounds to the nearest step, so the example must round to its raw value.
+        // A signed register's negative values are two's complement in its word.
         let steps = example.value / ranges::scale_of(register);
-        if !steps.is_finite() || steps.round() as i64 != i64::from(example.raw) {
+        let bits = 8 * register
+            .data_type
+            .unwrap_or(vfd_runtime::DataType::Word)
+            .size() as u32;
+        let mask = (1i64 << bits.clamp(8, 32)) - 1;
+        let raw = match steps.round() as i64 {
+            negative if negative < 0 && register.signed => negative & mask,
+            raw => raw,
+        };
+        if !steps.is_finite() || raw != i64::from(example.raw) {
             out.push(
                 drive
                     .source
@@ -48,6 +58,27 @@ mod tests {
             "register: maximum_frequency, value: 80.004",
         )]);
         assert!(check_yaml(check, &yaml).is_empty());
+    }
+
+    #[test]
+    fn a_signed_register_gives_negative_values_in_twos_complement() {
+        let yaml = valid_with(&[
+            (
+                "code: F601, name: Parity,",
+                "code: F601, name: Parity, signed: true, scale: 0.01,",
+            ),
+            (
+                "register: FH, value: 80.0, raw: 0x1F40",
+                "register: F601, value: -100.0, raw: 0xD8F0",
+            ),
+        ]);
+        assert!(
+            check_yaml(check, &yaml).is_empty(),
+            "{:?}",
+            check_yaml(check, &yaml)
+        );
+        let yaml = yaml.replace("raw: 0xD8F0", "raw: 0xD8F1");
+        assert_eq!(check_yaml(check, &yaml).len(), 1);
     }
 
     #[test]
