@@ -132,7 +132,7 @@ fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
             }
             /// Whether any reserved bit is set.
             pub const fn has_reserved_bits(self) -> bool {
-                self.0 & Self::RESERVED != 0
+                bits::flag(self.0, Self::RESERVED)
             }
             #(#accessors)*
         }
