@@ -464,6 +464,19 @@ pub struct ProtocolRef {
     /// Steps this drive needs before some requests (added to the protocol file's).
     #[serde(default)]
     pub pre_steps: Vec<PreStepModel>,
+    /// The station numbers this protocol reaches, where narrower than the drive's
+    /// `addressing` (a two-digit ASCII station: 0-99; Modbus: 1-247).
+    pub addressing: Option<StationRangeModel>,
+}
+
+/// A range of station numbers.
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StationRangeModel {
+    /// Lowest station number.
+    pub min: u8,
+    /// Highest station number.
+    pub max: u8,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]

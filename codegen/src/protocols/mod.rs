@@ -112,6 +112,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     let pre_steps = pre_steps::lower_pre_steps(input, out);
     layouts::check_default_optional_parts(file, source, out);
     error_codes::check_error_codes(file, source, out);
+    let out_of_band = check_station_range(input, out);
     if out.items.len() > before {
         return None;
     }
@@ -123,7 +124,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         error_reply,
         lowercase_means_tripped: meta.lowercase_means_tripped,
         max_frame_len: meta.max_frame_len,
-        address_range: (input.drive.addressing.min, input.drive.addressing.max),
+        address_range: station_range(input, out_of_band),
         default_optional_parts: Cow::Owned(
             meta.default_optional_parts
                 .iter()
@@ -135,6 +136,34 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         frame_gap_chars: meta.frame_gap_chars,
         error_codes: Cow::Owned(error_codes::error_table(input)),
     })
+}
+
+/// The stations this protocol reaches: the reference's `addressing`, else the drive's.
+fn station_range(input: &Input<'_>, checked: Option<(u8, u8)>) -> (u8, u8) {
+    checked.unwrap_or((input.drive.addressing.min, input.drive.addressing.max))
+}
+
+/// A protocol's own station range lies within the drive's and is not empty; returns it.
+fn check_station_range(input: &Input<'_>, out: &mut Diagnostics) -> Option<(u8, u8)> {
+    let range = input.reference.addressing?;
+    let drive = &input.drive.addressing;
+    let path = format!("{}.addressing", input.reference_path);
+    if range.min > range.max || range.min < drive.min || range.max > drive.max {
+        out.push(
+            input
+                .drive_source
+                .error(
+                    &path,
+                    format!(
+                        "station range {}-{} of protocol `{}` is not within the drive's {}-{}",
+                        range.min, range.max, input.reference.id, drive.min, drive.max
+                    ),
+                )
+                .hint("a protocol may reach fewer stations than the drive, not more: check `addressing` and this range against the manual"),
+        );
+        return None;
+    }
+    Some((range.min, range.max))
 }
 
 /// The protocol file's id must be its file name, which is how drive files name it.
