@@ -467,6 +467,12 @@ pub struct ProtocolRef {
     /// The station numbers this protocol reaches, where narrower than the drive's
     /// `addressing` (a two-digit ASCII station: 0-99; Modbus: 1-247).
     pub addressing: Option<StationRangeModel>,
+    /// The codes of the protocol file's commands this drive carries out, where it
+    /// implements only some (`[0x03, 0x06]`); left out: all of them.
+    pub commands: Option<Vec<CodeModel>>,
+    /// The data types this drive carries over the protocol, where fewer than the protocol
+    /// file's commands allow (`[word]`: one register per Modbus request); left out: all.
+    pub data_types: Option<Vec<DataType>>,
 }
 
 /// A range of station numbers.

@@ -8,7 +8,7 @@ use crate::diagnostics::Diagnostics;
 use crate::parse::model::{CommandModel, ProtocolRef};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
-use vfd_runtime::{AddressMap, CommandKind, CommandSpec, Role, Space};
+use vfd_runtime::{AddressMap, CommandKind, CommandSpec, DataType, Role, Space};
 
 /// A command that lowered, with its index under `commands:`.
 pub(super) struct LoweredCommand {
@@ -90,6 +90,63 @@ fn lower_command(
             })?),
         },
     })
+}
+
+/// The commands the drive carries out, with the data types it carries
+/// (`protocols[].commands`, `protocols[].data_types`); a command left with no data type is
+/// dropped. A code the protocol file does not have is reported.
+pub(super) fn drive_subset(
+    commands: Vec<LoweredCommand>,
+    input: &Input<'_>,
+    out: &mut Diagnostics,
+) -> Vec<LoweredCommand> {
+    let reference = input.reference;
+    let mut codes = Vec::new();
+    for (index, code) in reference.commands.iter().flatten().enumerate() {
+        let value = code.value();
+        let known = value.is_some_and(|v| commands.iter().any(|c| c.spec.code == v));
+        if known {
+            codes.extend(value);
+        } else {
+            out.push(
+                input
+                    .drive_source
+                    .error(
+                        &format!("{}.commands[{index}]", input.reference_path),
+                        format!(
+                            "protocol file `{}` has no command {}",
+                            reference.uses,
+                            code.shown()
+                        ),
+                    )
+                    .hint("list codes of the protocol file's `commands`; see its page for them"),
+            );
+        }
+    }
+    commands
+        .into_iter()
+        .filter(|c| reference.commands.is_none() || codes.contains(&c.spec.code))
+        .filter_map(|mut c| {
+            let Some(allowed) = &reference.data_types else {
+                return Some(c);
+            };
+            let carried: Vec<DataType> = if c.spec.data_types.is_empty() {
+                allowed.clone()
+            } else {
+                c.spec
+                    .data_types
+                    .iter()
+                    .copied()
+                    .filter(|t| allowed.contains(t))
+                    .collect()
+            };
+            if carried.is_empty() {
+                return None;
+            }
+            c.spec.data_types = Cow::Owned(carried);
+            Some(c)
+        })
+        .collect()
 }
 
 /// Each command's `error_code` is one the error reply layout allows.
