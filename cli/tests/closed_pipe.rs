@@ -8,6 +8,10 @@ fn a_closed_pipe_ends_the_tool_quietly() {
     for args in [
         &["registers", "yd1000"][..],
         &["generate", "--dump-ir", "yd1000"][..],
+        &["info", "yd1000"][..],
+        &["info", "fc51"][..],
+        &["completions", "bash"][..],
+        &["demo", "--seconds", "1"][..],
     ] {
         let mut child = Command::new(env!("CARGO_BIN_EXE_vfd"))
             .args(args)

@@ -54,6 +54,13 @@ pub struct RegisterInfo {
     /// Factory value as a raw word (what the drive holds after a factory reset), when the
     /// manual gives one.
     pub default_raw: Option<u32>,
+    /// The bit-field layout of its value, for bit-field words.
+    pub bits: Option<&'static BitWordInfo>,
+    /// The code table naming its values, when the manual gives one (complete or not).
+    pub codes: Option<&'static CodeTableInfo>,
+    /// The manual's description of the register and the description's remarks, as one
+    /// text (empty when there are none).
+    pub text: &'static str,
 }
 
 /// Const builders: generated code writes a register as `RegisterInfo::new(..)` followed by
@@ -144,6 +151,24 @@ impl RegisterInfo {
         self
     }
 
+    /// Its value is a bit-field word laid out as `bits` says.
+    pub const fn with_bits(mut self, bits: &'static BitWordInfo) -> Self {
+        self.bits = Some(bits);
+        self
+    }
+
+    /// Its values are named by the code table `codes`.
+    pub const fn with_codes(mut self, codes: &'static CodeTableInfo) -> Self {
+        self.codes = Some(codes);
+        self
+    }
+
+    /// With the manual's description and remarks.
+    pub const fn with_text(mut self, text: &'static str) -> Self {
+        self.text = text;
+        self
+    }
+
     /// With this shape on the wire.
     pub const fn with_data_type(mut self, data_type: DataType) -> Self {
         self.data_type = data_type;
@@ -190,6 +215,9 @@ impl RegisterInfo {
         panel_only: false,
         takes_effect: TakesEffect::Immediately,
         default_raw: None,
+        bits: None,
+        codes: None,
+        text: "",
     };
 
     /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.
@@ -241,6 +269,108 @@ pub fn manual_number(space: Space, address: u16, code: &str) -> String {
         address.to_string()
     } else {
         format!("{address:04X}")
+    }
+}
+
+/// One value of a code table: the number, its identifier and its names.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CodeInfo {
+    /// The value on the wire.
+    pub value: u16,
+    /// Identifier in the drive file (`even`).
+    pub id: &'static str,
+    /// English name.
+    pub name: &'static str,
+    /// The manual's Chinese name (empty when the manual gives none).
+    pub name_zh: &'static str,
+}
+
+/// A code table (enumeration) of the manual, as data: what tools show beside a value and
+/// accept instead of a number.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CodeTableInfo {
+    /// Identifier in the drive file (`parity`).
+    pub id: &'static str,
+    /// English name.
+    pub name: &'static str,
+    /// The manual's Chinese name.
+    pub name_zh: &'static str,
+    /// The manual lists every value (otherwise a value may have no entry).
+    pub exhaustive: bool,
+    /// The values, in the manual's order.
+    pub values: &'static [CodeInfo],
+}
+
+impl CodeTableInfo {
+    /// The entry for `value`, if the table has one.
+    pub fn find(&self, value: u16) -> Option<&'static CodeInfo> {
+        self.values.iter().find(|code| code.value == value)
+    }
+
+    /// The entry whose identifier, English or Chinese name is `name` (case-insensitive).
+    pub fn lookup(&self, name: &str) -> Option<&'static CodeInfo> {
+        self.values.iter().find(|code| {
+            code.id.eq_ignore_ascii_case(name)
+                || code.name.eq_ignore_ascii_case(name)
+                || (!code.name_zh.is_empty() && code.name_zh == name)
+        })
+    }
+}
+
+/// One named field of a bit-field word (reserved bits are left out).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BitFieldInfo {
+    /// Identifier in the drive file (`run`).
+    pub id: &'static str,
+    /// English name.
+    pub name: &'static str,
+    /// The manual's Chinese name.
+    pub name_zh: &'static str,
+    /// The field's bits within the word.
+    pub mask: u16,
+    /// What 0 means (empty when the manual does not say).
+    pub zero: &'static str,
+    /// What 1 means (empty when the manual does not say).
+    pub one: &'static str,
+    /// The code table naming a multi-bit field's values, if any.
+    pub codes: Option<&'static CodeTableInfo>,
+}
+
+impl BitFieldInfo {
+    /// The field's value in `word`, shifted down to bit 0.
+    pub fn value(&self, word: u16) -> u16 {
+        if self.mask == 0 {
+            0
+        } else {
+            (word & self.mask) >> self.mask.trailing_zeros()
+        }
+    }
+
+    /// Whether the field is one bit wide.
+    pub fn is_flag(&self) -> bool {
+        self.mask.count_ones() == 1
+    }
+}
+
+/// The layout of a bit-field word, as data.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BitWordInfo {
+    /// Identifier in the drive file (`command_word`).
+    pub id: &'static str,
+    /// English name.
+    pub name: &'static str,
+    /// The manual's Chinese name.
+    pub name_zh: &'static str,
+    /// Named fields, from the most significant bit down.
+    pub fields: &'static [BitFieldInfo],
+}
+
+impl BitWordInfo {
+    /// The field with this identifier or English name (case-insensitive).
+    pub fn field(&self, name: &str) -> Option<&'static BitFieldInfo> {
+        self.fields.iter().find(|field| {
+            field.id.eq_ignore_ascii_case(name) || field.name.eq_ignore_ascii_case(name)
+        })
     }
 }
 

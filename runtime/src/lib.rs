@@ -68,7 +68,7 @@ pub mod virtual_drive;
 pub use codec::{FieldValue, FrameValues, Roles};
 pub use drive::DriveInfo;
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
-pub use info::{ErrorCodeInfo, RegisterInfo};
+pub use info::{BitFieldInfo, BitWordInfo, CodeInfo, CodeTableInfo, ErrorCodeInfo, RegisterInfo};
 pub use kinds::{Access, CommandKind, DataType, Space, TakesEffect};
 pub use layout::{
     BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,

@@ -194,6 +194,13 @@ impl<T: Transport, D: 'static> Master<T, D> {
         self
     }
 
+    /// The bytes of the last reply taken as the answer (empty before the first). A text
+    /// read's [`Answer::text`] is an offset and length within it, so tools that work with
+    /// any drive read text this way.
+    pub fn last_reply(&self) -> &[u8] {
+        &self.reply[..self.reply_len.min(MAX_FRAME)]
+    }
+
     /// The transport, e.g. to close it.
     pub fn into_transport(self) -> T {
         self.transport

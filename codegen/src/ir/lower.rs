@@ -282,6 +282,7 @@ fn lower_register(
         space: register.space.unwrap_or(Space::Parameter),
         array_len: register.array.unwrap_or(0),
         value,
+        code_table: register.code_table.clone(),
         source: register.source.clone(),
         inferred: register.inferred.clone(),
         warnings: register.warnings.clone(),

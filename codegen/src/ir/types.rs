@@ -557,6 +557,8 @@ pub struct RegisterIr {
     pub array_len: u8,
     /// How the value is typed in Rust.
     pub value: ValueKind,
+    /// Id of the code table naming its values (complete or not), if any.
+    pub code_table: Option<String>,
     /// Manual section.
     pub source: String,
     /// Facts inferred by the description, not stated by the manual.

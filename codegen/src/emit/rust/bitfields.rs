@@ -13,15 +13,56 @@ pub(super) fn bits_module(drive: &DriveIr) -> TokenStream {
         quote! {
             use ::core::fmt;
             use ::vfd_runtime::bits::{self, BitWord};
+            use ::vfd_runtime::info::{BitFieldInfo, BitWordInfo};
             use ::vfd_runtime::{RegisterInfo, RegisterValue, ValueError};
         }
     });
+    let infos = drive.bitfields.iter().map(bitfield_info);
     quote! {
         /// Bit-field words with named accessors and builders.
         pub mod bits {
             #imports
             #(#items)*
+            #(#infos)*
         }
+    }
+}
+
+/// A bit-field layout as data (`BitWordInfo`), for tools that work with any drive.
+fn bitfield_info(bitfield: &BitfieldIr) -> TokenStream {
+    let name = super::code_tables::info_const(&bitfield.id);
+    let (id, en, zh_name) = (
+        str_literal(&bitfield.id),
+        str_literal(&bitfield.name),
+        str_literal(&bitfield.name_zh),
+    );
+    let fields = bitfield.fields.iter().filter(|f| !f.reserved).map(|f| {
+        let (id, en, zh_name, mask, zero, one) = (
+            str_literal(&f.id),
+            str_literal(&f.name),
+            str_literal(&f.name_zh),
+            hex_u16(f.mask()),
+            str_literal(&f.zero),
+            str_literal(&f.one),
+        );
+        let codes = match &f.code_table {
+            Some(table) => {
+                let table = super::code_tables::info_const(table);
+                quote!(Some(&super::codes::#table))
+            }
+            None => quote!(None),
+        };
+        quote!(BitFieldInfo { id: #id, name: #en, name_zh: #zh_name, mask: #mask, zero: #zero, one: #one, codes: #codes })
+    });
+    let doc = doc_text(format!("The bit-field layout `{}` as data.", bitfield.id));
+    quote! {
+        #[doc = #doc]
+        pub const #name: BitWordInfo = BitWordInfo {
+            id: #id,
+            name: #en,
+            name_zh: #zh_name,
+            fields: &[#(#fields),*],
+        };
     }
 }
 

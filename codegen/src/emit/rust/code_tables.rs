@@ -25,12 +25,56 @@ pub(super) fn codes_module(drive: &DriveIr) -> TokenStream {
             use ::vfd_runtime::{RegisterInfo, RegisterValue, ValueError};
         )
     });
+    let infos = drive.code_tables.iter().map(code_table_info);
+    let info_import = (!drive.code_tables.is_empty()).then(|| {
+        quote!(
+            use ::vfd_runtime::info::{CodeInfo, CodeTableInfo};
+        )
+    });
     quote! {
         /// Code tables (enumerations) of the manual.
         pub mod codes {
             #values
+            #info_import
             #(#items)*
+            #(#infos)*
         }
+    }
+}
+
+/// The name of the const holding a code table or bit-field layout as data (`PARITY`).
+pub(super) fn info_const(id: &str) -> Ident {
+    format_ident!("{}", id.to_ascii_uppercase())
+}
+
+/// A code table as data (`CodeTableInfo`), for tools that work with any drive.
+fn code_table_info(table: &CodeTableIr) -> TokenStream {
+    let name = info_const(&table.id);
+    let (id, en, zh_name, exhaustive) = (
+        str_literal(&table.id),
+        str_literal(&table.name),
+        str_literal(&table.name_zh),
+        table.exhaustive,
+    );
+    let values = table.values.iter().map(|v| {
+        let (value, id, en, zh_name) = (
+            int_literal(v.value),
+            str_literal(&v.id),
+            str_literal(&v.name),
+            str_literal(&v.name_zh),
+        );
+        quote!(CodeInfo { value: #value, id: #id, name: #en, name_zh: #zh_name })
+    });
+    let doc = doc_text(format!("The code table `{}` as data.", table.id));
+    quote! {
+        #[doc = #doc]
+        pub const #name: CodeTableInfo = CodeTableInfo {
+            id: #id,
+            name: #en,
+            name_zh: #zh_name,
+            exhaustive: #exhaustive,
+            values: &[#(#values),*],
+        };
     }
 }
 

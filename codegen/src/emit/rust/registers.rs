@@ -69,7 +69,7 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
 
 /// The register's `RegisterInfo` as a const builder chain naming only what differs from
 /// [`vfd_runtime::RegisterInfo::new`]'s defaults.
-fn info_chain(register: &RegisterIr) -> TokenStream {
+fn info_chain(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
     let address = hex_u16(register.address);
     let (code, id, name, name_zh) = (
         str_literal(&register.code),
@@ -132,6 +132,22 @@ fn info_chain(register: &RegisterIr) -> TokenStream {
         let raw = int_literal(raw);
         chain.extend(quote!(.with_default_raw(#raw)));
     }
+    if let Some(id) = bitfield_id(drive, register) {
+        let name = super::code_tables::info_const(id);
+        chain.extend(quote!(.with_bits(&bits::#name)));
+    }
+    if let Some(id) = &register.code_table {
+        let name = super::code_tables::info_const(id);
+        chain.extend(quote!(.with_codes(&codes::#name)));
+    }
+    let text: Vec<&str> = [register.description.as_str(), register.note.as_str()]
+        .into_iter()
+        .filter(|t| !t.is_empty())
+        .collect();
+    if !text.is_empty() {
+        let text = str_literal(&text.join(" "));
+        chain.extend(quote!(.with_text(#text)));
+    }
     chain
 }
 
@@ -152,7 +168,7 @@ pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
             .map(|line| str_literal(&doc_text(line)))
             .collect();
         let value = value_type(&register.value);
-        let info = info_chain(register);
+        let info = info_chain(drive, register);
         let mut markers = Vec::new();
         if register.writable() {
             markers.push(quote!(impl Writable for #name {}));
@@ -186,6 +202,18 @@ pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
         /// scope with `use vfd_runtime::prelude::*`).
         pub mod registers #body
     }
+}
+
+/// The id of the bit-field layout of a bit-field register.
+fn bitfield_id<'d>(drive: &'d DriveIr, register: &RegisterIr) -> Option<&'d str> {
+    let ValueKind::Bitfield(type_name) = &register.value else {
+        return None;
+    };
+    drive
+        .bitfields
+        .iter()
+        .find(|b| &b.type_name == type_name)
+        .map(|b| b.id.as_str())
 }
 
 /// The `use` lines the registers module needs, so each item can use short paths.
@@ -251,7 +279,7 @@ fn registers_imports(drive: &DriveIr) -> TokenStream {
     }
     if registers
         .iter()
-        .any(|r| matches!(r.value, ValueKind::CodeTable(_)))
+        .any(|r| matches!(r.value, ValueKind::CodeTable(_)) || r.code_table.is_some())
     {
         local.push(quote!(codes));
     }

@@ -1,0 +1,337 @@
+//! A connection to one drive on a line: the options every bus command shares (`--drive`,
+//! `--protocol`, `--port`, `--baud`, `--parity`, `--address`, `--timeout`, defaulting to
+//! the drive's factory serial settings), the transport behind them, and raw reads and writes
+//! through the runtime's untyped request path, so any described drive works.
+
+use crate::{lookup, Failure};
+use std::path::Path;
+use std::time::{Duration, Instant};
+use vfd_runtime::serial::{Parity, SerialSettings};
+use vfd_runtime::transaction::Master;
+use vfd_runtime::transport::{PtyTransport, SerialTransport, Transport};
+use vfd_runtime::virtual_drive::SimLink;
+use vfd_runtime::{
+    CommandKind, DataType, DriveInfo, EncodeError, Protocol, RegisterInfo, Request,
+    TransactionError, TransactionErrorKind,
+};
+
+/// Parity, as the command line spells it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ParityArg {
+    /// No parity bit.
+    None,
+    /// Even parity.
+    Even,
+    /// Odd parity.
+    Odd,
+}
+
+impl From<ParityArg> for Parity {
+    fn from(parity: ParityArg) -> Parity {
+        match parity {
+            ParityArg::None => Parity::None,
+            ParityArg::Even => Parity::Even,
+            ParityArg::Odd => Parity::Odd,
+        }
+    }
+}
+
+/// Which drive, which protocol, and the line settings (defaults: the drive's factory settings).
+#[derive(Debug, Clone, clap::Args)]
+pub struct LineArgs {
+    /// Drive id (`vfd list` shows them).
+    #[arg(long, short = 'd', value_name = "DRIVE")]
+    pub drive: String,
+    /// Protocol id (default: the drive's first protocol).
+    #[arg(long, short = 'p', value_name = "PROTOCOL")]
+    pub protocol: Option<String>,
+    /// Serial device, e.g. /dev/ttyUSB0, or the pseudo-terminal `vfd sim` prints.
+    #[arg(long, value_name = "DEVICE")]
+    pub port: String,
+    /// Baud rate (default: the drive's factory setting).
+    #[arg(long, value_name = "BAUD")]
+    pub baud: Option<u32>,
+    /// Parity (default: the drive's factory setting).
+    #[arg(long, value_enum)]
+    pub parity: Option<ParityArg>,
+    /// Station address (default: none where the protocol allows it, else its lowest station, at least 1).
+    #[arg(long, value_name = "N")]
+    pub address: Option<u8>,
+    /// Reply timeout in milliseconds (default: derived from the baud rate and the drive's manual).
+    #[arg(long, value_name = "MS")]
+    pub timeout: Option<u64>,
+}
+
+/// A byte line to a drive: a serial port, a terminal device (pseudo-terminals), or a
+/// virtual drive in this process.
+pub enum Line {
+    /// A serial port.
+    Serial(SerialTransport),
+    /// A terminal device such as a pseudo-terminal.
+    Pty(PtyTransport),
+    /// A virtual drive in this process.
+    Sim(SimLink),
+}
+
+impl Transport for Line {
+    fn send(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        match self {
+            Line::Serial(t) => t.send(bytes),
+            Line::Pty(t) => t.send(bytes),
+            Line::Sim(t) => t.send(bytes),
+        }
+    }
+    fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> std::io::Result<usize> {
+        match self {
+            Line::Serial(t) => t.receive(buf, deadline),
+            Line::Pty(t) => t.receive(buf, deadline),
+            Line::Sim(t) => t.receive(buf, deadline),
+        }
+    }
+    fn clear_input(&mut self) -> std::io::Result<()> {
+        match self {
+            Line::Serial(t) => t.clear_input(),
+            Line::Pty(t) => t.clear_input(),
+            Line::Sim(t) => t.clear_input(),
+        }
+    }
+    fn last_gap(&self) -> Option<Duration> {
+        match self {
+            Line::Serial(t) => t.last_gap(),
+            Line::Pty(t) => t.last_gap(),
+            Line::Sim(t) => t.last_gap(),
+        }
+    }
+}
+
+/// What a read returned.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Value {
+    /// The raw word or double word (absent for text).
+    pub raw: Option<u32>,
+    /// Text, for text parameters.
+    pub text: Option<String>,
+    /// The reply said the drive is tripped.
+    pub tripped: bool,
+}
+
+/// A master talking to one drive.
+pub struct Session {
+    /// The drive.
+    pub drive: &'static DriveInfo,
+    /// The protocol spoken.
+    pub protocol: &'static Protocol,
+    /// The line settings in use.
+    pub settings: SerialSettings,
+    master: Master<Line>,
+}
+
+impl Session {
+    /// Opens the line the options name.
+    pub fn open(args: &LineArgs) -> Result<Session, Failure> {
+        let drive = lookup::drive(&args.drive)?;
+        let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
+        let mut settings = drive.serial.default;
+        if let Some(baud) = args.baud {
+            settings.baud = baud;
+        }
+        if let Some(parity) = args.parity {
+            settings.parity = parity.into();
+        }
+        let line = open_line(&args.port, &settings)?;
+        let mut timing = drive.serial.timing;
+        if let Some(ms) = args.timeout {
+            timing.processing_allowance = Duration::from_millis(ms);
+        }
+        let address = match args.address {
+            Some(address) => Some(address),
+            None => default_address(protocol),
+        };
+        let master = Master::for_protocol(line, protocol, settings, timing).with_address(address);
+        Ok(Session {
+            drive,
+            protocol,
+            settings,
+            master,
+        })
+    }
+
+    /// A session over an in-process line (the demo's virtual drive).
+    pub fn over(
+        drive: &'static DriveInfo,
+        protocol: &'static Protocol,
+        line: Line,
+        address: Option<u8>,
+    ) -> Session {
+        let settings = drive.serial.default;
+        let master = Master::for_protocol(line, protocol, settings, drive.serial.timing)
+            .with_address(address);
+        Session {
+            drive,
+            protocol,
+            settings,
+            master,
+        }
+    }
+
+    /// Reads `info`.
+    pub fn read(&mut self, info: &'static RegisterInfo) -> Result<Value, Failure> {
+        let text = info.data_type == DataType::Text;
+        let kind = if text {
+            CommandKind::ReadText
+        } else {
+            CommandKind::Read
+        };
+        let request = Request::for_register(kind, info, 0);
+        let answer = self
+            .master
+            .transact(&request)
+            .map_err(|e| self.failure(e))?;
+        if text {
+            let (start, len) = answer.text.unwrap_or((0, 0));
+            let reply = self.master.last_reply();
+            let text = reply
+                .get(start..start + len)
+                .map(|bytes| String::from_utf8_lossy(bytes).trim_end().to_owned())
+                .unwrap_or_default();
+            return Ok(Value {
+                raw: None,
+                text: Some(text),
+                tripped: answer.tripped,
+            });
+        }
+        let raw = answer.data.ok_or_else(|| {
+            Failure::new(format!(
+                "the reply to the read of {} carries no data",
+                info.label()
+            ))
+        })?;
+        Ok(Value {
+            raw: Some(raw),
+            text: None,
+            tripped: answer.tripped,
+        })
+    }
+
+    /// Writes the raw value `raw` to `info`, in RAM or, with `persist`, in RAM and
+    /// EEPROM. Returns the value the drive reports written, when its reply carries one,
+    /// and whether it said it is tripped.
+    pub fn write(
+        &mut self,
+        info: &'static RegisterInfo,
+        raw: u32,
+        persist: bool,
+    ) -> Result<(Option<u32>, bool), Failure> {
+        check_writable(info, persist)?;
+        let kind = if persist {
+            CommandKind::WritePersistent
+        } else {
+            CommandKind::WriteRam
+        };
+        let request = Request::for_register(kind, info, raw);
+        let answer = self
+            .master
+            .transact(&request)
+            .map_err(|e| self.failure(e))?;
+        Ok((answer.data, answer.tripped))
+    }
+
+    /// Whether the protocol has a command to read `info`.
+    pub fn can_read(&self, info: &RegisterInfo) -> bool {
+        let kind = if info.data_type == DataType::Text {
+            CommandKind::ReadText
+        } else {
+            CommandKind::Read
+        };
+        self.protocol
+            .command_for(kind, info.space, info.data_type)
+            .is_some()
+    }
+
+    /// A transaction error for people, with a hint where one helps.
+    fn failure(&self, error: TransactionError) -> Failure {
+        let hint = match &error.kind {
+            TransactionErrorKind::Timeout { .. } => Some(format!(
+                "check the wiring and the settings: {} baud, parity {}, protocol {}, station {} \
+                 (--baud, --parity, --protocol, --address); a slow drive may need --timeout",
+                self.settings.baud,
+                self.settings.parity.as_str(),
+                self.protocol.id,
+                self.address_text()
+            )),
+            TransactionErrorKind::Encode(EncodeError::UnsupportedCommand { .. }) => Some(format!(
+                "protocol {} cannot carry this request; try another with --protocol ({})",
+                self.protocol.id,
+                self.drive
+                    .protocols
+                    .iter()
+                    .map(|p| p.id.as_ref())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+            TransactionErrorKind::Io(_) => Some("is the port still there?".to_owned()),
+            _ => None,
+        };
+        let failure = Failure::new(error.to_string());
+        match hint {
+            Some(hint) => failure.hint(hint),
+            None => failure,
+        }
+    }
+
+    fn address_text(&self) -> String {
+        match default_address(self.protocol) {
+            Some(address) => address.to_string(),
+            None => "none".to_owned(),
+        }
+    }
+}
+
+/// Refuses writes the register does not allow, before anything is sent.
+pub fn check_writable(info: &RegisterInfo, persist: bool) -> Result<(), Failure> {
+    if info.access == vfd_runtime::Access::ReadOnly || info.data_type == DataType::Text {
+        return Err(Failure::new(format!("{} is read-only", info.label())));
+    }
+    if persist && info.ram_only {
+        return Err(Failure::new(format!(
+            "{} is RAM-only: it cannot be written persistently",
+            info.label()
+        ))
+        .hint("leave out --persist"));
+    }
+    Ok(())
+}
+
+/// No station address where the protocol's frames may leave it out, else its lowest
+/// station (at least 1), as the virtual drive answers by default.
+pub fn default_address(protocol: &Protocol) -> Option<u8> {
+    let station = protocol.address_range.0.max(1);
+    let mut frame = [0u8; 256];
+    let needs_one = (1..=16).any(|register| {
+        let probe = Request::raw(CommandKind::Read, register, 0);
+        matches!(
+            protocol.encode_request(&probe, None, &mut frame),
+            Err(EncodeError::AddressRequired { .. })
+        )
+    });
+    needs_one.then_some(station)
+}
+
+/// Opens `port`: a pseudo-terminal (`/dev/pts/N`) as a terminal device, anything else as
+/// a serial port at `settings`.
+fn open_line(port: &str, settings: &SerialSettings) -> Result<Line, Failure> {
+    let path = Path::new(port);
+    let is_pty = port.starts_with("/dev/pts/") || port.starts_with("/dev/ttyp");
+    if is_pty {
+        return PtyTransport::open_path(path).map(Line::Pty).map_err(|e| {
+            Failure::new(format!("cannot open {port}: {e}"))
+                .hint("is `vfd sim` still running? it prints the device to use")
+        });
+    }
+    SerialTransport::open(port, settings)
+        .map(Line::Serial)
+        .map_err(|e| {
+            Failure::new(format!("cannot open serial port {port}: {e}"))
+                .hint("check the device name (ls /dev/ttyUSB* /dev/ttyS*) and your permissions (group dialout)")
+        })
+}

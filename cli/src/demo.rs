@@ -1,0 +1,304 @@
+//! `vfd demo`: the whole product against the built-in virtual drive, no hardware needed.
+//! It lists the drives, shows a register, writes a frequency, runs the motor, watches the
+//! output climb, stops, injects a trip and shows it, and resets, printing the command
+//! behind each step. Everything it uses comes from the drive's description (its
+//! `behaviour:` section says which registers and bits do what).
+
+use crate::bus::{Line, Session, Value};
+use crate::out::say;
+use crate::{describe, lookup, values, watch, Failure};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use vfd_runtime::behaviour::{Amount, Behaviour};
+use vfd_runtime::virtual_drive::Simulator;
+use vfd_runtime::{DriveInfo, RegisterInfo};
+
+fn step(text: &str) {
+    say!("");
+    say!("$ {text}");
+}
+
+/// Runs the demo.
+pub fn run(drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
+    let drive: &'static DriveInfo = match drive {
+        Some(id) => lookup::drive(id)?,
+        None => vfd_drives::ALL_DRIVES
+            .iter()
+            .copied()
+            .find(|d| d.behaviour.is_some())
+            .ok_or_else(|| Failure::new("no described drive has a behaviour model to simulate"))?,
+    };
+    let behaviour: &'static Behaviour = drive.behaviour.ok_or_else(|| {
+        Failure::new(format!(
+            "drive {} has no behaviour model to simulate",
+            drive.id
+        ))
+        .hint("choose another with --drive (`vfd list` marks them \"virtual drive\")")
+    })?;
+    let protocol = demo_protocol(drive, behaviour)?;
+    let sim = Simulator::new(drive);
+    let address = crate::bus::default_address(protocol).map(|_| sim.lock().address());
+    let mut session = Session::over(drive, protocol, Line::Sim(sim.link(protocol)), address);
+    // The simulated motor follows the wall clock.
+    let done = Arc::new(AtomicBool::new(false));
+    let clock = {
+        let (sim, done) = (sim.clone(), done.clone());
+        std::thread::spawn(move || {
+            let mut last = Instant::now();
+            while !done.load(Ordering::SeqCst) {
+                std::thread::sleep(Duration::from_millis(20));
+                let now = Instant::now();
+                sim.advance(now - last);
+                last = now;
+            }
+        })
+    };
+    let result = tour(drive, behaviour, &sim, &mut session, seconds);
+    done.store(true, Ordering::SeqCst);
+    let _ = clock.join();
+    result
+}
+
+/// The first protocol that can write both the command word and the frequency command.
+fn demo_protocol(
+    drive: &'static DriveInfo,
+    behaviour: &Behaviour,
+) -> Result<&'static vfd_runtime::Protocol, Failure> {
+    let command = register(drive, behaviour.command.register)?;
+    let frequency = register(drive, behaviour.frequency.command)?;
+    drive
+        .protocols
+        .iter()
+        .copied()
+        .find(|p| {
+            [command, frequency].iter().all(|r| {
+                p.command_for(vfd_runtime::CommandKind::WriteRam, r.space, r.data_type)
+                    .is_some()
+            })
+        })
+        .ok_or_else(|| {
+            Failure::new(format!(
+                "no protocol of {} writes both {} and {}",
+                drive.id, command.code, frequency.code
+            ))
+        })
+}
+
+fn register(drive: &DriveInfo, id: &str) -> Result<&'static RegisterInfo, Failure> {
+    drive.register(id).ok_or_else(|| {
+        Failure::new(format!(
+            "{}: the behaviour names `{id}`, which is not a register",
+            drive.id
+        ))
+    })
+}
+
+fn tour(
+    drive: &'static DriveInfo,
+    behaviour: &'static Behaviour,
+    sim: &Simulator,
+    session: &mut Session,
+    seconds: u64,
+) -> Result<(), Failure> {
+    let port = "<virtual>";
+    let line = format!(
+        "--drive {} --protocol {} --port {port}",
+        drive.id, session.protocol.id
+    );
+    say!(
+        "vfd demo: a virtual {} {} ({}), generated from its YAML description, answering {} in this process.",
+        drive.vendor, drive.model, drive.id, session.protocol.name
+    );
+    say!("Against a real drive, give --port /dev/ttyUSB0; `vfd sim` serves the same virtual drive on a pseudo-terminal.");
+
+    step("vfd list");
+    describe::list()?;
+
+    let frequency = register(drive, behaviour.frequency.command)?;
+    step(&format!("vfd info {} {}", drive.id, frequency.code));
+    describe::info(drive.id, &[frequency.code.to_owned()])?;
+
+    if let Amount::Register(id) = behaviour.frequency.acceleration {
+        let acc = register(drive, id)?;
+        if let Ok(raw) = values::parse(acc, "3") {
+            step(&format!(
+                "vfd write {line} {} 3   # a quicker ramp for the demo",
+                acc.code
+            ));
+            write(session, acc, raw)?;
+        }
+    }
+    let target = target_frequency(drive, behaviour, frequency);
+    let raw = values::parse(frequency, &target).map_err(Failure::new)?;
+    step(&format!("vfd write {line} {} {target}", frequency.code));
+    write(session, frequency, raw)?;
+
+    let command = register(drive, behaviour.command.register)?;
+    let enabled = behaviour
+        .command
+        .require
+        .iter()
+        .chain(behaviour.frequency.require)
+        .fold(0u32, |word, bit| bit.apply(word, true));
+    // A coast stop must not act (on drives where it is active low, its bit is set).
+    let enabled = behaviour
+        .command
+        .coast
+        .map_or(enabled, |coast| coast.apply(enabled, false));
+    let run_word = behaviour.command.run.apply(enabled, true);
+    let stop_word = behaviour.command.run.apply(enabled, false);
+    step(&format!(
+        "vfd write {line} {} {}   # run",
+        command.code,
+        word_text(command, run_word)
+    ));
+    write(session, command, run_word)?;
+
+    let mut watched: Vec<&'static RegisterInfo> = Vec::new();
+    if let Some(output) = behaviour.frequency.output.first() {
+        watched.push(register(drive, output)?);
+    }
+    if let Some(current) = behaviour.current.as_ref().and_then(|c| c.registers.first()) {
+        watched.push(register(drive, current)?);
+    }
+    if let Some(status) = behaviour.status.registers.first() {
+        watched.push(register(drive, status)?);
+    }
+    let codes: Vec<&str> = watched.iter().map(|r| r.code).collect();
+    step(&format!(
+        "vfd watch {line} {}   # Ctrl-C stops; here {seconds} s",
+        codes.join(" ")
+    ));
+    let never = AtomicBool::new(false);
+    watch::watch_loop(
+        session,
+        &watched,
+        Duration::from_millis(500),
+        None,
+        &never,
+        Some(Instant::now() + Duration::from_secs(seconds)),
+    )?;
+
+    step(&format!(
+        "vfd write {line} {} {}   # stop",
+        command.code,
+        word_text(command, stop_word)
+    ));
+    write(session, command, stop_word)?;
+
+    let trip_register = behaviour
+        .trip
+        .code
+        .first()
+        .and_then(|id| drive.register(id));
+    let trip_code = trip_register
+        .and_then(|r| r.codes)
+        .and_then(|c| c.values.first())
+        .map_or(1, |c| c.value);
+    step(&format!(
+        "# the virtual drive trips (code {trip_code}), as `vfd sim --trip {trip_code}` would"
+    ));
+    sim.inject_trip(trip_code);
+    let mut shown: Vec<&'static RegisterInfo> = Vec::new();
+    if let Some(r) = trip_register {
+        shown.push(r);
+    }
+    if let Some(status) = behaviour.status.registers.first() {
+        shown.push(register(drive, status)?);
+    }
+    if !shown.is_empty() {
+        let codes: Vec<&str> = shown.iter().map(|r| r.code).collect();
+        step(&format!("vfd read {line} {}", codes.join(" ")));
+        read(session, behaviour, &shown)?;
+    }
+
+    if let Some(reset) = behaviour.command.reset {
+        let reset_word = reset.apply(stop_word, true);
+        step(&format!(
+            "vfd write {line} {} {}   # fault reset",
+            command.code,
+            word_text(command, reset_word)
+        ));
+        write(session, command, reset_word)?;
+        write(session, command, stop_word)?;
+        if !shown.is_empty() {
+            let codes: Vec<&str> = shown.iter().map(|r| r.code).collect();
+            step(&format!("vfd read {line} {}", codes.join(" ")));
+            read(session, behaviour, &shown)?;
+        }
+    }
+    say!("");
+    say!("Done. Next: `vfd info {}` for every register, `vfd decode --help` for captured frames, `vfd sim --help` for a virtual drive on a pseudo-terminal.", drive.id);
+    Ok(())
+}
+
+/// Three quarters of the frequency command's upper bound (or of the register its
+/// maximum names), rounded to whole units.
+fn target_frequency(drive: &DriveInfo, behaviour: &Behaviour, frequency: &RegisterInfo) -> String {
+    let span = match behaviour.frequency.span {
+        Amount::Value(v) => v,
+        Amount::Register(id) => drive
+            .register(id)
+            .and_then(|r| {
+                r.default_raw
+                    .map(|raw| vfd_runtime::units::raw_to_scaled(raw, r))
+            })
+            .unwrap_or(frequency.raw_max as f64 * frequency.scale),
+    };
+    let max = (frequency.raw_max as f64 * frequency.scale).min(span);
+    let target = (max * 0.75).round().max(1.0);
+    format!("{target}{}", frequency.unit_symbol())
+}
+
+/// A word as field names (bit-field registers) or hex.
+fn word_text(info: &RegisterInfo, raw: u32) -> String {
+    match info.bits {
+        Some(bits) => values::set_fields(bits, raw as u16).join(","),
+        None => values::hex(info, raw),
+    }
+}
+
+fn write(session: &mut Session, info: &'static RegisterInfo, raw: u32) -> Result<(), Failure> {
+    let (_, tripped) = session.write(info, raw, false)?;
+    say!(
+        "wrote {} {} = {} (RAM)",
+        info.code,
+        info.name,
+        values::short(info, raw)
+    );
+    if tripped {
+        watch::show_trip(session);
+    }
+    Ok(())
+}
+
+fn read(
+    session: &mut Session,
+    behaviour: &Behaviour,
+    registers: &[&'static RegisterInfo],
+) -> Result<(), Failure> {
+    let mut tripped = false;
+    for info in registers {
+        let value: Value = session.read(info)?;
+        tripped |= value.tripped;
+        watch::print_value(info, &value);
+        // Drives whose replies carry no trip flag show it in their status word.
+        if let Some(raw) = value.raw {
+            let status = behaviour.status.registers.contains(&info.id);
+            if status
+                && behaviour
+                    .status
+                    .tripped
+                    .iter()
+                    .any(|bit| bit.is_active(raw))
+            {
+                say!("TRIPPED: {} says so", info.code);
+            }
+        }
+    }
+    if tripped {
+        watch::show_trip(session);
+    }
+    Ok(())
+}

@@ -1,0 +1,275 @@
+//! `vfd list` and `vfd info`: what the descriptions say about each drive, from its
+//! `DriveInfo` alone.
+
+use crate::out::say;
+use crate::{lookup, values, Failure};
+use vfd_runtime::info::manual_number;
+use vfd_runtime::{Access, DriveInfo, RegisterInfo, TakesEffect};
+
+/// Every described drive with its protocols and serial defaults.
+pub fn list() -> Result<(), Failure> {
+    for drive in vfd_drives::ALL_DRIVES {
+        let serial = drive.serial.default;
+        say!(
+            "{:<10} {} {} ({}): {} registers; {} baud, {}{}{}{}",
+            drive.id,
+            drive.vendor,
+            drive.model,
+            drive.name_zh,
+            drive.registers.len(),
+            serial.baud,
+            serial.data_bits,
+            serial
+                .parity
+                .as_str()
+                .chars()
+                .next()
+                .unwrap_or('n')
+                .to_ascii_uppercase(),
+            serial.stop_bits,
+            if drive.behaviour.is_some() {
+                "; virtual drive"
+            } else {
+                ""
+            }
+        );
+        for protocol in drive.protocols {
+            say!(
+                "    {:<10} {} (stations {}-{})",
+                protocol.id,
+                protocol.name,
+                protocol.address_range.0,
+                protocol.address_range.1
+            );
+        }
+    }
+    Ok(())
+}
+
+/// A drive's registers (one line each), or the named ones in full.
+pub fn info(drive: &str, names: &[String]) -> Result<(), Failure> {
+    let drive = lookup::drive(drive)?;
+    if names.is_empty() {
+        say!(
+            "{} {} ({}), {} — manual {}",
+            drive.vendor,
+            drive.model,
+            drive.name_zh,
+            drive.name,
+            drive.manual
+        );
+        let protocols: Vec<&str> = drive.protocols.iter().map(|p| p.id.as_ref()).collect();
+        say!(
+            "protocols: {}; {} registers (`vfd info {} REGISTER` for one in full)",
+            protocols.join(", "),
+            drive.registers.len(),
+            drive.id
+        );
+        say!(
+            "{:<8} {:<7} {:<34} {:<22} {:<7} {:<26} {:<11} {}",
+            "number",
+            "code",
+            "name",
+            "",
+            "unit",
+            "range",
+            "access",
+            "flags"
+        );
+        for register in drive.registers {
+            say!("{}", summary_line(register));
+        }
+        return Ok(());
+    }
+    let mut first = true;
+    for name in names {
+        let found = lookup::registers(drive, name);
+        if found.is_empty() {
+            return Err(lookup::register(drive, name)
+                .err()
+                .unwrap_or_else(|| Failure::new(format!("no register `{name}`"))));
+        }
+        for register in found {
+            if !first {
+                say!("");
+            }
+            first = false;
+            details(drive, register);
+        }
+    }
+    Ok(())
+}
+
+fn summary_line(r: &RegisterInfo) -> String {
+    let range = if r.bits.is_some() {
+        "bit fields".to_owned()
+    } else if let Some(codes) = r.codes {
+        format!("codes: {}", codes.id)
+    } else {
+        let scale = |raw: i64| format!("{:.*}", usize::from(r.decimals()), raw as f64 * r.scale);
+        format!("{}..{}", scale(r.raw_min), scale(r.raw_max))
+    };
+    let mut flags = Vec::new();
+    if r.ram_only {
+        flags.push("RAM");
+    }
+    if r.writable_while_running {
+        flags.push("run-writable");
+    }
+    if r.takes_effect == TakesEffect::AfterReset {
+        flags.push("after-reset");
+    }
+    format!(
+        "{:<8} {:<7} {} {} {:<7} {} {:<11} {}",
+        manual_number(r.space, r.address, r.code),
+        r.code,
+        clip(r.name, 34),
+        clip(r.name_zh, 22),
+        r.unit_symbol(),
+        clip(&range, 26),
+        r.access.as_str(),
+        flags.join(",")
+    )
+}
+
+/// Columns a character takes on a terminal (CJK characters take two).
+fn char_width(c: char) -> usize {
+    if c >= '\u{2E80}' && !('\u{FF61}'..='\u{FFDC}').contains(&c) {
+        2
+    } else {
+        1
+    }
+}
+
+/// `text` clipped to `width` terminal columns and padded to them.
+fn clip(text: &str, width: usize) -> String {
+    let total: usize = text.chars().map(char_width).sum();
+    let mut out = String::new();
+    let mut used = 0;
+    if total <= width {
+        out.push_str(text);
+        used = total;
+    } else {
+        for c in text.chars() {
+            if used + char_width(c) > width.saturating_sub(1) {
+                break;
+            }
+            out.push(c);
+            used += char_width(c);
+        }
+        out.push('…');
+        used += 1;
+    }
+    out.push_str(&" ".repeat(width.saturating_sub(used)));
+    out
+}
+
+/// Everything about one register.
+fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
+    say!("{}", r.label());
+    say!("  code        {}", r.code);
+    say!("  id          {}", r.id);
+    say!(
+        "  number      {} ({}{})",
+        manual_number(r.space, r.address, r.code),
+        r.space.as_str(),
+        if r.array_len > 0 {
+            format!(", array of {}", r.array_len)
+        } else {
+            String::new()
+        }
+    );
+    let unit = match r.unit_symbol() {
+        "" => "none".to_owned(),
+        unit => format!("{unit}, in steps of {}", r.scale),
+    };
+    say!("  unit        {unit}");
+    say!("  type        {}", r.data_type.as_str());
+    if r.bits.is_none() {
+        say!("  range       {}", values::range_text(drive, r));
+    }
+    match r.default_raw {
+        Some(raw) => say!("  default     {}", values::short(r, raw)),
+        None => say!("  default     (the manual gives none)"),
+    }
+    let access = match r.access {
+        Access::ReadOnly => "read-only",
+        Access::WriteOnly => "write-only",
+        Access::ReadWrite => "read-write",
+    };
+    say!("  access      {access}");
+    say!(
+        "  storage     {}",
+        if r.ram_only {
+            "RAM only (no persistent write)"
+        } else if r.access == Access::ReadOnly {
+            "—"
+        } else {
+            "RAM, or RAM and EEPROM with --persist"
+        }
+    );
+    say!(
+        "  while run   {}",
+        if r.writable_while_running {
+            "writable while the motor runs"
+        } else {
+            "not writable while the motor runs"
+        }
+    );
+    if r.takes_effect == TakesEffect::AfterReset {
+        say!("  takes effect after a reset or power cycle");
+    }
+    if r.panel_only {
+        say!("  effective only when set from the operator panel");
+    }
+    if let Some(codes) = r.codes {
+        say!(
+            "  codes       {} ({}){}",
+            codes.name,
+            codes.name_zh,
+            if codes.exhaustive {
+                ""
+            } else {
+                ", not every value is listed"
+            }
+        );
+        for code in codes.values {
+            say!(
+                "    {:>5}  {:<20} {}{}",
+                code.value,
+                code.id,
+                code.name,
+                if code.name_zh.is_empty() {
+                    String::new()
+                } else {
+                    format!(" / {}", code.name_zh)
+                }
+            );
+        }
+    }
+    if let Some(bits) = r.bits {
+        say!("  bit fields  {} ({})", bits.name, bits.name_zh);
+        for field in bits.fields {
+            let low = field.mask.trailing_zeros();
+            let span = if field.is_flag() {
+                format!("{low}")
+            } else {
+                format!("{}:{low}", low + field.mask.count_ones() - 1)
+            };
+            let meanings = if field.zero.is_empty() && field.one.is_empty() {
+                String::new()
+            } else {
+                format!(" (0: {}, 1: {})", field.zero, field.one)
+            };
+            say!(
+                "    {span:>5}  {:<20} {} / {}{meanings}",
+                field.id,
+                field.name,
+                field.name_zh
+            );
+        }
+    }
+    if !r.text.is_empty() {
+        say!("  manual      {}", r.text);
+    }
+}

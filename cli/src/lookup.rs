@@ -1,0 +1,145 @@
+//! Finding what people name on the command line: drives by id, protocols by id, and
+//! registers by manual code (`FA01`, `FH`, `3-03`), address (`0xFA01`, `FA01h`, `303`), id
+//! or English or Chinese name (`最高频率`), case-insensitive. Nothing here names a drive:
+//! everything comes from [`DriveInfo`].
+
+use crate::Failure;
+use vfd_runtime::info::manual_number;
+use vfd_runtime::{DriveInfo, Protocol, RegisterInfo};
+
+/// The described drive with this id (case-insensitive).
+pub fn drive(id: &str) -> Result<&'static DriveInfo, Failure> {
+    vfd_drives::ALL_DRIVES
+        .iter()
+        .copied()
+        .find(|d| d.id.eq_ignore_ascii_case(id))
+        .ok_or_else(|| {
+            Failure::new(format!("unknown drive `{id}`"))
+                .hint(format!("described drives: {} (`vfd list`)", drive_ids()))
+        })
+}
+
+/// The ids of every described drive, comma-separated.
+pub fn drive_ids() -> String {
+    let ids: Vec<&str> = vfd_drives::ALL_DRIVES.iter().map(|d| d.id).collect();
+    ids.join(", ")
+}
+
+/// The drive's protocol with this id; the first one when `id` is `None`.
+pub fn protocol(drive: &DriveInfo, id: Option<&str>) -> Result<&'static Protocol, Failure> {
+    let known = || {
+        let ids: Vec<&str> = drive.protocols.iter().map(|p| p.id.as_ref()).collect();
+        ids.join(", ")
+    };
+    match id {
+        None => drive
+            .protocols
+            .first()
+            .copied()
+            .ok_or_else(|| Failure::new(format!("drive {} describes no protocol", drive.id))),
+        Some(id) => drive
+            .protocols
+            .iter()
+            .copied()
+            .find(|p| p.id.eq_ignore_ascii_case(id))
+            .ok_or_else(|| {
+                Failure::new(format!("drive {} has no protocol `{id}`", drive.id))
+                    .hint(format!("it speaks: {}", known()))
+            }),
+    }
+}
+
+/// Every register `name` may mean, best match first: an exact code or id, then the code,
+/// id, address or name without regard to case, then names containing it.
+pub fn registers(drive: &DriveInfo, name: &str) -> Vec<&'static RegisterInfo> {
+    let wanted = name.trim();
+    let all = drive.registers;
+    let exact: Vec<_> = all
+        .iter()
+        .copied()
+        .filter(|r| r.code == wanted || r.id == wanted)
+        .collect();
+    if !exact.is_empty() {
+        return exact;
+    }
+    let address = parse_address(wanted);
+    let same: Vec<_> = all
+        .iter()
+        .copied()
+        .filter(|r| {
+            r.code.eq_ignore_ascii_case(wanted)
+                || r.id.eq_ignore_ascii_case(wanted)
+                || r.name.eq_ignore_ascii_case(wanted)
+                || r.name_zh == wanted
+                || manual_number(r.space, r.address, r.code).eq_ignore_ascii_case(wanted)
+                || address.is_some_and(|a| a == r.address)
+        })
+        .collect();
+    if !same.is_empty() {
+        return same;
+    }
+    // Parameter numbers as manuals print them with a group separator (`3-03` for 303).
+    let joined: String = wanted.chars().filter(|c| !matches!(c, '-' | '.')).collect();
+    if joined != wanted && !joined.is_empty() {
+        let grouped: Vec<_> = all
+            .iter()
+            .copied()
+            .filter(|r| r.code.eq_ignore_ascii_case(&joined))
+            .collect();
+        if !grouped.is_empty() {
+            return grouped;
+        }
+    }
+    let lower = wanted.to_lowercase();
+    if lower.chars().count() < 2 {
+        return Vec::new();
+    }
+    all.iter()
+        .copied()
+        .filter(|r| {
+            r.name.to_lowercase().contains(&lower)
+                || r.name_zh.contains(wanted)
+                || r.id.contains(&lower.replace(' ', "_"))
+        })
+        .collect()
+}
+
+/// The one register `name` means, or a message saying why not (none, or several).
+pub fn register(drive: &DriveInfo, name: &str) -> Result<&'static RegisterInfo, Failure> {
+    let found = registers(drive, name);
+    match found.as_slice() {
+        [one] => Ok(one),
+        [] => Err(
+            Failure::new(format!("drive {} has no register `{name}`", drive.id)).hint(format!(
+                "name it by code (FA01), address (0xFA01), id or name; `vfd info {}` lists them",
+                drive.id
+            )),
+        ),
+        many => {
+            let names: Vec<String> = many
+                .iter()
+                .take(8)
+                .map(|r| format!("{} ({})", r.code, r.name))
+                .collect();
+            Err(Failure::new(format!(
+                "`{name}` matches {} registers of {}",
+                many.len(),
+                drive.id
+            ))
+            .hint(format!("say which: {}", names.join(", "))))
+        }
+    }
+}
+
+/// `0xFA01`, `FA01h` or a decimal number, as a register address.
+fn parse_address(text: &str) -> Option<u16> {
+    if let Some(hex) = text
+        .strip_prefix("0x")
+        .or_else(|| text.strip_prefix("0X"))
+        .or_else(|| text.strip_suffix('h'))
+        .or_else(|| text.strip_suffix('H'))
+    {
+        return u16::from_str_radix(hex, 16).ok();
+    }
+    text.parse().ok()
+}

@@ -1,0 +1,211 @@
+//! `vfd sim`: the virtual drive of any described drive, served on a pseudo-terminal until
+//! SIGINT or SIGTERM. The device path is the first line of output, so scripts and tests
+//! can read it; `--verbose` logs each exchange (hex and decoded) on standard error.
+
+use crate::bus::ParityArg;
+use crate::out::say;
+use crate::{lookup, Failure};
+use std::io::Write;
+use std::time::{Duration, Instant};
+use vfd_runtime::meaning::{decode_meaning, Direction};
+use vfd_runtime::transport::{PseudoTerminal, Transport};
+use vfd_runtime::virtual_drive::{serve, Fault, Simulator};
+use vfd_runtime::Protocol;
+
+/// Options of `vfd sim`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct SimArgs {
+    /// Drive id (`vfd list`).
+    #[arg(long, short = 'd')]
+    pub drive: String,
+    /// Protocol id (default: the drive's first protocol).
+    #[arg(long, short = 'p')]
+    pub protocol: Option<String>,
+    /// Station address the drive answers (default: the protocol's lowest, at least 1).
+    #[arg(long, value_name = "N")]
+    pub address: Option<u8>,
+    /// Baud rate the timing follows (default: the drive's factory setting).
+    #[arg(long)]
+    pub baud: Option<u32>,
+    /// Parity the timing follows (default: the drive's factory setting).
+    #[arg(long, value_enum)]
+    pub parity: Option<ParityArg>,
+    /// Log each exchange, in hex and decoded, on standard error.
+    #[arg(long, short = 'v')]
+    pub verbose: bool,
+    /// Misbehave: each fault spoils the next reply (noise: every reply), in the order given.
+    #[arg(long, value_enum, value_name = "FAULT")]
+    pub fault: Vec<FaultArg>,
+    /// Start tripped with this trip code.
+    #[arg(long, value_name = "CODE")]
+    pub trip: Option<u16>,
+}
+
+/// Faults the virtual drive can commit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FaultArg {
+    /// Do not answer.
+    DropReply,
+    /// Answer with a wrong checksum.
+    CorruptChecksum,
+    /// Answer after the master's timeout.
+    Delay,
+    /// Send garbage bytes before the reply.
+    Garbage,
+    /// Answer as another station.
+    WrongStation,
+    /// Echo the request before the reply.
+    EchoRequest,
+    /// Send the reply a byte at a time.
+    SplitBytes,
+    /// Jam the line with noise.
+    Noise,
+    /// Answer a request for any station.
+    AnswerBroadcast,
+}
+
+impl From<FaultArg> for Fault {
+    fn from(fault: FaultArg) -> Fault {
+        match fault {
+            FaultArg::DropReply => Fault::DropReply,
+            FaultArg::CorruptChecksum => Fault::CorruptChecksum,
+            FaultArg::Delay => Fault::Delay,
+            FaultArg::Garbage => Fault::GarbageBefore(vec![0x00, 0xFF, 0x13]),
+            FaultArg::WrongStation => Fault::WrongStation,
+            FaultArg::EchoRequest => Fault::EchoRequest,
+            FaultArg::SplitBytes => Fault::SplitBytes(2),
+            FaultArg::Noise => Fault::Noise,
+            FaultArg::AnswerBroadcast => Fault::AnswerBroadcast,
+        }
+    }
+}
+
+/// Serves the virtual drive until SIGINT or SIGTERM.
+pub fn run(args: &SimArgs) -> Result<(), Failure> {
+    let drive = lookup::drive(&args.drive)?;
+    let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
+    let mut settings = drive.serial.default;
+    if let Some(baud) = args.baud {
+        settings.baud = baud;
+    }
+    if let Some(parity) = args.parity {
+        settings.parity = parity.into();
+    }
+    let sim = Simulator::new(drive);
+    let address = args
+        .address
+        .unwrap_or_else(|| protocol.address_range.0.max(1));
+    sim.lock().set_address(address);
+    for fault in &args.fault {
+        sim.inject((*fault).into());
+    }
+    if let Some(code) = args.trip {
+        sim.inject_trip(code);
+    }
+    let stop = crate::watch::stop_flag()?;
+    let pty = PseudoTerminal::open()
+        .map_err(|e| Failure::new(format!("cannot open a pseudo-terminal: {e}")))?;
+    let path = pty.slave_path().display().to_string();
+    let transport = pty
+        .master()
+        .map_err(|e| Failure::new(format!("cannot use the pseudo-terminal: {e}")))?;
+    say!("{path}");
+    eprintln!(
+        "vfd sim: virtual {} ({}) speaking {} as station {address} on {path}, {} baud; Ctrl-C stops",
+        drive.id, drive.model, protocol.id, settings.baud
+    );
+    let mut logged = Logged {
+        inner: transport,
+        drive,
+        protocol,
+        verbose: args.verbose,
+        received: Vec::new(),
+        start: Instant::now(),
+    };
+    serve(&sim, protocol, &mut logged, settings, &stop)
+        .map_err(|e| Failure::new(format!("the virtual drive stopped: {e}")))?;
+    eprintln!("vfd sim: stopped");
+    Ok(())
+}
+
+/// A transport that logs what it carries: the bytes received since the last reply as the
+/// request, and each reply, in hex and decoded.
+struct Logged<T> {
+    inner: T,
+    drive: &'static vfd_runtime::DriveInfo,
+    protocol: &'static Protocol,
+    verbose: bool,
+    received: Vec<u8>,
+    start: Instant,
+}
+
+impl<T: Transport> Logged<T> {
+    fn log(&self, direction: Direction, bytes: &[u8]) {
+        let meaning = match decode_meaning(self.protocol, direction, bytes) {
+            Ok(m) => {
+                let mut parts = Vec::new();
+                if let Some(code) = m.code {
+                    parts.push(vfd_runtime::protocol::code_label(code));
+                }
+                if let Some(a) = m.address {
+                    parts.push(format!("station {a}"));
+                }
+                if let Some(r) = m.register {
+                    let space = m.space.unwrap_or(vfd_runtime::Space::Parameter);
+                    match self.drive.register_at(space, r) {
+                        Some(info) => parts.push(format!("{} {}", info.code, info.name)),
+                        None => parts.push(format!("register {r:04X}h")),
+                    }
+                }
+                if let Some(d) = m.data {
+                    parts.push(format!("data {d:04X}h"));
+                }
+                if let Some(e) = m.error_code {
+                    parts.push(format!("error {e}"));
+                }
+                if m.tripped {
+                    parts.push("tripped".to_owned());
+                }
+                parts.join(", ")
+            }
+            Err(e) => format!("not a whole {}: {e}", direction.as_str()),
+        };
+        let _ = writeln!(
+            std::io::stderr(),
+            "{:>8.3}s {:<7} {}  {}",
+            self.start.elapsed().as_secs_f64(),
+            direction.as_str(),
+            vfd_runtime::error::hex(bytes),
+            meaning
+        );
+    }
+}
+
+impl<T: Transport> Transport for Logged<T> {
+    fn send(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        if self.verbose {
+            let request = std::mem::take(&mut self.received);
+            if !request.is_empty() {
+                self.log(Direction::Request, &request);
+            }
+            self.log(Direction::Reply, bytes);
+        }
+        self.inner.send(bytes)
+    }
+    fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> std::io::Result<usize> {
+        let got = self.inner.receive(buf, deadline)?;
+        if self.verbose {
+            self.received.extend_from_slice(&buf[..got]);
+            if self.received.len() > 4096 {
+                self.received.clear();
+            }
+        }
+        Ok(got)
+    }
+    fn clear_input(&mut self) -> std::io::Result<()> {
+        self.inner.clear_input()
+    }
+    fn last_gap(&self) -> Option<Duration> {
+        self.inner.last_gap()
+    }
+}

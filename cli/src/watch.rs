@@ -1,0 +1,305 @@
+//! `vfd read`, `vfd write` and `vfd watch`: registers by name, values in engineering units,
+//! bit-field words field by field, code tables with their meaning, and the drive's trip.
+
+use crate::bus::{LineArgs, Session, Value};
+use crate::out::{is_terminal, print_raw, say};
+use crate::{lookup, values, Failure};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+use vfd_runtime::units::raw_to_scaled;
+use vfd_runtime::RegisterInfo;
+
+/// Reads each register and prints it.
+pub fn read(line: &LineArgs, names: &[String]) -> Result<(), Failure> {
+    let mut session = Session::open(line)?;
+    let registers = resolve(&session, names)?;
+    let mut tripped = false;
+    for info in registers {
+        let value = session.read(info)?;
+        tripped |= value.tripped;
+        print_value(info, &value);
+    }
+    if tripped {
+        show_trip(&mut session);
+    }
+    Ok(())
+}
+
+/// The registers `names` name, in order.
+pub fn resolve(session: &Session, names: &[String]) -> Result<Vec<&'static RegisterInfo>, Failure> {
+    names
+        .iter()
+        .map(|name| lookup::register(session.drive, name))
+        .collect()
+}
+
+/// One register's value: a line, and the fields of a bit-field word under it.
+pub fn print_value(info: &'static RegisterInfo, value: &Value) {
+    let shown = match (&value.text, value.raw) {
+        (Some(text), _) => format!("{text:?}"),
+        (None, Some(raw)) => values::short(info, raw),
+        (None, None) => "(no data)".to_owned(),
+    };
+    say!(
+        "{:<7} {} ({}) = {shown}{}",
+        info.code,
+        info.name,
+        info.name_zh,
+        if value.tripped {
+            "  [drive tripped]"
+        } else {
+            ""
+        }
+    );
+    if let (Some(bits), Some(raw)) = (info.bits, value.raw) {
+        for line in values::field_lines(bits, raw as u16) {
+            say!("          {line}");
+        }
+    }
+}
+
+/// Says the drive is tripped and shows its trip code, where the description says which
+/// register holds it.
+pub fn show_trip(session: &mut Session) {
+    let codes = session
+        .drive
+        .behaviour
+        .map(|b| b.trip.code)
+        .unwrap_or_default();
+    let mut shown = false;
+    for id in codes {
+        if let Some(info) = session.drive.register(id) {
+            if let Ok(Value { raw: Some(raw), .. }) = session.read(info) {
+                say!("TRIPPED: {} = {}", info.code, values::short(info, raw));
+                shown = true;
+            }
+        }
+    }
+    if !shown {
+        say!("TRIPPED: the drive reports a trip");
+    }
+}
+
+/// Writes one value, refused before anything is sent when out of range.
+pub fn write(line: &LineArgs, name: &str, text: &str, persist: bool) -> Result<(), Failure> {
+    let drive = lookup::drive(&line.drive)?;
+    let info = lookup::register(drive, name)?;
+    crate::bus::check_writable(info, persist)?;
+    let raw = values::parse(info, text).map_err(|m| {
+        Failure::new(m).hint(format!(
+            "nothing was sent; `vfd info {} {}` shows the range",
+            drive.id, info.code
+        ))
+    })?;
+    let mut session = Session::open(line)?;
+    check_run_time_bounds(&mut session, info, raw)?;
+    let (echo, tripped) = session.write(info, raw, persist)?;
+    let target = if persist { "RAM and EEPROM" } else { "RAM" };
+    let echo = match echo {
+        Some(echo) if echo != raw => format!("; the drive reports {}", values::short(info, echo)),
+        Some(_) => "; the drive confirms it".to_owned(),
+        None => String::new(),
+    };
+    say!(
+        "wrote {} {} = {} ({target}){echo}",
+        info.code,
+        info.name,
+        values::short(info, raw)
+    );
+    if tripped {
+        show_trip(&mut session);
+    }
+    Ok(())
+}
+
+/// Refuses a value beyond a bound another register sets at run time (FH for the frequency
+/// command), reading that register first. Nothing is written when it refuses.
+fn check_run_time_bounds(
+    session: &mut Session,
+    info: &'static RegisterInfo,
+    raw: u32,
+) -> Result<(), Failure> {
+    let value = raw_to_scaled(raw, info);
+    for (bound, above) in [(info.min_bound, false), (info.max_bound, true)] {
+        let Some(code) = bound else { continue };
+        let Some(other) = session.drive.register(code) else {
+            continue;
+        };
+        if !session.can_read(other) {
+            continue;
+        }
+        let Ok(Value {
+            raw: Some(limit_raw),
+            ..
+        }) = session.read(other)
+        else {
+            continue;
+        };
+        let limit = raw_to_scaled(limit_raw, other);
+        let beyond = if above { value > limit } else { value < limit };
+        if beyond {
+            return Err(Failure::new(format!(
+                "{}: {} is {} {} ({}) = {} now; nothing was written",
+                info.label(),
+                values::scaled(info, raw),
+                if above { "above" } else { "below" },
+                other.code,
+                other.name,
+                values::scaled(other, limit_raw)
+            ))
+            .hint(format!(
+                "the range is {}",
+                values::range_text(session.drive, info)
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A Ctrl-C (or SIGTERM) flag, set once per process.
+pub fn stop_flag() -> Result<Arc<AtomicBool>, Failure> {
+    let stop = Arc::new(AtomicBool::new(false));
+    let flag = stop.clone();
+    ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst))
+        .map_err(|e| Failure::new(format!("cannot catch Ctrl-C: {e}")))?;
+    Ok(stop)
+}
+
+const SPARKS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
+
+/// A trend line of the last values.
+pub fn sparkline(history: &[f64]) -> String {
+    let (low, high) = history
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(*v), hi.max(*v))
+        });
+    history
+        .iter()
+        .map(|v| {
+            if high - low < 1e-12 {
+                if high.abs() < 1e-12 {
+                    SPARKS[0]
+                } else {
+                    SPARKS[3]
+                }
+            } else {
+                let step = ((v - low) / (high - low) * 7.0).round() as usize;
+                SPARKS[step.min(7)]
+            }
+        })
+        .collect()
+}
+
+/// Polls the registers and shows them until Ctrl-C (or `count` polls).
+pub fn watch(
+    line: &LineArgs,
+    names: &[String],
+    interval: u64,
+    count: Option<u64>,
+) -> Result<(), Failure> {
+    let mut session = Session::open(line)?;
+    let registers = resolve(&session, names)?;
+    let stop = stop_flag()?;
+    watch_loop(
+        &mut session,
+        &registers,
+        Duration::from_millis(interval),
+        count,
+        &stop,
+        None,
+    )
+}
+
+/// The watch loop itself (also the demo's): `deadline` ends it too.
+pub fn watch_loop(
+    session: &mut Session,
+    registers: &[&'static RegisterInfo],
+    interval: Duration,
+    count: Option<u64>,
+    stop: &AtomicBool,
+    deadline: Option<Instant>,
+) -> Result<(), Failure> {
+    let terminal = is_terminal();
+    let start = Instant::now();
+    let mut history: Vec<Vec<f64>> = vec![Vec::new(); registers.len()];
+    let mut drawn = 0usize;
+    let mut polls = 0u64;
+    while !stop.load(Ordering::SeqCst)
+        && count.is_none_or(|n| polls < n)
+        && deadline.is_none_or(|d| Instant::now() < d)
+    {
+        let mut lines = Vec::new();
+        let mut tripped = false;
+        for (info, past) in registers.iter().zip(history.iter_mut()) {
+            let value = session.read(info)?;
+            tripped |= value.tripped;
+            let (shown, number) = match (&value.text, value.raw) {
+                (Some(text), _) => (format!("{text:?}"), None),
+                (None, Some(raw)) => (
+                    values::short(info, raw),
+                    (info.bits.is_none() && info.codes.is_none()).then(|| raw_to_scaled(raw, info)),
+                ),
+                (None, None) => ("(no data)".to_owned(), None),
+            };
+            if let Some(number) = number {
+                past.push(number);
+                if past.len() > 40 {
+                    past.remove(0);
+                }
+            }
+            lines.push((info, shown, number.map(|_| sparkline(past))));
+        }
+        polls += 1;
+        let elapsed = start.elapsed().as_secs_f64();
+        if terminal {
+            let mut text = String::new();
+            if drawn > 0 {
+                text.push_str(&format!("\x1b[{drawn}A"));
+            }
+            text.push_str(&format!(
+                "\x1b[2K{} {} — {elapsed:.1} s{}\n",
+                session.drive.id,
+                session.protocol.id,
+                if tripped { "  TRIPPED" } else { "" }
+            ));
+            for (info, shown, spark) in &lines {
+                text.push_str(&format!(
+                    "\x1b[2K  {:<7} {:<28} {:>22}  {}\n",
+                    info.code,
+                    clip(info.name, 28),
+                    shown,
+                    spark.as_deref().unwrap_or("")
+                ));
+            }
+            drawn = lines.len() + 1;
+            print_raw(&text);
+        } else {
+            let parts: Vec<String> = lines
+                .iter()
+                .map(|(info, shown, _)| format!("{}={shown}", info.code))
+                .collect();
+            say!(
+                "{elapsed:6.1}s  {}{}",
+                parts.join("  "),
+                if tripped { "  TRIPPED" } else { "" }
+            );
+        }
+        let next = Instant::now() + interval;
+        while Instant::now() < next && !stop.load(Ordering::SeqCst) {
+            std::thread::sleep(Duration::from_millis(20).min(interval));
+        }
+    }
+    Ok(())
+}
+
+fn clip(text: &str, width: usize) -> String {
+    if text.chars().count() <= width {
+        text.to_owned()
+    } else {
+        let mut clipped: String = text.chars().take(width - 1).collect();
+        clipped.push('…');
+        clipped
+    }
+}

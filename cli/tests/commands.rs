@@ -1,0 +1,233 @@
+//! The `vfd` binary as people use it: help, list, info, decode, completions and the demo,
+//! without a drive or a line.
+
+use std::process::{Command, Output};
+
+fn vfd(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vfd"))
+        .args(args)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+        .output()
+        .expect("vfd runs")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+#[test]
+fn every_subcommand_has_help_that_runs_nothing() {
+    let before: Vec<_> =
+        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../generated-docs"))
+            .unwrap()
+            .map(|e| e.unwrap().metadata().unwrap().modified().unwrap())
+            .collect();
+    for command in [
+        "list",
+        "info",
+        "read",
+        "write",
+        "watch",
+        "backup",
+        "restore",
+        "sim",
+        "demo",
+        "decode",
+        "encode",
+        "registers",
+        "generate",
+        "check",
+        "completions",
+    ] {
+        let output = vfd(&[command, "--help"]);
+        assert!(
+            output.status.success(),
+            "{command} --help: {}",
+            stderr(&output)
+        );
+        let text = stdout(&output);
+        assert!(text.contains("Usage: vfd"), "{command}: {text}");
+    }
+    let after: Vec<_> =
+        std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../generated-docs"))
+            .unwrap()
+            .map(|e| e.unwrap().metadata().unwrap().modified().unwrap())
+            .collect();
+    assert_eq!(before, after, "`generate --help` wrote nothing");
+    let version = vfd(&["--version"]);
+    assert!(stdout(&version).starts_with("vfd "));
+    let read_help = stdout(&vfd(&["read", "--help"]));
+    for option in [
+        "--port",
+        "--baud",
+        "--parity",
+        "--address",
+        "--timeout",
+        "--protocol",
+    ] {
+        assert!(read_help.contains(option), "read --help names {option}");
+    }
+}
+
+#[test]
+fn list_names_every_drive_and_protocol() {
+    let output = vfd(&["list"]);
+    assert!(output.status.success());
+    let text = stdout(&output);
+    for drive in vfd_drives::ALL_DRIVES {
+        assert!(text.contains(drive.id), "{text}");
+        for protocol in drive.protocols {
+            assert!(text.contains(protocol.id.as_ref()), "{text}");
+        }
+    }
+}
+
+#[test]
+fn info_finds_registers_by_code_id_address_and_chinese_name() {
+    for name in [
+        "FH",
+        "fh",
+        "maximum_frequency",
+        "0x0011",
+        "最高频率",
+        "Maximum frequency",
+    ] {
+        let output = vfd(&["info", "yd1000", name]);
+        assert!(output.status.success(), "{name}: {}", stderr(&output));
+        let text = stdout(&output);
+        assert!(
+            text.contains("register 0011 FH (Maximum frequency / 最高频率)"),
+            "{name}: {text}"
+        );
+        assert!(text.contains("30.00 Hz to 320.00 Hz"), "{text}");
+        assert!(text.contains("default     80.00 Hz"), "{text}");
+    }
+    let fa01 = stdout(&vfd(&["info", "yd1000", "FA01"]));
+    assert!(
+        fa01.contains("at run time not above FH (Maximum frequency)"),
+        "{fa01}"
+    );
+    assert!(fa01.contains("RAM only"), "{fa01}");
+    let fa00 = stdout(&vfd(&["info", "yd1000", "fa00"]));
+    assert!(
+        fa00.contains("command_enabled") && fa00.contains("Run/stop"),
+        "{fa00}"
+    );
+    let parity = stdout(&vfd(&["info", "yd1000", "F801"]));
+    assert!(parity.contains("Even parity / 偶校验"), "{parity}");
+    let p303 = vfd(&["info", "fc51", "3-03"]);
+    assert!(stdout(&p303).contains("parameter 303"), "{}", stderr(&p303));
+    let missing = vfd(&["info", "yd1000", "NOPE"]);
+    assert!(!missing.status.success());
+    assert!(stderr(&missing).contains("has no register `NOPE`"));
+    assert!(stderr(&missing).contains("hint:"));
+    let unknown = vfd(&["info", "nodrive"]);
+    assert!(!unknown.status.success());
+    assert!(stderr(&unknown).contains("unknown drive `nodrive`"));
+    assert!(!stderr(&unknown).contains("panicked"));
+}
+
+#[test]
+fn decode_explains_manual_frames() {
+    // Binary read of FD00 (manual 4.2), protocol and drive found.
+    let output = vfd(&["decode", "2F 52 FD 00 7E"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert!(text.contains("binary request of yd1000"), "{text}");
+    assert!(text.contains("register FD00 (Output frequency"), "{text}");
+    assert!(text.contains("checksum ok"), "{text}");
+    // The same without spaces.
+    assert!(vfd(&["decode", "2F52FD007E"]).status.success());
+    // ASCII with escapes, and without its final CR (decoded with a note).
+    let ascii = stdout(&vfd(&["decode", "(PFA011770&55)\\r"]));
+    assert!(ascii.contains("value:    60.00 Hz"), "{ascii}");
+    let no_cr = stdout(&vfd(&["decode", "(RFD00)"]));
+    assert!(no_cr.contains("lacks its final CR"), "{no_cr}");
+    // A reply decodes as a reply, with units.
+    let reply = stdout(&vfd(&["decode", "--drive", "yd1000", "(R00111F40&3D)\\r"]));
+    assert!(
+        reply.contains("ascii reply") && reply.contains("80.00 Hz"),
+        "{reply}"
+    );
+    // An error reply names the manual's code; the old positional form still works.
+    let error = stdout(&vfd(&["decode", "yd1000", "ascii", "(N0001&5D)\\r"]));
+    assert!(error.contains("Data error"), "{error}");
+}
+
+#[test]
+fn decode_refuses_bad_frames_with_the_reason() {
+    let bad_sum = vfd(&["decode", "2F 52 FD 00 7F"]);
+    assert!(!bad_sum.status.success());
+    assert!(
+        stderr(&bad_sum).contains("checksum mismatch: computed 7Eh, frame has 7Fh"),
+        "{}",
+        stderr(&bad_sum)
+    );
+    let not_hex = vfd(&["decode", "2F 52 FG 00 7E"]);
+    assert!(!not_hex.status.success());
+    assert!(
+        stderr(&not_hex).contains("`G` is not a hex digit"),
+        "{}",
+        stderr(&not_hex)
+    );
+    let garbage = vfd(&["decode", "(hello)\\r"]);
+    assert!(!garbage.status.success());
+    assert!(!stderr(&garbage).contains("panicked"));
+}
+
+#[test]
+fn decode_json_is_one_object() {
+    let output = vfd(&["decode", "--json", "2F 52 FD 00 7E"]);
+    assert!(output.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&output.stdout).expect("JSON");
+    assert_eq!(json["valid"], true);
+    assert_eq!(json["protocol"], "binary");
+    assert_eq!(json["direction"], "request");
+    assert_eq!(json["register"], "FD00");
+    let bad = vfd(&["decode", "--json", "2F 52 FD 00 7F"]);
+    assert!(!bad.status.success());
+    let json: serde_json::Value = serde_json::from_slice(&bad.stdout).expect("JSON");
+    assert_eq!(json["valid"], false);
+}
+
+#[test]
+fn encode_still_builds_frames_by_register_name() {
+    let output = vfd(&["encode", "yd1000", "binary", "write-ram", "FA01", "60Hz"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(stdout(&output).contains("hex:   2F 50 FA 01 17 70 01"));
+    let refused = vfd(&["encode", "yd1000", "binary", "write-ram", "FA01", "400Hz"]);
+    assert!(!refused.status.success());
+    assert!(stderr(&refused).contains("outside the range"));
+}
+
+#[test]
+fn completions_are_printed_for_bash() {
+    let output = vfd(&["completions", "bash"]);
+    assert!(output.status.success());
+    let text = stdout(&output);
+    assert!(text.contains("_vfd()") && text.contains("decode"), "{text}");
+}
+
+#[test]
+fn demo_runs_to_completion_piped() {
+    let started = std::time::Instant::now();
+    let output = vfd(&["demo", "--seconds", "2"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    for step in [
+        "$ vfd list",
+        "$ vfd info",
+        "$ vfd write",
+        "$ vfd watch",
+        "TRIPPED",
+        "Done.",
+    ] {
+        assert!(text.contains(step), "demo shows `{step}`:\n{text}");
+    }
+    assert!(!text.contains('\x1b'), "no terminal codes when piped");
+    assert!(started.elapsed() < std::time::Duration::from_secs(15));
+}
