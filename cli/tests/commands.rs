@@ -133,8 +133,13 @@ fn info_finds_registers_by_code_id_address_and_chinese_name() {
 
 #[test]
 fn decode_explains_manual_frames() {
-    // Binary read of FD00 (manual 4.2), protocol and drive found.
+    // Binary read of FD00 (manual 4.2): the protocol is found; two described drives speak
+    // it, and the note says so.
     let output = vfd(&["decode", "2F 52 FD 00 7E"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert!(text.contains("all speak this protocol"), "{text}");
+    let output = vfd(&["decode", "--drive", "yd1000", "2F 52 FD 00 7E"]);
     assert!(output.status.success(), "{}", stderr(&output));
     let text = stdout(&output);
     assert!(text.contains("binary request of yd1000"), "{text}");
