@@ -49,11 +49,8 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
         let Some(register) = drive.register(&example.register) else {
             continue;
         };
-        let name = format_ident!(
-            "value_{}_example_{}",
-            register.code.to_ascii_lowercase().replace('-', "_"),
-            index + 1
-        );
+        // Named by the register's id (checked snake case); a code may hold any character.
+        let name = format_ident!("value_{}_example_{}", register.id, index + 1);
         let value_ty = value_type_at(&register.value, &root);
         let construct = construct_value(&register.value, example.value, &value_ty);
         let register = Ident::new(&register.type_name, Span::call_site());
@@ -229,5 +226,34 @@ fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> Token
         fn #name() {
             #(#body)*
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::validate::testing::valid_with;
+    use std::path::Path;
+
+    #[test]
+    fn any_character_in_a_register_code_gives_valid_test_names() {
+        let yaml = valid_with(&[
+            (
+                "code: FH, name: Maximum frequency",
+                "code: \"H6D/HED\", name: Maximum frequency",
+            ),
+            ("max: FH }", "max: \"H6D/HED\" }"),
+            (
+                "register: FH, value: 80.0",
+                "register: \"H6D/HED\", value: 80.0",
+            ),
+        ]);
+        let drive = crate::compile_text(
+            Path::new("drive.yaml"),
+            yaml,
+            Some(Path::new("../drives/protocols")),
+        )
+        .expect("valid");
+        let tokens = super::golden_tests(&drive, "drive.yaml");
+        syn::parse2::<syn::File>(tokens).expect("the tests parse as Rust");
     }
 }
