@@ -230,7 +230,7 @@ fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> Token
 }
 
 #[cfg(test)]
-mod tests {
+mod naming_tests {
     use crate::validate::testing::valid_with;
     use std::path::Path;
 
