@@ -277,9 +277,12 @@ pub fn encode_with_payload(
                 continue;
             }
             let value_at = starts[index] + spec.marker.len();
+            let covered_end = spec
+                .covers_through
+                .map_or(value_at, |through| ends[usize::from(through)]);
             let sum = checksum::compute(
                 spec.algorithm,
-                &writer.out[starts[usize::from(spec.covers_from)]..value_at],
+                &writer.out[starts[usize::from(spec.covers_from)]..covered_end],
             );
             writer.len = value_at;
             writer.put_value(&spec.name, spec.format, sum, 2)?;
@@ -801,9 +804,13 @@ fn decode_checksum(
     else {
         return Ok(PartOutcome::Incomplete);
     };
+    // The end of the last covered part is where the next part starts.
+    let covered_end = spec
+        .covers_through
+        .map_or(value_at, |through| starts[usize::from(through) + 1]);
     let computed = checksum::compute(
         spec.algorithm,
-        &bytes[starts[usize::from(spec.covers_from)]..value_at],
+        &bytes[starts[usize::from(spec.covers_from)]..covered_end],
     );
     if computed != received {
         return Err(DecodeError::ChecksumMismatch {
@@ -972,6 +979,7 @@ mod tests {
                     format: Format::Hex,
                     marker: Cow::Borrowed(b"&"),
                     covers_from: 0,
+                    covers_through: None,
                     optional: true,
                 }),
                 Part::Literal {
@@ -986,6 +994,78 @@ mod tests {
                 },
             ]),
         }
+    }
+
+    fn hex_field(name: &'static str, role: Role, width: u8) -> Part {
+        Part::Field(FieldSpec {
+            name: name.into(),
+            role,
+            format: Format::Hex,
+            width,
+            min_width: width,
+            optional: None,
+            allowed: Cow::Borrowed(&[]),
+            fold_case: false,
+            sized_by: crate::layout::SizedBy::Format,
+        })
+    }
+
+    /// An Eaton-style data reply: STX, station, data, a unit digit, ETX, then a sum that
+    /// covers station through unit digit but not ETX (DV1 manual, 例三 step 4).
+    fn etx_outside_the_sum(covers_through: Option<u8>) -> FrameLayout {
+        FrameLayout {
+            name: "data_reply".into(),
+            parts: Cow::Owned(vec![
+                Part::Literal {
+                    name: "stx".into(),
+                    bytes: Cow::Borrowed(b"\x02"),
+                    optional: false,
+                },
+                hex_field("station", Role::Address, 2),
+                hex_field("data", Role::Data, 4),
+                hex_field("unit", Role::Index, 1),
+                Part::Literal {
+                    name: "etx".into(),
+                    bytes: Cow::Borrowed(b"\x03"),
+                    optional: false,
+                },
+                Part::Checksum(ChecksumSpec {
+                    name: "sum".into(),
+                    algorithm: ChecksumAlgorithm::Sum8,
+                    format: Format::Hex,
+                    marker: Cow::Borrowed(b""),
+                    covers_from: 1,
+                    covers_through,
+                    optional: false,
+                }),
+                Part::Literal {
+                    name: "cr".into(),
+                    bytes: Cow::Borrowed(b"\r"),
+                    optional: false,
+                },
+            ]),
+        }
+    }
+
+    #[test]
+    fn a_sum_may_stop_before_the_parts_ahead_of_it() {
+        let frame = b"\x0200" as &[u8];
+        let frame = [frame, b"17702\x0361\r"].concat();
+        let layout = etx_outside_the_sum(Some(3));
+        let DecodeStatus::Complete { values, len } = decode(&layout, &frame).unwrap() else {
+            panic!("incomplete")
+        };
+        assert_eq!(len, frame.len());
+        assert_eq!(values.get(&layout, Role::Data), Some(0x1770));
+        let mut out = [0u8; 32];
+        let n = encode(&layout, &values, &mut out).unwrap();
+        assert_eq!(&out[..n], &frame[..]);
+        // Summing through ETX as well gives 64h, not the 61h the manual prints.
+        let error = decode(&etx_outside_the_sum(None), &frame).unwrap_err();
+        assert_eq!(
+            error.kind(),
+            crate::error::DecodeErrorKind::ChecksumMismatch
+        );
     }
 
     #[test]

@@ -426,6 +426,10 @@ pub struct ChecksumSpec {
     pub marker: List<u8>,
     /// Index of the first part covered; coverage runs up to the checksum value.
     pub covers_from: u8,
+    /// Index of the last part covered, where coverage ends before the checksum (an ETX
+    /// between the data and the sum that the sum leaves out); `None`: up to the value.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub covers_through: Option<u8>,
     /// Whether the checksum (with its marker) may be left out.
     pub optional: bool,
 }
@@ -600,8 +604,15 @@ impl ChecksumSpec {
             format,
             marker: Cow::Borrowed(&[]),
             covers_from,
+            covers_through: None,
             optional: false,
         }
+    }
+
+    /// Covers the parts up to and including the one at `index` only.
+    pub const fn with_covers_through(mut self, index: u8) -> ChecksumSpec {
+        self.covers_through = Some(index);
+        self
     }
 
     /// Announced by these bytes.

@@ -1000,6 +1000,9 @@ pub struct PartModel {
     pub marker: Option<String>,
     /// Name of the first part a checksum covers.
     pub covers_from: Option<String>,
+    /// Name of the last part a checksum covers, where it stops before the checksum (an ETX
+    /// in between is left out); left out: up to the checksum.
+    pub covers_through: Option<String>,
     /// Bit fields of a `word`.
     #[serde(default)]
     pub fields: Vec<BitsModel>,

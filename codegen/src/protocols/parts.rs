@@ -384,6 +384,23 @@ fn checksum(
             "name the first covered part, e.g. covers_from: start",
         );
     };
+    let covers_through = match model.covers_through.as_deref() {
+        None => None,
+        Some(through) => {
+            let position = context
+                .position_of(through)
+                .filter(|position| *position < context.index && *position >= covers_from);
+            let Some(position) = position else {
+                return context.fail(
+                    out,
+                    "covers_through",
+                    format!("`covers_through: {through}` does not name a part between `covers_from` and the checksum"),
+                    "name the last covered part, e.g. covers_through: unit (an ETX after it is then left out)",
+                );
+            };
+            Some(position as u8)
+        }
+    };
     let marker = model.marker.clone().unwrap_or_default().into_bytes();
     if optional && marker.is_empty() {
         return context.fail(
@@ -399,6 +416,7 @@ fn checksum(
         format,
         marker: Cow::Owned(marker),
         covers_from: covers_from as u8,
+        covers_through,
         optional,
     }))
 }
@@ -590,6 +608,7 @@ mod tests {
                 format: Format::Hex,
                 marker: b"&".to_vec().into(),
                 covers_from: 0,
+                covers_through: None,
                 optional: true,
             }),
             literal("cr", b"\r".to_vec(), false),

@@ -164,7 +164,7 @@ pub(super) fn part_view(part: &Part, parts: &[Part]) -> PartView {
                 String::new()
             },
             notes: format!(
-                "{}covers `{}` through the byte before the sum",
+                "{}covers `{}` through {}",
                 if spec.marker.is_empty() {
                     String::new()
                 } else {
@@ -173,7 +173,11 @@ pub(super) fn part_view(part: &Part, parts: &[Part]) -> PartView {
                 parts
                     .get(usize::from(spec.covers_from))
                     .map(|p| p.name().to_owned())
-                    .unwrap_or_default()
+                    .unwrap_or_default(),
+                match spec.covers_through.and_then(|t| parts.get(usize::from(t))) {
+                    Some(last) => format!("`{}` (the parts after it are not summed)", last.name()),
+                    None => "the byte before the sum".to_owned(),
+                }
             ),
         },
     }

@@ -280,6 +280,10 @@ impl Bake for ChecksumSpec {
         if self.optional {
             tokens.extend(quote!(.with_optional()));
         }
+        if let Some(through) = self.covers_through {
+            let through = int_literal(through);
+            tokens.extend(quote!(.with_covers_through(#through)));
+        }
         tokens
     }
 }
