@@ -94,9 +94,14 @@ pub fn backup(line: &LineArgs, to: &Path) -> Result<(), Failure> {
     let bar = progress(registers.len(), "reading");
     let mut parameters = Vec::new();
     let mut failed = Vec::new();
-    for info in &registers {
-        bar.inc(1);
-        match session.read(info) {
+    // Consecutive registers in one request where the protocol allows it.
+    let mut read = Vec::with_capacity(registers.len());
+    for chunk in registers.chunks(128) {
+        read.extend(session.read_many(chunk));
+        bar.inc(chunk.len() as u64);
+    }
+    for (info, result) in registers.iter().zip(read) {
+        match result {
             Ok(value) => {
                 let (value, meaning) = entry_value(info, &value);
                 parameters.push(Entry {
@@ -146,10 +151,11 @@ pub fn backup(line: &LineArgs, to: &Path) -> Result<(), Failure> {
     std::fs::write(to, text)
         .map_err(|e| Failure::new(format!("cannot write {}: {e}", to.display())))?;
     say!(
-        "saved {} parameters of {} to {}",
+        "saved {} parameters of {} to {} ({} read request(s))",
         backup.parameters.len(),
         drive.id,
-        to.display()
+        to.display(),
+        session.requests
     );
     for line in &failed {
         say!("  not read: {line}");

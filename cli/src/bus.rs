@@ -124,6 +124,8 @@ pub struct Session {
     /// The line settings in use.
     pub settings: SerialSettings,
     master: Master<Line>,
+    /// Requests sent so far (each read or write, a block of registers counting once).
+    pub requests: usize,
 }
 
 impl Session {
@@ -153,6 +155,7 @@ impl Session {
             protocol,
             settings,
             master,
+            requests: 0,
         })
     }
 
@@ -171,6 +174,7 @@ impl Session {
             protocol,
             settings,
             master,
+            requests: 0,
         }
     }
 
@@ -183,6 +187,7 @@ impl Session {
             CommandKind::Read
         };
         let request = Request::for_register(kind, info, 0);
+        self.requests += 1;
         let answer = self
             .master
             .transact(&request)
@@ -229,11 +234,124 @@ impl Session {
             CommandKind::WriteRam
         };
         let request = Request::for_register(kind, info, raw);
+        self.requests += 1;
         let answer = self
             .master
             .transact(&request)
             .map_err(|e| self.failure(e))?;
         Ok((answer.data, answer.tripped))
+    }
+
+    /// Reads every register of `registers`, consecutive ones together where the protocol
+    /// reads several registers in one request (its `max_words_per_read`); the others, and a
+    /// block the drive refuses, one request each. Results are in the order given.
+    pub fn read_many(
+        &mut self,
+        registers: &[&'static RegisterInfo],
+    ) -> Vec<Result<Value, Failure>> {
+        let mut results: Vec<Option<Result<Value, Failure>>> =
+            registers.iter().map(|_| None).collect();
+        for run in self.blocks(registers) {
+            if run.len() > 1 {
+                if let Some(values) = self.read_block(registers, &run) {
+                    for (index, value) in run.iter().zip(values) {
+                        results[*index] = Some(Ok(value));
+                    }
+                    continue;
+                }
+            }
+            for index in run {
+                results[index] = Some(self.read(registers[index]));
+            }
+        }
+        results
+            .into_iter()
+            .map(|r| r.unwrap_or_else(|| Err(Failure::new("not read"))))
+            .collect()
+    }
+
+    /// Indexes of `registers` in runs of consecutive wire addresses, each run at most as
+    /// many words as one read carries; registers a block cannot hold stand alone.
+    fn blocks(&self, registers: &[&'static RegisterInfo]) -> Vec<Vec<usize>> {
+        let Some(command) = self
+            .protocol
+            .block_read_command(vfd_runtime::Space::Parameter)
+        else {
+            return (0..registers.len()).map(|i| vec![i]).collect();
+        };
+        let max = usize::from(self.protocol.max_words_per_read);
+        let width = |info: &RegisterInfo| usize::from(info.data_type.size().max(2) / 2);
+        let mut placed: Vec<(usize, Option<u16>)> = registers
+            .iter()
+            .enumerate()
+            .map(|(i, info)| {
+                let blockable = info.space == vfd_runtime::Space::Parameter
+                    && info.array_len == 0
+                    && matches!(info.data_type, DataType::Word | DataType::DoubleWord);
+                let wire = blockable
+                    .then(|| command.address_map.to_wire(info.address))
+                    .flatten();
+                (i, wire)
+            })
+            .collect();
+        placed.sort_by_key(|(i, wire)| (wire.is_none(), *wire, *i));
+        let mut runs: Vec<Vec<usize>> = Vec::new();
+        let mut next: Option<(u16, usize)> = None; // wire address that continues, words so far
+        for (i, wire) in placed {
+            let words = width(registers[i]);
+            match (wire, next, runs.last_mut()) {
+                (Some(at), Some((expected, used)), Some(run))
+                    if at == expected && used + words <= max =>
+                {
+                    run.push(i);
+                    next = at
+                        .checked_add(words as u16)
+                        .map(|after| (after, used + words));
+                }
+                (Some(at), _, _) => {
+                    runs.push(vec![i]);
+                    next = at.checked_add(words as u16).map(|after| (after, words));
+                }
+                (None, _, _) => {
+                    runs.push(vec![i]);
+                    next = None;
+                }
+            }
+        }
+        runs
+    }
+
+    /// Reads the registers of one run in one request; `None` when the drive refuses it.
+    fn read_block(
+        &mut self,
+        registers: &[&'static RegisterInfo],
+        run: &[usize],
+    ) -> Option<Vec<Value>> {
+        let widths: Vec<usize> = run
+            .iter()
+            .map(|i| usize::from(registers[*i].data_type.size().max(2) / 2))
+            .collect();
+        let mut words = vec![0u16; widths.iter().sum()];
+        self.requests += 1;
+        let answer = self
+            .master
+            .read_words(registers[run[0]].address, &mut words)
+            .ok()?;
+        let mut at = 0;
+        Some(
+            widths
+                .iter()
+                .map(|width| {
+                    let raw = self.master.join_words(&words[at..at + width]);
+                    at += width;
+                    Value {
+                        raw: Some(raw),
+                        text: None,
+                        tripped: answer.tripped,
+                    }
+                })
+                .collect(),
+        )
     }
 
     /// Whether the protocol has a command to read `info`.

@@ -222,3 +222,43 @@ fn a_missing_port_is_one_clear_error() {
     assert!(message.contains("hint:"), "{message}");
     assert!(!message.contains("panicked"));
 }
+
+/// `saved N parameters of DRIVE to FILE (M read request(s))`: N and M.
+fn saved_counts(output: &str) -> (usize, usize) {
+    let line = output
+        .lines()
+        .find(|l| l.starts_with("saved "))
+        .unwrap_or_else(|| panic!("a summary line: {output}"));
+    let number = |after: &str| -> usize {
+        line[line.find(after).unwrap() + after.len()..]
+            .split(|c: char| !c.is_ascii_digit())
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    (number("saved "), number("("))
+}
+
+#[test]
+fn backup_reads_consecutive_registers_in_blocks_where_the_protocol_allows() {
+    let dir = std::env::temp_dir().join(format!("vfd-blocks-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // DV1 over Modbus reads up to 12 registers per request; VF-AS1 one.
+    for (drive, blocks) in [("dv1", true), ("vf-as1", false)] {
+        let sim = Sim::start(drive, "modbus");
+        let file = dir.join(format!("{drive}.yaml"));
+        let saved = sim.vfd(drive, "modbus", &["backup", "--to", file.to_str().unwrap()]);
+        assert!(saved.status.success(), "{}", text(&saved));
+        let (parameters, requests) = saved_counts(&text(&saved));
+        if blocks {
+            assert!(
+                requests < parameters,
+                "{drive}: {requests} requests for {parameters} parameters"
+            );
+        } else {
+            assert_eq!(requests, parameters, "{drive}: one register per read");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
