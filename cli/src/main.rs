@@ -105,7 +105,8 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         to: PathBuf,
     },
-    /// Write a backup back: only writable values that differ, refusing what cannot be written.
+    /// Write a backup back: only writable values that differ, each read back; running it
+    /// again after an interruption finishes the job.
     Restore {
         #[command(flatten)]
         line: bus::LineArgs,
@@ -118,6 +119,10 @@ enum Command {
         /// Write RAM and EEPROM (default: RAM only, lost at power-off).
         #[arg(long)]
         persist: bool,
+        /// When the drive runs and some values cannot change while it runs, stop it first
+        /// (default: refuse, writing nothing).
+        #[arg(long)]
+        stop_first: bool,
     },
     /// Run the virtual drive on a pseudo-terminal; prints the device path first.
     #[command(
@@ -275,7 +280,8 @@ fn run(command: Command) -> Result<(), Failure> {
             from,
             dry_run,
             persist,
-        } => backup::restore(&line, &from, dry_run, persist),
+            stop_first,
+        } => backup::restore(&line, &from, dry_run, persist, stop_first),
         Command::Sim(args) => sim::run(&args),
         Command::Demo { drive, seconds } => demo::run(drive.as_deref(), seconds),
         Command::Decode {
