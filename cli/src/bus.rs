@@ -6,10 +6,10 @@
 use crate::{lookup, Failure};
 use std::path::Path;
 use std::time::{Duration, Instant};
+use vfd_runtime::meaning::{decode_meaning, Direction};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{PtyTransport, SerialTransport, Transport};
-use vfd_runtime::virtual_drive::SimLink;
 use vfd_runtime::{
     CommandKind, DataType, DriveInfo, EncodeError, Protocol, RegisterInfo, Request,
     TransactionError, TransactionErrorKind,
@@ -62,15 +62,63 @@ pub struct LineArgs {
     pub timeout: Option<u64>,
 }
 
-/// A byte line to a drive: a serial port, a terminal device (pseudo-terminals), or a
-/// virtual drive in this process.
+/// A byte line to a drive: a serial port, or a terminal device (pseudo-terminals), traced
+/// or not.
 pub enum Line {
     /// A serial port.
     Serial(SerialTransport),
     /// A terminal device such as a pseudo-terminal.
     Pty(PtyTransport),
-    /// A virtual drive in this process.
-    Sim(SimLink),
+    /// Another line, each frame on it printed (hex and decoded) as it passes.
+    Traced(Box<Traced>),
+}
+
+/// A line that prints every frame it carries: each request as it is sent, each reply once
+/// it is whole.
+pub struct Traced {
+    /// The line itself.
+    pub inner: Line,
+    /// The drive, to name registers.
+    pub drive: &'static DriveInfo,
+    /// The protocol, to decode frames.
+    pub protocol: &'static Protocol,
+    received: Vec<u8>,
+}
+
+impl Traced {
+    /// `inner`, traced.
+    pub fn new(inner: Line, drive: &'static DriveInfo, protocol: &'static Protocol) -> Line {
+        Line::Traced(Box::new(Traced {
+            inner,
+            drive,
+            protocol,
+            received: Vec::new(),
+        }))
+    }
+
+    fn print(&self, arrow: &str, direction: Direction, bytes: &[u8]) {
+        crate::out::say!(
+            "    {arrow} {}  [{}]",
+            vfd_runtime::error::hex(bytes),
+            crate::sim::frame_text(self.drive, self.protocol, direction, bytes)
+        );
+    }
+
+    fn send(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        self.received.clear();
+        self.print("->", Direction::Request, bytes);
+        self.inner.send(bytes)
+    }
+
+    fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> std::io::Result<usize> {
+        let got = self.inner.receive(buf, deadline)?;
+        self.received.extend_from_slice(&buf[..got]);
+        if got > 0 && decode_meaning(self.protocol, Direction::Reply, &self.received).is_ok() {
+            let reply = std::mem::take(&mut self.received);
+            self.print("<-", Direction::Reply, &reply);
+        }
+        Ok(got)
+    }
 }
 
 impl Transport for Line {
@@ -78,28 +126,28 @@ impl Transport for Line {
         match self {
             Line::Serial(t) => t.send(bytes),
             Line::Pty(t) => t.send(bytes),
-            Line::Sim(t) => t.send(bytes),
+            Line::Traced(t) => t.send(bytes),
         }
     }
     fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> std::io::Result<usize> {
         match self {
             Line::Serial(t) => t.receive(buf, deadline),
             Line::Pty(t) => t.receive(buf, deadline),
-            Line::Sim(t) => t.receive(buf, deadline),
+            Line::Traced(t) => t.receive(buf, deadline),
         }
     }
     fn clear_input(&mut self) -> std::io::Result<()> {
         match self {
             Line::Serial(t) => t.clear_input(),
             Line::Pty(t) => t.clear_input(),
-            Line::Sim(t) => t.clear_input(),
+            Line::Traced(t) => t.inner.clear_input(),
         }
     }
     fn last_gap(&self) -> Option<Duration> {
         match self {
             Line::Serial(t) => t.last_gap(),
             Line::Pty(t) => t.last_gap(),
-            Line::Sim(t) => t.last_gap(),
+            Line::Traced(t) => t.inner.last_gap(),
         }
     }
 }

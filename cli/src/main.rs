@@ -129,7 +129,8 @@ enum Command {
         after_help = "The first line of output is the device to open, e.g.:\n  vfd sim --drive yd1000 &\n  vfd read --drive yd1000 --port /dev/pts/5 FA01"
     )]
     Sim(sim::SimArgs),
-    /// Show the whole product against the built-in virtual drive (no hardware, ~10 s).
+    /// Show the whole product against the virtual drive on a pseudo-terminal, every frame
+    /// printed (no hardware, ~5 s).
     Demo {
         /// Drive to show (default: the first described drive with a behaviour model).
         #[arg(long)]
