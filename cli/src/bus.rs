@@ -87,7 +87,7 @@ pub struct Traced {
 
 impl Traced {
     /// `inner`, traced.
-    pub fn new(inner: Line, drive: &'static DriveInfo, protocol: &'static Protocol) -> Line {
+    pub fn line(inner: Line, drive: &'static DriveInfo, protocol: &'static Protocol) -> Line {
         Line::Traced(Box::new(Traced {
             inner,
             drive,

@@ -63,7 +63,7 @@ pub fn run(drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
     let mut session = Session::over(
         drive,
         protocol,
-        Traced::new(Line::Pty(line), drive, protocol),
+        Traced::line(Line::Pty(line), drive, protocol),
         address,
     );
     let result = tour(drive, behaviour, &sim, &mut session, seconds, &port);
