@@ -174,6 +174,8 @@ pub struct Session {
     master: Master<Line>,
     /// Requests sent so far (each read or write, a block of registers counting once).
     pub requests: usize,
+    /// The station addressed (`None`: no address sent).
+    address: Option<u8>,
 }
 
 impl Session {
@@ -204,6 +206,7 @@ impl Session {
             settings,
             master,
             requests: 0,
+            address,
         })
     }
 
@@ -223,6 +226,7 @@ impl Session {
             settings,
             master,
             requests: 0,
+            address,
         }
     }
 
@@ -418,8 +422,9 @@ impl Session {
     fn failure(&self, error: TransactionError) -> Failure {
         let hint = match &error.kind {
             TransactionErrorKind::Timeout { .. } => Some(format!(
-                "check the wiring and the settings: {} baud, parity {}, protocol {}, station {} \
-                 (--baud, --parity, --protocol, --address); a slow drive may need --timeout",
+                "check baud rate, parity and station address: {} baud, parity {}, protocol {}, \
+                 station {} (--baud, --parity, --protocol, --address), and the wiring; a slow \
+                 drive may need --timeout",
                 self.settings.baud,
                 self.settings.parity.as_str(),
                 self.protocol.id,
@@ -436,6 +441,10 @@ impl Session {
                     .join(", ")
             )),
             TransactionErrorKind::Io(_) => Some("is the port still there?".to_owned()),
+            TransactionErrorKind::Decode(_) => Some(
+                "the reply arrived damaged: check the wiring, termination, baud rate and parity"
+                    .to_owned(),
+            ),
             _ => None,
         };
         let failure = Failure::new(error.to_string());
@@ -446,7 +455,7 @@ impl Session {
     }
 
     fn address_text(&self) -> String {
-        match default_address(self.protocol) {
+        match self.address {
             Some(address) => address.to_string(),
             None => "none".to_owned(),
         }

@@ -12,8 +12,13 @@ struct Sim {
 
 impl Sim {
     fn start(drive: &str, protocol: &str) -> Sim {
+        Sim::start_with(drive, protocol, &[])
+    }
+
+    fn start_with(drive: &str, protocol: &str, extra: &[&str]) -> Sim {
         let mut child = Command::new(env!("CARGO_BIN_EXE_vfd"))
             .args(["sim", "--drive", drive, "--protocol", protocol])
+            .args(extra)
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -417,5 +422,86 @@ fn restore_refuses_values_that_cannot_change_while_running_unless_told_to_stop_f
     );
     let back = sim.vfd("yd1000", "binary", &["read", "FH"]);
     assert!(text(&back).contains("80.00 Hz"), "{}", text(&back));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn line_errors_are_one_clear_line_with_a_hint() {
+    let sim = Sim::start("yd1000", "binary");
+    let one_line = |output: &Output, wanted: &[&str]| {
+        assert!(!output.status.success());
+        let message = String::from_utf8_lossy(&output.stderr).into_owned();
+        assert_eq!(message.lines().count(), 2, "message and hint: {message}");
+        assert!(
+            message.contains("hint:") && !message.contains("panicked"),
+            "{message}"
+        );
+        for part in wanted {
+            assert!(message.contains(part), "{part}: {message}");
+        }
+    };
+    // Silence: another station.
+    let silent = sim.vfd(
+        "yd1000",
+        "binary",
+        &["read", "--address", "9", "--timeout", "50", "FH"],
+    );
+    one_line(
+        &silent,
+        &[
+            "no reply",
+            "within",
+            "check baud rate, parity and station address",
+            "station 9",
+        ],
+    );
+    // An error reply: the manual's code, name and meaning.
+    for (code, value) in [
+        ("FA01", "20"),
+        ("FA00", "command_enabled,frequency_enabled,run"),
+    ] {
+        assert!(sim
+            .vfd("yd1000", "binary", &["write", code, value])
+            .status
+            .success());
+    }
+    let refused = sim.vfd("yd1000", "binary", &["write", "FH", "70"]);
+    assert!(!refused.status.success());
+    let message = text(&refused);
+    assert!(
+        message.contains("error 0 (0000h) Cannot execute (无法执行)")
+            && message.contains("cannot be changed while running"),
+        "{message}"
+    );
+    // A damaged reply.
+    let garbled = Sim::start_with("yd1000", "binary", &["--fault", "corrupt-checksum"]);
+    let damaged = garbled.vfd("yd1000", "binary", &["read", "FH"]);
+    one_line(&damaged, &["invalid reply", "checksum", "damaged"]);
+    // Permission denied on the port.
+    let dir = std::env::temp_dir().join(format!("vfd-perm-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let port = dir.join("ttyLOCKED");
+    std::fs::write(&port, b"").unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&port, std::fs::Permissions::from_mode(0o000)).unwrap();
+    if std::fs::File::open(&port).is_ok() {
+        eprintln!("SKIPPED: permission denied (running as root: mode 000 does not stop us)");
+    } else {
+        let denied = Command::new(env!("CARGO_BIN_EXE_vfd"))
+            .args([
+                "read",
+                "--drive",
+                "yd1000",
+                "--port",
+                port.to_str().unwrap(),
+                "FH",
+            ])
+            .output()
+            .unwrap();
+        one_line(
+            &denied,
+            &["cannot open serial port", "ermission denied", "dialout"],
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
