@@ -94,9 +94,14 @@ pub fn backup(line: &LineArgs, to: &Path) -> Result<(), Failure> {
     let bar = progress(registers.len(), "reading");
     let mut parameters = Vec::new();
     let mut failed = Vec::new();
-    for info in &registers {
-        bar.inc(1);
-        match session.read(info) {
+    // Consecutive registers in one request where the protocol allows it.
+    let mut read = Vec::with_capacity(registers.len());
+    for chunk in registers.chunks(128) {
+        read.extend(session.read_many(chunk));
+        bar.inc(chunk.len() as u64);
+    }
+    for (info, result) in registers.iter().zip(read) {
+        match result {
             Ok(value) => {
                 let (value, meaning) = entry_value(info, &value);
                 parameters.push(Entry {
@@ -146,10 +151,11 @@ pub fn backup(line: &LineArgs, to: &Path) -> Result<(), Failure> {
     std::fs::write(to, text)
         .map_err(|e| Failure::new(format!("cannot write {}: {e}", to.display())))?;
     say!(
-        "saved {} parameters of {} to {}",
+        "saved {} parameters of {} to {} ({} read request(s))",
         backup.parameters.len(),
         drive.id,
-        to.display()
+        to.display(),
+        session.requests
     );
     for line in &failed {
         say!("  not read: {line}");
@@ -169,7 +175,13 @@ enum Plan {
 }
 
 /// Checks every entry, then writes the changed writable values.
-pub fn restore(line: &LineArgs, from: &Path, dry_run: bool, persist: bool) -> Result<(), Failure> {
+pub fn restore(
+    line: &LineArgs,
+    from: &Path,
+    dry_run: bool,
+    persist: bool,
+    stop_first: bool,
+) -> Result<(), Failure> {
     let text = std::fs::read_to_string(from)
         .map_err(|e| Failure::new(format!("cannot read {}: {e}", from.display())))?;
     let backup: Backup = if from
@@ -254,35 +266,74 @@ pub fn restore(line: &LineArgs, from: &Path, dry_run: bool, persist: bool) -> Re
         })
         .collect();
     let target = if persist { "RAM and EEPROM" } else { "RAM" };
-    for (info, now, raw) in &writes {
-        say!(
-            "{} {:<7} {}: {} -> {}",
-            if dry_run { "would write" } else { "write" },
-            info.code,
-            info.name,
-            values::short(info, *now),
-            values::short(info, *raw)
-        );
-    }
     if dry_run {
+        for (info, now, raw) in &writes {
+            say!(
+                "would write {:<7} {}: {} -> {}",
+                info.code,
+                info.name,
+                values::short(info, *now),
+                values::short(info, *raw)
+            );
+        }
         say!(
             "dry run: {} to write ({target}), {same} unchanged, {read_only} read-only kept for reference; nothing written",
             writes.len()
         );
         return Ok(());
     }
+    let blocked: Vec<&'static RegisterInfo> = writes
+        .iter()
+        .map(|(info, _, _)| *info)
+        .filter(|info| !info.writable_while_running)
+        .collect();
+    if !blocked.is_empty() && is_running(&mut session)? {
+        if !stop_first {
+            return Err(Failure::new(format!(
+                "the drive is running: {} value(s) cannot be written while it runs ({}); nothing written",
+                blocked.len(),
+                list(&blocked)
+            ))
+            .hint("stop the drive first, or restore with --stop-first (stops it, then writes)"));
+        }
+        stop_drive(&mut session)?;
+    }
+    // One value at a time, each read back: a restore cut short leaves every value either
+    // old or new, and running it again writes only what still differs.
     let bar = progress(writes.len(), "writing");
     let mut failed = Vec::new();
-    for (info, _, raw) in &writes {
+    let mut written = 0usize;
+    for (info, now, raw) in &writes {
         bar.inc(1);
-        if let Err(failure) = session.write(info, *raw, persist) {
-            failed.push(format!("{}: {}", info.code, failure.message));
+        let outcome = session
+            .write(info, *raw, persist)
+            .and_then(|_| session.read(info));
+        match outcome {
+            Ok(back) if back.raw == Some(*raw) => {
+                written += 1;
+                bar.suspend(|| {
+                    say!(
+                        "wrote {:<7} {}: {} -> {} (read back)",
+                        info.code,
+                        info.name,
+                        values::short(info, *now),
+                        values::short(info, *raw)
+                    )
+                });
+            }
+            Ok(back) => failed.push(format!(
+                "{}: wrote {}, reads back {}",
+                info.code,
+                values::short(info, *raw),
+                back.raw
+                    .map_or_else(|| "no data".to_owned(), |b| values::short(info, b))
+            )),
+            Err(failure) => failed.push(format!("{}: {}", info.code, failure.message)),
         }
     }
     bar.finish_and_clear();
     say!(
-        "restored {} value(s) to {target}, {same} unchanged, {read_only} read-only kept for reference",
-        writes.len() - failed.len()
+        "restored {written} value(s) to {target}, each read back; {same} unchanged, {read_only} read-only kept for reference"
     );
     if failed.is_empty() {
         Ok(())
@@ -290,6 +341,85 @@ pub fn restore(line: &LineArgs, from: &Path, dry_run: bool, persist: bool) -> Re
         for line in &failed {
             say!("failed: {line}");
         }
-        Err(Failure::new(format!("{} write(s) failed", failed.len())))
+        Err(Failure::new(format!(
+            "{} of {} write(s) failed",
+            failed.len(),
+            writes.len()
+        ))
+        .hint("run the same restore again: it writes only the values that still differ"))
     }
+}
+
+/// `FH, UL, ...` (at most eight, then `...`).
+fn list(registers: &[&'static RegisterInfo]) -> String {
+    let mut codes: Vec<&str> = registers.iter().take(8).map(|r| r.code).collect();
+    if registers.len() > 8 {
+        codes.push("...");
+    }
+    codes.join(", ")
+}
+
+/// Whether the drive's status word says it runs, where its description says which bits
+/// show it; `false` when it does not (the drive then refuses what it cannot take).
+fn is_running(session: &mut Session) -> Result<bool, Failure> {
+    let Some(behaviour) = session.drive.behaviour else {
+        return Ok(false);
+    };
+    for id in behaviour.status.registers {
+        let Some(info) = session.drive.register(id) else {
+            continue;
+        };
+        if !session.can_read(info) {
+            continue;
+        }
+        let raw = session.read(info)?.raw.unwrap_or(0);
+        return Ok(behaviour
+            .status
+            .running
+            .iter()
+            .any(|bit| bit.is_active(raw)));
+    }
+    Ok(false)
+}
+
+/// Clears the run bit of the command word and waits (at most a minute) for the status word
+/// to say the motor stopped.
+fn stop_drive(session: &mut Session) -> Result<(), Failure> {
+    let behaviour = session
+        .drive
+        .behaviour
+        .ok_or_else(|| Failure::new("the description does not say how to stop this drive"))?;
+    let command = session
+        .drive
+        .register(behaviour.command.register)
+        .ok_or_else(|| Failure::new("the description names no command word"))?;
+    let word = if session.can_read(command) {
+        session.read(command)?.raw.unwrap_or(0)
+    } else {
+        behaviour
+            .command
+            .require
+            .iter()
+            .fold(0, |word, bit| bit.apply(word, true))
+    };
+    let stop = behaviour.command.run.apply(word, false);
+    session.write(command, stop, false)?;
+    say!(
+        "stopping: wrote {} {} = {}",
+        command.code,
+        command.name,
+        values::short(command, stop)
+    );
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while is_running(session)? {
+        if std::time::Instant::now() > deadline {
+            return Err(Failure::new(
+                "the drive still runs a minute after the stop command; nothing restored",
+            )
+            .hint("stop it at the panel and restore again"));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(200));
+    }
+    say!("the drive has stopped");
+    Ok(())
 }

@@ -6,10 +6,10 @@
 use crate::{lookup, Failure};
 use std::path::Path;
 use std::time::{Duration, Instant};
+use vfd_runtime::meaning::{decode_meaning, Direction};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{PtyTransport, SerialTransport, Transport};
-use vfd_runtime::virtual_drive::SimLink;
 use vfd_runtime::{
     CommandKind, DataType, DriveInfo, EncodeError, Protocol, RegisterInfo, Request,
     TransactionError, TransactionErrorKind,
@@ -62,15 +62,63 @@ pub struct LineArgs {
     pub timeout: Option<u64>,
 }
 
-/// A byte line to a drive: a serial port, a terminal device (pseudo-terminals), or a
-/// virtual drive in this process.
+/// A byte line to a drive: a serial port, or a terminal device (pseudo-terminals), traced
+/// or not.
 pub enum Line {
     /// A serial port.
     Serial(SerialTransport),
     /// A terminal device such as a pseudo-terminal.
     Pty(PtyTransport),
-    /// A virtual drive in this process.
-    Sim(SimLink),
+    /// Another line, each frame on it printed (hex and decoded) as it passes.
+    Traced(Box<Traced>),
+}
+
+/// A line that prints every frame it carries: each request as it is sent, each reply once
+/// it is whole.
+pub struct Traced {
+    /// The line itself.
+    pub inner: Line,
+    /// The drive, to name registers.
+    pub drive: &'static DriveInfo,
+    /// The protocol, to decode frames.
+    pub protocol: &'static Protocol,
+    received: Vec<u8>,
+}
+
+impl Traced {
+    /// `inner`, traced.
+    pub fn line(inner: Line, drive: &'static DriveInfo, protocol: &'static Protocol) -> Line {
+        Line::Traced(Box::new(Traced {
+            inner,
+            drive,
+            protocol,
+            received: Vec::new(),
+        }))
+    }
+
+    fn print(&self, arrow: &str, direction: Direction, bytes: &[u8]) {
+        crate::out::say!(
+            "    {arrow} {}  [{}]",
+            vfd_runtime::error::hex(bytes),
+            crate::sim::frame_text(self.drive, self.protocol, direction, bytes)
+        );
+    }
+
+    fn send(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        self.received.clear();
+        self.print("->", Direction::Request, bytes);
+        self.inner.send(bytes)
+    }
+
+    fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> std::io::Result<usize> {
+        let got = self.inner.receive(buf, deadline)?;
+        self.received.extend_from_slice(&buf[..got]);
+        if got > 0 && decode_meaning(self.protocol, Direction::Reply, &self.received).is_ok() {
+            let reply = std::mem::take(&mut self.received);
+            self.print("<-", Direction::Reply, &reply);
+        }
+        Ok(got)
+    }
 }
 
 impl Transport for Line {
@@ -78,28 +126,28 @@ impl Transport for Line {
         match self {
             Line::Serial(t) => t.send(bytes),
             Line::Pty(t) => t.send(bytes),
-            Line::Sim(t) => t.send(bytes),
+            Line::Traced(t) => t.send(bytes),
         }
     }
     fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> std::io::Result<usize> {
         match self {
             Line::Serial(t) => t.receive(buf, deadline),
             Line::Pty(t) => t.receive(buf, deadline),
-            Line::Sim(t) => t.receive(buf, deadline),
+            Line::Traced(t) => t.receive(buf, deadline),
         }
     }
     fn clear_input(&mut self) -> std::io::Result<()> {
         match self {
             Line::Serial(t) => t.clear_input(),
             Line::Pty(t) => t.clear_input(),
-            Line::Sim(t) => t.clear_input(),
+            Line::Traced(t) => t.inner.clear_input(),
         }
     }
     fn last_gap(&self) -> Option<Duration> {
         match self {
             Line::Serial(t) => t.last_gap(),
             Line::Pty(t) => t.last_gap(),
-            Line::Sim(t) => t.last_gap(),
+            Line::Traced(t) => t.inner.last_gap(),
         }
     }
 }
@@ -124,6 +172,10 @@ pub struct Session {
     /// The line settings in use.
     pub settings: SerialSettings,
     master: Master<Line>,
+    /// Requests sent so far (each read or write, a block of registers counting once).
+    pub requests: usize,
+    /// The station addressed (`None`: no address sent).
+    address: Option<u8>,
 }
 
 impl Session {
@@ -153,6 +205,8 @@ impl Session {
             protocol,
             settings,
             master,
+            requests: 0,
+            address,
         })
     }
 
@@ -171,6 +225,8 @@ impl Session {
             protocol,
             settings,
             master,
+            requests: 0,
+            address,
         }
     }
 
@@ -183,6 +239,7 @@ impl Session {
             CommandKind::Read
         };
         let request = Request::for_register(kind, info, 0);
+        self.requests += 1;
         let answer = self
             .master
             .transact(&request)
@@ -229,11 +286,124 @@ impl Session {
             CommandKind::WriteRam
         };
         let request = Request::for_register(kind, info, raw);
+        self.requests += 1;
         let answer = self
             .master
             .transact(&request)
             .map_err(|e| self.failure(e))?;
         Ok((answer.data, answer.tripped))
+    }
+
+    /// Reads every register of `registers`, consecutive ones together where the protocol
+    /// reads several registers in one request (its `max_words_per_read`); the others, and a
+    /// block the drive refuses, one request each. Results are in the order given.
+    pub fn read_many(
+        &mut self,
+        registers: &[&'static RegisterInfo],
+    ) -> Vec<Result<Value, Failure>> {
+        let mut results: Vec<Option<Result<Value, Failure>>> =
+            registers.iter().map(|_| None).collect();
+        for run in self.blocks(registers) {
+            if run.len() > 1 {
+                if let Some(values) = self.read_block(registers, &run) {
+                    for (index, value) in run.iter().zip(values) {
+                        results[*index] = Some(Ok(value));
+                    }
+                    continue;
+                }
+            }
+            for index in run {
+                results[index] = Some(self.read(registers[index]));
+            }
+        }
+        results
+            .into_iter()
+            .map(|r| r.unwrap_or_else(|| Err(Failure::new("not read"))))
+            .collect()
+    }
+
+    /// Indexes of `registers` in runs of consecutive wire addresses, each run at most as
+    /// many words as one read carries; registers a block cannot hold stand alone.
+    fn blocks(&self, registers: &[&'static RegisterInfo]) -> Vec<Vec<usize>> {
+        let Some(command) = self
+            .protocol
+            .block_read_command(vfd_runtime::Space::Parameter)
+        else {
+            return (0..registers.len()).map(|i| vec![i]).collect();
+        };
+        let max = usize::from(self.protocol.max_words_per_read);
+        let width = |info: &RegisterInfo| usize::from(info.data_type.size().max(2) / 2);
+        let mut placed: Vec<(usize, Option<u16>)> = registers
+            .iter()
+            .enumerate()
+            .map(|(i, info)| {
+                let blockable = info.space == vfd_runtime::Space::Parameter
+                    && info.array_len == 0
+                    && matches!(info.data_type, DataType::Word | DataType::DoubleWord);
+                let wire = blockable
+                    .then(|| command.address_map.to_wire(info.address))
+                    .flatten();
+                (i, wire)
+            })
+            .collect();
+        placed.sort_by_key(|(i, wire)| (wire.is_none(), *wire, *i));
+        let mut runs: Vec<Vec<usize>> = Vec::new();
+        let mut next: Option<(u16, usize)> = None; // wire address that continues, words so far
+        for (i, wire) in placed {
+            let words = width(registers[i]);
+            match (wire, next, runs.last_mut()) {
+                (Some(at), Some((expected, used)), Some(run))
+                    if at == expected && used + words <= max =>
+                {
+                    run.push(i);
+                    next = at
+                        .checked_add(words as u16)
+                        .map(|after| (after, used + words));
+                }
+                (Some(at), _, _) => {
+                    runs.push(vec![i]);
+                    next = at.checked_add(words as u16).map(|after| (after, words));
+                }
+                (None, _, _) => {
+                    runs.push(vec![i]);
+                    next = None;
+                }
+            }
+        }
+        runs
+    }
+
+    /// Reads the registers of one run in one request; `None` when the drive refuses it.
+    fn read_block(
+        &mut self,
+        registers: &[&'static RegisterInfo],
+        run: &[usize],
+    ) -> Option<Vec<Value>> {
+        let widths: Vec<usize> = run
+            .iter()
+            .map(|i| usize::from(registers[*i].data_type.size().max(2) / 2))
+            .collect();
+        let mut words = vec![0u16; widths.iter().sum()];
+        self.requests += 1;
+        let answer = self
+            .master
+            .read_words(registers[run[0]].address, &mut words)
+            .ok()?;
+        let mut at = 0;
+        Some(
+            widths
+                .iter()
+                .map(|width| {
+                    let raw = self.master.join_words(&words[at..at + width]);
+                    at += width;
+                    Value {
+                        raw: Some(raw),
+                        text: None,
+                        tripped: answer.tripped,
+                    }
+                })
+                .collect(),
+        )
     }
 
     /// Whether the protocol has a command to read `info`.
@@ -252,8 +422,9 @@ impl Session {
     fn failure(&self, error: TransactionError) -> Failure {
         let hint = match &error.kind {
             TransactionErrorKind::Timeout { .. } => Some(format!(
-                "check the wiring and the settings: {} baud, parity {}, protocol {}, station {} \
-                 (--baud, --parity, --protocol, --address); a slow drive may need --timeout",
+                "check baud rate, parity and station address: {} baud, parity {}, protocol {}, \
+                 station {} (--baud, --parity, --protocol, --address), and the wiring; a slow \
+                 drive may need --timeout",
                 self.settings.baud,
                 self.settings.parity.as_str(),
                 self.protocol.id,
@@ -270,6 +441,10 @@ impl Session {
                     .join(", ")
             )),
             TransactionErrorKind::Io(_) => Some("is the port still there?".to_owned()),
+            TransactionErrorKind::Decode(_) => Some(
+                "the reply arrived damaged: check the wiring, termination, baud rate and parity"
+                    .to_owned(),
+            ),
             _ => None,
         };
         let failure = Failure::new(error.to_string());
@@ -280,7 +455,7 @@ impl Session {
     }
 
     fn address_text(&self) -> String {
-        match default_address(self.protocol) {
+        match self.address {
             Some(address) => address.to_string(),
             None => "none".to_owned(),
         }

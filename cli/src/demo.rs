@@ -1,17 +1,20 @@
-//! `vfd demo`: the whole product against the built-in virtual drive, no hardware needed.
-//! It lists the drives, shows a register, writes a frequency, runs the motor, watches the
-//! output climb, stops, injects a trip and shows it, and resets, printing the command
-//! behind each step. Everything it uses comes from the drive's description (its
-//! `behaviour:` section says which registers and bits do what).
+//! `vfd demo`: the whole product against the virtual drive, no hardware needed. The
+//! virtual drive answers on a pseudo-terminal served by a thread of this process; the demo
+//! opens that terminal as any port, lists the drives, shows a register, writes a frequency,
+//! runs the motor, watches the output climb with the status bits, stops, injects a trip and
+//! shows it with the trip history, and resets, printing the command behind each step and
+//! every frame exchanged (hex and decoded). Everything it uses comes from the drive's
+//! description (its `behaviour:` section says which registers and bits do what).
 
-use crate::bus::{Line, Session, Value};
+use crate::bus::{Line, Session, Traced, Value};
 use crate::out::say;
 use crate::{describe, lookup, values, watch, Failure};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use vfd_runtime::behaviour::{Amount, Behaviour};
-use vfd_runtime::virtual_drive::Simulator;
+use vfd_runtime::transport::{PseudoTerminal, PtyTransport};
+use vfd_runtime::virtual_drive::{serve, Simulator};
 use vfd_runtime::{DriveInfo, RegisterInfo};
 
 fn step(text: &str) {
@@ -38,25 +41,39 @@ pub fn run(drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
     })?;
     let protocol = demo_protocol(drive, behaviour)?;
     let sim = Simulator::new(drive);
-    let address = crate::bus::default_address(protocol).map(|_| sim.lock().address());
-    let mut session = Session::over(drive, protocol, Line::Sim(sim.link(protocol)), address);
-    // The simulated motor follows the wall clock.
-    let done = Arc::new(AtomicBool::new(false));
-    let clock = {
-        let (sim, done) = (sim.clone(), done.clone());
-        std::thread::spawn(move || {
-            let mut last = Instant::now();
-            while !done.load(Ordering::SeqCst) {
-                std::thread::sleep(Duration::from_millis(20));
-                let now = Instant::now();
-                sim.advance(now - last);
-                last = now;
-            }
-        })
+    let station = protocol.address_range.0.max(1);
+    sim.lock().set_address(station);
+    let address = crate::bus::default_address(protocol);
+    // The virtual drive answers on a pseudo-terminal, as `vfd sim` does, served by a
+    // thread of this process (its motor follows the wall clock there).
+    let pty = PseudoTerminal::open()
+        .map_err(|e| Failure::new(format!("cannot open a pseudo-terminal: {e}")))?;
+    let port = pty.slave_path().display().to_string();
+    let mut served = pty
+        .master()
+        .map_err(|e| Failure::new(format!("cannot use the pseudo-terminal: {e}")))?;
+    let stop = Arc::new(AtomicBool::new(false));
+    let server = {
+        let (sim, stop) = (sim.clone(), stop.clone());
+        let settings = drive.serial.default;
+        std::thread::spawn(move || serve(&sim, protocol, &mut served, settings, &stop))
     };
-    let result = tour(drive, behaviour, &sim, &mut session, seconds);
-    done.store(true, Ordering::SeqCst);
-    let _ = clock.join();
+    let line = PtyTransport::open_path(std::path::Path::new(&port))
+        .map_err(|e| Failure::new(format!("cannot open {port}: {e}")))?;
+    let mut session = Session::over(
+        drive,
+        protocol,
+        Traced::line(Line::Pty(line), drive, protocol),
+        address,
+    );
+    let result = tour(drive, behaviour, &sim, &mut session, seconds, &port);
+    stop.store(true, Ordering::SeqCst);
+    match server.join() {
+        Ok(Err(e)) if result.is_ok() => {
+            return Err(Failure::new(format!("the virtual drive stopped: {e}")))
+        }
+        _ => {}
+    }
     result
 }
 
@@ -100,17 +117,17 @@ fn tour(
     sim: &Simulator,
     session: &mut Session,
     seconds: u64,
+    port: &str,
 ) -> Result<(), Failure> {
-    let port = "<virtual>";
     let line = format!(
         "--drive {} --protocol {} --port {port}",
         drive.id, session.protocol.id
     );
     say!(
-        "vfd demo: a virtual {} {} ({}), generated from its YAML description, answering {} in this process.",
+        "vfd demo: a virtual {} {} ({}), generated from its YAML description, answering {} on the pseudo-terminal {port}.",
         drive.vendor, drive.model, drive.id, session.protocol.name
     );
-    say!("Against a real drive, give --port /dev/ttyUSB0; `vfd sim` serves the same virtual drive on a pseudo-terminal.");
+    say!("Each frame is shown as it goes: -> request, <- reply, in hex with what it says. Against a real drive, give --port /dev/ttyUSB0; `vfd sim` serves the same virtual drive on its own.");
 
     step("vfd list");
     describe::list()?;
@@ -211,6 +228,22 @@ fn tour(
         let codes: Vec<&str> = shown.iter().map(|r| r.code).collect();
         step(&format!("vfd read {line} {}", codes.join(" ")));
         read(session, behaviour, &shown)?;
+    }
+
+    let history: Vec<&'static RegisterInfo> = behaviour
+        .trip
+        .history
+        .iter()
+        .filter_map(|id| drive.register(id))
+        .filter(|r| session.can_read(r))
+        .collect();
+    if !history.is_empty() {
+        let codes: Vec<&str> = history.iter().map(|r| r.code).collect();
+        step(&format!(
+            "vfd read {line} {}   # trip history",
+            codes.join(" ")
+        ));
+        read(session, behaviour, &history)?;
     }
 
     if let Some(reset) = behaviour.command.reset {

@@ -105,7 +105,8 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         to: PathBuf,
     },
-    /// Write a backup back: only writable values that differ, refusing what cannot be written.
+    /// Write a backup back: only writable values that differ, each read back; running it
+    /// again after an interruption finishes the job.
     Restore {
         #[command(flatten)]
         line: bus::LineArgs,
@@ -118,13 +119,18 @@ enum Command {
         /// Write RAM and EEPROM (default: RAM only, lost at power-off).
         #[arg(long)]
         persist: bool,
+        /// When the drive runs and some values cannot change while it runs, stop it first
+        /// (default: refuse, writing nothing).
+        #[arg(long)]
+        stop_first: bool,
     },
     /// Run the virtual drive on a pseudo-terminal; prints the device path first.
     #[command(
         after_help = "The first line of output is the device to open, e.g.:\n  vfd sim --drive yd1000 &\n  vfd read --drive yd1000 --port /dev/pts/5 FA01"
     )]
     Sim(sim::SimArgs),
-    /// Show the whole product against the built-in virtual drive (no hardware, ~10 s).
+    /// Show the whole product against the virtual drive on a pseudo-terminal, every frame
+    /// printed (no hardware, ~5 s).
     Demo {
         /// Drive to show (default: the first described drive with a behaviour model).
         #[arg(long)]
@@ -275,7 +281,8 @@ fn run(command: Command) -> Result<(), Failure> {
             from,
             dry_run,
             persist,
-        } => backup::restore(&line, &from, dry_run, persist),
+            stop_first,
+        } => backup::restore(&line, &from, dry_run, persist, stop_first),
         Command::Sim(args) => sim::run(&args),
         Command::Demo { drive, seconds } => demo::run(drive.as_deref(), seconds),
         Command::Decode {

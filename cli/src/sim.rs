@@ -141,43 +141,53 @@ struct Logged<T> {
 
 impl<T: Transport> Logged<T> {
     fn log(&self, direction: Direction, bytes: &[u8]) {
-        let meaning = match decode_meaning(self.protocol, direction, bytes) {
-            Ok(m) => {
-                let mut parts = Vec::new();
-                if let Some(code) = m.code {
-                    parts.push(vfd_runtime::protocol::code_label(code));
-                }
-                if let Some(a) = m.address {
-                    parts.push(format!("station {a}"));
-                }
-                if let Some(r) = m.register {
-                    let space = m.space.unwrap_or(vfd_runtime::Space::Parameter);
-                    match self.drive.register_at(space, r) {
-                        Some(info) => parts.push(format!("{} {}", info.code, info.name)),
-                        None => parts.push(format!("register {r:04X}h")),
-                    }
-                }
-                if let Some(d) = m.data {
-                    parts.push(format!("data {d:04X}h"));
-                }
-                if let Some(e) = m.error_code {
-                    parts.push(format!("error {e}"));
-                }
-                if m.tripped {
-                    parts.push("tripped".to_owned());
-                }
-                parts.join(", ")
-            }
-            Err(e) => format!("not a whole {}: {e}", direction.as_str()),
-        };
         let _ = writeln!(
             std::io::stderr(),
             "{:>8.3}s {:<7} {}  {}",
             self.start.elapsed().as_secs_f64(),
             direction.as_str(),
             vfd_runtime::error::hex(bytes),
-            meaning
+            frame_text(self.drive, self.protocol, direction, bytes)
         );
+    }
+}
+
+/// What a frame says, for people: command, station, register by code and name, data,
+/// error code, trip; or why it is not a whole frame.
+pub fn frame_text(
+    drive: &'static vfd_runtime::DriveInfo,
+    protocol: &'static Protocol,
+    direction: Direction,
+    bytes: &[u8],
+) -> String {
+    match decode_meaning(protocol, direction, bytes) {
+        Ok(m) => {
+            let mut parts = Vec::new();
+            if let Some(code) = m.code {
+                parts.push(vfd_runtime::protocol::code_label(code));
+            }
+            if let Some(a) = m.address {
+                parts.push(format!("station {a}"));
+            }
+            if let Some(r) = m.register {
+                let space = m.space.unwrap_or(vfd_runtime::Space::Parameter);
+                match drive.register_at(space, r) {
+                    Some(info) => parts.push(format!("{} {}", info.code, info.name)),
+                    None => parts.push(format!("register {r:04X}h")),
+                }
+            }
+            if let Some(d) = m.data {
+                parts.push(format!("data {d:04X}h"));
+            }
+            if let Some(e) = m.error_code {
+                parts.push(format!("error {e}"));
+            }
+            if m.tripped {
+                parts.push("tripped".to_owned());
+            }
+            parts.join(", ")
+        }
+        Err(e) => format!("not a whole {}: {e}", direction.as_str()),
     }
 }
 

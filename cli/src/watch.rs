@@ -232,8 +232,10 @@ pub fn watch_loop(
     {
         let mut lines = Vec::new();
         let mut tripped = false;
-        for (info, past) in registers.iter().zip(history.iter_mut()) {
-            let value = session.read(info)?;
+        // Consecutive registers in one request where the protocol allows it.
+        let read = session.read_many(registers);
+        for ((info, past), value) in registers.iter().zip(history.iter_mut()).zip(read) {
+            let value = value?;
             tripped |= value.tripped;
             let (shown, number) = match (&value.text, value.raw) {
                 (Some(text), _) => (format!("{text:?}"), None),

@@ -12,8 +12,13 @@ struct Sim {
 
 impl Sim {
     fn start(drive: &str, protocol: &str) -> Sim {
+        Sim::start_with(drive, protocol, &[])
+    }
+
+    fn start_with(drive: &str, protocol: &str, extra: &[&str]) -> Sim {
         let mut child = Command::new(env!("CARGO_BIN_EXE_vfd"))
             .args(["sim", "--drive", drive, "--protocol", protocol])
+            .args(extra)
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -221,4 +226,282 @@ fn a_missing_port_is_one_clear_error() {
     );
     assert!(message.contains("hint:"), "{message}");
     assert!(!message.contains("panicked"));
+}
+
+/// `saved N parameters of DRIVE to FILE (M read request(s))`: N and M.
+fn saved_counts(output: &str) -> (usize, usize) {
+    let line = output
+        .lines()
+        .find(|l| l.starts_with("saved "))
+        .unwrap_or_else(|| panic!("a summary line: {output}"));
+    let number = |after: &str| -> usize {
+        line[line.find(after).unwrap() + after.len()..]
+            .split(|c: char| !c.is_ascii_digit())
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    (number("saved "), number("("))
+}
+
+#[test]
+fn backup_reads_consecutive_registers_in_blocks_where_the_protocol_allows() {
+    let dir = std::env::temp_dir().join(format!("vfd-blocks-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // DV1 over Modbus reads up to 12 registers per request; VF-AS1 one.
+    for (drive, blocks) in [("dv1", true), ("vf-as1", false)] {
+        let sim = Sim::start(drive, "modbus");
+        let file = dir.join(format!("{drive}.yaml"));
+        let saved = sim.vfd(drive, "modbus", &["backup", "--to", file.to_str().unwrap()]);
+        assert!(saved.status.success(), "{}", text(&saved));
+        let (parameters, requests) = saved_counts(&text(&saved));
+        if blocks {
+            assert!(
+                requests < parameters,
+                "{drive}: {requests} requests for {parameters} parameters"
+            );
+        } else {
+            assert_eq!(requests, parameters, "{drive}: one register per read");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Values a fresh YD1000 does not hold (each writable while stopped).
+const CHANGED: [(&str, &str); 11] = [
+    ("Acc", "3"),
+    ("Dec", "4"),
+    ("Sr1", "11"),
+    ("Sr2", "12"),
+    ("Sr3", "13"),
+    ("Sr4", "14"),
+    ("Sr5", "15"),
+    ("Sr6", "16"),
+    ("Sr7", "17"),
+    ("F100", "5"),
+    ("FH", "70"),
+];
+
+/// The backup's entries (the header comment and the protocol aside).
+fn entries(file: &std::path::Path) -> String {
+    let text = std::fs::read_to_string(file).unwrap();
+    text[text.find("parameters:").unwrap()..].to_owned()
+}
+
+#[test]
+fn restore_onto_a_fresh_drive_survives_being_killed_and_reproduces_every_value() {
+    use std::io::Read;
+    let dir = std::env::temp_dir().join(format!("vfd-restore-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (first, second) = (dir.join("first.yaml"), dir.join("second.yaml"));
+    let source = Sim::start("yd1000", "binary");
+    for (code, value) in CHANGED {
+        let wrote = source.vfd("yd1000", "binary", &["write", code, value]);
+        assert!(wrote.status.success(), "{}", text(&wrote));
+    }
+    let saved = source.vfd(
+        "yd1000",
+        "binary",
+        &["backup", "--to", first.to_str().unwrap()],
+    );
+    assert!(saved.status.success(), "{}", text(&saved));
+
+    // A fresh drive: the restore is killed after its third write.
+    let fresh = Sim::start("yd1000", "binary");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vfd"))
+        .args(["restore", "--drive", "yd1000", "--protocol", "binary"])
+        .args(["--port", &fresh.port, "--from", first.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stdout.take().unwrap());
+    let mut seen = Vec::new();
+    while seen
+        .iter()
+        .filter(|l: &&String| l.starts_with("wrote"))
+        .count()
+        < 3
+    {
+        let mut line = String::new();
+        assert!(lines.read_line(&mut line).unwrap() > 0, "{seen:?}");
+        seen.push(line);
+    }
+    child.kill().unwrap();
+    let _ = child.wait();
+    let mut rest = String::new();
+    let _ = lines.read_to_string(&mut rest);
+    assert!(
+        !rest.contains("restored") && !seen.iter().any(|l| l.contains("restored")),
+        "killed before the end: {seen:?} {rest}"
+    );
+
+    // Run again: it writes what still differs, and reads every value back.
+    let again = fresh.vfd(
+        "yd1000",
+        "binary",
+        &["restore", "--from", first.to_str().unwrap()],
+    );
+    assert!(again.status.success(), "{}", text(&again));
+    let rewritten = text(&again)
+        .lines()
+        .filter(|l| l.starts_with("wrote"))
+        .count();
+    assert!(
+        (1..CHANGED.len()).contains(&rewritten),
+        "the second run finishes the job: {}",
+        text(&again)
+    );
+    let saved = fresh.vfd(
+        "yd1000",
+        "binary",
+        &["backup", "--to", second.to_str().unwrap()],
+    );
+    assert!(saved.status.success(), "{}", text(&saved));
+    assert_eq!(entries(&first), entries(&second), "every value reproduced");
+
+    // Nothing left to do.
+    let done = fresh.vfd(
+        "yd1000",
+        "binary",
+        &["restore", "--from", first.to_str().unwrap()],
+    );
+    assert!(
+        text(&done).contains("restored 0 value(s)"),
+        "{}",
+        text(&done)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn restore_refuses_values_that_cannot_change_while_running_unless_told_to_stop_first() {
+    let dir = std::env::temp_dir().join(format!("vfd-running-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("yd1000.yaml");
+    let file_arg = file.to_str().unwrap();
+    let sim = Sim::start("yd1000", "binary");
+    let saved = sim.vfd("yd1000", "binary", &["backup", "--to", file_arg]);
+    assert!(saved.status.success(), "{}", text(&saved));
+    // FH (not writable while running) changes, then the motor runs.
+    for (code, value) in [
+        ("FH", "70"),
+        ("FA01", "20"),
+        ("FA00", "command_enabled,frequency_enabled,run"),
+    ] {
+        let wrote = sim.vfd("yd1000", "binary", &["write", code, value]);
+        assert!(wrote.status.success(), "{}", text(&wrote));
+    }
+    let refused = sim.vfd("yd1000", "binary", &["restore", "--from", file_arg]);
+    assert!(!refused.status.success());
+    let message = text(&refused);
+    assert!(
+        message.contains("the drive is running") && message.contains("FH"),
+        "{message}"
+    );
+    assert!(message.contains("--stop-first"), "{message}");
+    assert!(!message.contains("panicked"));
+    let still = sim.vfd("yd1000", "binary", &["read", "FH"]);
+    assert!(
+        text(&still).contains("70.00 Hz"),
+        "nothing written: {}",
+        text(&still)
+    );
+
+    let stopped = sim.vfd(
+        "yd1000",
+        "binary",
+        &["restore", "--from", file_arg, "--stop-first"],
+    );
+    assert!(stopped.status.success(), "{}", text(&stopped));
+    assert!(
+        text(&stopped).contains("the drive has stopped"),
+        "{}",
+        text(&stopped)
+    );
+    let back = sim.vfd("yd1000", "binary", &["read", "FH"]);
+    assert!(text(&back).contains("80.00 Hz"), "{}", text(&back));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn line_errors_are_one_clear_line_with_a_hint() {
+    let sim = Sim::start("yd1000", "binary");
+    let one_line = |output: &Output, wanted: &[&str]| {
+        assert!(!output.status.success());
+        let message = String::from_utf8_lossy(&output.stderr).into_owned();
+        assert_eq!(message.lines().count(), 2, "message and hint: {message}");
+        assert!(
+            message.contains("hint:") && !message.contains("panicked"),
+            "{message}"
+        );
+        for part in wanted {
+            assert!(message.contains(part), "{part}: {message}");
+        }
+    };
+    // Silence: another station.
+    let silent = sim.vfd(
+        "yd1000",
+        "binary",
+        &["read", "--address", "9", "--timeout", "50", "FH"],
+    );
+    one_line(
+        &silent,
+        &[
+            "no reply",
+            "within",
+            "check baud rate, parity and station address",
+            "station 9",
+        ],
+    );
+    // An error reply: the manual's code, name and meaning.
+    for (code, value) in [
+        ("FA01", "20"),
+        ("FA00", "command_enabled,frequency_enabled,run"),
+    ] {
+        assert!(sim
+            .vfd("yd1000", "binary", &["write", code, value])
+            .status
+            .success());
+    }
+    let refused = sim.vfd("yd1000", "binary", &["write", "FH", "70"]);
+    assert!(!refused.status.success());
+    let message = text(&refused);
+    assert!(
+        message.contains("error 0 (0000h) Cannot execute (无法执行)")
+            && message.contains("cannot be changed while running"),
+        "{message}"
+    );
+    // A damaged reply.
+    let garbled = Sim::start_with("yd1000", "binary", &["--fault", "corrupt-checksum"]);
+    let damaged = garbled.vfd("yd1000", "binary", &["read", "FH"]);
+    one_line(&damaged, &["invalid reply", "checksum", "damaged"]);
+    // Permission denied on the port.
+    let dir = std::env::temp_dir().join(format!("vfd-perm-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let port = dir.join("ttyLOCKED");
+    std::fs::write(&port, b"").unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&port, std::fs::Permissions::from_mode(0o000)).unwrap();
+    if std::fs::File::open(&port).is_ok() {
+        eprintln!("SKIPPED: permission denied (running as root: mode 000 does not stop us)");
+    } else {
+        let denied = Command::new(env!("CARGO_BIN_EXE_vfd"))
+            .args([
+                "read",
+                "--drive",
+                "yd1000",
+                "--port",
+                port.to_str().unwrap(),
+                "FH",
+            ])
+            .output()
+            .unwrap();
+        one_line(
+            &denied,
+            &["cannot open serial port", "ermission denied", "dialout"],
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

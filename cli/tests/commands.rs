@@ -234,5 +234,22 @@ fn demo_runs_to_completion_piped() {
         assert!(text.contains(step), "demo shows `{step}`:\n{text}");
     }
     assert!(!text.contains('\x1b'), "no terminal codes when piped");
+    // On a pseudo-terminal, every frame shown both ways, in hex and decoded.
+    assert!(text.contains("on the pseudo-terminal /dev/"), "{text}");
+    assert!(
+        text.contains("    -> ") && text.contains("    <- "),
+        "{text}"
+    );
     assert!(started.elapsed() < std::time::Duration::from_secs(15));
+    // `--drive` chooses; a drive without a behaviour model is refused in one line.
+    let yd1000 = vfd(&["demo", "--drive", "yd1000", "--seconds", "1"]);
+    assert!(yd1000.status.success(), "{}", stderr(&yd1000));
+    assert!(stdout(&yd1000).contains("YD1000"), "{}", stdout(&yd1000));
+    let none = vfd(&["demo", "--drive", "vf-as1"]);
+    assert!(!none.status.success());
+    assert!(
+        stderr(&none).contains("no behaviour model"),
+        "{}",
+        stderr(&none)
+    );
 }

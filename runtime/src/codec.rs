@@ -34,7 +34,9 @@ pub struct FrameValues {
     /// One slot per layout part.
     pub parts: [FieldValue; MAX_PARTS],
     /// Size in bytes of the request's data, for length parts that count it (Modbus
-    /// quantity) and for variable-width data fields.
+    /// quantity) and for variable-width data fields. Above 4, the data field carries a
+    /// block of registers: its slot holds the block's offset in the frame and its width,
+    /// as a bytes field does ([`FrameValues::bytes`] gives the bytes).
     pub data_size: u8,
 }
 
@@ -211,7 +213,9 @@ pub fn encode(
     encode_with_payload(layout, values, &[], out)
 }
 
-/// [`encode`] with the bytes of the layout's bytes field.
+/// [`encode`] with the bytes of the layout's bytes field, or of its data field when that
+/// carries a block of registers (`values.data_size` above 4: a read of several registers,
+/// each in the field's byte order, in address order).
 pub fn encode_with_payload(
     layout: &FrameLayout,
     values: &FrameValues,
@@ -304,6 +308,14 @@ fn encode_field(
 ) -> Result<(), EncodeError> {
     match field.format {
         Format::Bytes => writer.put(payload),
+        // A block of registers: the payload holds them, each in the field's byte order.
+        Format::UintBe | Format::UintLe
+            if field.role == Role::Data
+                && data_size > 4
+                && payload.len() == usize::from(data_size) =>
+        {
+            writer.put(payload)
+        }
         Format::UintBe | Format::UintLe => {
             let width = match (slot.width, data_size) {
                 (0, 0) => field.width,
@@ -596,7 +608,16 @@ fn decode_field(
         (SizedBy::Format, _) => None,
     };
     if let Some(size) = size {
-        if size < usize::from(field.min_width) || (field.format != Format::Bytes && size > 4) {
+        // A data field sized by a length part may carry a block of registers (a Modbus
+        // read of several): wider than a number, it is held like a bytes field.
+        let block = field.role == Role::Data
+            && field.sized_by == SizedBy::Length
+            && matches!(field.format, Format::UintBe | Format::UintLe)
+            && size > 4;
+        if size < usize::from(field.min_width)
+            || (field.format != Format::Bytes && size > 4 && !block)
+            || size > usize::from(u8::MAX)
+        {
             return Err(DecodeError::LengthMismatch {
                 layout: layout.name.clone(),
                 part: field.name.clone(),
@@ -609,6 +630,7 @@ fn decode_field(
             return Ok(PartOutcome::Incomplete);
         }
         let value = match field.format {
+            _ if block => cursor.pos as u32,
             Format::Bytes => cursor.pos as u32,
             Format::UintLe => rest[..size]
                 .iter()
@@ -618,7 +640,7 @@ fn decode_field(
                 .iter()
                 .fold(0u32, |acc, b| (acc << 8) | u32::from(*b)),
         };
-        if field.format != Format::Bytes {
+        if field.format != Format::Bytes && !block {
             check_allowed(layout, field, value, cursor.pos)?;
         }
         if field.role == Role::Data {
@@ -746,8 +768,11 @@ fn decode_length(
     };
     cursor.pos += used;
     if length.counts == Counts::DataSize {
-        values.data_size = (value as usize * usize::from(length.per.max(1))
-            / usize::from(length.times.max(1))) as u8;
+        // A count beyond what a frame holds saturates (the reader refuses it).
+        values.data_size = u8::try_from(
+            value as usize * usize::from(length.per.max(1)) / usize::from(length.times.max(1)),
+        )
+        .unwrap_or(u8::MAX);
     }
     if let Counts::Parts { from, through } = length.counts {
         let bytes =

@@ -256,6 +256,17 @@ pub enum EncodeError {
         /// Data type.
         data_type: DataType,
     },
+    /// A read of more consecutive registers than the protocol (or the drive) allows in one
+    /// request, or a protocol that reads one register at a time.
+    #[error("protocol {protocol} reads at most {max} register(s) per request, not {words}")]
+    TooManyWords {
+        /// Protocol id.
+        protocol: Text,
+        /// Registers asked for.
+        words: usize,
+        /// The most one request carries.
+        max: u16,
+    },
     /// The register number does not fit the protocol's wire numbering.
     #[error("protocol {protocol}: register {register} has no wire address (its address map leaves 0..=65535)")]
     RegisterOutOfRange {

@@ -6,7 +6,7 @@ use crate::codec::{self, DecodeStatus, FrameValues, Progress, Roles};
 use crate::error::{DecodeError, EncodeError};
 pub use crate::info::ErrorCodeInfo;
 pub use crate::kinds::{CommandKind, DataType, Space};
-use crate::layout::{FrameLayout, List, Part, Role, Text};
+use crate::layout::{Counts, Format, FrameLayout, List, Part, Role, SizedBy, Text};
 use crate::register::DriveRequest;
 pub use crate::register::Request;
 use std::borrow::Cow;
@@ -259,6 +259,28 @@ pub struct Protocol {
     pub default_process: [u16; 2],
     /// Silence between frames, in character times (Modbus RTU: 3.5); 0 for none.
     pub frame_gap_chars: f32,
+    /// The most 16-bit registers one read may carry (Modbus 03: 125); 1 when every read
+    /// carries one register. Above 1, a read command whose request counts its data
+    /// (a length part counting `data_size`) reads consecutive registers in one exchange:
+    /// see [`Protocol::block_read_command`] and
+    /// [`crate::transaction::Master::read_words`].
+    pub max_words_per_read: u16,
+}
+
+/// Whether `command`'s request counts its data (a length part counting `data_size`) and its
+/// reply's data field takes its size from a length part: it can read a block of registers.
+pub fn command_reads_blocks(command: &CommandSpec) -> bool {
+    let counts_data = command
+        .request
+        .parts
+        .iter()
+        .any(|part| matches!(part, Part::Length(length) if length.counts == Counts::DataSize));
+    let sized_data = command.reply.parts.iter().any(|part| {
+        matches!(part, Part::Field(field) if field.role == Role::Data
+            && field.sized_by == SizedBy::Length
+            && matches!(field.format, Format::UintBe | Format::UintLe))
+    });
+    counts_data && sized_data
 }
 
 /// A decoded request (what a drive, or the simulator, receives).
@@ -380,6 +402,18 @@ impl Protocol {
         self.commands
             .iter()
             .find(|c| c.kind == kind && c.space == space && c.carries(data_type))
+    }
+
+    /// The read command that reads several consecutive 16-bit registers of `space` in one
+    /// exchange, when the protocol allows more than one ([`Protocol::max_words_per_read`]):
+    /// a read of words whose request counts its data (a length part counting `data_size`)
+    /// and whose reply's data field is sized by a length part.
+    pub fn block_read_command(&self, space: Space) -> Option<&CommandSpec> {
+        if self.max_words_per_read < 2 {
+            return None;
+        }
+        self.command_for(CommandKind::Read, space, DataType::Word)
+            .filter(|command| command_reads_blocks(command))
     }
 
     /// The command that carries `request`, or the typed reason there is none.
@@ -654,7 +688,12 @@ impl Protocol {
             tripped: code.is_some_and(|code| self.is_tripped(code)),
             wire_register: roles.register.map(|r| r as u16),
             index: roles.index.map(|i| i as u16),
-            data: roles.data.unwrap_or(0),
+            // A block of registers is no number: its bytes are read from the frame.
+            data: if values.data_size > 4 {
+                0
+            } else {
+                roles.data.unwrap_or(0)
+            },
             process: match (roles.process_1, roles.process_2) {
                 (Some(first), Some(second)) => Some([first as u16, second as u16]),
                 _ => None,

@@ -37,6 +37,9 @@ pub struct Answer {
     pub process: Option<[u16; 2]>,
     /// Offset and length of text in the reply, for text reads.
     pub text: Option<(usize, usize)>,
+    /// Offset and length in the reply of the registers a block read returned
+    /// ([`Master::read_words`]).
+    pub block: Option<(usize, usize)>,
 }
 
 /// A value read from a drive, with what the reply said about the drive: a tripped drive
@@ -110,6 +113,8 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     retries: u8,
     echo: Option<bool>,
     echo_fixed: bool,
+    /// Registers the request under way reads in one block (0: an ordinary request).
+    block_words: u16,
 }
 
 impl<T: Transport> Master<T, AnyDrive> {
@@ -157,6 +162,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
             retries: 0,
             echo: None,
             echo_fixed: false,
+            block_words: 0,
         }
     }
 
@@ -346,6 +352,109 @@ impl<T: Transport, D: 'static> Master<T, D> {
         })
     }
 
+    /// Reads `words.len()` consecutive 16-bit registers of the parameter space, from
+    /// register `start` (its number before the protocol's address map), in one exchange
+    /// where the protocol's read command counts its data (Modbus 03: its quantity), at most
+    /// [`Protocol::max_words_per_read`] of them. Each word is taken in the byte order of
+    /// the reply's data field; a double-word register fills two (see
+    /// [`Master::join_words`]). A protocol that reads one register at a time refuses more
+    /// than one, before anything is sent. Returns what the reply said besides.
+    pub fn read_words(
+        &mut self,
+        start: u16,
+        words: &mut [u16],
+    ) -> Result<Answer, TransactionError> {
+        let request = Request::raw(CommandKind::Read, start, 0);
+        let protocol = self.protocol;
+        let max = if protocol.block_read_command(Space::Parameter).is_some() {
+            protocol.max_words_per_read
+        } else {
+            1
+        };
+        if words.is_empty() || words.len() > usize::from(max) {
+            return Err(TransactionError::new(
+                Some(&request),
+                TransactionErrorKind::Encode(EncodeError::TooManyWords {
+                    protocol: protocol.id.clone(),
+                    words: words.len(),
+                    max,
+                }),
+            ));
+        }
+        if words.len() == 1 {
+            let answer = self.transact(&request)?;
+            words[0] = answer.data.map(|d| d as u16).ok_or_else(|| {
+                TransactionError::new(
+                    Some(&request),
+                    TransactionErrorKind::Mismatch {
+                        field: ReplyField::Data,
+                        expected: 1,
+                        found: 0,
+                    },
+                )
+            })?;
+            return Ok(answer);
+        }
+        self.block_words = words.len() as u16;
+        let outcome = self.exchange(&request);
+        self.block_words = 0;
+        let answer = outcome?;
+        let little_endian = self.block_little_endian();
+        // Two words fit a number: the data field's bytes again, in its byte order.
+        let number = match answer.data {
+            Some(data) if little_endian => data.to_le_bytes(),
+            Some(data) => data.to_be_bytes(),
+            None => [0; 4],
+        };
+        let bytes = match (answer.block, answer.data) {
+            (Some((offset, len)), _) => self.reply.get(offset..offset + len).unwrap_or(&[]),
+            (None, Some(_)) => {
+                if little_endian {
+                    &number[..4]
+                } else {
+                    &number[4usize.saturating_sub(words.len() * 2)..]
+                }
+            }
+            (None, None) => &[],
+        };
+        for (word, pair) in words.iter_mut().zip(bytes.chunks_exact(2)) {
+            let pair = [pair[0], pair[1]];
+            *word = if little_endian {
+                u16::from_le_bytes(pair)
+            } else {
+                u16::from_be_bytes(pair)
+            };
+        }
+        Ok(answer)
+    }
+
+    /// The value of a register `words.len()` words wide (1 or 2) that [`Master::read_words`]
+    /// returned, as a read of that register alone gives it (Modbus: the high word first).
+    pub fn join_words(&self, words: &[u16]) -> u32 {
+        let little_endian = self.block_little_endian();
+        match *words {
+            [only] => u32::from(only),
+            [first, second] if little_endian => u32::from(first) | (u32::from(second) << 16),
+            [first, second] => (u32::from(first) << 16) | u32::from(second),
+            _ => 0,
+        }
+    }
+
+    /// Whether the block read's data field is least significant byte first.
+    fn block_little_endian(&self) -> bool {
+        self.protocol
+            .block_read_command(Space::Parameter)
+            .and_then(|command| {
+                command.reply.parts.iter().find_map(|part| match part {
+                    crate::layout::Part::Field(field) if field.role == Role::Data => {
+                        Some(field.format == crate::layout::Format::UintLe)
+                    }
+                    _ => None,
+                })
+            })
+            .unwrap_or(false)
+    }
+
     /// Runs one request, with any steps the protocol needs first (selecting an array
     /// index, choosing RAM or EEPROM). Every frame is built and checked before the first
     /// is sent: when the protocol cannot carry any of them, nothing goes on the line.
@@ -451,9 +560,18 @@ impl<T: Transport, D: 'static> Master<T, D> {
         let io = |error| fail(TransactionErrorKind::Io(error));
         let cannot_send = |error| fail(TransactionErrorKind::Encode(error));
         let command = protocol.command_for_request(request).map_err(cannot_send)?;
-        let len = protocol
-            .encode_request(request, self.address, &mut self.request)
-            .map_err(cannot_send)?;
+        let len = if self.block_words > 1 {
+            // A block read: the request counts the words it asks for.
+            let (layout, mut values) = protocol
+                .request_values(request, self.address)
+                .map_err(cannot_send)?;
+            values.data_size = (self.block_words * 2).min(u16::from(u8::MAX)) as u8;
+            crate::codec::encode(layout, &values, &mut self.request).map_err(cannot_send)?
+        } else {
+            protocol
+                .encode_request(request, self.address, &mut self.request)
+                .map_err(cannot_send)?
+        };
         let expectation = Expectation {
             address: self.address,
             wire_register: if request.wire_register {
@@ -487,6 +605,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
             corrupt: None,
             foreign: None,
             last_error: None,
+            block_size: usize::from(self.block_words) * 2,
         };
         loop {
             // The deadline bounds the loop, however readily the transport delivers bytes.
@@ -554,10 +673,13 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 .then(|| self.search(reading, 0, filled).found)
                 .flatten();
             if let Some((frame, skipped)) = found {
-                reading.fallback = Some(check_reply(reading.request, frame).map(|answer| Answer {
-                    text: answer.text.map(|(start, len)| (start + skipped, len)),
-                    ..answer
-                }));
+                reading.fallback = Some(
+                    check_reply(reading.request, reading.block_size, frame).map(|answer| Answer {
+                        text: answer.text.map(|(start, len)| (start + skipped, len)),
+                        block: answer.block.map(|(start, len)| (start + skipped, len)),
+                        ..answer
+                    }),
+                );
             }
             return None;
         }
@@ -567,7 +689,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
             .search(reading, 0, len)
             .found
             .filter(|(frame, skipped)| *skipped == 0 && frame.len() == len)
-            .map(|(frame, _)| check_reply(reading.request, frame));
+            .map(|(frame, _)| check_reply(reading.request, reading.block_size, frame));
         let after = (filled > len).then(|| self.search(reading, len, filled));
         let Some(copy) = copy else {
             // It cannot be a reply: it is our own request coming back.
@@ -623,12 +745,16 @@ impl<T: Transport, D: 'static> Master<T, D> {
         base: usize,
     ) -> Option<Result<Answer, TransactionError>> {
         if let Some((frame, skipped)) = search.found {
-            let answer = check_reply(reading.request, frame).map(|answer| Answer {
-                text: answer
-                    .text
-                    .map(|(start, len)| (start + base + skipped, len)),
-                ..answer
-            });
+            let answer =
+                check_reply(reading.request, reading.block_size, frame).map(|answer| Answer {
+                    text: answer
+                        .text
+                        .map(|(start, len)| (start + base + skipped, len)),
+                    block: answer
+                        .block
+                        .map(|(start, len)| (start + base + skipped, len)),
+                    ..answer
+                });
             if search.waiting {
                 // A frame that would answer may start inside this one: read on a little.
                 reading.fallback = Some(answer);
@@ -716,6 +842,8 @@ struct Collecting<'r> {
     foreign: Option<Difference>,
     /// The furthest decode error seen.
     last_error: Option<DecodeError>,
+    /// Bytes of data a block read expects (0: an ordinary request).
+    block_size: usize,
 }
 
 impl Collecting<'_> {
@@ -767,8 +895,13 @@ fn step_request(step: &PreStep, request: &Request) -> Option<Request> {
 }
 
 /// The answer a reply gives to `request` (whose station, register and index the search
-/// already compared): an error reply becomes a rejection.
-fn check_reply(request: &Request, reply: Reply<'static>) -> Result<Answer, TransactionError> {
+/// already compared): an error reply becomes a rejection. `block_size`: the bytes of data a
+/// block read expects (0: an ordinary request, which a block of registers does not answer).
+fn check_reply(
+    request: &Request,
+    block_size: usize,
+    reply: Reply<'static>,
+) -> Result<Answer, TransactionError> {
     match reply {
         Reply::Error {
             error,
@@ -789,8 +922,29 @@ fn check_reply(request: &Request, reply: Reply<'static>) -> Result<Answer, Trans
             data,
             process,
             text,
+            values,
             ..
         } => {
+            let size = usize::from(values.data_size);
+            let wide = size > 4;
+            if (block_size > 0 || wide) && size != block_size {
+                return Err(TransactionError::new(
+                    Some(request),
+                    TransactionErrorKind::Mismatch {
+                        field: ReplyField::Data,
+                        expected: block_size as u32,
+                        found: size as u32,
+                    },
+                ));
+            }
+            let block = wide
+                .then(|| {
+                    command.reply.index_of(Role::Data).map(|index| {
+                        let slot = values.parts[index];
+                        (slot.value as usize, usize::from(slot.width))
+                    })
+                })
+                .flatten();
             if request.data_type == DataType::Text && text.is_none() {
                 return Err(TransactionError::new(
                     Some(request),
@@ -802,10 +956,11 @@ fn check_reply(request: &Request, reply: Reply<'static>) -> Result<Answer, Trans
                 ));
             }
             Ok(Answer {
-                data: command.reply.has(Role::Data).then_some(data),
+                data: (command.reply.has(Role::Data) && block.is_none()).then_some(data),
                 tripped,
                 process,
                 text,
+                block,
             })
         }
     }
@@ -1000,6 +1155,12 @@ impl fmt::Display for TransactionError {
                 expected,
                 found,
             } => match field {
+                // A block read's data is counted in bytes.
+                ReplyField::Data if (*expected, *found) != (1, 0) => write!(
+                    f,
+                    "reply to {} carries {found} byte(s) of data, expected {expected}",
+                    request()
+                ),
                 // Parts whose presence is what is checked: say what is missing.
                 ReplyField::Text | ReplyField::ProcessWords | ReplyField::Data => {
                     write!(f, "reply to {} carries no {}", request(), field.as_str())

@@ -389,6 +389,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         pre_steps: runtime.pre_steps.to_vec(),
         default_process: protocol.file.protocol.default_process,
         frame_gap_chars: runtime.frame_gap_chars,
+        max_words_per_read: runtime.max_words_per_read,
         error_table: if drive_table_applies(model, &protocol.id) {
             ErrorTableIr::Drive
         } else {

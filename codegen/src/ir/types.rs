@@ -287,6 +287,8 @@ pub struct ProtocolIr {
     pub default_process: Option<[u16; 2]>,
     /// Silence between frames, in character times.
     pub frame_gap_chars: f32,
+    /// The most registers one read carries (1: one per read).
+    pub max_words_per_read: u16,
     /// The table its error replies are named from.
     pub error_table: ErrorTableIr,
 }

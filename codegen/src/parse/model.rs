@@ -473,6 +473,10 @@ pub struct ProtocolRef {
     /// The data types this drive carries over the protocol, where fewer than the protocol
     /// file's commands allow (`[word]`: one register per Modbus request); left out: all.
     pub data_types: Option<Vec<DataType>>,
+    /// The most registers this drive returns to one read, where fewer than the protocol
+    /// file's `max_words_per_read` (`12`; `1`: one register per read); left out: the
+    /// protocol file's.
+    pub max_words_per_read: Option<u16>,
 }
 
 /// A range of station numbers.
@@ -913,6 +917,10 @@ pub struct ProtocolMeta {
     /// Silence between frames in character times.
     #[serde(default)]
     pub frame_gap_chars: f32,
+    /// The most 16-bit registers one read request may carry (Modbus 03: 125), when the
+    /// protocol's read command counts its data (a length part with `counts: data_size`);
+    /// left out: 1, one register per read.
+    pub max_words_per_read: Option<u16>,
 }
 
 /// A layout entry: the name of a shared part, or a part written in place.

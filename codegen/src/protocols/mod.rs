@@ -114,6 +114,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     layouts::check_default_optional_parts(file, source, out);
     error_codes::check_error_codes(file, source, out);
     let out_of_band = check_station_range(input, out);
+    let max_words_per_read = max_words_per_read(input, &commands, out);
     if out.items.len() > before {
         return None;
     }
@@ -135,8 +136,80 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         pre_steps: Cow::Owned(pre_steps),
         default_process: meta.default_process.unwrap_or([0, 0]),
         frame_gap_chars: meta.frame_gap_chars,
+        max_words_per_read,
         error_codes: Cow::Owned(error_codes::error_table(input)),
     })
+}
+
+/// The most registers one read carries: the protocol file's `max_words_per_read`, lowered
+/// by the drive's. Above 1, a read command must count its data, and a block must fit the
+/// one byte a frame's data size is held in (127 words).
+fn max_words_per_read(
+    input: &Input<'_>,
+    commands: &[commands::LoweredCommand],
+    out: &mut Diagnostics,
+) -> u16 {
+    let file = input.file.protocol.max_words_per_read;
+    let drive = input.reference.max_words_per_read;
+    for (value, source, path) in [
+        (file, input.source, "protocol.max_words_per_read".to_owned()),
+        (
+            drive,
+            input.drive_source,
+            format!("{}.max_words_per_read", input.reference_path),
+        ),
+    ] {
+        if value.is_some_and(|v| v == 0 || v > 127) {
+            out.push(
+                source
+                    .error(&path, "max_words_per_read must be 1 to 127")
+                    .hint("a read's data size is one byte: at most 127 registers of 2 bytes"),
+            );
+            return 1;
+        }
+    }
+    if let (Some(drive), file) = (drive, file.unwrap_or(1)) {
+        if drive > file {
+            out.push(
+                input
+                    .drive_source
+                    .error(
+                        &format!("{}.max_words_per_read", input.reference_path),
+                        format!("max_words_per_read {drive} is above the protocol file's {file}"),
+                    )
+                    .hint("a drive may only lower the protocol's limit"),
+            );
+            return 1;
+        }
+    }
+    let value = drive.or(file).unwrap_or(1);
+    if value > 1
+        && !commands.iter().any(|c| {
+            c.spec.kind == vfd_runtime::CommandKind::Read
+                && vfd_runtime::protocol::command_reads_blocks(&c.spec)
+        })
+    {
+        let (source, path) = match drive {
+            Some(_) => (
+                input.drive_source,
+                format!("{}.max_words_per_read", input.reference_path),
+            ),
+            None => (input.source, "protocol.max_words_per_read".to_owned()),
+        };
+        out.push(
+            source
+                .error(
+                    &path,
+                    format!("max_words_per_read is {value}, but no read command can carry a count"),
+                )
+                .hint(
+                    "a read's request needs a length part with `counts: data_size` and its reply a \
+                     data field with `size: length`; or leave max_words_per_read out",
+                ),
+        );
+        return 1;
+    }
+    value
 }
 
 /// The stations this protocol reaches: the reference's `addressing`, else the drive's.

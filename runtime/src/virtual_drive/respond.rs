@@ -97,6 +97,12 @@ impl VirtualDrive {
         if let (Some(process), Some(behaviour)) = (request.process, self.behaviour()) {
             self.process_words(behaviour, process);
         }
+        if self.is_block_read(protocol, request) {
+            return match self.read_block(protocol, request) {
+                Ok(block) => self.reply_block(protocol, request, &block),
+                Err(refusal) => self.refuse(protocol, Some(request), refusal),
+            };
+        }
         let result = match request.command.kind {
             CommandKind::Read => self.read(protocol, request),
             CommandKind::WriteRam | CommandKind::WritePersistent => self.write(protocol, request),
@@ -149,12 +155,106 @@ impl VirtualDrive {
         encode(layout, &values, protocol)
     }
 
+    /// Whether `request` reads more than its first register: a read by the protocol's
+    /// block-read command whose count goes beyond the register it names.
+    fn is_block_read(&self, protocol: &Protocol, request: &DecodedRequest<'_>) -> bool {
+        let command = request.command;
+        if !protocol
+            .block_read_command(command.space)
+            .is_some_and(|block| std::ptr::eq(block, command))
+        {
+            return false;
+        }
+        let own = self
+            .target_of(request)
+            .map_or(2, |info| info.data_type.size().max(1));
+        request.values.data_size > own
+    }
+
+    /// The registers a block read covers, each in the reply data field's byte order, in
+    /// address order. A block that does not begin and end on whole registers, names a
+    /// number with no register, or exceeds the protocol's count is refused.
+    fn read_block(
+        &self,
+        protocol: &Protocol,
+        request: &DecodedRequest<'_>,
+    ) -> Result<Vec<u8>, Refusal> {
+        let command = request.command;
+        let size = usize::from(request.values.data_size);
+        let words = size / 2;
+        if size % 2 != 0 || words > usize::from(protocol.max_words_per_read) {
+            return Err(Refusal::OutOfRange);
+        }
+        let wire = request.wire_register.ok_or(Refusal::UnknownRegister)?;
+        let little_endian = data_little_endian(&command.reply);
+        let mut block = Vec::with_capacity(size);
+        let mut word = 0usize;
+        while word < words {
+            let at =
+                u16::try_from(usize::from(wire) + word).map_err(|_| Refusal::UnknownRegister)?;
+            let info = command
+                .address_map
+                .from_wire(at)
+                .and_then(|number| self.drive.register_at(command.space, number))
+                .filter(|info| info.data_type != DataType::Text)
+                .ok_or(Refusal::UnknownRegister)?;
+            let width = usize::from(info.data_type.size().clamp(2, 4));
+            if word + width / 2 > words {
+                return Err(Refusal::UnknownRegister);
+            }
+            let index = if info.array_len == 0 {
+                0
+            } else {
+                self.selected_index.min(u16::from(info.array_len) - 1)
+            };
+            let raw = self.storage.get(info, index);
+            if little_endian {
+                block.extend_from_slice(&raw.to_le_bytes()[..width]);
+            } else {
+                block.extend_from_slice(&raw.to_be_bytes()[4 - width..]);
+            }
+            word += width / 2;
+        }
+        Ok(block)
+    }
+
+    /// The reply to a block read: up to 4 bytes as a number, more as the data field's bytes.
+    fn reply_block(
+        &self,
+        protocol: &Protocol,
+        request: &DecodedRequest<'_>,
+        block: &[u8],
+    ) -> Outcome {
+        if block.len() <= 4 {
+            let fold = |acc: u32, byte: &u8| (acc << 8) | u32::from(*byte);
+            let data = if data_little_endian(&request.command.reply) {
+                block.iter().rev().fold(0, fold)
+            } else {
+                block.iter().fold(0, fold)
+            };
+            return self.reply(protocol, request, data, block.len() as u8);
+        }
+        self.reply_with(protocol, request, 0, block.len() as u8, block)
+    }
+
     fn reply(
         &self,
         protocol: &Protocol,
         request: &DecodedRequest<'_>,
         data: u32,
         data_size: u8,
+    ) -> Outcome {
+        self.reply_with(protocol, request, data, data_size, &[])
+    }
+
+    /// A normal reply carrying `data`, or the `block` of registers when there is one.
+    fn reply_with(
+        &self,
+        protocol: &Protocol,
+        request: &DecodedRequest<'_>,
+        data: u32,
+        data_size: u8,
+        block: &[u8],
     ) -> Outcome {
         let command = request.command;
         let layout = &command.reply;
@@ -180,7 +280,7 @@ impl VirtualDrive {
             ..self.process_roles(layout)
         };
         values.fill(layout, &roles);
-        encode(layout, &values, protocol)
+        encode_with(layout, &values, block, protocol)
     }
 
     /// Status word and output as the reply's process words, when the drive has them.
@@ -403,9 +503,27 @@ fn mirror_optional_parts(
     }
 }
 
+/// Whether `layout`'s data field is least significant byte first.
+fn data_little_endian(layout: &FrameLayout) -> bool {
+    layout.parts.iter().any(|part| {
+        matches!(part, Part::Field(field) if field.role == Role::Data
+            && field.format == crate::layout::Format::UintLe)
+    })
+}
+
 fn encode(layout: &FrameLayout, values: &FrameValues, protocol: &Protocol) -> Outcome {
+    encode_with(layout, values, &[], protocol)
+}
+
+/// Encodes a reply, with `payload` for a data field carrying a block of registers.
+fn encode_with(
+    layout: &FrameLayout,
+    values: &FrameValues,
+    payload: &[u8],
+    protocol: &Protocol,
+) -> Outcome {
     let mut out = vec![0u8; usize::from(protocol.max_frame_len).max(8) + 8];
-    match codec::encode(layout, values, &mut out) {
+    match codec::encode_with_payload(layout, values, payload, &mut out) {
         Ok(len) => {
             out.truncate(len);
             Outcome::Reply(out)

@@ -225,6 +225,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
     let pre_steps = protocol.pre_steps.iter().map(Bake::bake);
     let [first, second] = protocol.default_process.unwrap_or([0, 0]).map(int_literal);
     let gap = Literal::f32_unsuffixed(protocol.frame_gap_chars);
+    let max_words = int_literal(protocol.max_words_per_read);
     let doc = doc_text(format!(
         "{}, from the protocol file `{}`; manual section {}.",
         protocol.name, protocol.uses, protocol.source
@@ -268,6 +269,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             pre_steps: Cow::Borrowed(&[#(#pre_steps),*]),
             default_process: [#first, #second],
             frame_gap_chars: #gap,
+            max_words_per_read: #max_words,
         };
     }
 }
