@@ -55,6 +55,7 @@ pub struct VirtualDrive {
     persistent_writes: bool,
     faults: VecDeque<Fault>,
     noise: bool,
+    requests: u64,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -88,6 +89,7 @@ impl VirtualDrive {
             persistent_writes: false,
             faults: VecDeque::new(),
             noise: false,
+            requests: 0,
         };
         virtual_drive.refresh();
         virtual_drive
@@ -186,10 +188,20 @@ impl VirtualDrive {
         }
     }
 
+    /// The number of request frames received so far, whatever station they address and
+    /// whether or not a fault kept the reply from the master (a test counts with it how
+    /// often a master sent a request).
+    pub fn requests(&self) -> u64 {
+        self.requests
+    }
+
     /// Answers one whole request frame (no bytes before or after it).
     pub fn respond(&mut self, protocol: &Protocol, frame: &[u8]) -> Outcome {
         match protocol.decode_request_exact(frame) {
-            Ok(request) => self.answer(protocol, &request),
+            Ok(request) => {
+                self.requests += 1;
+                self.answer(protocol, &request)
+            }
             Err(error) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
                 self.refuse(protocol, None, Refusal::BadChecksum)
             }
@@ -223,6 +235,7 @@ impl VirtualDrive {
             }
             let (outcome, used) = match protocol.decode_request(input) {
                 Ok(Found::Frame { frame, .. }) => {
+                    self.requests += 1;
                     let mut pending = self.faults.front().cloned();
                     let outcome = if pending == Some(Fault::AnswerBroadcast) {
                         self.faults.pop_front();
@@ -367,6 +380,16 @@ impl Simulator {
     /// Whether `fault` is pending or in force.
     pub fn has_fault(&self, fault: &Fault) -> bool {
         self.lock().has_fault(fault)
+    }
+
+    /// Stops every fault (see [`VirtualDrive::clear_faults`]).
+    pub fn clear_faults(&self) {
+        self.lock().clear_faults();
+    }
+
+    /// Request frames received so far (see [`VirtualDrive::requests`]).
+    pub fn requests(&self) -> u64 {
+        self.lock().requests()
     }
 
     /// Trips the drive (see [`VirtualDrive::inject_trip`]).
