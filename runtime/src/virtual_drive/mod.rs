@@ -55,6 +55,7 @@ pub struct VirtualDrive {
     persistent_writes: bool,
     faults: VecDeque<Fault>,
     noise: bool,
+    echo: bool,
     requests: u64,
 }
 
@@ -89,6 +90,7 @@ impl VirtualDrive {
             persistent_writes: false,
             faults: VecDeque::new(),
             noise: false,
+            echo: false,
             requests: 0,
         };
         virtual_drive.refresh();
@@ -167,10 +169,10 @@ impl VirtualDrive {
 
     /// Commits `fault` (see [`Fault`] for how long it lasts).
     pub fn inject(&mut self, fault: Fault) {
-        if fault == Fault::Noise {
-            self.noise = true;
-        } else {
-            self.faults.push_back(fault);
+        match fault {
+            Fault::Noise => self.noise = true,
+            Fault::EchoRequest => self.echo = true,
+            fault => self.faults.push_back(fault),
         }
     }
 
@@ -178,12 +180,14 @@ impl VirtualDrive {
     pub fn clear_faults(&mut self) {
         self.faults.clear();
         self.noise = false;
+        self.echo = false;
     }
 
-    /// Whether `fault` is pending (noise: in force).
+    /// Whether `fault` is pending (noise and echo: in force).
     pub fn has_fault(&self, fault: &Fault) -> bool {
         match fault {
             Fault::Noise => self.noise,
+            Fault::EchoRequest => self.echo,
             other => self.faults.contains(other),
         }
     }
@@ -279,6 +283,15 @@ impl VirtualDrive {
                 // The line is jammed: no reply gets through the noise.
                 continue;
             }
+            if self.echo {
+                // The line returns what the master sent, whether the drive answers or not.
+                sent.push(Transmission {
+                    bytes: request.clone(),
+                    delayed: false,
+                    split: None,
+                    request_len: request.len(),
+                });
+            }
             if let Outcome::Reply(bytes) = outcome {
                 if let Some(transmission) = self.commit_faults(protocol, &request, bytes) {
                     sent.push(transmission);
@@ -308,7 +321,6 @@ impl VirtualDrive {
             }
             Some(Fault::Delay) => transmission.delayed = true,
             Some(Fault::GarbageBefore(garbage)) => transmission.bytes.extend(garbage),
-            Some(Fault::EchoRequest) => transmission.bytes.extend_from_slice(request),
             Some(Fault::SplitBytes(gap)) => transmission.split = Some(gap),
             Some(other) => self.faults.push_front(other),
             None => {}
