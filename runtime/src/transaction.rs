@@ -638,15 +638,14 @@ impl<T: Transport, D: 'static> Master<T, D> {
         if search.waiting {
             return None;
         }
-        // Nothing more can come of these bytes: a damaged or foreign frame decides now;
-        // mere noise may still be followed by the reply.
+        // Nothing more can come of these bytes: a damaged frame decides now (the drive
+        // answered, garbled). Noise, and a frame that answers something else (another
+        // station's reply, a late reply to an earlier request), may still be followed by
+        // the reply: the mismatch is reported at the deadline if nothing better comes.
         if let Some(error) = reading.corrupt.take() {
             return Some(Err(
                 reading.fail(TransactionErrorKind::Decode(Box::new(error)))
             ));
-        }
-        if let Some(difference) = reading.foreign.take() {
-            return Some(Err(reading.fail(mismatch_of(difference))));
         }
         None
     }
