@@ -776,12 +776,17 @@ pub struct Expectation {
     pub wire_register: Option<u16>,
     /// The array index (`None`: not checked).
     pub index: Option<u16>,
+    /// The value a write's reply must report written, where the reply carries one, and
+    /// the bits compared (the request's data width); `None`: not checked. A reply reporting
+    /// another value answers an earlier write (a late reply), not this one.
+    pub data: Option<(u32, u32)>,
 }
 
 /// A value a reply carries that is not the one its request expects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Difference {
-    /// Which value: [`Role::Address`], [`Role::Register`] or [`Role::Index`].
+    /// Which value: [`Role::Address`], [`Role::Register`], [`Role::Index`] or
+    /// [`Role::Data`] (the value a write reply reports written, masked as compared).
     pub role: Role,
     /// The value the request expects.
     pub expected: u32,
@@ -801,6 +806,12 @@ impl Expectation {
                 roles.register,
             ),
             (Role::Index, self.index.map(u32::from), roles.index),
+            (
+                Role::Data,
+                self.data.map(|(value, mask)| value & mask),
+                self.data
+                    .and_then(|(_, mask)| roles.data.map(|found| found & mask)),
+            ),
         ]
         .into_iter()
         .find_map(|(role, expected, found)| match (expected, found) {

@@ -455,6 +455,14 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 command.address_map.to_wire(request.register)
             },
             index: request.index,
+            data: request.kind.is_write().then(|| {
+                let mask = match request.data_type.size() {
+                    0 => 0,
+                    bytes @ 1..=3 => (1u32 << (8 * u32::from(bytes))) - 1,
+                    _ => u32::MAX,
+                };
+                (request.data, mask)
+            }),
         };
         if let Some(last) = self.last_activity {
             let gap = self.frame_gap();
@@ -722,6 +730,7 @@ fn mismatch_of(difference: Difference) -> TransactionErrorKind {
         field: match difference.role {
             Role::Address => ReplyField::Address,
             Role::Index => ReplyField::Index,
+            Role::Data => ReplyField::Written,
             _ => ReplyField::Register,
         },
         expected: difference.expected,
@@ -848,7 +857,8 @@ pub enum TransactionErrorKind {
         /// Whether the reply said the drive is tripped (lower-case command).
         tripped: bool,
     },
-    /// The reply does not answer the request (wrong address, register or index).
+    /// The reply does not answer the request (wrong address, register or index, or a
+    /// write reply reporting another value).
     Mismatch {
         /// Which part of the reply differs.
         field: ReplyField,
@@ -888,6 +898,9 @@ pub enum ReplyField {
     ProcessWords,
     /// The data of a read (expected 1: present; found 0: absent).
     Data,
+    /// The value a write's reply reports written (expected: the value sent). A reply
+    /// reporting another value answers an earlier write.
+    Written,
 }
 
 impl ReplyField {
@@ -900,6 +913,7 @@ impl ReplyField {
             ReplyField::Text => "text",
             ReplyField::ProcessWords => "process words",
             ReplyField::Data => "data",
+            ReplyField::Written => "value written",
         }
     }
 }
@@ -996,7 +1010,10 @@ impl fmt::Display for TransactionError {
                 ReplyField::Text | ReplyField::ProcessWords | ReplyField::Data => {
                     write!(f, "reply to {} carries no {}", request(), field.as_str())
                 }
-                ReplyField::Address | ReplyField::Register | ReplyField::Index => write!(
+                ReplyField::Address
+                | ReplyField::Register
+                | ReplyField::Index
+                | ReplyField::Written => write!(
                     f,
                     "reply to {} does not match: {} is {found:#X}, expected {expected:#X}",
                     request(),

@@ -543,3 +543,48 @@ fn a_late_reply_for_another_register_does_not_end_the_next_read() {
     let bound = fc.reply_timeout(16) * 2;
     assert!(started.elapsed() < bound, "{:?}", started.elapsed());
 }
+
+#[test]
+fn a_late_reply_to_an_earlier_write_does_not_answer_the_next_one() {
+    use vfd_runtime::transaction::ReplyField;
+    let sim = vfd_runtime::virtual_drive::Simulator::new(&fc51::DRIVE);
+    let earlier = fc_reply(
+        &sim,
+        &Request::write_ram::<registers::MaximumReference>(50.0).unwrap(),
+    );
+    let current = fc_reply(
+        &sim,
+        &Request::write_ram::<registers::MaximumReference>(60.0).unwrap(),
+    );
+    let (ours, theirs) = memory_pair();
+    let _drive = drive_with_bursts(
+        theirs,
+        &protocols::FC,
+        false,
+        vec![vec![now(earlier.clone()), now(current)], vec![now(earlier)]],
+    );
+    let mut fc = master(ours, &protocols::FC);
+    assert_eq!(
+        fc.write_ram::<registers::MaximumReference>(60.0).unwrap(),
+        Some(60.0),
+        "the reply to this write, not the 50.0 of the earlier one"
+    );
+    let started = Instant::now();
+    let error = fc
+        .write_ram::<registers::MaximumReference>(60.0)
+        .unwrap_err();
+    assert!(
+        matches!(
+            error.kind,
+            TransactionErrorKind::Mismatch {
+                field: ReplyField::Written,
+                expected: 60_000,
+                found: 50_000,
+            }
+        ),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("value written"), "{error}");
+    let bound = fc.reply_timeout(16) * 2;
+    assert!(started.elapsed() < bound, "{:?}", started.elapsed());
+}
