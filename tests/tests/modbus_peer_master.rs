@@ -31,7 +31,10 @@ fn wire(space: Space, number: u16) -> u16 {
 }
 
 fn parameter(id: &str) -> u16 {
-    wire(Space::Parameter, fc51::DRIVE.register(id).expect(id).address)
+    wire(
+        Space::Parameter,
+        fc51::DRIVE.register(id).expect(id).address,
+    )
 }
 
 fn coil(id: &str) -> u16 {
@@ -116,7 +119,10 @@ fn run(client: &str, plan: serde_json::Value) -> Option<Vec<serde_json::Value>> 
     }
     let status = child.wait().expect("the client ends");
     stop.store(true, Ordering::Relaxed);
-    server.join().expect("the server thread").expect("no I/O error");
+    server
+        .join()
+        .expect("the server thread")
+        .expect("no I/O error");
     assert!(status.success(), "{client} failed");
     assert_eq!(answers.len(), steps, "{client} answered {answers:?}");
     Some(answers)
