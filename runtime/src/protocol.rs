@@ -780,13 +780,17 @@ pub struct Expectation {
     /// the bits compared (the request's data width); `None`: not checked. A reply reporting
     /// another value answers an earlier write (a late reply), not this one.
     pub data: Option<(u32, u32)>,
+    /// The number of data bytes a read's reply must carry, where its layout sizes the data
+    /// (a byte count); `None`: not checked. A reply of another size answers another read.
+    pub data_size: Option<u8>,
 }
 
 /// A value a reply carries that is not the one its request expects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Difference {
     /// Which value: [`Role::Address`], [`Role::Register`], [`Role::Index`] or
-    /// [`Role::Data`] (the value a write reply reports written, masked as compared).
+    /// [`Role::Data`]: for a write, the value its reply reports written (masked as
+    /// compared); for a read, the number of data bytes its reply carries.
     pub role: Role,
     /// The value the request expects.
     pub expected: u32,
@@ -942,7 +946,15 @@ impl Protocol {
                     } else {
                         self.error_reply_from(layout, values, len)
                     };
-                    match expectation.difference(&values.roles(layout)) {
+                    let size = expectation
+                        .data_size
+                        .filter(|size| normal && values.data_size != 0 && values.data_size != *size)
+                        .map(|size| Difference {
+                            role: Role::Data,
+                            expected: u32::from(size),
+                            found: u32::from(values.data_size),
+                        });
+                    match expectation.difference(&values.roles(layout)).or(size) {
                         None => return Candidate::Fits(reply),
                         Some(difference) => foreign = foreign.or(Some(difference)),
                     }

@@ -463,6 +463,8 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 };
                 (request.data, mask)
             }),
+            data_size: (request.kind.only_reads() && request.data_type.size() > 0)
+                .then_some(request.data_type.size()),
         };
         if let Some(last) = self.last_activity {
             let gap = self.frame_gap();
@@ -675,7 +677,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
         let kind = if let Some(error) = reading.corrupt.take() {
             TransactionErrorKind::Decode(Box::new(error))
         } else if let Some(difference) = reading.foreign {
-            mismatch_of(difference)
+            mismatch_of(difference, reading.request)
         } else {
             let filled = reading.filled;
             TransactionErrorKind::Timeout {
@@ -724,13 +726,14 @@ impl Collecting<'_> {
     }
 }
 
-/// The mismatch error for a frame that answers something else.
-fn mismatch_of(difference: Difference) -> TransactionErrorKind {
+/// The mismatch error for a frame that answers something else than `request`.
+fn mismatch_of(difference: Difference, request: &Request) -> TransactionErrorKind {
     TransactionErrorKind::Mismatch {
         field: match difference.role {
             Role::Address => ReplyField::Address,
             Role::Index => ReplyField::Index,
-            Role::Data => ReplyField::Written,
+            Role::Data if request.kind.is_write() => ReplyField::Written,
+            Role::Data => ReplyField::DataSize,
             _ => ReplyField::Register,
         },
         expected: difference.expected,
@@ -901,6 +904,9 @@ pub enum ReplyField {
     /// The value a write's reply reports written (expected: the value sent). A reply
     /// reporting another value answers an earlier write.
     Written,
+    /// The number of data bytes a read's reply carries (expected: the size asked for). A
+    /// reply of another size answers another read.
+    DataSize,
 }
 
 impl ReplyField {
@@ -914,6 +920,7 @@ impl ReplyField {
             ReplyField::ProcessWords => "process words",
             ReplyField::Data => "data",
             ReplyField::Written => "value written",
+            ReplyField::DataSize => "data size",
         }
     }
 }
@@ -1013,7 +1020,8 @@ impl fmt::Display for TransactionError {
                 ReplyField::Address
                 | ReplyField::Register
                 | ReplyField::Index
-                | ReplyField::Written => write!(
+                | ReplyField::Written
+                | ReplyField::DataSize => write!(
                     f,
                     "reply to {} does not match: {} is {found:#X}, expected {expected:#X}",
                     request(),

@@ -588,3 +588,23 @@ fn a_late_reply_to_an_earlier_write_does_not_answer_the_next_one() {
     let bound = fc.reply_timeout(16) * 2;
     assert!(started.elapsed() < bound, "{:?}", started.elapsed());
 }
+
+#[test]
+fn a_read_reply_of_another_size_is_not_the_reply() {
+    // An echoed Modbus read of registers 0300h-03FFh parses as a reply: function 03, byte
+    // count 03 (the address's high byte), three data bytes and the request's own CRC. A
+    // line stated not to echo must still not take it for the reply: a read of one
+    // register is answered with two data bytes.
+    let read_101 = Request::raw(CommandKind::Read, 101, 0);
+    let (ours, theirs) = memory_pair();
+    let drive = drive_with_bursts(
+        theirs,
+        &protocols::MODBUS,
+        true,
+        vec![vec![(Duration::from_millis(5), with_crc("01 03 02 00 07"))]],
+    );
+    let mut modbus = master(ours, &protocols::MODBUS).with_local_echo(Some(false));
+    let answer = modbus.transact(&read_101).unwrap();
+    assert_eq!(answer.data, Some(7), "not 0xF10001, the echo read as data");
+    assert_eq!(drive.join().unwrap()[0], with_crc("01 03 03 F1 00 01"));
+}
