@@ -187,7 +187,10 @@ impl<T: Transport, D: 'static> Master<T, D> {
     /// follows them or when they cannot be a reply; the first replies teach the master
     /// which kind of line it is on. Until then, a reply that is byte for byte the request
     /// (Modbus RTU answers writes of one register or coil so) is taken only at the reply
-    /// deadline, when no second copy came.
+    /// deadline, when no second copy came. Once the line has shown an echo, a lone copy is
+    /// taken for the echo of a request the drive did not answer (a timeout rather than a
+    /// false success) until a reply that differs from its request, such as a read's, shows
+    /// that the line no longer echoes.
     pub fn with_local_echo(mut self, echo: Option<bool>) -> Self {
         self.echo = echo;
         self.echo_fixed = echo.is_some();
