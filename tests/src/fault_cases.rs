@@ -1,13 +1,15 @@
 //! What the fault matrix and the soak share: the faults the virtual drive can commit, the
 //! outcome a master owes for each, the drives, protocols and registers exercised (picked
-//! from the descriptions, so no drive is named here) and a virtual drive served over a
-//! pseudo-terminal.
+//! from the descriptions, so no drive is named here), a virtual drive served over a
+//! pseudo-terminal, and the master's end of a line that counts the frames sent.
 
 use std::io;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::{self, JoinHandle};
+use std::time::{Duration, Instant};
 use vfd_runtime::transaction::ReplyField;
+use vfd_runtime::transport::Transport;
 use vfd_runtime::transport::{PseudoTerminal, PtyTransport};
 use vfd_runtime::virtual_drive::{serve, Fault, Simulator};
 use vfd_runtime::{
@@ -264,5 +266,96 @@ impl Served {
             Ok(Err(error)) => Err(format!("the serve loop failed: {error}")),
             Err(_) => Err("the serve loop panicked".into()),
         }
+    }
+}
+
+/// The master's end of a line, shared with the test: it counts the frames the master sends
+/// (one per `send`) and lets the test drain the line between exchanges.
+pub struct CountingLine<T> {
+    inner: Arc<Mutex<T>>,
+    sent: Arc<AtomicU64>,
+}
+
+/// The test's handle on a [`CountingLine`].
+pub struct LineHandle<T> {
+    inner: Arc<Mutex<T>>,
+    sent: Arc<AtomicU64>,
+}
+
+impl<T> Clone for LineHandle<T> {
+    fn clone(&self) -> Self {
+        LineHandle {
+            inner: Arc::clone(&self.inner),
+            sent: Arc::clone(&self.sent),
+        }
+    }
+}
+
+impl<T: Transport> CountingLine<T> {
+    /// Wraps `transport`; the handle counts and drains.
+    pub fn new(transport: T) -> (CountingLine<T>, LineHandle<T>) {
+        let inner = Arc::new(Mutex::new(transport));
+        let sent = Arc::new(AtomicU64::new(0));
+        let handle = LineHandle {
+            inner: Arc::clone(&inner),
+            sent: Arc::clone(&sent),
+        };
+        (CountingLine { inner, sent }, handle)
+    }
+
+    fn with<R>(&self, work: impl FnOnce(&mut T) -> R) -> R {
+        work(&mut self.inner.lock().unwrap_or_else(PoisonError::into_inner))
+    }
+}
+
+impl<T: Transport> Transport for CountingLine<T> {
+    fn send(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.sent.fetch_add(1, Ordering::Relaxed);
+        self.with(|t| t.send(bytes))
+    }
+    fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
+        self.with(|t| t.receive(buf, deadline))
+    }
+    fn clear_input(&mut self) -> io::Result<()> {
+        self.with(|t| t.clear_input())
+    }
+    fn last_gap(&self) -> Option<Duration> {
+        self.with(|t| t.last_gap())
+    }
+}
+
+impl<T: Transport> LineHandle<T> {
+    /// Frames the master has sent so far.
+    pub fn sent(&self) -> u64 {
+        self.sent.load(Ordering::Relaxed)
+    }
+
+    /// Waits until `sim` has received every frame the master sent (a serve loop may still
+    /// be busy with a late reply); false when it has not within `limit`.
+    pub fn caught_up(&self, sim: &Simulator, limit: Duration) -> bool {
+        let deadline = Instant::now() + limit;
+        while sim.requests() < self.sent() {
+            if Instant::now() >= deadline {
+                return false;
+            }
+            thread::sleep(Duration::from_millis(1));
+        }
+        true
+    }
+
+    /// Drops what arrives until the line has been silent for `quiet`; false when it is
+    /// not silent within `limit`.
+    pub fn drain_until_quiet(&self, quiet: Duration, limit: Duration) -> bool {
+        let deadline = Instant::now() + limit;
+        let mut buf = [0u8; 256];
+        let mut line = self.inner.lock().unwrap_or_else(PoisonError::into_inner);
+        while Instant::now() < deadline {
+            match line.receive(&mut buf, Instant::now() + quiet) {
+                Ok(0) => return true,
+                Ok(_) => {}
+                Err(_) => return false,
+            }
+        }
+        false
     }
 }

@@ -5,8 +5,9 @@
 //! Each cell checks the master's outcome (the typed error the fault explains, or the right
 //! value where the fault is tolerable), an upper bound on its time derived from the
 //! master's own reply timeout, retries (with `with_retries` a failed read is repeated and
-//! a write never: the drive counts the requests it received) and that the exchanges after
-//! the fault succeed (resync). Every cell runs under a watchdog, so a hang or a panic fails
+//! a write never: the frames sent are counted, and the drive must have received exactly
+//! those) and that the exchanges right after the fault succeed (resync: a late reply
+//! arrives during them). Every cell runs under a watchdog, so a hang or a panic fails
 //! the cell rather than the run. The matrix is printed on stderr:
 //! `cargo test -p vfd-tests --test fault_matrix -- --nocapture`.
 //!
@@ -21,7 +22,9 @@ use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::Transport;
 use vfd_runtime::virtual_drive::{Fault, Simulator};
 use vfd_runtime::{CommandKind, RegisterInfo, Request};
-use vfd_tests::fault_cases::{expected, faults, subjects, Kind, Served, Subject};
+use vfd_tests::fault_cases::{
+    expected, faults, subjects, CountingLine, Kind, LineHandle, Served, Subject,
+};
 
 /// Retries configured in the second run of each cell.
 const RETRIES: u8 = 2;
@@ -65,28 +68,29 @@ struct Report {
 }
 
 /// One master on the line, whose station and retries change between runs (it keeps
-/// what it learnt about the line, as a program's one master does).
+/// what it learnt about the line, as a program's one master does), and the count of the
+/// frames it sent.
 struct Line<T: Transport> {
-    master: Option<Master<T>>,
+    master: Option<Master<CountingLine<T>>>,
     subject: Subject,
-    /// How long the drive's request count must stay still to be read (0: at once).
-    settle: Duration,
+    handle: LineHandle<T>,
 }
 
 impl<T: Transport> Line<T> {
-    fn new(transport: T, subject: Subject, address: u8, settle: Duration) -> Line<T> {
+    fn new(transport: T, subject: Subject, address: u8) -> Line<T> {
         let serial = subject.drive.serial;
+        let (transport, handle) = CountingLine::new(transport);
         let master =
             Master::for_protocol(transport, subject.protocol, serial.default, serial.timing)
                 .with_address(Some(address));
         Line {
             master: Some(master),
             subject,
-            settle,
+            handle,
         }
     }
 
-    fn master(&mut self, address: u8, retries: u8) -> &mut Master<T> {
+    fn master(&mut self, address: u8, retries: u8) -> &mut Master<CountingLine<T>> {
         let master = self
             .master
             .take()
@@ -94,24 +98,6 @@ impl<T: Transport> Line<T> {
             .with_address(Some(address))
             .with_retries(retries);
         self.master.insert(master)
-    }
-
-    /// The requests the drive has received, once it has taken in all that were sent (over
-    /// a pseudo-terminal the serve loop may still be busy with a late reply).
-    fn requests(&self, sim: &Simulator) -> u64 {
-        let mut last = sim.requests();
-        if self.settle.is_zero() {
-            return last;
-        }
-        for _ in 0..50 {
-            thread::sleep(self.settle);
-            let now = sim.requests();
-            if now == last {
-                break;
-            }
-            last = now;
-        }
-        last
     }
 }
 
@@ -193,24 +179,24 @@ fn run_cell<T: Transport>(
     transport: T,
     subject: Subject,
     fault: &Fault,
-    settle: Duration,
 ) -> (Runs, Vec<String>, Line<T>) {
     let mut failures = Vec::new();
     let own = sim.lock().address();
     let (low, high) = subject.protocol.address_range;
     let other = if own < high { own + 1 } else { low.max(1) };
-    let mut line = Line::new(transport, subject, own, settle);
+    let mut line = Line::new(transport, subject, own);
+    let counter = line.handle.clone();
     // A fault-free read and write first: the line is known to work, and a write's frame
     // count (steps included) is known.
     let master = line.master(own, 0);
     if read(master, sim, subject.read) != Ok(Kind::Value) {
         failures.push("the fault-free read failed".into());
     }
-    let before = sim.requests();
+    let before = counter.sent();
     if write(master, sim, subject.write, subject.value(2)) != Ok(Kind::Value) {
         failures.push("the fault-free write failed".into());
     }
-    let write_frames = line.requests(sim) - before;
+    let write_frames = counter.sent() - before;
     let master = line.master(own, 0);
     // The longest exchange of one frame the master allows, with the gap before it.
     let one =
@@ -226,7 +212,7 @@ fn run_cell<T: Transport>(
             } else {
                 own
             };
-            let before = line.requests(sim);
+            let before = counter.sent();
             let master = line.master(address, retries);
             sim.inject(fault.clone());
             let started = Instant::now();
@@ -235,7 +221,7 @@ fn run_cell<T: Transport>(
                 Op::Write => write(master, sim, subject.write, value),
             };
             let elapsed = started.elapsed();
-            let requests = line.requests(sim) - before;
+            let requests = counter.sent() - before;
             sim.clear_faults();
             let what = format!("{op:?} with {retries} retries");
             let kind = match outcome {
@@ -300,6 +286,17 @@ fn run_cell<T: Transport>(
         }
         runs.push((op, pair[0].clone(), pair[1].clone()));
     }
+    // The drive received every frame the master counted, and no other.
+    let received = line
+        .handle
+        .caught_up(sim, Duration::from_secs(5))
+        .then(|| sim.requests());
+    if received != Some(counter.sent()) {
+        failures.push(format!(
+            "the master sent {} frame(s), the drive received {received:?}",
+            counter.sent()
+        ));
+    }
     (runs, failures, line)
 }
 
@@ -314,13 +311,7 @@ fn cell(medium: Medium, subject: Subject, fault: Fault) -> (Runs, Vec<String>) {
     let sim = Simulator::new(subject.drive);
     match medium {
         Medium::InProcess => {
-            let (runs, failures, _) = run_cell(
-                &sim,
-                sim.link(subject.protocol),
-                subject,
-                &fault,
-                Duration::ZERO,
-            );
+            let (runs, failures, _) = run_cell(&sim, sim.link(subject.protocol), subject, &fault);
             (runs, failures)
         }
         Medium::Pty => {
@@ -328,8 +319,7 @@ fn cell(medium: Medium, subject: Subject, fault: Fault) -> (Runs, Vec<String>) {
                 Ok(started) => started,
                 Err(error) => return (Vec::new(), vec![format!("no pseudo-terminal: {error}")]),
             };
-            let (runs, mut failures, line) =
-                run_cell(&sim, line, subject, &fault, Duration::from_millis(30));
+            let (runs, mut failures, line) = run_cell(&sim, line, subject, &fault);
             failures.extend(served.stop().err());
             drop(line);
             (runs, failures)
@@ -449,7 +439,7 @@ fn check(reports: &[Report]) {
         }
         eprintln!("{line}");
     }
-    eprintln!("(outcome, time in ms / requests the drive received)");
+    eprintln!("(outcome, time in ms / frames sent; the drive received exactly those)");
     let failed: Vec<String> = reports
         .iter()
         .flat_map(|r| {
