@@ -826,12 +826,21 @@ pub struct Expectation {
     pub wire_register: Option<u16>,
     /// The array index (`None`: not checked).
     pub index: Option<u16>,
+    /// The value a write's reply must report written, where the reply carries one, and
+    /// the bits compared (the request's data width); `None`: not checked. A reply reporting
+    /// another value answers an earlier write (a late reply), not this one.
+    pub data: Option<(u32, u32)>,
+    /// The number of data bytes a read's reply must carry, where its layout sizes the data
+    /// (a byte count); `None`: not checked. A reply of another size answers another read.
+    pub data_size: Option<u8>,
 }
 
 /// A value a reply carries that is not the one its request expects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Difference {
-    /// Which value: [`Role::Address`], [`Role::Register`] or [`Role::Index`].
+    /// Which value: [`Role::Address`], [`Role::Register`], [`Role::Index`] or
+    /// [`Role::Data`]: for a write, the value its reply reports written (masked as
+    /// compared); for a read, the number of data bytes its reply carries.
     pub role: Role,
     /// The value the request expects.
     pub expected: u32,
@@ -851,6 +860,12 @@ impl Expectation {
                 roles.register,
             ),
             (Role::Index, self.index.map(u32::from), roles.index),
+            (
+                Role::Data,
+                self.data.map(|(value, mask)| value & mask),
+                self.data
+                    .and_then(|(_, mask)| roles.data.map(|found| found & mask)),
+            ),
         ]
         .into_iter()
         .find_map(|(role, expected, found)| match (expected, found) {
@@ -981,7 +996,15 @@ impl Protocol {
                     } else {
                         self.error_reply_from(layout, values, len)
                     };
-                    match expectation.difference(&values.roles(layout)) {
+                    let size = expectation
+                        .data_size
+                        .filter(|size| normal && values.data_size != 0 && values.data_size != *size)
+                        .map(|size| Difference {
+                            role: Role::Data,
+                            expected: u32::from(size),
+                            found: u32::from(values.data_size),
+                        });
+                    match expectation.difference(&values.roles(layout)).or(size) {
                         None => return Candidate::Fits(reply),
                         Some(difference) => foreign = foreign.or(Some(difference)),
                     }

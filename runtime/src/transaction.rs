@@ -193,7 +193,10 @@ impl<T: Transport, D: 'static> Master<T, D> {
     /// follows them or when they cannot be a reply; the first replies teach the master
     /// which kind of line it is on. Until then, a reply that is byte for byte the request
     /// (Modbus RTU answers writes of one register or coil so) is taken only at the reply
-    /// deadline, when no second copy came.
+    /// deadline, when no second copy came. Once the line has shown an echo, a lone copy is
+    /// taken for the echo of a request the drive did not answer (a timeout rather than a
+    /// false success) until a reply that differs from its request, such as a read's, shows
+    /// that the line no longer echoes.
     pub fn with_local_echo(mut self, echo: Option<bool>) -> Self {
         self.echo = echo;
         self.echo_fixed = echo.is_some();
@@ -580,6 +583,16 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 command.address_map.to_wire(request.register)
             },
             index: request.index,
+            data: request.kind.is_write().then(|| {
+                let mask = match request.data_type.size() {
+                    0 => 0,
+                    bytes @ 1..=3 => (1u32 << (8 * u32::from(bytes))) - 1,
+                    _ => u32::MAX,
+                };
+                (request.data, mask)
+            }),
+            data_size: (request.kind.only_reads() && request.data_type.size() > 0)
+                .then_some(request.data_type.size()),
         };
         if let Some(last) = self.last_activity {
             let gap = self.frame_gap();
@@ -771,15 +784,14 @@ impl<T: Transport, D: 'static> Master<T, D> {
         if search.waiting {
             return None;
         }
-        // Nothing more can come of these bytes: a damaged or foreign frame decides now;
-        // mere noise may still be followed by the reply.
+        // Nothing more can come of these bytes: a damaged frame decides now (the drive
+        // answered, garbled). Noise, and a frame that answers something else (another
+        // station's reply, a late reply to an earlier request), may still be followed by
+        // the reply: the mismatch is reported at the deadline if nothing better comes.
         if let Some(error) = reading.corrupt.take() {
             return Some(Err(
                 reading.fail(TransactionErrorKind::Decode(Box::new(error)))
             ));
-        }
-        if let Some(difference) = reading.foreign.take() {
-            return Some(Err(reading.fail(mismatch_of(difference))));
         }
         None
     }
@@ -801,7 +813,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
         let kind = if let Some(error) = reading.corrupt.take() {
             TransactionErrorKind::Decode(Box::new(error))
         } else if let Some(difference) = reading.foreign {
-            mismatch_of(difference)
+            mismatch_of(difference, reading.request)
         } else {
             let filled = reading.filled;
             TransactionErrorKind::Timeout {
@@ -852,12 +864,14 @@ impl Collecting<'_> {
     }
 }
 
-/// The mismatch error for a frame that answers something else.
-fn mismatch_of(difference: Difference) -> TransactionErrorKind {
+/// The mismatch error for a frame that answers something else than `request`.
+fn mismatch_of(difference: Difference, request: &Request) -> TransactionErrorKind {
     TransactionErrorKind::Mismatch {
         field: match difference.role {
             Role::Address => ReplyField::Address,
             Role::Index => ReplyField::Index,
+            Role::Data if request.kind.is_write() => ReplyField::Written,
+            Role::Data => ReplyField::DataSize,
             _ => ReplyField::Register,
         },
         expected: difference.expected,
@@ -1011,7 +1025,8 @@ pub enum TransactionErrorKind {
         /// Whether the reply said the drive is tripped (lower-case command).
         tripped: bool,
     },
-    /// The reply does not answer the request (wrong address, register or index).
+    /// The reply does not answer the request (wrong address, register or index, or a
+    /// write reply reporting another value).
     Mismatch {
         /// Which part of the reply differs.
         field: ReplyField,
@@ -1051,6 +1066,12 @@ pub enum ReplyField {
     ProcessWords,
     /// The data of a read (expected 1: present; found 0: absent).
     Data,
+    /// The value a write's reply reports written (expected: the value sent). A reply
+    /// reporting another value answers an earlier write.
+    Written,
+    /// The number of data bytes a read's reply carries (expected: the size asked for). A
+    /// reply of another size answers another read.
+    DataSize,
 }
 
 impl ReplyField {
@@ -1063,6 +1084,8 @@ impl ReplyField {
             ReplyField::Text => "text",
             ReplyField::ProcessWords => "process words",
             ReplyField::Data => "data",
+            ReplyField::Written => "value written",
+            ReplyField::DataSize => "data size",
         }
     }
 }
@@ -1165,7 +1188,11 @@ impl fmt::Display for TransactionError {
                 ReplyField::Text | ReplyField::ProcessWords | ReplyField::Data => {
                     write!(f, "reply to {} carries no {}", request(), field.as_str())
                 }
-                ReplyField::Address | ReplyField::Register | ReplyField::Index => write!(
+                ReplyField::Address
+                | ReplyField::Register
+                | ReplyField::Index
+                | ReplyField::Written
+                | ReplyField::DataSize => write!(
                     f,
                     "reply to {} does not match: {} is {found:#X}, expected {expected:#X}",
                     request(),

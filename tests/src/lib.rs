@@ -1,10 +1,11 @@
 //! Shared support for the workspace-level tests: expectation files for diagnostics, a
-//! scripted peer for exchanges, and the module-graph check that keeps each crate free of
-//! import circles. The generated golden-frame tests call `vfd_runtime::testing` (the
-//! runtime's `testing` feature).
+//! scripted peer for exchanges, the faults and subjects the fault matrix and the soak share,
+//! and the module-graph check that keeps each crate free of import circles. The generated
+//! golden-frame tests call `vfd_runtime::testing` (the runtime's `testing` feature).
 
 #![warn(missing_docs)]
 
 pub mod expectations;
+pub mod fault_cases;
 pub mod module_graph;
 pub mod scripted_peer;

@@ -1,7 +1,8 @@
 //! Regressions from the fault campaign: the master against an echoing adapter, false
-//! starts, noise, a line that never falls silent, stale input, refused pre-steps and
-//! retries, over the in-memory transport with a scripted drive. Each test names the fault
-//! it guards against; time bounds are generous multiples of the master's own timeout.
+//! starts, noise, a line that never falls silent, stale input, late replies, refused
+//! pre-steps and retries, over the in-memory transport with a scripted drive. Each test
+//! names the fault it guards against; time bounds are generous multiples of the master's
+//! own timeout.
 
 use std::sync::mpsc;
 use std::thread::{self, JoinHandle};
@@ -487,4 +488,123 @@ fn reads_are_retried_and_writes_are_not() {
         "one frame, the coil-65 selection, and nothing after its timeout"
     );
     assert!(started.elapsed() < modbus.reply_timeout(8) * 2);
+}
+
+// Late replies (found by the fault matrix): a reply the drive sends after the master gave
+// up arrives during the next exchange.
+
+/// The virtual drive's reply to `request` over the FC telegram (encoded by our master's
+/// encoder, answered by the simulator), to script late and current replies.
+fn fc_reply(sim: &vfd_runtime::virtual_drive::Simulator, request: &Request) -> Vec<u8> {
+    let protocol = protocols::FC.protocol();
+    let mut frame = [0u8; 64];
+    let len = protocol
+        .encode_request(request, Some(1), &mut frame)
+        .expect("the request encodes");
+    match sim.lock().respond(protocol, &frame[..len]) {
+        vfd_runtime::virtual_drive::Outcome::Reply(bytes) => bytes,
+        other => panic!("the virtual drive answers {request:?}: {other:?}"),
+    }
+}
+
+#[test]
+fn a_late_reply_for_another_register_does_not_end_the_next_read() {
+    let sim = vfd_runtime::virtual_drive::Simulator::new(&fc51::DRIVE);
+    let read_302 = Request::read::<registers::MinimumReference>();
+    let read_303 = Request::read::<registers::MaximumReference>();
+    sim.lock().set_raw("303", 55_000);
+    let late = fc_reply(&sim, &read_302);
+    let current_read = fc_reply(&sim, &read_303);
+    let (ours, theirs) = memory_pair();
+    let _drive = drive_with_bursts(
+        theirs,
+        &protocols::FC,
+        false,
+        vec![
+            vec![now(late.clone()), now(current_read)],
+            // The late reply alone: a mismatch, at the deadline.
+            vec![now(late)],
+        ],
+    );
+    let mut fc = master(ours, &protocols::FC);
+    assert_eq!(fc.read::<registers::MaximumReference>().unwrap(), 55.0);
+    let started = Instant::now();
+    let error = fc.read::<registers::MaximumReference>().unwrap_err();
+    assert!(
+        matches!(
+            error.kind,
+            TransactionErrorKind::Mismatch {
+                field: vfd_runtime::transaction::ReplyField::Register,
+                ..
+            }
+        ),
+        "{error:?}"
+    );
+    let bound = fc.reply_timeout(16) * 2;
+    assert!(started.elapsed() < bound, "{:?}", started.elapsed());
+}
+
+#[test]
+fn a_late_reply_to_an_earlier_write_does_not_answer_the_next_one() {
+    use vfd_runtime::transaction::ReplyField;
+    let sim = vfd_runtime::virtual_drive::Simulator::new(&fc51::DRIVE);
+    let earlier = fc_reply(
+        &sim,
+        &Request::write_ram::<registers::MaximumReference>(50.0).unwrap(),
+    );
+    let current = fc_reply(
+        &sim,
+        &Request::write_ram::<registers::MaximumReference>(60.0).unwrap(),
+    );
+    let (ours, theirs) = memory_pair();
+    let _drive = drive_with_bursts(
+        theirs,
+        &protocols::FC,
+        false,
+        vec![vec![now(earlier.clone()), now(current)], vec![now(earlier)]],
+    );
+    let mut fc = master(ours, &protocols::FC);
+    assert_eq!(
+        fc.write_ram::<registers::MaximumReference>(60.0).unwrap(),
+        Some(60.0),
+        "the reply to this write, not the 50.0 of the earlier one"
+    );
+    let started = Instant::now();
+    let error = fc
+        .write_ram::<registers::MaximumReference>(60.0)
+        .unwrap_err();
+    assert!(
+        matches!(
+            error.kind,
+            TransactionErrorKind::Mismatch {
+                field: ReplyField::Written,
+                expected: 60_000,
+                found: 50_000,
+            }
+        ),
+        "{error:?}"
+    );
+    assert!(error.to_string().contains("value written"), "{error}");
+    let bound = fc.reply_timeout(16) * 2;
+    assert!(started.elapsed() < bound, "{:?}", started.elapsed());
+}
+
+#[test]
+fn a_read_reply_of_another_size_is_not_the_reply() {
+    // An echoed Modbus read of registers 0300h-03FFh parses as a reply: function 03, byte
+    // count 03 (the address's high byte), three data bytes and the request's own CRC. A
+    // line stated not to echo must still not take it for the reply: a read of one
+    // register is answered with two data bytes.
+    let read_101 = Request::raw(CommandKind::Read, 101, 0);
+    let (ours, theirs) = memory_pair();
+    let drive = drive_with_bursts(
+        theirs,
+        &protocols::MODBUS,
+        true,
+        vec![vec![(Duration::from_millis(5), with_crc("01 03 02 00 07"))]],
+    );
+    let mut modbus = master(ours, &protocols::MODBUS).with_local_echo(Some(false));
+    let answer = modbus.transact(&read_101).unwrap();
+    assert_eq!(answer.data, Some(7), "not 0xF10001, the echo read as data");
+    assert_eq!(drive.join().unwrap()[0], with_crc("01 03 03 F1 00 01"));
 }

@@ -339,6 +339,40 @@ mod faults {
             assert_eq!(other.read::<MaximumFrequency>().unwrap(), Hertz(80.0));
         }
     }
+
+    #[test]
+    fn an_echoing_line_returns_every_request_until_cleared_even_when_the_drive_is_silent() {
+        let protocol = yd1000::protocols::BINARY.protocol();
+        let sim = Simulator::new(&yd1000::DRIVE);
+        let mut frame = [0u8; 32];
+        let request = Request::read::<MaximumFrequency>();
+        let len = protocol
+            .encode_request(&request, Some(1), &mut frame)
+            .unwrap();
+        let request = frame[..len].to_vec();
+        let sent = |sim: &Simulator| -> Vec<Vec<u8>> {
+            let mut input = request.clone();
+            let sent = sim.lock().receive(protocol, &mut input);
+            sent.into_iter().map(|t| t.bytes).collect()
+        };
+        let reply = sent(&sim).remove(0);
+        sim.inject(Fault::EchoRequest);
+        assert_eq!(sent(&sim), [request.clone(), reply.clone()]);
+        assert_eq!(
+            sent(&sim),
+            [request.clone(), reply.clone()],
+            "still echoing"
+        );
+        sim.inject(Fault::DropReply);
+        assert_eq!(
+            sent(&sim),
+            std::slice::from_ref(&request),
+            "the line echoes a silent drive's request"
+        );
+        sim.clear_faults();
+        assert_eq!(sent(&sim), [reply]);
+        assert_eq!(sim.requests(), 5);
+    }
 }
 
 mod over_a_pseudo_terminal {

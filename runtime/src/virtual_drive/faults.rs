@@ -3,8 +3,9 @@
 use crate::error::DecodeErrorKind;
 use crate::protocol::Protocol;
 
-/// A misbehaviour of the virtual drive. All but [`Fault::Noise`] apply to the next reply
-/// only; noise goes on until the faults are cleared.
+/// A misbehaviour of the virtual drive (or of its line). All but [`Fault::Noise`] and
+/// [`Fault::EchoRequest`] apply to the next reply only; those two are states of the line and
+/// go on until the faults are cleared.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Fault {
     /// Do not answer the next request.
@@ -18,7 +19,8 @@ pub enum Fault {
     GarbageBefore(Vec<u8>),
     /// Answer as station `address + 1` (where the reply carries a station number).
     WrongStation,
-    /// Echo the request before the reply (as a two-wire line without echo cancelling does).
+    /// Return every request to the master, ahead of any reply, as a two-wire line without
+    /// echo cancelling does (also when the drive stays silent).
     EchoRequest,
     /// Send the reply one byte at a time, with gaps of this many character times.
     SplitBytes(u32),

@@ -55,6 +55,8 @@ pub struct VirtualDrive {
     persistent_writes: bool,
     faults: VecDeque<Fault>,
     noise: bool,
+    echo: bool,
+    requests: u64,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -88,6 +90,8 @@ impl VirtualDrive {
             persistent_writes: false,
             faults: VecDeque::new(),
             noise: false,
+            echo: false,
+            requests: 0,
         };
         virtual_drive.refresh();
         virtual_drive
@@ -165,10 +169,10 @@ impl VirtualDrive {
 
     /// Commits `fault` (see [`Fault`] for how long it lasts).
     pub fn inject(&mut self, fault: Fault) {
-        if fault == Fault::Noise {
-            self.noise = true;
-        } else {
-            self.faults.push_back(fault);
+        match fault {
+            Fault::Noise => self.noise = true,
+            Fault::EchoRequest => self.echo = true,
+            fault => self.faults.push_back(fault),
         }
     }
 
@@ -176,20 +180,32 @@ impl VirtualDrive {
     pub fn clear_faults(&mut self) {
         self.faults.clear();
         self.noise = false;
+        self.echo = false;
     }
 
-    /// Whether `fault` is pending (noise: in force).
+    /// Whether `fault` is pending (noise and echo: in force).
     pub fn has_fault(&self, fault: &Fault) -> bool {
         match fault {
             Fault::Noise => self.noise,
+            Fault::EchoRequest => self.echo,
             other => self.faults.contains(other),
         }
+    }
+
+    /// The number of request frames received so far, whatever station they address and
+    /// whether or not a fault kept the reply from the master (a test counts with it how
+    /// often a master sent a request).
+    pub fn requests(&self) -> u64 {
+        self.requests
     }
 
     /// Answers one whole request frame (no bytes before or after it).
     pub fn respond(&mut self, protocol: &Protocol, frame: &[u8]) -> Outcome {
         match protocol.decode_request_exact(frame) {
-            Ok(request) => self.answer(protocol, &request),
+            Ok(request) => {
+                self.requests += 1;
+                self.answer(protocol, &request)
+            }
             Err(error) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
                 self.refuse(protocol, None, Refusal::BadChecksum)
             }
@@ -223,6 +239,7 @@ impl VirtualDrive {
             }
             let (outcome, used) = match protocol.decode_request(input) {
                 Ok(Found::Frame { frame, .. }) => {
+                    self.requests += 1;
                     let mut pending = self.faults.front().cloned();
                     let outcome = if pending == Some(Fault::AnswerBroadcast) {
                         self.faults.pop_front();
@@ -266,6 +283,15 @@ impl VirtualDrive {
                 // The line is jammed: no reply gets through the noise.
                 continue;
             }
+            if self.echo {
+                // The line returns what the master sent, whether the drive answers or not.
+                sent.push(Transmission {
+                    bytes: request.clone(),
+                    delayed: false,
+                    split: None,
+                    request_len: request.len(),
+                });
+            }
             if let Outcome::Reply(bytes) = outcome {
                 if let Some(transmission) = self.commit_faults(protocol, &request, bytes) {
                     sent.push(transmission);
@@ -295,7 +321,6 @@ impl VirtualDrive {
             }
             Some(Fault::Delay) => transmission.delayed = true,
             Some(Fault::GarbageBefore(garbage)) => transmission.bytes.extend(garbage),
-            Some(Fault::EchoRequest) => transmission.bytes.extend_from_slice(request),
             Some(Fault::SplitBytes(gap)) => transmission.split = Some(gap),
             Some(other) => self.faults.push_front(other),
             None => {}
@@ -367,6 +392,16 @@ impl Simulator {
     /// Whether `fault` is pending or in force.
     pub fn has_fault(&self, fault: &Fault) -> bool {
         self.lock().has_fault(fault)
+    }
+
+    /// Stops every fault (see [`VirtualDrive::clear_faults`]).
+    pub fn clear_faults(&self) {
+        self.lock().clear_faults();
+    }
+
+    /// Request frames received so far (see [`VirtualDrive::requests`]).
+    pub fn requests(&self) -> u64 {
+        self.lock().requests()
     }
 
     /// Trips the drive (see [`VirtualDrive::inject_trip`]).
