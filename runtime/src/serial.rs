@@ -91,6 +91,11 @@ impl DriveTiming {
     }
 }
 
+/// Latency a master adds to every reply timeout for the adapter and the host, beyond what
+/// the drive's manual states: USB serial adapters hold received bytes for up to 16 ms, and a
+/// loaded machine schedules a waiting thread late. `Master::with_host_latency` changes it.
+pub const HOST_LATENCY: Duration = Duration::from_millis(50);
+
 /// Serial facts of a drive: supported settings and their defaults.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SerialSpec {

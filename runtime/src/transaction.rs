@@ -115,6 +115,12 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     echo_fixed: bool,
     /// Registers the request under way reads in one block (0: an ordinary request).
     block_words: u16,
+    /// Added to the drive's processing time in every reply timeout: the adapter's and the
+    /// host's latency, which no manual can know.
+    host_latency: Duration,
+    /// After a timeout: until when a late reply may still arrive (the next exchange waits
+    /// for it and drops it, so it cannot be taken for the next reply).
+    late_reply_until: Option<Instant>,
 }
 
 impl<T: Transport> Master<T, AnyDrive> {
@@ -163,7 +169,17 @@ impl<T: Transport, D: 'static> Master<T, D> {
             echo: None,
             echo_fixed: false,
             block_words: 0,
+            host_latency: crate::serial::HOST_LATENCY,
+            late_reply_until: None,
         }
+    }
+
+    /// The latency added to the drive's processing time in every reply timeout, for the
+    /// adapter and the host (USB serial adapters buffer for up to 16 ms; a loaded machine
+    /// schedules late). Default: [`crate::serial::HOST_LATENCY`].
+    pub fn with_host_latency(mut self, latency: Duration) -> Self {
+        self.host_latency = latency;
+        self
     }
 
     /// Addresses requests to station `address` (`None`: send no address, which the
@@ -215,13 +231,23 @@ impl<T: Transport, D: 'static> Master<T, D> {
         self.transport
     }
 
-    /// The reply timeout for a request of `request_len` bytes.
+    /// The reply timeout for a request of `request_len` bytes: both frames' wire time, the
+    /// drive's processing time and the host latency.
     pub fn reply_timeout(&self, request_len: usize) -> Duration {
         self.timing.reply_timeout(
             &self.settings,
             request_len,
             usize::from(self.protocol.max_frame_len),
-        )
+        ) + self.host_latency
+    }
+
+    /// How long after a timeout a late reply may still arrive: the longest frame's wire
+    /// time and the host latency.
+    fn late_reply_window(&self) -> Duration {
+        self.settings
+            .wire_time(usize::from(self.protocol.max_frame_len))
+            + self.frame_gap()
+            + self.host_latency
     }
 
     /// The silence kept between frames (Modbus RTU: 3.5 character times).
@@ -543,6 +569,18 @@ impl<T: Transport, D: 'static> Master<T, D> {
     /// Drops what arrived before the request: what the transport can clear, then whatever
     /// it still holds (a bounded amount, so a line full of noise cannot keep it here).
     fn discard_stale_input(&mut self) -> std::io::Result<()> {
+        // After a timeout, a late reply may still be on its way: wait for it (or for the
+        // window to pass) and drop it, so that it is not taken for the next reply.
+        if let Some(until) = self.late_reply_until.take() {
+            let mut dropped = 0usize;
+            while Instant::now() < until && dropped < 4 * MAX_FRAME {
+                let got = self.transport.receive(&mut self.reply, until)?;
+                if got == 0 {
+                    break;
+                }
+                dropped += got;
+            }
+        }
         self.transport.clear_input()?;
         let now = Instant::now();
         let mut dropped = 0usize;
@@ -591,8 +629,13 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 };
                 (request.data, mask)
             }),
-            data_size: (request.kind.only_reads() && request.data_type.size() > 0)
-                .then_some(request.data_type.size()),
+            // A block read asks for its words; a single read for its data type's size.
+            data_size: if self.block_words > 1 {
+                Some((self.block_words * 2).min(u16::from(u8::MAX)) as u8)
+            } else {
+                (request.kind.only_reads() && request.data_type.size() > 0)
+                    .then_some(request.data_type.size())
+            },
         };
         if let Some(last) = self.last_activity {
             let gap = self.frame_gap();
@@ -816,6 +859,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
             mismatch_of(difference, reading.request)
         } else {
             let filled = reading.filled;
+            self.late_reply_until = Some(Instant::now() + self.late_reply_window());
             TransactionErrorKind::Timeout {
                 waited,
                 received: self.reply[..filled.min(64)].to_vec(),

@@ -63,7 +63,11 @@ pub fn serve<T: Transport>(
                     transmission.request_len,
                     usize::from(protocol.max_frame_len),
                 );
-                std::thread::sleep(timeout + Duration::from_millis(20));
+                // Past the master's deadline (which adds the host latency), within the
+                // window in which it still drops a late reply.
+                std::thread::sleep(
+                    timeout + crate::serial::HOST_LATENCY + Duration::from_millis(20),
+                );
             }
             match transmission.split {
                 Some(chars) => {
