@@ -8,4 +8,5 @@
 pub mod expectations;
 pub mod fault_cases;
 pub mod module_graph;
+pub mod random;
 pub mod scripted_peer;

@@ -4,20 +4,7 @@
 
 use vfd_runtime::protocol::Found;
 
-/// xorshift64*: small, deterministic, good enough to shake a decoder.
-struct Random(u64);
-
-impl Random {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, limit: usize) -> usize {
-        (self.next() % limit as u64) as usize
-    }
-}
+use vfd_tests::random::Random;
 
 fn decode_everything(protocol: &'static vfd_runtime::Protocol, bytes: &[u8]) {
     let _ = protocol.decode_request(bytes);
@@ -69,7 +56,7 @@ fn random_bytes_and_mutated_frames_never_panic() {
             );
             for _ in 0..3000 {
                 let len = random.below(48);
-                let bytes: Vec<u8> = (0..len).map(|_| random.next() as u8).collect();
+                let bytes: Vec<u8> = (0..len).map(|_| random.next_u64() as u8).collect();
                 decode_everything(protocol, &bytes);
                 let mut mutated = seeds[random.below(seeds.len())].clone();
                 let bit = random.below(mutated.len() * 8);
