@@ -505,3 +505,61 @@ fn line_errors_are_one_clear_line_with_a_hint() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `vfd watch` on a terminal (a pseudo-terminal standing in for one) redraws in place:
+/// after the first screen, each poll moves the cursor back up and clears the lines it
+/// rewrites, and the trend line grows.
+#[test]
+fn watch_redraws_in_place_on_a_terminal() {
+    use vfd_runtime::transport::{PseudoTerminal, Transport};
+    let sim = Sim::start("yd1000", "binary");
+    let screen = PseudoTerminal::open().expect("a pseudo-terminal for the screen");
+    let tty = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(screen.slave_path())
+        .expect("the terminal side");
+    let mut reader = screen.master().expect("the screen's side");
+    let child = Command::new(env!("CARGO_BIN_EXE_vfd"))
+        .args([
+            "watch",
+            "--drive",
+            "yd1000",
+            "--protocol",
+            "binary",
+            "--port",
+            &sim.port,
+        ])
+        .args(["--interval", "100", "--count", "5", "FE00", "FH"])
+        .stdout(Stdio::from(tty.try_clone().expect("clone")))
+        .stderr(Stdio::from(tty))
+        .spawn()
+        .expect("vfd watch starts");
+    let output = child
+        .wait_with_output()
+        .expect("watch ends after its count");
+    assert!(output.status.success());
+    let mut screen_bytes = Vec::new();
+    let mut buf = [0u8; 4096];
+    let deadline = std::time::Instant::now() + std::time::Duration::from_millis(500);
+    loop {
+        let got = reader
+            .receive(
+                &mut buf,
+                std::time::Instant::now() + std::time::Duration::from_millis(50),
+            )
+            .unwrap_or(0);
+        screen_bytes.extend_from_slice(&buf[..got]);
+        if got == 0 && std::time::Instant::now() > deadline {
+            break;
+        }
+    }
+    let screen = String::from_utf8_lossy(&screen_bytes);
+    let redraws = screen.matches("\x1b[").count();
+    assert!(screen.contains("FE00"), "{screen:?}");
+    assert!(
+        screen.contains("A\x1b[2K") || screen.matches("\x1b[2K").count() >= 6,
+        "the screen is redrawn in place: {screen:?}"
+    );
+    assert!(redraws >= 8, "{redraws} escape sequences: {screen:?}");
+}

@@ -1,0 +1,74 @@
+//! `vfd decode` on every example frame of every described manual: each request and reply
+//! the drive files carry (as corrected where the manual misprints it) decodes, as a request
+//! or a reply, with a good checksum, for its drive and protocol; and every printed frame
+//! recorded as an erratum is refused with a non-zero exit.
+
+use std::path::Path;
+use std::process::Command;
+
+fn hex(bytes: &[u8]) -> String {
+    bytes
+        .iter()
+        .map(|b| format!("{b:02X}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+fn decode(drive: &str, protocol: &str, side: &str, bytes: &[u8]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_vfd"))
+        .args(["decode", "--drive", drive, "--protocol", protocol, side])
+        .arg(hex(bytes))
+        .output()
+        .expect("vfd runs")
+}
+
+#[test]
+fn every_example_frame_of_every_manual_decodes() {
+    let drives = Path::new(env!("CARGO_MANIFEST_DIR")).join("../drives");
+    let mut decoded = 0;
+    let mut refused = 0;
+    let mut names: Vec<_> = std::fs::read_dir(&drives)
+        .expect("drives/")
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.extension().is_some_and(|e| e == "yaml"))
+        .collect();
+    names.sort();
+    for path in names {
+        let drive = vfd_codegen::compile(&path, None).expect("a valid description");
+        for example in &drive.examples {
+            for (side, frame) in [("--request", &example.request), ("--reply", &example.reply)] {
+                let Some(frame) = frame else { continue };
+                let output = decode(&drive.id, &example.protocol, side, &frame.bytes);
+                let stdout = String::from_utf8_lossy(&output.stdout);
+                assert!(
+                    output.status.success(),
+                    "{} {} {side}: {}\n{stdout}{}",
+                    drive.id,
+                    example.id,
+                    hex(&frame.bytes),
+                    String::from_utf8_lossy(&output.stderr)
+                );
+                assert!(
+                    stdout.contains("checksum ok") || stdout.contains("no checksum"),
+                    "{} {}: {stdout}",
+                    drive.id,
+                    example.id
+                );
+                decoded += 1;
+                if let Some(printed) = &frame.printed {
+                    let output = decode(&drive.id, &example.protocol, side, &printed.bytes);
+                    assert!(
+                        !output.status.success(),
+                        "{} {}: the printed frame {} is an erratum, yet it decodes",
+                        drive.id,
+                        example.id,
+                        hex(&printed.bytes)
+                    );
+                    refused += 1;
+                }
+            }
+        }
+    }
+    eprintln!("{decoded} example frames decoded, {refused} printed errata refused");
+    assert!(decoded > 100, "only {decoded} frames");
+}
