@@ -145,6 +145,9 @@ mod yd1000_drive {
                 .unwrap();
             master.write_ram::<FrequencyCommand>(Hertz(60.0)).unwrap();
             sim.power_cycle();
+            // Silent while it starts up (section 3: about 1 s after power-on).
+            timed_out(master.read::<DecelerationTime1>());
+            sim.advance(yd1000::SERIAL.timing.startup_delay);
             assert_eq!(master.read::<DecelerationTime1>().unwrap(), Seconds(10.0));
             assert_eq!(master.read::<AccelerationTime1>().unwrap(), Seconds(5.0));
             assert_eq!(master.read::<FrequencyCommand>().unwrap(), Hertz(0.0));
@@ -287,6 +290,7 @@ mod fc51_drive {
         assert_eq!(modbus.read::<MaximumReference>().unwrap(), 60.0);
         assert_eq!(fc.read_at::<PresetReference>(2).unwrap(), 9);
         sim.power_cycle();
+        sim.advance(fc51::SERIAL.timing.startup_delay);
         assert_eq!(modbus.read::<MaximumReference>().unwrap(), 50.0);
         assert_eq!(fc.read_at::<PresetReference>(2).unwrap(), 7);
         assert_eq!(modbus.read_at::<PresetReference>(2).unwrap(), 7);

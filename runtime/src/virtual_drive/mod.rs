@@ -57,6 +57,8 @@ pub struct VirtualDrive {
     noise: bool,
     echo: bool,
     requests: u64,
+    /// The simulated time until which it starts up after a power cycle, answering nothing.
+    silent_until: Duration,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -92,6 +94,7 @@ impl VirtualDrive {
             noise: false,
             echo: false,
             requests: 0,
+            silent_until: Duration::ZERO,
         };
         virtual_drive.refresh();
         virtual_drive
@@ -129,8 +132,11 @@ impl VirtualDrive {
     }
 
     /// Power off and on: values written to RAM only are lost, the motor stops, a trip is
-    /// cleared and parameters that take effect after a reset take their stored values.
+    /// cleared and parameters that take effect after a reset take their stored values. The
+    /// drive then stays silent for the start-up delay its manual gives
+    /// (`serial.timing.startup_delay_ms`), on the simulated clock.
     pub fn power_cycle(&mut self) {
+        self.silent_until = self.now + self.drive.serial.timing.startup_delay;
         self.storage.power_cycle(self.drive.registers);
         self.motor = Motor::default();
         self.selected_index = 0;
@@ -199,9 +205,18 @@ impl VirtualDrive {
         self.requests
     }
 
+    /// Whether it is still starting up after a power cycle (and answers nothing).
+    pub fn starting_up(&self) -> bool {
+        self.now < self.silent_until
+    }
+
     /// Answers one whole request frame (no bytes before or after it).
     pub fn respond(&mut self, protocol: &Protocol, frame: &[u8]) -> Outcome {
         match protocol.decode_request_exact(frame) {
+            Ok(_) if self.starting_up() => {
+                self.requests += 1;
+                Outcome::Silent("starting up after power-on")
+            }
             Ok(request) => {
                 self.requests += 1;
                 self.answer(protocol, &request)
@@ -241,7 +256,9 @@ impl VirtualDrive {
                 Ok(Found::Frame { frame, .. }) => {
                     self.requests += 1;
                     let mut pending = self.faults.front().cloned();
-                    let outcome = if pending == Some(Fault::AnswerBroadcast) {
+                    let outcome = if self.starting_up() {
+                        Outcome::Silent("starting up after power-on")
+                    } else if pending == Some(Fault::AnswerBroadcast) {
                         self.faults.pop_front();
                         pending = None;
                         let own = self.address;
