@@ -113,6 +113,8 @@ pub struct Roles {
     pub process_1: Option<u32>,
     /// Second process word.
     pub process_2: Option<u32>,
+    /// Decimal places of the data.
+    pub decimals: Option<u32>,
 }
 
 impl Roles {
@@ -126,6 +128,7 @@ impl Roles {
             Role::ErrorCode => Some(&mut self.error_code),
             Role::Process1 => Some(&mut self.process_1),
             Role::Process2 => Some(&mut self.process_2),
+            Role::Decimals => Some(&mut self.decimals),
             Role::Text => None,
         }
     }

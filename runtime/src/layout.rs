@@ -115,11 +115,14 @@ pub enum Role {
     Process2,
     /// Text carried by the frame (raw bytes).
     Text,
+    /// How many decimal places the data has, as a number (an Eaton data reply's unit digit:
+    /// 0 for whole units, 1 for tenths, 2 for hundredths, 3 for thousandths).
+    Decimals,
 }
 
 impl Role {
     /// Every role, in the order the description format documents them.
-    pub const ALL: [Role; 9] = [
+    pub const ALL: [Role; 10] = [
         Role::Address,
         Role::Command,
         Role::Register,
@@ -129,6 +132,7 @@ impl Role {
         Role::Process1,
         Role::Process2,
         Role::Text,
+        Role::Decimals,
     ];
 
     /// The role's name as written in protocol description files.
@@ -143,6 +147,7 @@ impl Role {
             Role::Process1 => "process_1",
             Role::Process2 => "process_2",
             Role::Text => "text",
+            Role::Decimals => "decimals",
         }
     }
 }

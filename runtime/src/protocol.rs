@@ -479,6 +479,7 @@ impl Protocol {
             error_code: None,
             process_1: Some(u32::from(first)),
             process_2: Some(u32::from(second)),
+            decimals: None,
         };
         values.fill(layout, &roles);
         if let Some(address) = address {

@@ -456,11 +456,13 @@ fn check(reports: &[Report]) {
     );
 }
 
-/// Every described protocol, with the registers exercised (a protocol without a plain
-/// read-write parameter would be left out: there is none).
+/// Every described protocol, with the registers exercised. A protocol through which no
+/// plain read-write parameter can be both read and written is left out, and named: today
+/// only the DV1's Eaton protocol, whose parameters are reached through pages the format
+/// cannot say yet (dv1.NEEDS.md). Every other protocol of every drive is exercised.
 fn all_subjects() -> Vec<Subject> {
     let (subjects, left_out) = subjects();
-    assert!(left_out.is_empty(), "nothing to exercise in {left_out:?}");
+    assert_eq!(left_out, ["dv1 eaton"], "protocols left out of the matrix");
     for s in &subjects {
         eprintln!(
             "{}: reads {} and {}, writes {}",

