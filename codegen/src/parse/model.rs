@@ -923,6 +923,43 @@ pub struct ProtocolMeta {
     pub max_words_per_read: Option<u16>,
 }
 
+/// The suffix of a struct name asking the reader for "a mapping with these keys, or a
+/// scalar": a scalar goes to the visitor as itself, a mapping is checked key by key (unknown
+/// keys reported and skipped, missing required keys reported) before the visitor sees it.
+pub const OR_SCALAR: &str = "|or_scalar";
+
+/// `"Name|or_scalar"`, as a `&'static str`.
+macro_rules! const_str_or_scalar {
+    ($name:literal) => {
+        concat!($name, "|or_scalar")
+    };
+}
+
+/// The keys of [`PartModel`], for the reader (checked against the schema in a test).
+pub const PART_FIELDS: &[&str] = &[
+    "literal",
+    "literal_hex",
+    "field",
+    "checksum",
+    "word",
+    "length",
+    "name",
+    "format",
+    "width",
+    "min_width",
+    "size",
+    "optional",
+    "allowed",
+    "fold_case",
+    "marker",
+    "covers_from",
+    "covers_through",
+    "fields",
+    "counts",
+    "times",
+    "per",
+];
+
 /// A layout entry: the name of a shared part, or a part written in place.
 #[derive(Debug, Clone)]
 pub enum PartRefModel {
@@ -949,7 +986,13 @@ impl<'de> Deserialize<'de> for PartRefModel {
                     .map(|part| PartRefModel::Inline(Box::new(part)))
             }
         }
-        deserializer.deserialize_any(EntryVisitor)
+        // Asked for as a struct that may also be a scalar (see `OR_SCALAR`), so that the
+        // reader checks the keys of a part written in place as it does any struct's.
+        deserializer.deserialize_struct(
+            const_str_or_scalar!("PartModel"),
+            PART_FIELDS,
+            EntryVisitor,
+        )
     }
 }
 
@@ -1098,7 +1141,11 @@ impl<'de> Deserialize<'de> for CountsModel {
                 Ok(CountsModel::Parts { from, through })
             }
         }
-        deserializer.deserialize_any(CountsVisitor)
+        deserializer.deserialize_struct(
+            const_str_or_scalar!("Parts"),
+            &["from", "through"],
+            CountsVisitor,
+        )
     }
 }
 
@@ -1165,7 +1212,11 @@ impl<'de> Deserialize<'de> for OptionalModel {
                 Ok(OptionalModel::IfByteAtMost(rule.if_byte_at_most))
             }
         }
-        deserializer.deserialize_any(OptionalVisitor)
+        deserializer.deserialize_struct(
+            const_str_or_scalar!("ByteAtMost"),
+            &["if_byte_at_most"],
+            OptionalVisitor,
+        )
     }
 }
 
@@ -1264,4 +1315,25 @@ pub enum PreStepKind {
     Index,
     /// Switch between writing RAM only and RAM + EEPROM.
     Persistence,
+}
+
+#[cfg(test)]
+mod part_fields_tests {
+    use super::{PartModel, PART_FIELDS};
+
+    #[test]
+    fn the_reader_knows_every_key_of_a_part() {
+        let schema = schemars::SchemaGenerator::default().into_root_schema_for::<PartModel>();
+        let value = schema.to_value();
+        let mut keys: Vec<&str> = value["properties"]
+            .as_object()
+            .expect("properties")
+            .keys()
+            .map(String::as_str)
+            .collect();
+        let mut listed = PART_FIELDS.to_vec();
+        keys.sort_unstable();
+        listed.sort_unstable();
+        assert_eq!(keys, listed, "PART_FIELDS must list PartModel's keys");
+    }
 }

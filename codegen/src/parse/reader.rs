@@ -564,6 +564,17 @@ impl<'a> NodeDe<'a> {
         fields: &'static [&'static str],
         visitor: V,
     ) -> Result<V::Value, Error> {
+        // "A mapping with these keys, or a scalar" (`model::OR_SCALAR`): a scalar goes to
+        // the visitor as itself.
+        let name = match name.strip_suffix(super::model::OR_SCALAR) {
+            Some(base) => {
+                if matches!(self.node.map(|n| &n.value), Some(Value::Scalar { .. })) {
+                    return de::Deserializer::deserialize_any(self, visitor);
+                }
+                base
+            }
+            None => name,
+        };
         let entries: &[(Node, Node)] = match self.node.map(|n| &n.value) {
             Some(Value::Mapping(entries)) => entries,
             None => &[],
@@ -731,6 +742,11 @@ impl<'a> NodeDe<'a> {
             }
         }
         let suggestion = closest(name, fields);
+        if suggestion.is_some() {
+            // A misspelt key: the key meant is effectively missing, so what later checks
+            // would say about its absence is a consequence.
+            self.placeholder();
+        }
         self.reader.push(problem(
             format!("unknown key `{name}`"),
             unknown_hint(name, fields, "key"),
