@@ -26,11 +26,22 @@ fn step(text: &str) {
 pub fn run(drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
     let drive: &'static DriveInfo = match drive {
         Some(id) => lookup::drive(id)?,
-        None => vfd_drives::ALL_DRIVES
-            .iter()
-            .copied()
-            .find(|d| d.behaviour.is_some())
-            .ok_or_else(|| Failure::new("no described drive has a behaviour model to simulate"))?,
+        // The fullest tour: a drive whose model has status bits and a reset, else any
+        // drive with a model.
+        None => {
+            let full = |d: &&'static DriveInfo| {
+                d.behaviour
+                    .is_some_and(|b| !b.status.registers.is_empty() && b.command.reset.is_some())
+            };
+            let drives = vfd_drives::ALL_DRIVES.iter().copied();
+            drives
+                .clone()
+                .find(full)
+                .or_else(|| drives.clone().find(|d| d.behaviour.is_some()))
+                .ok_or_else(|| {
+                    Failure::new("no described drive has a behaviour model to simulate")
+                })?
+        }
     };
     let behaviour: &'static Behaviour = drive.behaviour.ok_or_else(|| {
         Failure::new(format!(
