@@ -178,18 +178,29 @@ pub struct Session {
     address: Option<u8>,
 }
 
+/// The drive's factory serial settings with the baud rate and parity given on the command
+/// line.
+pub fn line_settings(
+    drive: &DriveInfo,
+    baud: Option<u32>,
+    parity: Option<ParityArg>,
+) -> SerialSettings {
+    let mut settings = drive.serial.default;
+    if let Some(baud) = baud {
+        settings.baud = baud;
+    }
+    if let Some(parity) = parity {
+        settings.parity = parity.into();
+    }
+    settings
+}
+
 impl Session {
     /// Opens the line the options name.
     pub fn open(args: &LineArgs) -> Result<Session, Failure> {
         let drive = lookup::drive(&args.drive)?;
         let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
-        let mut settings = drive.serial.default;
-        if let Some(baud) = args.baud {
-            settings.baud = baud;
-        }
-        if let Some(parity) = args.parity {
-            settings.parity = parity.into();
-        }
+        let settings = line_settings(drive, args.baud, args.parity);
         let line = open_line(&args.port, &settings)?;
         let mut timing = drive.serial.timing;
         if let Some(ms) = args.timeout {

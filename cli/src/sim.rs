@@ -84,13 +84,7 @@ impl From<FaultArg> for Fault {
 pub fn run(args: &SimArgs) -> Result<(), Failure> {
     let drive = lookup::drive(&args.drive)?;
     let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
-    let mut settings = drive.serial.default;
-    if let Some(baud) = args.baud {
-        settings.baud = baud;
-    }
-    if let Some(parity) = args.parity {
-        settings.parity = parity.into();
-    }
+    let settings = crate::bus::line_settings(drive, args.baud, args.parity);
     let sim = Simulator::new(drive);
     let address = args
         .address
