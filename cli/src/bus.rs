@@ -57,7 +57,7 @@ pub struct LineArgs {
     /// Station address (default: none where the protocol allows it, else its lowest station, at least 1).
     #[arg(long, value_name = "N")]
     pub address: Option<u8>,
-    /// Reply timeout in milliseconds (default: derived from the baud rate and the drive's manual).
+    /// Time the drive may take to answer, in milliseconds, added to both frames' wire time and the 50 ms host latency (default: the drive's manual).
     #[arg(long, value_name = "MS")]
     pub timeout: Option<u64>,
 }
@@ -211,14 +211,26 @@ impl Session {
             None => default_address(protocol),
         };
         let master = Master::for_protocol(line, protocol, settings, timing).with_address(address);
-        Ok(Session {
+        Ok(Session::with_master(
+            drive, protocol, settings, master, address,
+        ))
+    }
+
+    fn with_master(
+        drive: &'static DriveInfo,
+        protocol: &'static Protocol,
+        settings: SerialSettings,
+        master: Master<Line>,
+        address: Option<u8>,
+    ) -> Session {
+        Session {
             drive,
             protocol,
             settings,
             master,
             requests: 0,
             address,
-        })
+        }
     }
 
     /// A session over an in-process line (the demo's virtual drive).
@@ -231,14 +243,7 @@ impl Session {
         let settings = drive.serial.default;
         let master = Master::for_protocol(line, protocol, settings, drive.serial.timing)
             .with_address(address);
-        Session {
-            drive,
-            protocol,
-            settings,
-            master,
-            requests: 0,
-            address,
-        }
+        Session::with_master(drive, protocol, settings, master, address)
     }
 
     /// Reads `info`.

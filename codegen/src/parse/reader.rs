@@ -168,6 +168,20 @@ impl Reader {
     fn push(&self, problem: Problem) {
         self.problems.borrow_mut().push(problem);
     }
+
+    /// Reports `key`, a second entry of the mapping at `path` (the first is on `first_line`).
+    fn duplicate_key(&self, path: &Path<'_>, key: &Node, first_line: usize) {
+        let name = key.text().unwrap_or("");
+        self.push(Problem {
+            path: Path::Key(path, name).to_string(),
+            position: key.at,
+            message: format!(
+                "key `{name}` appears twice in this mapping (first at line {first_line})"
+            ),
+            hint: Some("keep one of them".to_owned()),
+            kind: Kind::Other,
+        });
+    }
 }
 
 /// A YAML path, built on the stack as the reader descends and written out only for a
@@ -605,17 +619,8 @@ impl<'a> NodeDe<'a> {
             if !fields.contains(&key) {
                 unknown.push(entry);
             } else if let Some(first) = kept.iter().find(|(k, _)| k.text() == Some(key)) {
-                let path = Path::Key(self.path, key);
-                self.reader.push(Problem {
-                    path: path.to_string(),
-                    position: entry.0.at,
-                    message: format!(
-                        "key `{key}` appears twice in this mapping (first at line {})",
-                        first.0.at.line
-                    ),
-                    hint: Some("keep one of them".to_owned()),
-                    kind: Kind::Other,
-                });
+                self.reader
+                    .duplicate_key(self.path, &entry.0, first.0.at.line);
             } else {
                 kept.push(entry);
             }
@@ -1068,17 +1073,7 @@ impl<'de> de::MapAccess<'de> for MapDe<'_> {
                 .iter()
                 .find(|(k, _)| k.text() == key.text());
             let Some((first, _)) = earlier else { break };
-            let text = key.text().unwrap_or("");
-            self.reader.push(Problem {
-                path: Path::Key(self.path, text).to_string(),
-                position: key.at,
-                message: format!(
-                    "key `{text}` appears twice in this mapping (first at line {})",
-                    first.at.line
-                ),
-                hint: Some("keep one of them".to_owned()),
-                kind: Kind::Other,
-            });
+            self.reader.duplicate_key(self.path, key, first.at.line);
             self.index += 1;
         }
         let Some((key, _)) = self.entries.get(self.index) else {
