@@ -7,6 +7,7 @@
 use crate::parse::model::{BytesModel, DriveFile, ExampleModel, FrameModel, RegisterModel};
 use crate::protocols::LoweredProtocol;
 use vfd_runtime::meaning::{decode_meaning, Direction, FrameMeaning};
+use vfd_runtime::protocol::NotAnAnswer;
 use vfd_runtime::{DecodeError, Space};
 
 /// One example's frames, decoded.
@@ -19,6 +20,11 @@ pub(crate) struct DecodedExample {
     pub request: Option<DecodedFrame>,
     /// The reply frame, when the example has one.
     pub reply: Option<DecodedFrame>,
+    /// Whether the reply answers the request, as the master judges it; `None` unless both
+    /// frames have bytes and the protocol is known.
+    pub answers: Option<Result<(), NotAnAnswer>>,
+    /// The same for the manual's misprinted reply, when the example records one.
+    pub printed_answers: Option<Result<(), NotAnAnswer>>,
 }
 
 impl DecodedExample {
@@ -92,10 +98,26 @@ fn decode_example(example: &ExampleModel, protocols: &[LoweredProtocol]) -> Deco
             }
         })
     };
+    let request = frame(Direction::Request, &example.request);
+    let reply = frame(Direction::Reply, &example.reply);
+    let request_bytes = request.as_ref().and_then(|r| r.bytes.as_ref().ok());
+    let answer = |reply: Option<&Result<Vec<u8>, String>>| match (runtime, request_bytes, reply) {
+        (Some(runtime), Some(request), Some(Ok(reply))) => {
+            Some(runtime.check_answer(request, reply))
+        }
+        _ => None,
+    };
     DecodedExample {
         protocol,
-        request: frame(Direction::Request, &example.request),
-        reply: frame(Direction::Reply, &example.reply),
+        answers: answer(reply.as_ref().map(|r| &r.bytes)),
+        printed_answers: answer(
+            reply
+                .as_ref()
+                .and_then(|r| r.printed.as_ref())
+                .map(|p| &p.bytes),
+        ),
+        request,
+        reply,
     }
 }
 

@@ -10,6 +10,7 @@ use crate::layout::{Counts, Format, FrameLayout, List, Part, Role, SizedBy, Text
 use crate::register::DriveRequest;
 pub use crate::register::Request;
 use std::borrow::Cow;
+use std::fmt;
 use std::marker::PhantomData;
 
 /// How a command turns a register number into the number on the wire:
@@ -224,7 +225,7 @@ impl<D: 'static> std::ops::Deref for DriveProtocol<D> {
     }
 }
 
-impl<D: 'static> std::fmt::Debug for DriveProtocol<D> {
+impl<D: 'static> fmt::Debug for DriveProtocol<D> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         self.protocol.fmt(f)
     }
@@ -768,11 +769,11 @@ impl Protocol {
         expected: Option<&CommandSpec>,
         bytes: &[u8],
     ) -> Result<Found<Reply<'_>>, DecodeError> {
-        let start = self.start_bytes();
         let mut last_error = None;
         let mut incomplete = false;
         for offset in 0..bytes.len() {
-            if !start.is_empty() && !bytes[offset..].starts_with(start) {
+            let may_start = self.reply_may_start(&bytes[offset..]);
+            if may_start == Some(false) {
                 continue;
             }
             match self.decode_reply(expected, &bytes[offset..]) {
@@ -785,7 +786,7 @@ impl Protocol {
                 Ok(Found::Incomplete) => incomplete = true,
                 Err(error) => last_error = Some(error),
             }
-            if start.is_empty() {
+            if may_start.is_none() {
                 break;
             }
         }
@@ -795,12 +796,17 @@ impl Protocol {
         }
     }
 
-    /// The start bytes shared by the protocol's layouts (empty if there are none).
-    pub fn start_bytes(&self) -> &[u8] {
-        self.commands
-            .first()
-            .and_then(|c| c.reply.start_bytes())
-            .unwrap_or(&[])
+    /// Whether a reply may start at `bytes[0]`: some reply layout (a command's, or the
+    /// error reply) begins with a start literal the bytes begin with. Protocols whose
+    /// replies start differently (ACK, NAK, STX) are covered by every one of them. `None`
+    /// when some reply layout has no start literal (Modbus RTU): a frame may start anywhere.
+    pub fn reply_may_start(&self, bytes: &[u8]) -> Option<bool> {
+        let mut any = false;
+        let replies = self.commands.iter().map(|c| &c.reply);
+        for layout in replies.chain(self.error_reply.as_ref()) {
+            any |= bytes.starts_with(layout.start_bytes()?);
+        }
+        Some(any)
     }
 
     fn no_match(&self, what: &'static str, best: Option<DecodeError>) -> DecodeError {
@@ -834,6 +840,81 @@ pub struct Expectation {
     /// The number of data bytes a read's reply must carry, where its layout sizes the data
     /// (a byte count); `None`: not checked. A reply of another size answers another read.
     pub data_size: Option<u8>,
+}
+
+impl Expectation {
+    /// What a reply must carry to answer `request`, as the master expects it of a request
+    /// it built: the same station, register and index, and for a write the value written
+    /// (in the bytes the request carried). The reply's data size is not checked.
+    pub fn answering(request: &DecodedRequest<'_>) -> Expectation {
+        let mask = match request.values.data_size {
+            0 | 2 => 0xFFFF,
+            bytes @ 1..=3 => (1u32 << (8 * u32::from(bytes))) - 1,
+            _ => u32::MAX,
+        };
+        Expectation {
+            address: request.address,
+            wire_register: request.wire_register,
+            index: request.index,
+            data: request
+                .command
+                .kind
+                .is_write()
+                .then_some((request.data, mask)),
+            data_size: None,
+        }
+    }
+}
+
+/// Why one frame is not the reply to another ([`Protocol::check_answer`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum NotAnAnswer {
+    /// The request does not decode.
+    Request(DecodeError),
+    /// The reply is a whole frame, but carries another value than the request expects.
+    Differs(Difference),
+    /// The bytes hold no whole reply of the request's command, or more than one frame.
+    NotAReply(Option<DecodeError>),
+}
+
+impl fmt::Display for NotAnAnswer {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            NotAnAnswer::Request(error) => write!(f, "the request does not decode: {error}"),
+            NotAnAnswer::Differs(d) => write!(
+                f,
+                "the reply carries {} {:X}h where the request expects {:X}h",
+                d.role.as_str(),
+                d.found,
+                d.expected
+            ),
+            NotAnAnswer::NotAReply(Some(error)) => {
+                write!(f, "the bytes are not a reply to the request: {error}")
+            }
+            NotAnAnswer::NotAReply(None) => {
+                f.write_str("the bytes are not exactly one reply to the request")
+            }
+        }
+    }
+}
+
+impl Protocol {
+    /// Whether `reply` (one whole frame) is the answer to `request` (one whole frame), as
+    /// the master judges a reply it receives: the request's reply layout or the error
+    /// reply, carrying the station, register, index and written value the request
+    /// expects ([`Expectation::answering`]).
+    pub fn check_answer(&self, request: &[u8], reply: &[u8]) -> Result<(), NotAnAnswer> {
+        let request = self
+            .decode_request_exact(request)
+            .map_err(NotAnAnswer::Request)?;
+        let expectation = Expectation::answering(&request);
+        let search = self.search_reply(request.command, &expectation, reply);
+        match (search.found, search.foreign) {
+            (Some((frame, 0)), _) if frame.len() == reply.len() => Ok(()),
+            (_, Some(difference)) => Err(NotAnAnswer::Differs(difference)),
+            _ => Err(NotAnAnswer::NotAReply(search.last_error)),
+        }
+    }
 }
 
 /// A value a reply carries that is not the one its request expects.
@@ -923,7 +1004,6 @@ impl Protocol {
         expectation: &Expectation,
         bytes: &[u8],
     ) -> Search<'p> {
-        let start = self.start_bytes();
         let mut search = Search {
             found: None,
             waiting: false,
@@ -932,7 +1012,7 @@ impl Protocol {
             last_error: None,
         };
         for offset in 0..bytes.len() {
-            if !bytes[offset..].starts_with(start) {
+            if self.reply_may_start(&bytes[offset..]) == Some(false) {
                 continue;
             }
             if let Some((frame, at)) = &search.found {

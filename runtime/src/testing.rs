@@ -176,3 +176,51 @@ pub fn printed_is_rejected(
     });
     assert_eq!(error.kind(), reason, "rejected for another reason: {error}");
 }
+
+/// The reply answers the request, as the master judges a reply it receives
+/// ([`Protocol::check_answer`]).
+#[track_caller]
+pub fn reply_answers(protocol: &'static Protocol, request: &[u8], reply: &[u8]) {
+    if let Err(why) = protocol.check_answer(request, reply) {
+        panic!(
+            "{} does not answer {}: {why}",
+            crate::error::hex(reply),
+            crate::error::hex(request)
+        );
+    }
+}
+
+/// The reply as printed in the manual decodes on its own, but the master passes it over:
+/// it does not answer its request.
+#[track_caller]
+pub fn printed_does_not_answer(protocol: &'static Protocol, request: &[u8], printed: &[u8]) {
+    if let Err(error) = protocol.decode_reply_exact(None, printed) {
+        panic!("the misprinted reply does not even decode: {error}");
+    }
+    match protocol.check_answer(request, printed) {
+        Err(crate::protocol::NotAnAnswer::Differs(_)) => {}
+        Err(other) => panic!("the misprinted reply is refused for another reason: {other}"),
+        Ok(()) => panic!(
+            "the misprinted reply {} answers its request",
+            crate::error::hex(printed)
+        ),
+    }
+}
+
+/// The frame as printed in the manual decodes, but to something other than what the
+/// manual says it means (`expect`): a letter case that contradicts the stated state, for
+/// example.
+#[track_caller]
+pub fn printed_means_otherwise(
+    protocol: &'static Protocol,
+    direction: Direction,
+    printed: &[u8],
+    expect: &FrameMeaning,
+) {
+    let meaning = decode_meaning(protocol, direction, printed)
+        .unwrap_or_else(|e| panic!("the misprinted frame does not even decode: {e}"));
+    assert_ne!(
+        &meaning, expect,
+        "the misprinted frame means what the manual says"
+    );
+}

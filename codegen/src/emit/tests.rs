@@ -3,7 +3,7 @@
 //! compile in any crate that depends on `vfd-runtime` with that feature.
 
 use crate::emit::rust::bake::{int_literal, Bake};
-use crate::ir::{DriveIr, ExampleIr, FrameIr, RegisterIr, ValueKind};
+use crate::ir::{DriveIr, ExampleIr, FrameIr, PrintedRejection, RegisterIr, ValueKind};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 use vfd_runtime::meaning::Direction;
@@ -126,7 +126,12 @@ fn bytes_tokens(bytes: &[u8]) -> TokenStream {
     quote!(&[#(#bytes),*])
 }
 
-fn frame_checks(protocol: &TokenStream, frame: &FrameIr, direction: Direction) -> TokenStream {
+fn frame_checks(
+    protocol: &TokenStream,
+    frame: &FrameIr,
+    direction: Direction,
+    request: Option<&FrameIr>,
+) -> TokenStream {
     let bytes = bytes_tokens(&frame.bytes);
     let expect = frame.meaning.bake();
     let check = match direction {
@@ -139,10 +144,23 @@ fn frame_checks(protocol: &TokenStream, frame: &FrameIr, direction: Direction) -
     };
     let printed = frame.printed.as_ref().map(|printed| {
         let bytes = bytes_tokens(&printed.bytes);
-        let reason = printed.rejected_as.bake();
-        let direction = direction.bake();
-        quote! {
-            ::vfd_runtime::testing::printed_is_rejected(#protocol, #direction, #bytes, ::vfd_runtime::#reason);
+        let direction_tokens = direction.bake();
+        match (printed.rejected_as.decode_kind(), printed.rejected_as, request) {
+            (Some(kind), _, _) => {
+                let reason = kind.bake();
+                quote! {
+                    ::vfd_runtime::testing::printed_is_rejected(#protocol, #direction_tokens, #bytes, ::vfd_runtime::#reason);
+                }
+            }
+            (None, PrintedRejection::DoesNotAnswerRequest, Some(request)) => {
+                let request = bytes_tokens(&request.bytes);
+                quote! {
+                    ::vfd_runtime::testing::printed_does_not_answer(#protocol, #request, #bytes);
+                }
+            }
+            (None, _, _) => quote! {
+                ::vfd_runtime::testing::printed_means_otherwise(#protocol, #direction_tokens, #bytes, &#expect);
+            },
         }
     });
     quote! { #check #printed }
@@ -159,10 +177,22 @@ fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> Token
     let protocol = quote!(&#root::protocols::#protocol_name);
     let mut body = Vec::new();
     if let Some(frame) = &example.request {
-        body.push(frame_checks(&protocol, frame, Direction::Request));
+        body.push(frame_checks(&protocol, frame, Direction::Request, None));
     }
     if let Some(frame) = &example.reply {
-        body.push(frame_checks(&protocol, frame, Direction::Reply));
+        body.push(frame_checks(
+            &protocol,
+            frame,
+            Direction::Reply,
+            example.request.as_ref(),
+        ));
+    }
+    if let (true, Some(request), Some(reply)) = (example.answers, &example.request, &example.reply)
+    {
+        let (request, reply) = (bytes_tokens(&request.bytes), bytes_tokens(&reply.bytes));
+        body.push(quote! {
+            ::vfd_runtime::testing::reply_answers(#protocol, #request, #reply);
+        });
     }
     let register: Option<&RegisterIr> = example.register.as_ref().and_then(|id| drive.register(id));
     if let (Some(value), Some(described)) = (example.value, register) {

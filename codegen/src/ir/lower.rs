@@ -9,6 +9,7 @@ use crate::parse::model::{BoundModel, DriveFile, ErrorCodeModel, FrameModel, Reg
 use crate::protocols::{drive_table_applies, LoweredProtocol};
 use crate::validate::ranges;
 use crate::validate::{bit_span, Context};
+use vfd_runtime::protocol::NotAnAnswer;
 use vfd_runtime::units::Unit;
 use vfd_runtime::{Access, DataType, FrameLayout, Space, TakesEffect};
 
@@ -418,11 +419,14 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
         .iter()
         .zip(&drive.frames)
         .map(|(example, decoded)| {
-            let frame =
-                |model: &Option<FrameModel>, frame: &Option<DecodedFrame>| match (model, frame) {
-                    (Some(model), Some(frame)) => lower_frame(model, frame),
+            let frame = |model: &Option<FrameModel>,
+                         frame: &Option<DecodedFrame>,
+                         answers: Option<&Result<(), NotAnAnswer>>| {
+                match (model, frame) {
+                    (Some(model), Some(frame)) => lower_frame(model, frame, answers),
                     _ => None,
-                };
+                }
+            };
             let register = decoded
                 .reply_then_request()
                 .filter_map(DecodedFrame::decoded)
@@ -434,8 +438,13 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                 source: example.source.clone(),
                 description: example.description.clone(),
                 description_zh: example.description_zh.clone(),
-                request: frame(&example.request, &decoded.request),
-                reply: frame(&example.reply, &decoded.reply),
+                request: frame(&example.request, &decoded.request, None),
+                reply: frame(
+                    &example.reply,
+                    &decoded.reply,
+                    decoded.printed_answers.as_ref(),
+                ),
+                answers: decoded.answers.as_ref().is_some_and(Result::is_ok),
                 value: example.value,
                 register: register.map(|r| r.id.clone()),
             }
@@ -444,20 +453,32 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
 }
 
 /// A frame that validation has accepted: its bytes decoded, and a printed erratum rejected
-/// for its stated reason.
-fn lower_frame(model: &FrameModel, frame: &DecodedFrame) -> Option<FrameIr> {
+/// for its stated reason (`printed_answers`: whether the printed reply answers the
+/// example's request).
+fn lower_frame(
+    model: &FrameModel,
+    frame: &DecodedFrame,
+    printed_answers: Option<&Result<(), NotAnAnswer>>,
+) -> Option<FrameIr> {
     let bytes = frame.bytes.clone().ok()?;
     let meaning = frame.decoded()?.clone();
     let printed = match (&frame.printed, model.printed_rejected_as) {
         (Some(printed), Some(rejected_as)) => {
-            let Some(Err(error)) = &printed.meaning else {
-                return None;
+            let rejection = match (&printed.meaning, rejected_as, printed_answers) {
+                (Some(Err(error)), _, _) => error.to_string(),
+                (Some(Ok(_)), PrintedRejection::DoesNotAnswerRequest, Some(Err(why))) => {
+                    why.to_string()
+                }
+                (Some(Ok(_)), PrintedRejection::ContradictsExpect, _) => {
+                    "the frame decodes, but not to what the manual says it means".to_owned()
+                }
+                _ => return None,
             };
             Some(PrintedIr {
                 bytes: printed.bytes.clone().ok()?,
                 erratum: model.erratum.clone().unwrap_or_default(),
                 rejected_as,
-                rejection: error.to_string(),
+                rejection,
             })
         }
         _ => None,

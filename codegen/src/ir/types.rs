@@ -4,6 +4,7 @@
 //! runtime's own layout and frame-meaning values), never prose built for people: the
 //! Markdown emitter words ranges, meanings and layouts itself.
 
+pub use crate::parse::model::PrintedRejection;
 pub use crate::parse::model::{
     BitOrder, Duplex, InferredFact, Synchronisation, TimingField, Topology,
     WarningModel as WarningIr,
@@ -13,8 +14,7 @@ use vfd_runtime::meaning::FrameMeaning;
 use vfd_runtime::serial::Parity;
 use vfd_runtime::units::Unit;
 use vfd_runtime::{
-    Access, AddressMap, CommandKind, DataType, DecodeErrorKind, FrameLayout, PreStep, Space,
-    TakesEffect,
+    Access, AddressMap, CommandKind, DataType, FrameLayout, PreStep, Space, TakesEffect,
 };
 
 /// One drive, ready to emit.
@@ -698,6 +698,8 @@ pub struct ExampleIr {
     pub value: Option<f64>,
     /// Id of the described register the example's data belongs to, if any.
     pub register: Option<String>,
+    /// The example has both frames, and its reply answers its request.
+    pub answers: bool,
 }
 
 /// One frame of an example.
@@ -720,8 +722,8 @@ pub struct PrintedIr {
     pub bytes: Vec<u8>,
     /// Why they are wrong.
     pub erratum: String,
-    /// The decoder's reason for rejecting them.
-    pub rejected_as: DecodeErrorKind,
+    /// The decoder's reason for rejecting them, or why they are wrong in their exchange.
+    pub rejected_as: PrintedRejection,
     /// The decoder's message.
     pub rejection: String,
 }

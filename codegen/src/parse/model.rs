@@ -824,8 +824,62 @@ pub struct FrameModel {
     pub printed: Option<BytesModel>,
     /// Why the printed bytes are wrong; required with `printed`.
     pub erratum: Option<String>,
-    /// The decoder's reason for refusing the printed bytes.
-    pub printed_rejected_as: Option<DecodeErrorKind>,
+    /// The decoder's reason for refusing the printed bytes, or, for a printed frame that
+    /// is valid on its own, why it is still wrong (`does_not_answer_request`,
+    /// `contradicts_expect`).
+    pub printed_rejected_as: Option<PrintedRejection>,
+}
+
+/// Why the bytes a manual prints for a frame are wrong, as the library shows it: the
+/// decoder refuses them (a [`DecodeErrorKind`]), or they decode but are wrong in their
+/// exchange.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum PrintedRejection {
+    /// A byte where the layout has a fixed one.
+    UnexpectedByte,
+    /// A value the layout does not allow.
+    NotAllowed,
+    /// The checksum does not match the bytes.
+    ChecksumMismatch,
+    /// A length field disagrees with the frame.
+    LengthMismatch,
+    /// The frame ends early.
+    Truncated,
+    /// Bytes follow the frame.
+    TrailingBytes,
+    /// A reply that decodes, but carries another station, register, index or written value
+    /// than its request: the master passes it over as the answer to something else.
+    DoesNotAnswerRequest,
+    /// A frame that decodes, but to something other than `expect` (the manual's stated
+    /// meaning): a letter case that contradicts the stated state, for example.
+    ContradictsExpect,
+}
+
+impl PrintedRejection {
+    /// The name written in drive files.
+    pub fn as_str(self) -> &'static str {
+        match self.decode_kind() {
+            Some(kind) => kind.as_str(),
+            None if self == PrintedRejection::DoesNotAnswerRequest => "does_not_answer_request",
+            None => "contradicts_expect",
+        }
+    }
+
+    /// The decoder's error kind, for a rejection the decoder itself makes.
+    pub fn decode_kind(self) -> Option<DecodeErrorKind> {
+        Some(match self {
+            PrintedRejection::UnexpectedByte => DecodeErrorKind::UnexpectedByte,
+            PrintedRejection::NotAllowed => DecodeErrorKind::NotAllowed,
+            PrintedRejection::ChecksumMismatch => DecodeErrorKind::ChecksumMismatch,
+            PrintedRejection::LengthMismatch => DecodeErrorKind::LengthMismatch,
+            PrintedRejection::Truncated => DecodeErrorKind::Truncated,
+            PrintedRejection::TrailingBytes => DecodeErrorKind::TrailingBytes,
+            PrintedRejection::DoesNotAnswerRequest | PrintedRejection::ContradictsExpect => {
+                return None
+            }
+        })
+    }
 }
 
 #[derive(Debug, Clone, Default, Deserialize, PartialEq, JsonSchema)]

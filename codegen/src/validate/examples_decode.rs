@@ -3,10 +3,11 @@
 use crate::diagnostics::Diagnostics;
 
 use crate::frames::{register_of, DecodedExample, DecodedFrame};
-use crate::parse::model::{ExpectModel, FrameModel};
+use crate::parse::model::{ExpectModel, FrameModel, PrintedRejection};
 use crate::validate::{decimals, ranges, with_unit, Context};
 use vfd_runtime::meaning::FrameMeaning;
-use vfd_runtime::DecodeErrorKind;
+use vfd_runtime::protocol::NotAnAnswer;
+use vfd_runtime::{DecodeError, DecodeErrorKind};
 
 /// Every example frame decodes to what it says; printed errata are rejected for the stated reason.
 pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
@@ -50,12 +51,24 @@ pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
             );
         }
         let decoded = &drive.frames[index];
-        for (key, model, frame) in [
-            ("request", &example.request, &decoded.request),
-            ("reply", &example.reply, &decoded.reply),
+        for (key, model, frame, printed_answers) in [
+            ("request", &example.request, &decoded.request, None),
+            (
+                "reply",
+                &example.reply,
+                &decoded.reply,
+                decoded.printed_answers.as_ref(),
+            ),
         ] {
             if let (Some(model), Some(frame)) = (model, frame) {
-                check_frame(drive, &format!("{base}.{key}"), model, frame, out);
+                check_frame(
+                    drive,
+                    &format!("{base}.{key}"),
+                    model,
+                    frame,
+                    printed_answers,
+                    out,
+                );
             }
         }
         if let Some(value) = example.value {
@@ -69,6 +82,7 @@ fn check_frame(
     path: &str,
     model: &FrameModel,
     frame: &DecodedFrame,
+    printed_answers: Option<&Result<(), NotAnAnswer>>,
     out: &mut Diagnostics,
 ) {
     if let Err(message) = &frame.bytes {
@@ -119,26 +133,76 @@ fn check_frame(
         (Some(_), Some(_), Some(reason), Some(printed)) => match (&printed.bytes, &printed.meaning) {
             (Err(message), _) => out.push(drive.source.error(&format!("{path}.printed"), message.clone()).hint("give the bytes exactly as printed")),
             (Ok(_), None) => {}
-            (Ok(_), Some(Ok(_))) => out.push(
-                drive
-                    .source
-                    .error(&format!("{path}.printed"), "the printed frame decodes without error, so the decoder cannot tell it is wrong")
-                    .hint("an erratum records bytes the decoder rejects; describe meaning-only mistakes under manual_errata"),
-            ),
-            (Ok(_), Some(Err(error))) if error.kind() != *reason => out.push(
-                drive
-                    .source
-                    .error(&format!("{path}.printed_rejected_as"), format!("the printed frame is rejected as {}, not {}: {error}", error.kind().as_str(), reason.as_str()))
-                    .hint("state the reason the decoder gives"),
-            ),
-            (Ok(_), Some(Err(_))) => {}
+            (Ok(_), Some(decoded)) => check_printed(drive, path, *reason, decoded, expect, expected_code, printed_answers, out),
         },
         _ => out.push(
             drive
                 .source
                 .error(path, "an erratum needs `printed`, `erratum` and `printed_rejected_as` together")
-                .hint("printed: the manual's bytes; erratum: why they are wrong; printed_rejected_as: the decoder's reason (checksum_mismatch, length_mismatch, not_allowed, unexpected_byte, truncated, trailing_bytes)"),
+                .hint("printed: the manual's bytes; erratum: why they are wrong; printed_rejected_as: the decoder's reason (checksum_mismatch, length_mismatch, not_allowed, unexpected_byte, truncated, trailing_bytes) or, for a frame valid on its own, does_not_answer_request or contradicts_expect"),
         ),
+    }
+}
+
+/// The manual's misprinted frame is wrong for the reason the erratum states.
+#[allow(clippy::too_many_arguments)]
+fn check_printed(
+    drive: &Context,
+    path: &str,
+    reason: PrintedRejection,
+    decoded: &Result<FrameMeaning, DecodeError>,
+    expect: &ExpectModel,
+    expected_code: Option<u32>,
+    printed_answers: Option<&Result<(), NotAnAnswer>>,
+    out: &mut Diagnostics,
+) {
+    let at = format!("{path}.printed_rejected_as");
+    let problem = match (reason.decode_kind(), decoded) {
+        (Some(_), Ok(_)) => Some((
+            format!("{path}.printed"),
+            "the printed frame decodes without error, so the decoder cannot tell it is wrong".to_owned(),
+            "if it is wrong in its exchange, say `does_not_answer_request` or `contradicts_expect`; describe other meaning-only mistakes under manual_errata",
+        )),
+        (Some(kind), Err(error)) if error.kind() != kind => Some((
+            at,
+            format!("the printed frame is rejected as {}, not {}: {error}", error.kind().as_str(), reason.as_str()),
+            "state the reason the decoder gives",
+        )),
+        (Some(_), Err(_)) => None,
+        (None, Err(error)) => Some((
+            at,
+            format!("the printed frame does not decode ({error}), so it is rejected as {}, not {}", error.kind().as_str(), reason.as_str()),
+            "state the reason the decoder gives",
+        )),
+        (None, Ok(meaning)) => match reason {
+            PrintedRejection::ContradictsExpect if mismatches(expect, expected_code, meaning).is_empty() => Some((
+                at,
+                "the printed frame decodes to exactly what `expect` says".to_owned(),
+                "`contradicts_expect` records a printed frame whose meaning differs from the corrected one",
+            )),
+            PrintedRejection::DoesNotAnswerRequest => match printed_answers {
+                None => Some((
+                    at,
+                    "only a reply whose example has a request can fail to answer it".to_owned(),
+                    "give the request the printed reply should answer",
+                )),
+                Some(Ok(())) => Some((
+                    at,
+                    "the printed reply answers its request".to_owned(),
+                    "`does_not_answer_request` records a reply carrying another station, register, index or written value",
+                )),
+                Some(Err(NotAnAnswer::Differs(_))) => None,
+                Some(Err(other)) => Some((
+                    at,
+                    format!("the printed reply is refused for another reason: {other}"),
+                    "state the reason the decoder gives",
+                )),
+            },
+            _ => None,
+        },
+    };
+    if let Some((at, message, hint)) = problem {
+        out.push(drive.source.error(&at, message).hint(hint));
     }
 }
 

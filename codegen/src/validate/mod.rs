@@ -19,6 +19,7 @@ mod ranges_resolve;
 mod reference_scaling_resolves;
 mod references_resolve;
 mod register_addresses_are_unique;
+mod replies_answer_requests;
 mod rust_names_are_unique;
 mod scales_are_positive;
 mod serial_settings_are_consistent;
@@ -47,7 +48,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 18] = [
+    let checks: [fn(&Context, &mut Diagnostics); 19] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -62,6 +63,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         code_values_are_unique::code_values_are_unique,
         serial_settings_are_consistent::serial_settings_are_consistent,
         examples_decode::examples_decode,
+        replies_answer_requests::replies_answer_requests,
         value_examples_match::value_examples_match,
         bit_examples_match::bit_examples_match,
         reference_scaling_resolves::reference_scaling_resolves,
