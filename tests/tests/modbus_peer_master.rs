@@ -1,9 +1,14 @@
-//! Independent Modbus masters against our virtual drive: pymodbus's client and
-//! minimalmodbus (from PyPI, code we did not write) talk to the FC 51's virtual drive served
-//! over a pseudo-terminal. They read and write parameters, start the motor through the
-//! control-word coils, watch the output frequency climb with the status showing "running",
-//! and get the manual's error numbers as exception codes for an out-of-range write and for
-//! a register that does not exist.
+//! Independent Modbus masters against our virtual drives: pymodbus's client and
+//! minimalmodbus (from PyPI, code we did not write) talk to virtual drives served over a
+//! pseudo-terminal.
+//!
+//! - FC 51: they read and write parameters, start the motor through the control-word coils,
+//!   watch the output frequency climb with the status showing "running", and get the
+//!   manual's error numbers as exception codes for an out-of-range write and for a register
+//!   that does not exist.
+//! - VF-AS1 (its Modbus subset: 03 with one word, 06): they read FD00, write the frequency
+//!   command FA01 and command word FA00 to run at 60 Hz, and get exception 03 for a read of
+//!   two words and 02 for a communication number that does not exist (manual 5.1, 5.3).
 //!
 //! Needs `pip install -r tests/python/requirements.txt` (.ci/run does it). Without the
 //! packages the test says SKIPPED, except under CI, where it fails.
@@ -12,12 +17,12 @@ use std::io::{BufRead, BufReader, Write};
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use vfd_drives::fc51;
+use vfd_drives::{fc51, vf_as1};
 use vfd_runtime::bits::BitWord;
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transport::PseudoTerminal;
 use vfd_runtime::virtual_drive::{serve, Simulator};
-use vfd_runtime::Space;
+use vfd_runtime::{Protocol, Space};
 
 /// The wire number of a parameter or coil, from the protocol's own address maps.
 fn wire(space: Space, number: u16) -> u16 {
@@ -61,8 +66,14 @@ fn installed(module: &str) -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
-/// Runs `plan` with `client` against a fresh virtual FC 51; one JSON answer per step.
-fn run(client: &str, plan: serde_json::Value) -> Option<Vec<serde_json::Value>> {
+/// Runs `plan` with `client` against `sim` speaking `protocol` at station 1; one JSON answer
+/// per step.
+fn run(
+    client: &str,
+    sim: Simulator,
+    protocol: &'static Protocol,
+    plan: serde_json::Value,
+) -> Option<Vec<serde_json::Value>> {
     if !installed(client) {
         assert!(
             std::env::var_os("CI").is_none(),
@@ -74,7 +85,6 @@ fn run(client: &str, plan: serde_json::Value) -> Option<Vec<serde_json::Value>> 
     let pty = PseudoTerminal::open().expect("a pseudo-terminal");
     let path = pty.slave_path().display().to_string();
     let mut drive_end = pty.master().expect("the drive's end");
-    let sim = Simulator::new(&fc51::DRIVE);
     sim.lock().set_address(1);
     let stop = Arc::new(AtomicBool::new(false));
     let server = {
@@ -87,13 +97,7 @@ fn run(client: &str, plan: serde_json::Value) -> Option<Vec<serde_json::Value>> 
                 parity: Parity::None,
                 stop_bits: 1,
             };
-            serve(
-                &sim,
-                fc51::protocols::MODBUS.protocol(),
-                &mut drive_end,
-                settings,
-                &stop,
-            )
+            serve(&sim, protocol, &mut drive_end, settings, &stop)
         })
     };
     let mut child = Command::new("python3")
@@ -160,7 +164,8 @@ fn plan() -> serde_json::Value {
 }
 
 fn check(client: &str) {
-    let Some(answers) = run(client, plan()) else {
+    let sim = Simulator::new(&fc51::DRIVE);
+    let Some(answers) = run(client, sim, fc51::protocols::MODBUS.protocol(), plan()) else {
         return;
     };
     let ok = |i: usize| -> &Vec<serde_json::Value> {
@@ -193,4 +198,68 @@ fn pymodbus_drives_our_virtual_fc51() {
 #[test]
 fn minimalmodbus_drives_our_virtual_fc51() {
     check("minimalmodbus");
+}
+
+/// The VF-AS1's Modbus subset as the manual shows it (5.1.1, 5.1.2, 5.3): the
+/// communication number is the Modbus register (no map).
+fn vf_as1_plan() -> serde_json::Value {
+    use vf_as1::bits::CommandWord1;
+    let register = |id: &str| vf_as1::DRIVE.register(id).expect(id).address;
+    // Communication command and frequency priority, forward run (4.5: C400h).
+    let run = CommandWord1::new()
+        .with_command_priority(true)
+        .with_frequency_priority(true)
+        .with_run(true)
+        .bits();
+    serde_json::json!([
+        { "op": "read", "address": register("output_frequency"), "count": 1 },
+        // 60.00 Hz in 0.01 Hz (5.1.2 example: 1770h).
+        { "op": "write", "address": register("frequency_command_2wire"), "value": 6000 },
+        { "op": "write", "address": register("command_word_1_2wire"), "value": run },
+        { "op": "sleep", "seconds": 0.3 },
+        { "op": "read", "address": register("output_frequency"), "count": 1 },
+        { "op": "read", "address": register("status_1"), "count": 1 },
+        // 03 reads one word only: quantity 2 is a data range error (01 03 FD 00 00 02 ...).
+        { "op": "read", "address": register("output_frequency"), "count": 2 },
+        // No communication number 1234h: exception 02.
+        { "op": "read", "address": 0x1234, "count": 1 },
+    ])
+}
+
+fn check_vf_as1(client: &str) {
+    let sim = Simulator::new(&vf_as1::DRIVE);
+    let Some(answers) = run(
+        client,
+        sim,
+        vf_as1::protocols::MODBUS.protocol(),
+        vf_as1_plan(),
+    ) else {
+        return;
+    };
+    let ok = |i: usize| -> &Vec<serde_json::Value> {
+        assert_eq!(answers[i]["ok"], true, "{client} step {i}: {}", answers[i]);
+        answers[i]["values"].as_array().expect("values")
+    };
+    assert_eq!(ok(0), &[serde_json::json!(0)], "{client}: stopped at first");
+    ok(1);
+    ok(2);
+    assert_eq!(
+        ok(4),
+        &[serde_json::json!(6000)],
+        "{client}: the output frequency reaches 60.00 Hz"
+    );
+    let status = vf_as1::bits::Status1::from_bits(ok(5)[0].as_u64().expect("a word") as u16);
+    assert!(status.running(), "{client}: status {status:?}");
+    assert_eq!(answers[6]["exception"], 3, "{client}: {}", answers[6]);
+    assert_eq!(answers[7]["exception"], 2, "{client}: {}", answers[7]);
+}
+
+#[test]
+fn pymodbus_drives_our_virtual_vf_as1_to_60_hz() {
+    check_vf_as1("pymodbus");
+}
+
+#[test]
+fn minimalmodbus_drives_our_virtual_vf_as1_to_60_hz() {
+    check_vf_as1("minimalmodbus");
 }

@@ -566,6 +566,21 @@ mod vf_as1_drive {
             );
         }
     }
+    #[test]
+    fn modbus_reads_one_word_only_as_the_manual_shows() {
+        // 5.1.1: a read of two words gets exception 03, byte for byte as printed.
+        let sim = Simulator::new(&vf_as1::DRIVE);
+        let mut drive = sim.lock();
+        drive.set_address(1);
+        let outcome = drive.respond(
+            vf_as1::protocols::MODBUS.protocol(),
+            &[0x01, 0x03, 0xFD, 0x00, 0x00, 0x02, 0xF5, 0xA7],
+        );
+        assert_eq!(
+            outcome,
+            vfd_runtime::virtual_drive::Outcome::Reply(vec![0x01, 0x83, 0x03, 0x01, 0x31])
+        );
+    }
 }
 
 // Modbus only: the description gives 1001h-1008h by their Modbus addresses, and the Eaton

@@ -114,6 +114,12 @@ impl VirtualDrive {
                 Err(refusal) => self.refuse(protocol, Some(request), refusal),
             };
         }
+        let widest = request.command.data_types.iter().map(|t| t.size()).max();
+        if widest.is_some_and(|widest| request.values.data_size > widest) {
+            // More data than any type the command carries (a Modbus read of two words where
+            // the drive reads one): a data range error, as the manual's refusals say.
+            return self.refuse(protocol, Some(request), Refusal::OutOfRange);
+        }
         let result = match request.command.kind {
             CommandKind::Read => self.read(protocol, request),
             CommandKind::WriteRam | CommandKind::WritePersistent => self.write(protocol, request),
