@@ -357,6 +357,8 @@ fn lower_error_codes(codes: &[ErrorCodeModel]) -> Vec<ErrorCodeIr> {
 
 fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
     let runtime = &protocol.runtime;
+    let reference = model.protocols.iter().find(|p| p.id == protocol.id);
+    let own_table = reference.and_then(|r| r.error_codes.as_ref());
     ProtocolIr {
         id: protocol.id.clone(),
         const_name: const_name(&protocol.id),
@@ -391,7 +393,14 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         default_process: protocol.file.protocol.default_process,
         frame_gap_chars: runtime.frame_gap_chars,
         max_words_per_read: runtime.max_words_per_read,
-        error_table: if drive_table_applies(model, &protocol.id) {
+        error_table: if let Some(table) = own_table {
+            ErrorTableIr::Protocol(ErrorCodesIr {
+                source: table.source.clone(),
+                protocols: vec![protocol.id.clone()],
+                codes: lower_error_codes(&table.codes),
+                silent: Vec::new(),
+            })
+        } else if drive_table_applies(model, &protocol.id) {
             ErrorTableIr::Drive
         } else {
             ErrorTableIr::Protocol(protocol.file.error_codes.as_ref().map_or_else(

@@ -477,6 +477,11 @@ pub struct ProtocolRef {
     /// file's `max_words_per_read` (`12`; `1`: one register per read); left out: the
     /// protocol file's.
     pub max_words_per_read: Option<u16>,
+    /// The codes this protocol's error replies carry as the manual gives them for this
+    /// drive (its own Modbus exception table, whose numbers mean something else than the
+    /// drive's `error_codes`): they name this protocol's error replies in place of the
+    /// drive's table and of the protocol file's own.
+    pub error_codes: Option<ProtocolErrorCodesModel>,
 }
 
 /// A range of station numbers.

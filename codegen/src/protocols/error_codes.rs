@@ -1,10 +1,10 @@
-//! Error tables: which one names a protocol's error replies (the drive's, for the protocols
-//! it applies to; otherwise the protocol file's own), and the checks on a protocol file's
-//! own table (each code and id once).
+//! Error tables: which one names a protocol's error replies (the drive's protocol entry's
+//! own, else the drive's for the protocols it applies to, else the protocol file's), and the
+//! checks on a protocol's own table (each code and id once).
 
 use super::Input;
 use crate::diagnostics::Diagnostics;
-use crate::parse::model::{DriveFile, ErrorCodeModel, ProtocolFile};
+use crate::parse::model::{DriveFile, ErrorCodeModel, ProtocolErrorCodesModel};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
 use vfd_runtime::ErrorCodeInfo;
@@ -19,9 +19,13 @@ pub(crate) fn drive_table_applies(drive: &DriveFile, id: &str) -> bool {
         .is_none_or(|ids| ids.iter().any(|listed| listed == id))
 }
 
-/// The error codes the protocol's error replies are named with, as the runtime holds them.
+/// The error codes the protocol's error replies are named with, as the runtime holds them:
+/// the drive's protocol entry's own table, else the drive's (where it applies), else the
+/// protocol file's.
 pub(super) fn error_table(input: &Input<'_>) -> Vec<ErrorCodeInfo> {
-    let codes: &[ErrorCodeModel] = if drive_table_applies(input.drive, &input.reference.id) {
+    let codes: &[ErrorCodeModel] = if let Some(table) = &input.reference.error_codes {
+        &table.codes
+    } else if drive_table_applies(input.drive, &input.reference.id) {
         &input.drive.error_codes.codes
     } else {
         input
@@ -43,14 +47,43 @@ fn runtime_entry(code: &ErrorCodeModel) -> ErrorCodeInfo {
     }
 }
 
-/// A protocol file's own table describes each code and each id once, and its codes fit
-/// the 16 bits an error reply carries.
-pub(super) fn check_error_codes(file: &ProtocolFile, source: &SourceFile, out: &mut Diagnostics) {
-    let Some(table) = &file.error_codes else {
+/// A protocol's own tables (the protocol file's, and the drive's protocol entry's) describe
+/// each code and each id once, and their codes fit the 16 bits an error reply carries. A
+/// drive's protocol entry with a table of its own is not also named by the drive's table.
+pub(super) fn check_error_codes(input: &Input<'_>, out: &mut Diagnostics) {
+    if let Some(table) = &input.file.error_codes {
+        check_table(table, "error_codes", input.source, out);
+    }
+    let Some(table) = &input.reference.error_codes else {
         return;
     };
+    let at = format!("{}.error_codes", input.reference_path);
+    check_table(table, &at, input.drive_source, out);
+    let listed = input.drive.error_codes.protocols.as_ref();
+    if listed.is_some_and(|ids| ids.contains(&input.reference.id)) {
+        out.push(
+            input
+                .drive_source
+                .error(
+                    &at,
+                    format!(
+                        "protocol `{}` has an error table of its own, and the drive's `error_codes.protocols` lists it too",
+                        input.reference.id
+                    ),
+                )
+                .hint("name each protocol's error replies from one table: drop it from error_codes.protocols"),
+        );
+    }
+}
+
+fn check_table(
+    table: &ProtocolErrorCodesModel,
+    at: &str,
+    source: &SourceFile,
+    out: &mut Diagnostics,
+) {
     for (j, code) in table.codes.iter().enumerate() {
-        let path = |key: &str| format!("error_codes.codes[{j}].{key}");
+        let path = |key: &str| format!("{at}.codes[{j}].{key}");
         if code.code > u32::from(u16::MAX) {
             out.push(
                 source
@@ -67,7 +100,7 @@ pub(super) fn check_error_codes(file: &ProtocolFile, source: &SourceFile, out: &
                     .error(
                         &path("code"),
                         format!(
-                            "error code {:02X}h appears twice (first at error_codes.codes[{i}])",
+                            "error code {:02X}h appears twice (first at {at}.codes[{i}])",
                             code.code
                         ),
                     )
@@ -80,7 +113,7 @@ pub(super) fn check_error_codes(file: &ProtocolFile, source: &SourceFile, out: &
                     .error(
                         &path("id"),
                         format!(
-                            "duplicate error code id `{}` (first at error_codes.codes[{i}].id)",
+                            "duplicate error code id `{}` (first at {at}.codes[{i}].id)",
                             code.id
                         ),
                     )
@@ -92,7 +125,9 @@ pub(super) fn check_error_codes(file: &ProtocolFile, source: &SourceFile, out: &
 
 #[cfg(test)]
 mod tests {
-    use super::super::test_support::{at, drive_with, lower_both, problems, protocol_with};
+    use super::super::test_support::{
+        at, drive_with, lower_both, problems, problems_of, protocol_with,
+    };
 
     const TABLE: &str = "error_codes:\n  source: spec\n  codes:\n    - { code: 1, id: bad_function, name: Bad function, meaning: Unknown function. }\n    - { code: 2, id: bad_address, name: Bad address, meaning: Unknown register. }\n";
 
@@ -164,6 +199,25 @@ mod tests {
                     at(&yaml, "bad_address, name: Twice")
                 ),
             ]
+        );
+    }
+
+    #[test]
+    fn a_drive_protocol_entry_may_bring_its_own_table() {
+        let drive = drive_with("    error_codes: { source: \"5.3\", codes: [{ code: 3, id: data_range, name: Data range error, meaning: Out of range. }] }");
+        let protocol = lower_both(&drive, &with_table(TABLE)).unwrap();
+        assert_eq!(names(&protocol), [(3, "Data range error".to_owned())]);
+        let listed = drive.replace(
+            "error_codes:\n  source: \"3.2\"\n",
+            "error_codes:\n  source: \"3.2\"\n  protocols: [ascii]\n",
+        );
+        let problems = problems_of(lower_both(&listed, &with_table(TABLE)));
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert!(
+            problems[0].contains(
+                "protocols[0].error_codes: protocol `ascii` has an error table of its own"
+            ),
+            "{problems:?}"
         );
     }
 }

@@ -112,7 +112,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     check_id(input, out);
     let pre_steps = pre_steps::lower_pre_steps(input, out);
     layouts::check_default_optional_parts(file, source, out);
-    error_codes::check_error_codes(file, source, out);
+    error_codes::check_error_codes(input, out);
     let out_of_band = check_station_range(input, out);
     let max_words_per_read = max_words_per_read(input, &commands, out);
     if out.items.len() > before {

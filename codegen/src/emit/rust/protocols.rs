@@ -238,8 +238,8 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             let count = int_literal(table.codes.len());
             let codes = table.codes.iter().map(error_code_tokens);
             let doc = doc_text(format!(
-                "The error codes of {} replies, as the protocol defines them ({}): the \
-                 drive's table does not apply to this protocol.",
+                "The error codes of {} replies ({}): the drive's table does not apply \
+                 to this protocol.",
                 protocol.name, table.source
             ));
             (
