@@ -11,8 +11,8 @@
 use crate::checksum;
 use crate::error::{DecodeError, EncodeError};
 use crate::layout::{
-    checksum_size, BitsSpec, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,
-    Part, Presence, Role, SizedBy, WordSpec, MAX_PARTS,
+    checksum_size, BitsSpec, ChecksumSpec, Counts, Encoding, FieldSpec, Format, FrameLayout,
+    LengthSpec, Part, Presence, Role, SizedBy, WordSpec, MAX_PARTS,
 };
 
 /// The value of one part of a frame.
@@ -220,6 +220,152 @@ pub fn encode(
 /// carries a block of registers (`values.data_size` above 4: a read of several registers,
 /// each in the field's byte order, in address order).
 pub fn encode_with_payload(
+    layout: &FrameLayout,
+    values: &FrameValues,
+    payload: &[u8],
+    out: &mut [u8],
+) -> Result<usize, EncodeError> {
+    if layout.encoding == Encoding::HexPairs {
+        return encode_hex_pairs(layout, values, payload, out);
+    }
+    encode_binary(layout, values, payload, out)
+}
+
+/// The longest frame, in bytes before hex digits, a [`Encoding::HexPairs`] layout handles.
+const MAX_HEX_FRAME: usize = 300;
+
+/// Encodes the frame's bytes, then writes those between its verbatim ends as hex digits.
+fn encode_hex_pairs(
+    layout: &FrameLayout,
+    values: &FrameValues,
+    payload: &[u8],
+    out: &mut [u8],
+) -> Result<usize, EncodeError> {
+    let mut bytes = [0u8; MAX_HEX_FRAME];
+    let len = encode_binary(layout, values, payload, &mut bytes)?;
+    let (head, tail) = layout.verbatim_ends();
+    let middle = &bytes[head.len().min(len)..len.saturating_sub(tail.len()).max(head.len())];
+    let needed = head.len() + 2 * middle.len() + tail.len();
+    if needed > out.len() {
+        return Err(EncodeError::BufferTooSmall {
+            layout: layout.name.clone(),
+            capacity: out.len(),
+        });
+    }
+    out[..head.len()].copy_from_slice(head);
+    let mut at = head.len();
+    for byte in middle {
+        out[at] = HEX_DIGITS[usize::from(byte >> 4)];
+        out[at + 1] = HEX_DIGITS[usize::from(byte & 0x0F)];
+        at += 2;
+    }
+    out[at..at + tail.len()].copy_from_slice(tail);
+    Ok(needed)
+}
+
+const HEX_DIGITS: &[u8; 16] = b"0123456789ABCDEF";
+
+fn hex_value(digit: u8) -> Option<u8> {
+    match digit {
+        b'0'..=b'9' => Some(digit - b'0'),
+        b'A'..=b'F' => Some(digit - b'A' + 10),
+        b'a'..=b'f' => Some(digit - b'a' + 10),
+        _ => None,
+    }
+}
+
+/// The bytes a [`Encoding::HexPairs`] frame carries, from its wire form: the verbatim head,
+/// each pair of hex digits as one byte, and the verbatim tail once it arrives. Stops at
+/// the first character that is neither (the decoder then reports the byte where the frame
+/// goes wrong). Returns how many bytes were written to `out`, and where in `wire` the tail
+/// begins and ends in both forms, when it was found.
+fn hex_pairs_to_bytes(
+    layout: &FrameLayout,
+    wire: &[u8],
+    out: &mut [u8; MAX_HEX_FRAME],
+) -> Result<HexFrame, DecodeError> {
+    let (head, tail) = layout.verbatim_ends();
+    let head_len = head.len().min(wire.len());
+    out[..head_len].copy_from_slice(&wire[..head_len]);
+    let mut frame = HexFrame {
+        len: head_len,
+        head: head.len(),
+        tail_at: None,
+    };
+    let mut at = head_len;
+    while at < wire.len() && frame.len < MAX_HEX_FRAME {
+        let rest = &wire[at..];
+        if !tail.is_empty() && rest.starts_with(tail) {
+            frame.tail_at = Some(frame.len);
+            let n = tail.len().min(MAX_HEX_FRAME - frame.len);
+            out[frame.len..frame.len + n].copy_from_slice(&tail[..n]);
+            frame.len += n;
+            break;
+        }
+        if !tail.is_empty() && tail.starts_with(rest) {
+            break; // the tail's first characters: the frame is not finished
+        }
+        match (hex_value(rest[0]), rest.get(1).map(|d| hex_value(*d))) {
+            (Some(high), Some(Some(low))) => {
+                out[frame.len] = high << 4 | low;
+                frame.len += 1;
+                at += 2;
+            }
+            (Some(_), None) => break, // half a pair so far
+            _ => {
+                let bad = usize::from(hex_value(rest[0]).is_some());
+                return Err(DecodeError::UnexpectedByte {
+                    layout: layout.name.clone(),
+                    part: "hex digits".into(),
+                    offset: at + bad,
+                    found: rest[bad],
+                    expected: "a hex digit (0-9, A-F)".to_owned(),
+                });
+            }
+        }
+    }
+    Ok(frame)
+}
+
+/// Where a [`Encoding::HexPairs`] frame's parts lie, in bytes before hex digits.
+struct HexFrame {
+    /// Bytes recovered.
+    len: usize,
+    /// Length of the verbatim head.
+    head: usize,
+    /// Where the verbatim tail begins, once it arrived.
+    tail_at: Option<usize>,
+}
+
+impl HexFrame {
+    /// The wire offset of byte `at` of the recovered frame.
+    fn wire_offset(&self, at: usize) -> usize {
+        let middle_end = self.tail_at.unwrap_or(self.len);
+        if at <= self.head {
+            at
+        } else if at <= middle_end {
+            self.head + 2 * (at - self.head)
+        } else {
+            self.head + 2 * (middle_end - self.head) + (at - middle_end)
+        }
+    }
+}
+
+/// Turns pairs of hex digits into bytes, as many as fit `out`; stops at the first
+/// character that is not a hex digit. Returns the number of bytes written.
+pub fn hex_digits_to_bytes(digits: &[u8], out: &mut [u8]) -> usize {
+    let mut n = 0;
+    for (pair, slot) in digits.chunks_exact(2).zip(out.iter_mut()) {
+        match (hex_value(pair[0]), hex_value(pair[1])) {
+            (Some(high), Some(low)) => *slot = high << 4 | low,
+            _ => break,
+        }
+        n += 1;
+    }
+    n
+}
+
+fn encode_binary(
     layout: &FrameLayout,
     values: &FrameValues,
     payload: &[u8],
@@ -474,6 +620,28 @@ pub enum Progress {
 
 /// [`decode`], with the values of the parts already decoded when the frame is not finished.
 pub fn decode_prefix(layout: &FrameLayout, bytes: &[u8]) -> Result<Progress, DecodeError> {
+    if layout.encoding == Encoding::HexPairs {
+        return decode_hex_pairs(layout, bytes);
+    }
+    decode_binary(layout, bytes)
+}
+
+/// Turns the hex digits back into bytes and decodes those; the frame's length and the
+/// offsets in errors are given on the wire.
+fn decode_hex_pairs(layout: &FrameLayout, wire: &[u8]) -> Result<Progress, DecodeError> {
+    let mut bytes = [0u8; MAX_HEX_FRAME];
+    let frame = hex_pairs_to_bytes(layout, wire, &mut bytes)?;
+    match decode_binary(layout, &bytes[..frame.len]) {
+        Ok(Progress::Complete { values, len }) => Ok(Progress::Complete {
+            values,
+            len: frame.wire_offset(len),
+        }),
+        Ok(incomplete) => Ok(incomplete),
+        Err(error) => Err(error.at_offset(|offset| frame.wire_offset(offset))),
+    }
+}
+
+fn decode_binary(layout: &FrameLayout, bytes: &[u8]) -> Result<Progress, DecodeError> {
     let mut values = FrameValues::default();
     let mut starts = [0usize; MAX_PARTS];
     let mut ends = [0usize; MAX_PARTS];
@@ -962,6 +1130,7 @@ mod tests {
     fn toshiba_ascii_read() -> FrameLayout {
         FrameLayout {
             name: "read_request".into(),
+            encoding: Encoding::Binary,
             parts: List::Owned(vec![
                 Part::Literal {
                     name: "start".into(),
@@ -1043,6 +1212,7 @@ mod tests {
     fn etx_outside_the_sum(covers_through: Option<u8>) -> FrameLayout {
         FrameLayout {
             name: "data_reply".into(),
+            encoding: Encoding::Binary,
             parts: Cow::Owned(vec![
                 Part::Literal {
                     name: "stx".into(),
@@ -1159,5 +1329,107 @@ mod tests {
         values.set(&layout, Role::Register, 0x1_0000);
         let error = encode(&layout, &values, &mut [0u8; 32]).unwrap_err();
         assert!(matches!(error, EncodeError::ValueTooWide { .. }), "{error}");
+    }
+
+    /// Modbus ASCII's write-register frame: ":", address, function, register, data, LRC, CR LF.
+    fn hex_pairs_write() -> FrameLayout {
+        let field = |name: &'static str, role, format, width| {
+            Part::Field(FieldSpec {
+                name: name.into(),
+                role,
+                format,
+                width,
+                min_width: width,
+                optional: None,
+                allowed: Cow::Borrowed(&[]),
+                fold_case: false,
+                sized_by: crate::layout::SizedBy::Format,
+            })
+        };
+        let literal = |name: &'static str, bytes: &'static [u8]| Part::Literal {
+            name: name.into(),
+            bytes: Cow::Borrowed(bytes),
+            optional: false,
+        };
+        FrameLayout {
+            name: "write_register".into(),
+            encoding: Encoding::HexPairs,
+            parts: Cow::Owned(vec![
+                literal("start", b":"),
+                field("address", Role::Address, Format::U8, 1),
+                field("function", Role::Command, Format::U8, 1),
+                field("register", Role::Register, Format::U16Be, 2),
+                field("data", Role::Data, Format::U16Be, 2),
+                Part::Checksum(ChecksumSpec {
+                    name: "lrc".into(),
+                    algorithm: ChecksumAlgorithm::Lrc8,
+                    format: Format::U8,
+                    marker: Cow::Borrowed(b""),
+                    covers_from: 1,
+                    covers_through: None,
+                    optional: false,
+                }),
+                literal("end", b"\r\n"),
+            ]),
+        }
+    }
+
+    #[test]
+    fn hex_pairs_frames_carry_each_byte_as_two_digits_and_sum_the_bytes() {
+        // DV1 example 3: write 1388h to 00C3h; LRC over the bytes is 9Bh.
+        let layout = hex_pairs_write();
+        let mut values = FrameValues::default();
+        values.fill(
+            &layout,
+            &Roles {
+                address: Some(1),
+                command: Some(6),
+                register: Some(0xC3),
+                data: Some(0x1388),
+                ..Roles::default()
+            },
+        );
+        let mut out = [0u8; 64];
+        let len = encode(&layout, &values, &mut out).unwrap();
+        assert_eq!(&out[..len], b":010600C313889B\r\n");
+        let DecodeStatus::Complete { values, len } = decode(&layout, &out[..len]).unwrap() else {
+            panic!("incomplete")
+        };
+        assert_eq!(len, 17, "the length on the wire");
+        assert_eq!(values.get(&layout, Role::Data), Some(0x1388));
+        // Lower-case digits are read too.
+        assert!(matches!(
+            decode(&layout, b":010600c313889b\r\n"),
+            Ok(DecodeStatus::Complete { len: 17, .. })
+        ));
+    }
+
+    #[test]
+    fn hex_pairs_prefixes_wait_and_bad_characters_are_placed_on_the_wire() {
+        let layout = hex_pairs_write();
+        for prefix in [
+            &b":"[..],
+            b":0",
+            b":0106",
+            b":010600C313889B",
+            b":010600C313889B\r",
+        ] {
+            assert_eq!(
+                decode(&layout, prefix),
+                Ok(DecodeStatus::Incomplete),
+                "{prefix:?}"
+            );
+        }
+        let error = decode(&layout, b":01G6").unwrap_err();
+        assert_eq!(
+            (error.kind(), error.offset()),
+            (crate::DecodeErrorKind::UnexpectedByte, 3)
+        );
+        // A wrong LRC is reported at its digits: byte 6 of the bytes, character 13.
+        let error = decode(&layout, b":010600C313889C\r\n").unwrap_err();
+        assert_eq!(
+            (error.kind(), error.offset()),
+            (crate::DecodeErrorKind::ChecksumMismatch, 13)
+        );
     }
 }

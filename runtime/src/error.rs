@@ -211,6 +211,24 @@ impl DecodeError {
             DecodeError::NoLayoutMatches { closest, .. } => closest.offset(),
         }
     }
+
+    /// The same error with its offsets moved by `map` (from the bytes a frame carries to
+    /// its wire form, for frames written as hex digits).
+    pub fn at_offset(mut self, map: impl Fn(usize) -> usize + Copy) -> DecodeError {
+        match &mut self {
+            DecodeError::UnexpectedByte { offset, .. }
+            | DecodeError::NotAllowed { offset, .. }
+            | DecodeError::ChecksumMismatch { offset, .. }
+            | DecodeError::LengthMismatch { offset, .. } => *offset = map(*offset),
+            DecodeError::Truncated { len, .. } | DecodeError::TrailingBytes { len, .. } => {
+                *len = map(*len)
+            }
+            DecodeError::NoLayoutMatches { closest, .. } => {
+                **closest = closest.as_ref().clone().at_offset(map)
+            }
+        }
+        self
+    }
 }
 
 /// A frame that cannot be built.

@@ -63,6 +63,33 @@ pub struct FrameLayout {
     pub name: Text,
     /// The parts in wire order.
     pub parts: List<Part>,
+    /// How the frame's bytes go on the wire.
+    pub encoding: Encoding,
+}
+
+/// How a layout's bytes go on the wire.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum Encoding {
+    /// As the parts give them.
+    #[default]
+    Binary,
+    /// A literal first part (`:`) and a literal last part (CR LF) as they are, every byte in
+    /// between as two upper-case hex digits (Modbus ASCII). Lengths count, and checksums
+    /// cover, the bytes before they are written as digits.
+    HexPairs,
+}
+
+impl Encoding {
+    /// Name as written in protocol files (`hex_pairs`).
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Encoding::Binary => "binary",
+            Encoding::HexPairs => "hex_pairs",
+        }
+    }
 }
 
 /// One part of a frame.
@@ -440,6 +467,40 @@ pub struct ChecksumSpec {
 }
 
 impl FrameLayout {
+    /// The literal bytes sent as they are around a [`Encoding::HexPairs`] frame: the first
+    /// part's and the last part's, when they are required literals.
+    pub fn verbatim_ends(&self) -> (&[u8], &[u8]) {
+        fn literal(part: Option<&Part>) -> &[u8] {
+            match part {
+                Some(Part::Literal {
+                    bytes,
+                    optional: false,
+                    ..
+                }) => bytes,
+                _ => &[],
+            }
+        }
+        let head = literal(self.parts.first());
+        let tail = if self.parts.len() > 1 {
+            literal(self.parts.last())
+        } else {
+            &[]
+        };
+        (head, tail)
+    }
+
+    /// Where `len` bytes that begin at byte `start` of the frame's bytes lie on the wire:
+    /// the same place, or for [`Encoding::HexPairs`] the hex digits that carry them.
+    pub fn wire_span(&self, start: usize, len: usize) -> (usize, usize) {
+        match self.encoding {
+            Encoding::Binary => (start, len),
+            Encoding::HexPairs => {
+                let head = self.verbatim_ends().0.len();
+                (head + 2 * start.saturating_sub(head), 2 * len)
+            }
+        }
+    }
+
     /// Index of the first field with this role (plain fields only; see [`Self::locate`]).
     pub fn index_of(&self, role: Role) -> Option<usize> {
         self.parts

@@ -71,8 +71,8 @@ pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
 pub use info::{BitFieldInfo, BitWordInfo, CodeInfo, CodeTableInfo, ErrorCodeInfo, RegisterInfo};
 pub use kinds::{Access, CommandKind, DataType, Space, TakesEffect};
 pub use layout::{
-    BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,
-    Part, Presence, Role, SizedBy, WordSpec,
+    BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, Encoding, FieldSpec, Format, FrameLayout,
+    LengthSpec, Part, Presence, Role, SizedBy, WordSpec,
 };
 pub use protocol::{AddressMap, CommandSpec, DriveProtocol, PreStep, Protocol, Reply};
 pub use register::{DriveRequest, Persistable, Register, RegisterValue, Request, Writable};

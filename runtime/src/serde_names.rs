@@ -96,6 +96,7 @@ fn layout_data_serialises_with_borrowed_and_owned_lists() {
     use crate::layout::{FieldSpec, FrameLayout, Part, Presence};
     let layout = FrameLayout {
         name: "read_request".into(),
+        encoding: crate::layout::Encoding::Binary,
         parts: vec![
             Part::Literal {
                 name: "start".into(),

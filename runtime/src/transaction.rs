@@ -446,6 +446,17 @@ impl<T: Transport, D: 'static> Master<T, D> {
             }
             (None, None) => &[],
         };
+        // Blocks written as hex digits (Modbus ASCII): two digits per byte.
+        let mut digits = [0u8; 2 * 125];
+        let hex = protocol
+            .block_read_command(Space::Parameter)
+            .is_some_and(|c| c.reply.encoding == crate::layout::Encoding::HexPairs);
+        let bytes = if hex && answer.block.is_some() {
+            let n = crate::codec::hex_digits_to_bytes(bytes, &mut digits);
+            &digits[..n]
+        } else {
+            bytes
+        };
         for (word, pair) in words.iter_mut().zip(bytes.chunks_exact(2)) {
             let pair = [pair[0], pair[1]];
             *word = if little_endian {
@@ -999,7 +1010,9 @@ fn check_reply(
                 .then(|| {
                     command.reply.index_of(Role::Data).map(|index| {
                         let slot = values.parts[index];
-                        (slot.value as usize, usize::from(slot.width))
+                        command
+                            .reply
+                            .wire_span(slot.value as usize, usize::from(slot.width))
                     })
                 })
                 .flatten();

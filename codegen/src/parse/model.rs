@@ -12,8 +12,8 @@ use std::collections::BTreeMap;
 use std::fmt;
 use vfd_runtime::serial::Parity;
 use vfd_runtime::{
-    Access, ChecksumAlgorithm, CommandKind, DataType, DecodeErrorKind, Format, Role, SizedBy,
-    Space, TakesEffect,
+    Access, ChecksumAlgorithm, CommandKind, DataType, DecodeErrorKind, Encoding, Format, Role,
+    SizedBy, Space, TakesEffect,
 };
 
 /// A drive file (`drives/<id>.yaml`).
@@ -976,6 +976,11 @@ pub struct ProtocolMeta {
     /// Silence between frames in character times.
     #[serde(default)]
     pub frame_gap_chars: f32,
+    /// How frames go on the wire: `binary` (the default: as the parts give them) or
+    /// `hex_pairs` (Modbus ASCII: a literal first and last part as they are, every byte in
+    /// between as two hex digits; lengths and checksums over the bytes, not the digits).
+    #[serde(default)]
+    pub encoding: Encoding,
     /// The most 16-bit registers one read request may carry (Modbus 03: 125), when the
     /// protocol's read command counts its data (a length part with `counts: data_size`);
     /// left out: 1, one register per read.

@@ -116,6 +116,7 @@ fn lower_layout(
     let layout = FrameLayout {
         name: Cow::Owned(name.to_owned()),
         parts: Cow::Owned(parts),
+        encoding: file.protocol.encoding,
     };
     check_sizes(&layout, source, out).then_some(layout)
 }

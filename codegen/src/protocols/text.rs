@@ -1,18 +1,32 @@
 //! Text protocols: a protocol declared `text: true` carries printable ASCII only, so no
-//! binary fields and no non-printable literals other than line ends.
+//! binary fields and no non-printable literals other than line ends; one written as hex
+//! digits (`encoding: hex_pairs`) needs literal ends that are not hex digits.
 
 use super::layouts::Layouts;
 use crate::diagnostics::Diagnostics;
 use crate::parse::SourceFile;
-use vfd_runtime::{Format, Part};
+use vfd_runtime::{Encoding, Format, Part};
 
-/// Reports every binary part of the layouts.
+/// Reports every binary part of the layouts: for a protocol written as hex digits, every
+/// layout without a literal first and last part (where the digits begin and end) instead.
 pub(super) fn check_text_protocol(
     layouts: &Layouts<'_>,
     source: &SourceFile,
     out: &mut Diagnostics,
 ) {
     for layout in layouts.iter() {
+        if layout.encoding == Encoding::HexPairs {
+            let (head, tail) = layout.verbatim_ends();
+            let digit = |bytes: &[u8]| bytes.iter().any(u8::is_ascii_hexdigit);
+            if head.is_empty() || tail.is_empty() || digit(head) || digit(tail) {
+                out.push(
+                    source
+                        .error(&format!("layouts.{}", layout.name), format!("layout `{}` is written as hex digits, but does not begin and end with a literal that is not one", layout.name))
+                        .hint("with `encoding: hex_pairs`, begin and end every layout with a required literal, e.g. \":\" and \"\\r\\n\""),
+                );
+            }
+            continue;
+        }
         let name = &layout.name;
         for (index, part) in layout.parts.iter().enumerate() {
             if is_binary(part) {

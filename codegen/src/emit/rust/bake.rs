@@ -14,8 +14,8 @@ use vfd_runtime::serial::Parity;
 use vfd_runtime::units::Unit;
 use vfd_runtime::{
     Access, AddressMap, BitsSpec, ChecksumAlgorithm, ChecksumSpec, CommandKind, Counts, DataType,
-    DecodeErrorKind, FieldSpec, Format, FrameLayout, LengthSpec, Part, PreStep, Presence, Role,
-    SizedBy, Space, TakesEffect, WordSpec,
+    DecodeErrorKind, Encoding, FieldSpec, Format, FrameLayout, LengthSpec, Part, PreStep, Presence,
+    Role, SizedBy, Space, TakesEffect, WordSpec,
 };
 
 /// Turns a runtime value into the tokens of an expression that rebuilds it.
@@ -369,7 +369,15 @@ impl Bake for FrameLayout {
         let parts = self.parts.iter().map(Bake::bake);
         // A struct literal, not a const fn call: only through literals and tuple
         // constructors does a `&[..]` in a `const` live for `'static`.
-        quote!(FrameLayout { name: Cow::Borrowed(#name), parts: Cow::Borrowed(&[#(#parts),*]) })
+        let encoding = match self.encoding {
+            Encoding::Binary => quote!(Binary),
+            Encoding::HexPairs => quote!(HexPairs),
+        };
+        quote!(FrameLayout {
+            name: Cow::Borrowed(#name),
+            parts: Cow::Borrowed(&[#(#parts),*]),
+            encoding: Encoding::#encoding,
+        })
     }
 }
 

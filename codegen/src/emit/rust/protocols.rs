@@ -46,7 +46,7 @@ pub(crate) fn layouts_module(files: &[&ProtocolFileIr]) -> TokenStream {
 fn layout_imports(file: &ProtocolFileIr) -> TokenStream {
     use vfd_runtime::Part;
     let parts = file.layouts.iter().flat_map(|l| l.parts.iter());
-    let mut names = std::collections::BTreeSet::from(["FrameLayout", "Part"]);
+    let mut names = std::collections::BTreeSet::from(["Encoding", "FrameLayout", "Part"]);
     for part in parts {
         match part {
             Part::Literal { .. } => {}
