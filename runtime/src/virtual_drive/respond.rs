@@ -108,6 +108,15 @@ impl VirtualDrive {
         if let (Some(process), Some(behaviour)) = (request.process, self.behaviour()) {
             self.process_words(behaviour, process);
         }
+        if request.command.no_reply {
+            self.unanswered(protocol, request);
+            return Outcome::Silent("the command is never answered");
+        }
+        if request.command.kind.is_write() && self.target_of(request).is_ok_and(|i| i.no_reply) {
+            // Carried out as any write (a refusal included), but never answered.
+            let _ = self.write(protocol, request);
+            return Outcome::Silent("writes of this register are never answered");
+        }
         if self.is_block_read(protocol, request) {
             return match self.read_block(protocol, request) {
                 Ok(block) => self.reply_block(protocol, request, &block),
@@ -124,6 +133,51 @@ impl VirtualDrive {
             Ok((data, data_size)) => self.reply(protocol, request, data, data_size),
             Err(refusal) => self.refuse(protocol, Some(request), refusal),
         }
+    }
+
+    /// Carries out a command that is never answered: a write of a register it may address
+    /// (RAM only; for data that is a percentage of another register, converted to the
+    /// addressed register's unit first, without range checks), and the sender's trip state
+    /// when its lower case says so. A register it may not address is ignored (the manual's
+    /// error cannot be sent back).
+    fn unanswered(&mut self, protocol: &Protocol, request: &DecodedRequest<'_>) {
+        let command = request.command;
+        if command.lowercase_means_sender_tripped {
+            self.sender_tripped = request.sender_tripped();
+        }
+        let Some(number) = request.register else {
+            return;
+        };
+        if !command.serves_register(number) || !command.kind.is_write() {
+            return;
+        }
+        let Some(percent_of) = &command.percent_of else {
+            let _ = self.write(protocol, request);
+            return;
+        };
+        let Ok(info) = self.target_of(request) else {
+            return;
+        };
+        if info.access == crate::kinds::Access::ReadOnly || info.data_type == DataType::Text {
+            return;
+        }
+        // The plain proportion, `value = percent x reference / 100`, truncated to the
+        // register's step. Hook: a receiver that converts through other parameters instead
+        // (frequency points chosen by parameters) needs vocabulary of its own; it would
+        // replace this line.
+        let value = self
+            .value_of(&percent_of.register)
+            .map_or(0.0, |reference| {
+                percent_of.from_raw(request.data, reference)
+            });
+        let raw = (value / info.scale + 1e-9)
+            .floor()
+            .clamp(0.0, f64::from(u32::MAX)) as u32;
+        self.storage.set(info, 0, raw, false);
+        if self.behaviour().map(|b| b.command.register) == Some(info.id) {
+            self.command_written(raw);
+        }
+        self.refresh();
     }
 
     /// The error reply for `refusal`, or silence when the protocol has no code for it.
