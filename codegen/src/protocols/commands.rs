@@ -238,6 +238,18 @@ pub(super) fn apply_command_registers(
         let Some(name) = &entry.percent_of else {
             continue;
         };
+        if !command.spec.kind.is_write() {
+            out.push(error(
+                "percent_of",
+                format!(
+                    "command {} is a {}: only a write's data can be a percentage",
+                    entry.code.shown(),
+                    command.spec.kind.as_str()
+                ),
+                "leave `percent_of` out for this command",
+            ));
+            continue;
+        }
         let Some(reference) = find(name) else {
             out.push(error(
                 "percent_of",

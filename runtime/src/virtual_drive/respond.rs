@@ -123,7 +123,16 @@ impl VirtualDrive {
                 Err(refusal) => self.refuse(protocol, Some(request), refusal),
             };
         }
+        if request
+            .register
+            .is_some_and(|number| !request.command.serves_register(number))
+        {
+            return self.refuse(protocol, Some(request), Refusal::UnknownRegister);
+        }
         let result = match request.command.kind {
+            kind if kind.is_write() && request.command.percent_of.is_some() => {
+                self.write_percent(request).map(|()| (request.data, 0))
+            }
             CommandKind::Read => self.read(protocol, request),
             CommandKind::WriteRam | CommandKind::WritePersistent => self.write(protocol, request),
             CommandKind::Process => Ok((0, 0)),
@@ -151,15 +160,27 @@ impl VirtualDrive {
         if !command.serves_register(number) || !command.kind.is_write() {
             return;
         }
-        let Some(percent_of) = &command.percent_of else {
-            let _ = self.write(protocol, request);
-            return;
+        let _ = match &command.percent_of {
+            Some(_) => self.write_percent(request),
+            None => self.write(protocol, request).map(|_| ()),
         };
-        let Ok(info) = self.target_of(request) else {
-            return;
+    }
+
+    /// A write whose data is a percentage of another register: converted to the addressed
+    /// register's unit and stored in RAM, without range checks (the drive makes none).
+    fn write_percent(&mut self, request: &DecodedRequest<'_>) -> Result<(), Refusal> {
+        let Some(percent_of) = &request.command.percent_of else {
+            return Err(Refusal::UnknownRegister);
         };
+        let info = self.target_of(request)?;
+        if !request
+            .register
+            .is_some_and(|n| request.command.serves_register(n))
+        {
+            return Err(Refusal::UnknownRegister);
+        }
         if info.access == crate::kinds::Access::ReadOnly || info.data_type == DataType::Text {
-            return;
+            return Err(Refusal::ReadOnly);
         }
         // The plain proportion, `value = percent x reference / 100`, truncated to the
         // register's step. Hook: a receiver that converts through other parameters instead
@@ -178,6 +199,7 @@ impl VirtualDrive {
             self.command_written(raw);
         }
         self.refresh();
+        Ok(())
     }
 
     /// The error reply for `refusal`, or silence when the protocol has no code for it.
