@@ -451,8 +451,16 @@ impl<'a> Report<'a> {
             self.add("station", address.to_string());
         }
         if meaning.tripped {
-            self.add("tripped", "yes: the drive reports a trip".to_owned());
+            let who = match self.fit.direction {
+                Direction::Request => "yes: the sender (master) reports a trip",
+                Direction::Reply => "yes: the drive reports a trip",
+            };
+            self.add("tripped", who.to_owned());
         }
+        // The command the frame belongs to, for what sets it apart (a percentage, no reply).
+        let command = protocol.commands.iter().find(|c| {
+            Some(c.kind) == meaning.kind && meaning.code.is_some_and(|code| c.answers_to(code))
+        });
         if let Some(error) = meaning.error_code {
             let text = match protocol.error_code(error) {
                 Some(info) => format!("{error} ({}/{}): {}", info.name, info.name_zh, info.meaning),
@@ -477,9 +485,24 @@ impl<'a> Report<'a> {
         if let Some(text) = &meaning.text {
             self.add("text", format!("{text:?}"));
         }
+        let request = self.fit.direction == Direction::Request;
         if let Some(data) = meaning.data {
-            match info {
-                Some(info) => {
+            match (info, command.and_then(|c| c.percent_of.as_ref())) {
+                _ if request && meaning.kind.is_some_and(|k| k.only_reads()) => {
+                    self.add(
+                        "data",
+                        format!("{data:04X}h (dummy: a read carries no value)"),
+                    );
+                }
+                (_, Some(percent_of)) => self.add(
+                    "value",
+                    format!(
+                        "{:.2} % of {} ({data:04X}h)",
+                        percent_of.from_raw(data, 100.0),
+                        percent_of.register
+                    ),
+                ),
+                (Some(info), None) => {
                     self.add("value", values::short(info, data));
                     if let Some(bits) = info.bits {
                         for line in values::field_lines(bits, data as u16) {
@@ -487,8 +510,16 @@ impl<'a> Report<'a> {
                         }
                     }
                 }
-                None => self.add("value", format!("{data} ({data:04X}h)")),
+                (None, None) => self.add("value", format!("{data} ({data:04X}h)")),
             }
+        }
+        let register_unanswered = meaning.kind.is_some_and(CommandKind::is_write)
+            && info.is_some_and(|info| info.no_reply);
+        if request && (command.is_some_and(|c| c.no_reply) || register_unanswered) {
+            self.add(
+                "reply",
+                "none: the drive never answers this request".to_owned(),
+            );
         }
         if let Some([first, second]) = meaning.process {
             let (a, b) = match self.fit.direction {

@@ -63,6 +63,11 @@ enum Command {
     Read {
         #[command(flatten)]
         line: bus::LineArgs,
+        /// Read with this command instead of the protocol's default, where the protocol
+        /// has several (a letter such as G for the Toshiba binary G read, or a number such
+        /// as 0x03); the drive page lists them.
+        #[arg(long, value_name = "CODE")]
+        command: Option<String>,
         /// Registers to read.
         #[arg(required = true)]
         registers: Vec<String>,
@@ -77,6 +82,12 @@ enum Command {
         /// Write RAM and EEPROM (EEPROM wears out; the default writes RAM only).
         #[arg(long)]
         persist: bool,
+        /// Write with this command instead of the protocol's default (S for the Toshiba
+        /// drive-to-drive command, s to say the sender has tripped). A command whose data is
+        /// a percentage of another register takes the value as a percentage (50%); one that
+        /// gets no reply returns once the frame is sent.
+        #[arg(long, value_name = "CODE")]
+        command: Option<String>,
         /// Register to write.
         register: String,
         /// Value in the register's unit.
@@ -262,13 +273,18 @@ fn run(command: Command) -> Result<(), Failure> {
     match command {
         Command::List => describe::list(),
         Command::Info { drive, registers } => describe::info(&drive, &registers),
-        Command::Read { line, registers } => watch::read(&line, &registers),
+        Command::Read {
+            line,
+            command,
+            registers,
+        } => watch::read(&line, command.as_deref(), &registers),
         Command::Write {
             line,
             persist,
+            command,
             register,
             value,
-        } => watch::write(&line, &register, &value, persist),
+        } => watch::write(&line, command.as_deref(), &register, &value, persist),
         Command::Watch {
             line,
             interval,

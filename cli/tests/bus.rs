@@ -563,3 +563,35 @@ fn watch_redraws_in_place_on_a_terminal() {
     );
     assert!(redraws >= 8, "{redraws} escape sequences: {screen:?}");
 }
+
+#[test]
+fn vf_as1_reads_with_g_and_sends_s_as_a_percentage() {
+    let sim = Sim::start("vf-as1", "binary");
+    // FH is 80 Hz by default: S 50 % sets FA01 to 40 Hz, and nothing answers.
+    let sent = sim.vfd(
+        "vf-as1",
+        "binary",
+        &["write", "--command", "S", "FA01", "50%"],
+    );
+    assert!(sent.status.success(), "{}", text(&sent));
+    let by_g = sim.vfd("vf-as1", "binary", &["read", "--command", "G", "FA01"]);
+    assert!(by_g.status.success(), "{}", text(&by_g));
+    assert!(text(&by_g).contains("40.00 Hz"), "{}", text(&by_g));
+    // S addresses FA01 and FA05 only; the refusal comes before anything is sent.
+    let other = sim.vfd(
+        "vf-as1",
+        "binary",
+        &["write", "--command", "S", "FH", "50%"],
+    );
+    assert!(!other.status.success());
+    assert!(
+        text(&other).contains("cannot address register 0011h"),
+        "{}",
+        text(&other)
+    );
+    // The YD1000 speaks the same protocol file but has no G.
+    let sim = Sim::start("yd1000", "binary");
+    let no_g = sim.vfd("yd1000", "binary", &["read", "--command", "G", "FA01"]);
+    assert!(!no_g.status.success());
+    assert!(text(&no_g).contains("has no command G"), "{}", text(&no_g));
+}

@@ -738,7 +738,8 @@ impl Protocol {
             });
         }
         if expected.is_none() {
-            for command in self.commands.iter() {
+            // A command that is never answered has no reply to decode.
+            for command in self.commands.iter().filter(|c| !c.no_reply) {
                 if let Some(reply) = settle(
                     self.try_data_reply(command, bytes),
                     &mut best,

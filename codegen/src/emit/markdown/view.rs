@@ -482,8 +482,13 @@ fn command_notes(drive: &DriveIr, command: &CommandIr) -> String {
             .map_or_else(|| format!("{number:04X}h"), |r| r.code.clone())
     };
     if command.extra {
+        let verb = if command.kind.is_write() {
+            "write"
+        } else {
+            "read"
+        };
         notes.push(format!(
-            "extra: used only when a request names it (`Request::using`, `vfd read --command {}`)",
+            "extra: used only when a request names it (`Request::using`, `vfd {verb} --command {}`)",
             vfd_runtime::protocol::code_label(command.code)
         ));
     }
