@@ -115,13 +115,23 @@ pub fn write(
     let echo = match echo {
         Some(echo) if echo != raw => format!("; the drive reports {}", values::short(info, echo)),
         Some(_) => "; the drive confirms it".to_owned(),
+        None if info.no_reply || session.named_command().is_some_and(|c| c.no_reply) => {
+            "; sent (the drive never answers it)".to_owned()
+        }
         None => String::new(),
     };
+    let shown = match &percent_of {
+        Some(percent_of) => format!(
+            "{:.2} % of {} ({raw:04X}h)",
+            percent_of.from_raw(raw, 100.0),
+            percent_of.register
+        ),
+        None => values::short(info, raw),
+    };
     say!(
-        "wrote {} {} = {} ({target}){echo}",
+        "wrote {} {} = {shown} ({target}){echo}",
         info.code,
-        info.name,
-        values::short(info, raw)
+        info.name
     );
     if tripped {
         show_trip(&mut session);
