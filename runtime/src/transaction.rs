@@ -7,6 +7,10 @@
 //! is skipped, noise and frames that answer something else are passed over, a silence
 //! longer than a frame allows starts a new frame (where the transport can tell), and of
 //! overlapping frames the one starting last wins. Every wait ends at the reply deadline.
+//!
+//! A request that gets no reply (a command with `reply: none`, or a write of a register
+//! with `no_reply: true`) is done once its frame is on the line: the master waits the
+//! frame's wire time and the frame gap, looks for nothing and never repeats it.
 
 use crate::error::{hex, DecodeError, EncodeError, ValueError};
 use crate::info::ErrorCodeInfo;
