@@ -636,6 +636,34 @@ mod tests {
     }
 
     #[test]
+    fn an_extra_command_reaches_only_drives_that_list_it() {
+        let yaml = protocol_with(&[(
+            "{ code: W, kind: write_persistent, request: write_request, reply: reply }",
+            "{ code: W, kind: write_persistent, request: write_request, reply: none, extra: true, lowercase_means: sender_tripped }",
+        )]);
+        let codes = |protocol: &vfd_runtime::Protocol| -> Vec<u32> {
+            protocol.commands.iter().map(|c| c.code).collect()
+        };
+        // Not listed: the drive does not get it.
+        assert_eq!(codes(&lowered(&yaml)), [u32::from(b'R')]);
+        let drive = drive_with("    commands: [R, W]");
+        let protocol = lower_both(&drive, &yaml).unwrap();
+        assert_eq!(codes(&protocol), [u32::from(b'R'), u32::from(b'W')]);
+        let write = &protocol.commands[1];
+        assert!(write.extra && write.no_reply && write.lowercase_means_sender_tripped);
+        // Never answered: the request's layout stands in for the reply, never awaited.
+        assert_eq!(write.reply.name, write.request.name);
+        // A request names it, or does not get it.
+        assert!(protocol
+            .command_for(
+                CommandKind::WritePersistent,
+                Space::Parameter,
+                DataType::Word
+            )
+            .is_none());
+    }
+
+    #[test]
     fn the_drive_address_maps_are_checked_in_the_drive_file() {
         let drive = drive_with("    address_maps:\n      parameter: { multiply: 0, offset: 0 }\n      holding: { multiply: 1, offset: 0 }");
         assert_eq!(
