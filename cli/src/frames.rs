@@ -30,10 +30,16 @@ pub fn encode(
     register: &str,
     value: Option<&str>,
     address: Option<u8>,
+    command: Option<&str>,
 ) -> Result<(), Failure> {
     let drive = lookup::drive(drive)?;
     let protocol = lookup::protocol(drive, Some(protocol))?;
     let register = lookup::register(drive, register)?;
+    let code = command.map(crate::watch::command_code).transpose()?;
+    // A command whose data is a percentage of another register takes the value as one.
+    let percent_of = code
+        .and_then(|code| protocol.commands.iter().find(|c| c.answers_to(code)))
+        .and_then(|c| c.percent_of.as_ref());
     let request = match (action, value) {
         (Action::Read, None) => {
             let kind = if register.data_type == DataType::Text {
@@ -53,7 +59,10 @@ pub fn encode(
         (write, Some(value)) => {
             let persist = write == Action::WritePersistent;
             crate::bus::check_writable(register, persist)?;
-            let data = values::parse(register, value).map_err(Failure::new)?;
+            let data = match percent_of {
+                Some(percent_of) => crate::watch::percentage(percent_of, value)?,
+                None => values::parse(register, value).map_err(Failure::new)?,
+            };
             let kind = if persist {
                 CommandKind::WritePersistent
             } else {
@@ -61,6 +70,10 @@ pub fn encode(
             };
             Request::for_register(kind, register, data)
         }
+    };
+    let request = match code {
+        Some(code) => request.using(code),
+        None => request,
     };
     let mut frame = [0u8; 256];
     let len = protocol

@@ -191,6 +191,10 @@ enum Command {
         /// Station address.
         #[arg(long, value_name = "N")]
         address: Option<u8>,
+        /// Use this command instead of the protocol's default (G, S, s; see `vfd read
+        /// --command`); a command whose data is a percentage takes the value as one (50%).
+        #[arg(long, value_name = "CODE")]
+        command: Option<String>,
     },
     /// List a drive's registers, one line each.
     Registers {
@@ -342,6 +346,7 @@ fn run(command: Command) -> Result<(), Failure> {
             register,
             value,
             address,
+            command,
         } => frames::encode(
             &drive,
             &protocol,
@@ -349,6 +354,7 @@ fn run(command: Command) -> Result<(), Failure> {
             &register,
             value.as_deref(),
             address,
+            command.as_deref(),
         ),
         Command::Registers { drive } => {
             generate::registers(lookup::drive(&drive)?).map_err(Failure::from)

@@ -141,7 +141,7 @@ pub fn write(
 
 /// A command code as given on the command line: one letter (`G`, `s`) or a number
 /// (`0x03`, `3`).
-fn command_code(text: &str) -> Result<u32, Failure> {
+pub fn command_code(text: &str) -> Result<u32, Failure> {
     let number = match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
         Some(hex) => u32::from_str_radix(hex, 16).ok(),
         None => text.parse::<u32>().ok(),
@@ -159,7 +159,10 @@ fn command_code(text: &str) -> Result<u32, Failure> {
 
 /// The raw word of a percentage written `50%` (or `50`), for a command whose data is a
 /// percentage of another register.
-fn percentage(percent_of: &vfd_runtime::protocol::PercentOf, text: &str) -> Result<u32, Failure> {
+pub fn percentage(
+    percent_of: &vfd_runtime::protocol::PercentOf,
+    text: &str,
+) -> Result<u32, Failure> {
     let number = text.trim().trim_end_matches('%').trim();
     let value: f64 = number.parse().map_err(|_| {
         Failure::new(format!("`{text}` is not a percentage")).hint(format!(

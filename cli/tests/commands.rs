@@ -209,6 +209,57 @@ fn decode_explains_commands_without_a_reply() {
 }
 
 #[test]
+fn encode_builds_g_and_s_frames_by_name() {
+    let g = stdout(&vfd(&[
+        "encode",
+        "vf-as1",
+        "binary",
+        "read",
+        "FE03",
+        "--command",
+        "G",
+    ]));
+    assert!(g.contains("2F 47 FE 03 00 00 77"), "{g}");
+    let s = stdout(&vfd(&[
+        "encode",
+        "vf-as1",
+        "binary",
+        "write-ram",
+        "FA01",
+        "50%",
+        "--command",
+        "S",
+    ]));
+    assert!(s.contains("2F 53 FA 01 13 88 18"), "{s}");
+    let tripped = stdout(&vfd(&[
+        "encode",
+        "vf-as1",
+        "binary",
+        "write-ram",
+        "FA01",
+        "50%",
+        "--command",
+        "s",
+    ]));
+    assert!(tripped.contains("2F 73 FA 01 13 88 38"), "{tripped}");
+    let none = vfd(&[
+        "encode",
+        "yd1000",
+        "binary",
+        "read",
+        "FD00",
+        "--command",
+        "G",
+    ]);
+    assert!(!none.status.success());
+    assert!(
+        stderr(&none).contains("has no command G"),
+        "{}",
+        stderr(&none)
+    );
+}
+
+#[test]
 fn decode_refuses_bad_frames_with_the_reason() {
     let bad_sum = vfd(&["decode", "2F 52 FD 00 7F"]);
     assert!(!bad_sum.status.success());
