@@ -176,6 +176,9 @@ pub struct Session {
     pub requests: usize,
     /// The station addressed (`None`: no address sent).
     address: Option<u8>,
+    /// The command code reads and writes name (`--command`), where the protocol has
+    /// several for their kind; `None`: the protocol's default.
+    pub command: Option<u32>,
 }
 
 /// The drive's factory serial settings with the baud rate and parity given on the command
@@ -230,6 +233,7 @@ impl Session {
             master,
             requests: 0,
             address,
+            command: None,
         }
     }
 
@@ -246,6 +250,20 @@ impl Session {
         Session::with_master(drive, protocol, settings, master, address)
     }
 
+    /// `request`, carried by the `--command` code when one was given.
+    fn using(&self, request: Request) -> Request {
+        match self.command {
+            Some(code) => request.using(code),
+            None => request,
+        }
+    }
+
+    /// The protocol's command named by the `--command` code, if one was given.
+    pub fn named_command(&self) -> Option<&'static vfd_runtime::CommandSpec> {
+        let code = self.command?;
+        self.protocol.commands.iter().find(|c| c.answers_to(code))
+    }
+
     /// Reads `info`.
     pub fn read(&mut self, info: &'static RegisterInfo) -> Result<Value, Failure> {
         let text = info.data_type == DataType::Text;
@@ -254,7 +272,7 @@ impl Session {
         } else {
             CommandKind::Read
         };
-        let request = Request::for_register(kind, info, 0);
+        let request = self.using(Request::for_register(kind, info, 0));
         self.requests += 1;
         let answer = self
             .master
@@ -301,7 +319,7 @@ impl Session {
         } else {
             CommandKind::WriteRam
         };
-        let request = Request::for_register(kind, info, raw);
+        let request = self.using(Request::for_register(kind, info, raw));
         self.requests += 1;
         let answer = self
             .master

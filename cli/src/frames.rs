@@ -30,10 +30,16 @@ pub fn encode(
     register: &str,
     value: Option<&str>,
     address: Option<u8>,
+    command: Option<&str>,
 ) -> Result<(), Failure> {
     let drive = lookup::drive(drive)?;
     let protocol = lookup::protocol(drive, Some(protocol))?;
     let register = lookup::register(drive, register)?;
+    let code = command.map(crate::watch::command_code).transpose()?;
+    // A command whose data is a percentage of another register takes the value as one.
+    let percent_of = code
+        .and_then(|code| protocol.commands.iter().find(|c| c.answers_to(code)))
+        .and_then(|c| c.percent_of.as_ref());
     let request = match (action, value) {
         (Action::Read, None) => {
             let kind = if register.data_type == DataType::Text {
@@ -53,7 +59,10 @@ pub fn encode(
         (write, Some(value)) => {
             let persist = write == Action::WritePersistent;
             crate::bus::check_writable(register, persist)?;
-            let data = values::parse(register, value).map_err(Failure::new)?;
+            let data = match percent_of {
+                Some(percent_of) => crate::watch::percentage(percent_of, value)?,
+                None => values::parse(register, value).map_err(Failure::new)?,
+            };
             let kind = if persist {
                 CommandKind::WritePersistent
             } else {
@@ -61,6 +70,10 @@ pub fn encode(
             };
             Request::for_register(kind, register, data)
         }
+    };
+    let request = match code {
+        Some(code) => request.using(code),
+        None => request,
     };
     let mut frame = [0u8; 256];
     let len = protocol
@@ -451,8 +464,16 @@ impl<'a> Report<'a> {
             self.add("station", address.to_string());
         }
         if meaning.tripped {
-            self.add("tripped", "yes: the drive reports a trip".to_owned());
+            let who = match self.fit.direction {
+                Direction::Request => "yes: the sender (master) reports a trip",
+                Direction::Reply => "yes: the drive reports a trip",
+            };
+            self.add("tripped", who.to_owned());
         }
+        // The command the frame belongs to, for what sets it apart (a percentage, no reply).
+        let command = protocol.commands.iter().find(|c| {
+            Some(c.kind) == meaning.kind && meaning.code.is_some_and(|code| c.answers_to(code))
+        });
         if let Some(error) = meaning.error_code {
             let text = match protocol.error_code(error) {
                 Some(info) => format!("{error} ({}/{}): {}", info.name, info.name_zh, info.meaning),
@@ -477,9 +498,24 @@ impl<'a> Report<'a> {
         if let Some(text) = &meaning.text {
             self.add("text", format!("{text:?}"));
         }
+        let request = self.fit.direction == Direction::Request;
         if let Some(data) = meaning.data {
-            match info {
-                Some(info) => {
+            match (info, command.and_then(|c| c.percent_of.as_ref())) {
+                _ if request && meaning.kind.is_some_and(|k| k.only_reads()) => {
+                    self.add(
+                        "data",
+                        format!("{data:04X}h (dummy: a read carries no value)"),
+                    );
+                }
+                (_, Some(percent_of)) => self.add(
+                    "value",
+                    format!(
+                        "{:.2} % of {} ({data:04X}h)",
+                        percent_of.from_raw(data, 100.0),
+                        percent_of.register
+                    ),
+                ),
+                (Some(info), None) => {
                     self.add("value", values::short(info, data));
                     if let Some(bits) = info.bits {
                         for line in values::field_lines(bits, data as u16) {
@@ -487,8 +523,16 @@ impl<'a> Report<'a> {
                         }
                     }
                 }
-                None => self.add("value", format!("{data} ({data:04X}h)")),
+                (None, None) => self.add("value", format!("{data} ({data:04X}h)")),
             }
+        }
+        let register_unanswered = meaning.kind.is_some_and(CommandKind::is_write)
+            && info.is_some_and(|info| info.no_reply);
+        if request && (command.is_some_and(|c| c.no_reply) || register_unanswered) {
+            self.add(
+                "reply",
+                "none: the drive never answers this request".to_owned(),
+            );
         }
         if let Some([first, second]) = meaning.process {
             let (a, b) = match self.fit.direction {

@@ -63,6 +63,11 @@ enum Command {
     Read {
         #[command(flatten)]
         line: bus::LineArgs,
+        /// Read with this command instead of the protocol's default, where the protocol
+        /// has several (a letter such as G for the Toshiba binary G read, or a number such
+        /// as 0x03); the drive page lists them.
+        #[arg(long, value_name = "CODE")]
+        command: Option<String>,
         /// Registers to read.
         #[arg(required = true)]
         registers: Vec<String>,
@@ -77,6 +82,12 @@ enum Command {
         /// Write RAM and EEPROM (EEPROM wears out; the default writes RAM only).
         #[arg(long)]
         persist: bool,
+        /// Write with this command instead of the protocol's default (S for the Toshiba
+        /// drive-to-drive command, s to say the sender has tripped). A command whose data is
+        /// a percentage of another register takes the value as a percentage (50%); one that
+        /// gets no reply returns once the frame is sent.
+        #[arg(long, value_name = "CODE")]
+        command: Option<String>,
         /// Register to write.
         register: String,
         /// Value in the register's unit.
@@ -180,6 +191,10 @@ enum Command {
         /// Station address.
         #[arg(long, value_name = "N")]
         address: Option<u8>,
+        /// Use this command instead of the protocol's default (G, S, s; see `vfd read
+        /// --command`); a command whose data is a percentage takes the value as one (50%).
+        #[arg(long, value_name = "CODE")]
+        command: Option<String>,
     },
     /// List a drive's registers, one line each.
     Registers {
@@ -262,13 +277,18 @@ fn run(command: Command) -> Result<(), Failure> {
     match command {
         Command::List => describe::list(),
         Command::Info { drive, registers } => describe::info(&drive, &registers),
-        Command::Read { line, registers } => watch::read(&line, &registers),
+        Command::Read {
+            line,
+            command,
+            registers,
+        } => watch::read(&line, command.as_deref(), &registers),
         Command::Write {
             line,
             persist,
+            command,
             register,
             value,
-        } => watch::write(&line, &register, &value, persist),
+        } => watch::write(&line, command.as_deref(), &register, &value, persist),
         Command::Watch {
             line,
             interval,
@@ -326,6 +346,7 @@ fn run(command: Command) -> Result<(), Failure> {
             register,
             value,
             address,
+            command,
         } => frames::encode(
             &drive,
             &protocol,
@@ -333,6 +354,7 @@ fn run(command: Command) -> Result<(), Failure> {
             &register,
             value.as_deref(),
             address,
+            command.as_deref(),
         ),
         Command::Registers { drive } => {
             generate::registers(lookup::drive(&drive)?).map_err(Failure::from)

@@ -11,8 +11,9 @@ use vfd_runtime::units::raw_to_scaled;
 use vfd_runtime::RegisterInfo;
 
 /// Reads each register and prints it.
-pub fn read(line: &LineArgs, names: &[String]) -> Result<(), Failure> {
+pub fn read(line: &LineArgs, command: Option<&str>, names: &[String]) -> Result<(), Failure> {
     let mut session = Session::open(line)?;
+    session.command = command.map(command_code).transpose()?;
     let registers = resolve(&session, names)?;
     let mut tripped = false;
     for info in registers {
@@ -82,35 +83,97 @@ pub fn show_trip(session: &mut Session) {
 }
 
 /// Writes one value, refused before anything is sent when out of range.
-pub fn write(line: &LineArgs, name: &str, text: &str, persist: bool) -> Result<(), Failure> {
+pub fn write(
+    line: &LineArgs,
+    command: Option<&str>,
+    name: &str,
+    text: &str,
+    persist: bool,
+) -> Result<(), Failure> {
     let drive = lookup::drive(&line.drive)?;
     let info = lookup::register(drive, name)?;
     crate::bus::check_writable(info, persist)?;
-    let raw = values::parse(info, text).map_err(|m| {
-        Failure::new(m).hint(format!(
-            "nothing was sent; `vfd info {} {}` shows the range",
-            drive.id, info.code
-        ))
-    })?;
+    let code = command.map(command_code).transpose()?;
     let mut session = Session::open(line)?;
-    check_run_time_bounds(&mut session, info, raw)?;
+    session.command = code;
+    let percent_of = session.named_command().and_then(|c| c.percent_of.clone());
+    let raw = match &percent_of {
+        // The data is a percentage of another register: the value is one (50%).
+        Some(percent_of) => percentage(percent_of, text)?,
+        None => values::parse(info, text).map_err(|m| {
+            Failure::new(m).hint(format!(
+                "nothing was sent; `vfd info {} {}` shows the range",
+                drive.id, info.code
+            ))
+        })?,
+    };
+    if percent_of.is_none() {
+        check_run_time_bounds(&mut session, info, raw)?;
+    }
     let (echo, tripped) = session.write(info, raw, persist)?;
     let target = if persist { "RAM and EEPROM" } else { "RAM" };
     let echo = match echo {
         Some(echo) if echo != raw => format!("; the drive reports {}", values::short(info, echo)),
         Some(_) => "; the drive confirms it".to_owned(),
+        None if info.no_reply || session.named_command().is_some_and(|c| c.no_reply) => {
+            "; sent (the drive never answers it)".to_owned()
+        }
         None => String::new(),
     };
+    let shown = match &percent_of {
+        Some(percent_of) => format!(
+            "{:.2} % of {} ({raw:04X}h)",
+            percent_of.from_raw(raw, 100.0),
+            percent_of.register
+        ),
+        None => values::short(info, raw),
+    };
     say!(
-        "wrote {} {} = {} ({target}){echo}",
+        "wrote {} {} = {shown} ({target}){echo}",
         info.code,
-        info.name,
-        values::short(info, raw)
+        info.name
     );
     if tripped {
         show_trip(&mut session);
     }
     Ok(())
+}
+
+/// A command code as given on the command line: one letter (`G`, `s`) or a number
+/// (`0x03`, `3`).
+pub fn command_code(text: &str) -> Result<u32, Failure> {
+    let number = match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+        Some(hex) => u32::from_str_radix(hex, 16).ok(),
+        None => text.parse::<u32>().ok(),
+    };
+    match (number, text.as_bytes()) {
+        (Some(number), _) => Ok(number),
+        (None, [letter]) if letter.is_ascii_alphabetic() => Ok(u32::from(*letter)),
+        _ => Err(
+            Failure::new(format!("`{text}` is not a command code")).hint(
+                "give one letter (G, S, s) or a number (0x03); the drive page lists the commands",
+            ),
+        ),
+    }
+}
+
+/// The raw word of a percentage written `50%` (or `50`), for a command whose data is a
+/// percentage of another register.
+pub fn percentage(
+    percent_of: &vfd_runtime::protocol::PercentOf,
+    text: &str,
+) -> Result<u32, Failure> {
+    let number = text.trim().trim_end_matches('%').trim();
+    let value: f64 = number.parse().map_err(|_| {
+        Failure::new(format!("`{text}` is not a percentage")).hint(format!(
+            "this command carries a percentage of {}: write e.g. 50%",
+            percent_of.register
+        ))
+    })?;
+    percent_of.to_raw(value, 100.0).ok_or_else(|| {
+        Failure::new(format!("{value} % does not fit the command's data word"))
+            .hint("nothing was sent")
+    })
 }
 
 /// Refuses a value beyond a bound another register sets at run time (FH for the frequency

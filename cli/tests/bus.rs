@@ -563,3 +563,53 @@ fn watch_redraws_in_place_on_a_terminal() {
     );
     assert!(redraws >= 8, "{redraws} escape sequences: {screen:?}");
 }
+
+#[test]
+fn vf_as1_reads_with_g_and_sends_s_as_a_percentage() {
+    let sim = Sim::start("vf-as1", "binary");
+    // FH is 80 Hz by default: S 50 % sets FA01 to 40 Hz, and nothing answers.
+    let sent = sim.vfd(
+        "vf-as1",
+        "binary",
+        &["write", "--command", "S", "FA01", "50%"],
+    );
+    assert!(sent.status.success(), "{}", text(&sent));
+    assert!(
+        text(&sent).contains("= 50.00 % of FH (1388h)"),
+        "{}",
+        text(&sent)
+    );
+    assert!(text(&sent).contains("never answers"), "{}", text(&sent));
+    let by_g = sim.vfd("vf-as1", "binary", &["read", "--command", "G", "FA01"]);
+    assert!(by_g.status.success(), "{}", text(&by_g));
+    assert!(text(&by_g).contains("40.00 Hz"), "{}", text(&by_g));
+    // S addresses FA01 and FA05 only; the refusal comes before anything is sent.
+    let other = sim.vfd(
+        "vf-as1",
+        "binary",
+        &["write", "--command", "S", "FH", "50%"],
+    );
+    assert!(!other.status.success());
+    assert!(
+        text(&other).contains("cannot address register 0011h"),
+        "{}",
+        text(&other)
+    );
+    // The YD1000 speaks the same protocol file but has no G.
+    let sim = Sim::start("yd1000", "binary");
+    let no_g = sim.vfd("yd1000", "binary", &["read", "--command", "G", "FA01"]);
+    assert!(!no_g.status.success());
+    assert!(text(&no_g).contains("has no command G"), "{}", text(&no_g));
+}
+
+#[test]
+fn dv1_reset_returns_without_waiting_for_a_reply() {
+    let sim = Sim::start("dv1", "modbus");
+    let reset = sim.vfd("dv1", "modbus", &["write", "1101", "reset"]);
+    assert!(reset.status.success(), "{}", text(&reset));
+    assert!(
+        text(&reset).contains("sent (the drive never answers it)"),
+        "{}",
+        text(&reset)
+    );
+}

@@ -164,6 +164,102 @@ fn decode_explains_manual_frames() {
 }
 
 #[test]
+fn decode_explains_commands_without_a_reply() {
+    // 4.2: S carries 0.01 % of FH and is never answered; s says the sender tripped.
+    let s = stdout(&vfd(&[
+        "decode",
+        "--drive",
+        "vf-as1",
+        "2F 53 FA 01 13 88 18",
+    ]));
+    assert!(s.contains("50.00 % of FH (1388h)"), "{s}");
+    assert!(s.contains("never answers"), "{s}");
+    assert!(!s.contains("also a valid reply"), "{s}");
+    let tripped = stdout(&vfd(&[
+        "decode",
+        "--drive",
+        "vf-as1",
+        "2F 73 FA 01 13 88 38",
+    ]));
+    assert!(
+        tripped.contains("the sender (master) reports a trip"),
+        "{tripped}"
+    );
+    // The YD1000, on the same protocol file, has no S.
+    assert!(
+        !vfd(&["decode", "--drive", "yd1000", "2F 53 FA 01 13 88 18"])
+            .status
+            .success()
+    );
+    // G's dummy data is no value; the DV1's reset is never answered.
+    let g = stdout(&vfd(&[
+        "decode",
+        "--drive",
+        "vf-as1",
+        "2F 47 FE 03 00 00 77",
+    ]));
+    assert!(g.contains("dummy"), "{g}");
+    let reset = stdout(&vfd(&[
+        "decode",
+        "--drive",
+        "dv1",
+        "01 06 11 01 96 96 32 F8",
+    ]));
+    assert!(reset.contains("never answers"), "{reset}");
+}
+
+#[test]
+fn encode_builds_g_and_s_frames_by_name() {
+    let g = stdout(&vfd(&[
+        "encode",
+        "vf-as1",
+        "binary",
+        "read",
+        "FE03",
+        "--command",
+        "G",
+    ]));
+    assert!(g.contains("2F 47 FE 03 00 00 77"), "{g}");
+    let s = stdout(&vfd(&[
+        "encode",
+        "vf-as1",
+        "binary",
+        "write-ram",
+        "FA01",
+        "50%",
+        "--command",
+        "S",
+    ]));
+    assert!(s.contains("2F 53 FA 01 13 88 18"), "{s}");
+    let tripped = stdout(&vfd(&[
+        "encode",
+        "vf-as1",
+        "binary",
+        "write-ram",
+        "FA01",
+        "50%",
+        "--command",
+        "s",
+    ]));
+    assert!(tripped.contains("2F 73 FA 01 13 88 38"), "{tripped}");
+    let none = vfd(&[
+        "encode",
+        "yd1000",
+        "binary",
+        "read",
+        "FD00",
+        "--command",
+        "G",
+    ]);
+    assert!(!none.status.success());
+    assert!(
+        stderr(&none).contains("has no command G"),
+        "{}",
+        stderr(&none)
+    );
+}
+
+#[test]
 fn decode_refuses_bad_frames_with_the_reason() {
     let bad_sum = vfd(&["decode", "2F 52 FD 00 7F"]);
     assert!(!bad_sum.status.success());

@@ -274,6 +274,36 @@ pub enum EncodeError {
         /// Data type.
         data_type: DataType,
     },
+    /// The request names a command code the protocol does not have for its kind of request.
+    #[error("protocol {protocol} has no command {code} to {kind}", code = code_text(*code), kind = kind.as_str())]
+    NoSuchCommand {
+        /// Protocol id.
+        protocol: Text,
+        /// The code the request names.
+        code: u32,
+        /// The kind of request.
+        kind: CommandKind,
+    },
+    /// The command addresses only some registers, and not this one.
+    #[error("protocol {protocol}: command {code} cannot address register {register:04X}h", code = code_text(*code))]
+    RegisterNotServed {
+        /// Protocol id.
+        protocol: Text,
+        /// The command's code.
+        code: u32,
+        /// Register number.
+        register: u16,
+    },
+    /// The command does not carry its data as a percentage of this register.
+    #[error("protocol {protocol}: command {code} does not carry a percentage of {register}", code = code_text(*code))]
+    NotPercentOf {
+        /// Protocol id.
+        protocol: Text,
+        /// The command's code.
+        code: u32,
+        /// Code of the register given as 100 %.
+        register: &'static str,
+    },
     /// A read of more consecutive registers than the protocol (or the drive) allows in one
     /// request, or a protocol that reads one register at a time.
     #[error("protocol {protocol} reads at most {max} register(s) per request, not {words}")]
@@ -313,6 +343,15 @@ pub enum EncodeError {
     },
 }
 
+/// A command code as people read it: the letter for letters, hex otherwise (as
+/// `protocol::code_label`, which this module cannot use).
+fn code_text(code: u32) -> String {
+    match u8::try_from(code) {
+        Ok(byte) if byte.is_ascii_alphabetic() => (byte as char).to_string(),
+        _ => format!("{code:02X}h"),
+    }
+}
+
 /// A value that must not be sent to a register.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ValueError {
@@ -327,6 +366,17 @@ pub enum ValueError {
         min: f64,
         /// Highest value accepted, in engineering units.
         max: f64,
+    },
+    /// The value cannot be sent as a percentage of the reference (the reference is not
+    /// positive, or the percentage does not fit a word).
+    #[error("{register}: {value} {unit} is no percentage of {reference} a word can carry", register = register.label(), unit = register.unit_symbol())]
+    NotAPercentage {
+        /// The register.
+        register: &'static RegisterInfo,
+        /// Value asked for, in engineering units.
+        value: f64,
+        /// The value that is 100 %, in the same unit.
+        reference: f64,
     },
     /// The value is NaN or infinite.
     #[error("{register}: {value} is not a finite number", register = register.label())]

@@ -61,6 +61,9 @@ pub struct RegisterInfo {
     /// The manual's description of the register and the description's remarks, as one
     /// text (empty when there are none).
     pub text: &'static str,
+    /// Writes to it are never answered (an inverter reset): a master returns once the
+    /// frame is on the line, and the virtual drive stays silent.
+    pub no_reply: bool,
 }
 
 /// Const builders: generated code writes a register as `RegisterInfo::new(..)` followed by
@@ -169,6 +172,12 @@ impl RegisterInfo {
         self
     }
 
+    /// Writes to it are never answered.
+    pub const fn with_no_reply(mut self) -> Self {
+        self.no_reply = true;
+        self
+    }
+
     /// With this shape on the wire.
     pub const fn with_data_type(mut self, data_type: DataType) -> Self {
         self.data_type = data_type;
@@ -218,6 +227,7 @@ impl RegisterInfo {
         bits: None,
         codes: None,
         text: "",
+        no_reply: false,
     };
 
     /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.

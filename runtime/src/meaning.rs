@@ -59,7 +59,9 @@ pub struct FrameMeaning {
     pub process: Option<[u16; 2]>,
     /// Text carried by a text reply.
     pub text: Option<String>,
-    /// The drive answered with a lower-case command: it is tripped.
+    /// The drive answered with a lower-case command: it is tripped. In a request: the
+    /// sender says it has tripped (a command whose lower case means so, see
+    /// [`crate::protocol::CommandSpec::lowercase_means_sender_tripped`]).
     pub tripped: bool,
 }
 
@@ -75,7 +77,7 @@ pub fn decode_meaning(
             let command = request.command;
             Ok(FrameMeaning {
                 address: request.address,
-                code: command.request.has(Role::Command).then_some(command.code),
+                code: command.request.has(Role::Command).then(|| request.code()),
                 kind: Some(command.kind),
                 space: Some(command.space),
                 register: request.register,
@@ -85,7 +87,7 @@ pub fn decode_meaning(
                 error_code: None,
                 process: request.process,
                 text: None,
-                tripped: false,
+                tripped: request.sender_tripped(),
             })
         }
         Direction::Reply => match protocol.decode_reply_exact(None, bytes)? {

@@ -71,6 +71,55 @@ pub struct CommandSpec {
     /// several (a Modbus exception to function 03 carries 83h); `None`: the one code the
     /// error layout allows.
     pub error_code: Option<u32>,
+    /// Never answered (`reply: none`): a master returns once the frame is on the line (its
+    /// wire time and the frame gap) without waiting, and the virtual drive stays silent.
+    /// `reply` is then the request's layout, never awaited.
+    pub no_reply: bool,
+    /// An extra command (`extra: true`): never chosen for a request by its kind alone; a
+    /// request uses it only by naming its code ([`Request::using`]).
+    pub extra: bool,
+    /// A lower-case code in the *request* says its sender (a master inverter) has tripped
+    /// (`lowercase_means: sender_tripped`), rather than a lower-case reply saying the
+    /// replying drive has.
+    pub lowercase_means_sender_tripped: bool,
+    /// The registers (numbers before the address map) the command may address; empty: any.
+    pub registers: List<u16>,
+    /// The data is a percentage of another register's value rather than a value in the
+    /// addressed register's own unit.
+    pub percent_of: Option<PercentOf>,
+}
+
+/// A command's data as a percentage of another register's value (the Toshiba S command
+/// carries a frequency in 0.01 % of the maximum frequency): `raw = value / reference x 100
+/// / step`, truncated, and back `value = raw x step / 100 x reference`.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct PercentOf {
+    /// Code of the register whose value is 100 %.
+    pub register: Text,
+    /// The percentage one raw step stands for (0.01).
+    pub step: f64,
+}
+
+impl PercentOf {
+    /// The raw word for `value` when `reference` (the register's value in the same unit) is
+    /// 100 %, truncated toward zero as the manuals do; `None` when the reference is not
+    /// positive or the result does not fit 16 bits (no other range is checked).
+    pub fn to_raw(&self, value: f64, reference: f64) -> Option<u32> {
+        if !(reference > 0.0 && self.step > 0.0 && value.is_finite()) {
+            return None;
+        }
+        // A hair above, so that 50 / 100 % at 0.01 % steps is 5000, not 4999.
+        let raw = (value / reference * 100.0 / self.step + 1e-9).floor();
+        (0.0..=f64::from(u16::MAX))
+            .contains(&raw)
+            .then_some(raw as u32)
+    }
+
+    /// The value `raw` stands for when `reference` is 100 % (not truncated).
+    pub fn from_raw(&self, raw: u32, reference: f64) -> f64 {
+        f64::from(raw) * self.step / 100.0 * reference
+    }
 }
 
 /// Const constructors for generated code.
@@ -93,7 +142,50 @@ impl CommandSpec {
             reply,
             reply_codes: Cow::Borrowed(&[]),
             error_code: None,
+            no_reply: false,
+            extra: false,
+            lowercase_means_sender_tripped: false,
+            registers: Cow::Borrowed(&[]),
+            percent_of: None,
         }
+    }
+
+    /// Never answered (see [`CommandSpec::no_reply`]).
+    pub const fn without_reply(mut self) -> CommandSpec {
+        self.no_reply = true;
+        self
+    }
+
+    /// Used only when a request names its code (see [`CommandSpec::extra`]).
+    pub const fn as_extra(mut self) -> CommandSpec {
+        self.extra = true;
+        self
+    }
+
+    /// A lower-case code in the request says the sender has tripped.
+    pub const fn with_lowercase_sender_tripped(mut self) -> CommandSpec {
+        self.lowercase_means_sender_tripped = true;
+        self
+    }
+
+    /// Addresses only these registers (numbers before the address map).
+    pub const fn with_registers(mut self, registers: &'static [u16]) -> CommandSpec {
+        // As in `with_data_types`: the old value is borrowed in generated code.
+        core::mem::forget(core::mem::replace(
+            &mut self.registers,
+            Cow::Borrowed(registers),
+        ));
+        self
+    }
+
+    /// Its data is a percentage of the register with code `register`, `step` % per raw step.
+    pub const fn with_percent_of(mut self, register: &'static str, step: f64) -> CommandSpec {
+        // As in `with_data_types`: nothing to drop in generated code.
+        core::mem::forget(self.percent_of.replace(PercentOf {
+            register: Cow::Borrowed(register),
+            step,
+        }));
+        self
     }
 
     /// An error reply to it carries this code.
@@ -146,6 +238,19 @@ impl CommandSpec {
     /// The code shown for people: the letter for printable codes, hex otherwise.
     pub fn code_label(&self) -> String {
         code_label(self.code)
+    }
+
+    /// Whether `code` names this command: its own code, or, for a command whose lower case
+    /// says the sender tripped, its lower-case letter.
+    pub fn answers_to(&self, code: u32) -> bool {
+        code == self.code
+            || (self.lowercase_means_sender_tripped
+                && u8::try_from(code).is_ok_and(|b| u32::from(b.to_ascii_uppercase()) == self.code))
+    }
+
+    /// Whether it may address register `number` (before the address map).
+    pub fn serves_register(&self, number: u16) -> bool {
+        self.registers.is_empty() || self.registers.contains(&number)
     }
 }
 
@@ -307,6 +412,23 @@ pub struct DecodedRequest<'p> {
     pub len: usize,
 }
 
+impl DecodedRequest<'_> {
+    /// The command code as on the wire (the letter in its case); the command's own code
+    /// when the layout carries none.
+    pub fn code(&self) -> u32 {
+        self.values
+            .get(&self.command.request, Role::Command)
+            .unwrap_or(self.command.code)
+    }
+
+    /// The request says its sender has tripped (a lower-case code of a command whose lower
+    /// case means so: the Toshiba drive-to-drive `s`).
+    pub fn sender_tripped(&self) -> bool {
+        self.command.lowercase_means_sender_tripped
+            && u8::try_from(self.code()).is_ok_and(|b| b.is_ascii_lowercase())
+    }
+}
+
 /// A decoded reply.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Reply<'p> {
@@ -402,7 +524,7 @@ impl Protocol {
     ) -> Option<&CommandSpec> {
         self.commands
             .iter()
-            .find(|c| c.kind == kind && c.space == space && c.carries(data_type))
+            .find(|c| !c.extra && c.kind == kind && c.space == space && c.carries(data_type))
     }
 
     /// The read command that reads several consecutive 16-bit registers of `space` in one
@@ -419,6 +541,22 @@ impl Protocol {
 
     /// The command that carries `request`, or the typed reason there is none.
     pub fn command_for_request(&self, request: &Request) -> Result<&CommandSpec, EncodeError> {
+        if let Some(code) = request.command {
+            return self
+                .commands
+                .iter()
+                .find(|c| {
+                    c.answers_to(code)
+                        && c.kind == request.kind
+                        && c.space == request.space
+                        && c.carries(request.data_type)
+                })
+                .ok_or_else(|| EncodeError::NoSuchCommand {
+                    protocol: self.id.clone(),
+                    code,
+                    kind: request.kind,
+                });
+        }
         self.command_for(request.kind, request.space, request.data_type)
             .ok_or_else(|| EncodeError::UnsupportedCommand {
                 protocol: self.id.clone(),
@@ -470,10 +608,22 @@ impl Protocol {
             protocol: self.id.clone(),
             register: request.register,
         })?;
+        if !request.wire_register && !command.serves_register(request.register) {
+            return Err(EncodeError::RegisterNotServed {
+                protocol: self.id.clone(),
+                code: command.code,
+                register: request.register,
+            });
+        }
         let [first, second] = request.process.unwrap_or(self.default_process);
         let roles = Roles {
             address: address.map(u32::from),
-            command: Some(command.code),
+            command: Some(
+                request
+                    .command
+                    .filter(|code| command.answers_to(*code))
+                    .unwrap_or(command.code),
+            ),
             register: Some(u32::from(wire)),
             index: Some(u32::from(request.index.unwrap_or(0))),
             data: Some(request.data),
@@ -527,7 +677,7 @@ impl Protocol {
                     // Commands may share a layout (W and P): the code decides.
                     if values
                         .get(layout, Role::Command)
-                        .is_some_and(|code| code != command.code)
+                        .is_some_and(|code| !command.answers_to(code))
                     {
                         continue;
                     }
@@ -589,7 +739,8 @@ impl Protocol {
             });
         }
         if expected.is_none() {
-            for command in self.commands.iter() {
+            // A command that is never answered has no reply to decode.
+            for command in self.commands.iter().filter(|c| !c.no_reply) {
                 if let Some(reply) = settle(
                     self.try_data_reply(command, bytes),
                     &mut best,

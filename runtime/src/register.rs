@@ -118,6 +118,10 @@ pub struct Request {
     pub process: Option<[u16; 2]>,
     /// The register's metadata, when the request was built from a typed register.
     pub info: Option<&'static RegisterInfo>,
+    /// The code of the command to carry it, where the protocol has several for its kind
+    /// (a Toshiba read by G instead of R): see [`Request::using`]. `None`: the protocol's
+    /// first command of the kind that is not an extra.
+    pub command: Option<u32>,
 }
 
 impl Request {
@@ -134,6 +138,7 @@ impl Request {
             data_type: info.data_type,
             process: None,
             info: Some(info),
+            command: None,
         }
     }
 
@@ -177,6 +182,7 @@ impl Request {
             data_type: DataType::Word,
             process: Some([control, reference]),
             info: None,
+            command: None,
         }
     }
 
@@ -192,6 +198,7 @@ impl Request {
             data_type: DataType::Word,
             process: None,
             info: None,
+            command: None,
         }
     }
 
@@ -210,6 +217,16 @@ impl Request {
         }
         self.index = Some(index);
         Ok(self)
+    }
+
+    /// The same request carried by the command with code `code` (a letter as a number:
+    /// `u32::from(b'G')`), where the protocol has several commands for its kind. For a
+    /// command whose lower case says the sender has tripped, the lower-case letter sends
+    /// that. Encoding fails with [`crate::EncodeError::NoSuchCommand`] when the protocol
+    /// (as the drive speaks it) has no such command for this kind of request.
+    pub fn using(mut self, code: u32) -> Request {
+        self.command = Some(code);
+        self
     }
 
     /// The same request with another data type.
@@ -274,6 +291,11 @@ impl<D> DriveRequest<D> {
     /// the array (see [`Request::at_index`]).
     pub fn at_index(self, index: u16) -> Result<Self, ValueError> {
         self.request.at_index(index).map(DriveRequest::new)
+    }
+
+    /// The same request carried by the command with code `code` (see [`Request::using`]).
+    pub fn using(self, code: u32) -> Self {
+        DriveRequest::new(self.request.using(code))
     }
 
     /// The untyped request.

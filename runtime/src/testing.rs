@@ -70,6 +70,7 @@ pub fn request_round_trips(protocol: &'static Protocol, bytes: &[u8], expect: &F
         data_type: data_type_of(&decoded),
         process: expect.process,
         info: None,
+        command: expect.code,
     };
     encodes_like(protocol, &decoded, &request, bytes);
 }

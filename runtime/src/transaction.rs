@@ -7,6 +7,10 @@
 //! is skipped, noise and frames that answer something else are passed over, a silence
 //! longer than a frame allows starts a new frame (where the transport can tell), and of
 //! overlapping frames the one starting last wins. Every wait ends at the reply deadline.
+//!
+//! A request that gets no reply (a command with `reply: none`, or a write of a register
+//! with `no_reply: true`) is done once its frame is on the line: the master waits the
+//! frame's wire time and the frame gap, looks for nothing and never repeats it.
 
 use crate::error::{hex, DecodeError, EncodeError, ValueError};
 use crate::info::ErrorCodeInfo;
@@ -269,6 +273,76 @@ impl<T: Transport, D: 'static> Master<T, D> {
         let request = Request::read::<R>();
         let answer = self.transact(&request)?;
         Self::value_read::<R>(&request, answer)
+    }
+
+    /// Reads register `R` with the command whose code is `code` (a letter as a number,
+    /// `u32::from(b'G')`), where the protocol has several read commands (the Toshiba
+    /// binary G besides R). Fails before sending when the drive's protocol has no such
+    /// read ([`EncodeError::NoSuchCommand`]).
+    pub fn read_using<R: Register<Drive = D>>(
+        &mut self,
+        code: u32,
+    ) -> Result<Reading<R::Value>, TransactionError> {
+        let request = Request::read::<R>().using(code);
+        let answer = self.transact(&request)?;
+        Self::value_read::<R>(&request, answer)
+    }
+
+    /// Sends `value` for register `R` with the command `code` whose data is a percentage of
+    /// register `F`'s value ([`crate::protocol::PercentOf`]; the Toshiba drive-to-drive S
+    /// command: frequency in 0.01 % of the maximum frequency FH), `reference` being the
+    /// sender's value of `F` (100 %). The percentage is truncated as the manuals do; no
+    /// other range is checked (the drive checks none). A command that gets no reply
+    /// returns once the frame is on the line. Returns the raw word sent.
+    pub fn write_percent_of<R: Writable<Drive = D>, F: Register<Drive = D>>(
+        &mut self,
+        code: u32,
+        value: R::Value,
+        reference: F::Value,
+    ) -> Result<u32, TransactionError> {
+        let protocol = self.protocol;
+        let command = protocol
+            .commands
+            .iter()
+            .find(|c| c.answers_to(code) && c.percent_of.is_some());
+        let Some((command, percent_of)) =
+            command.and_then(|c| c.percent_of.as_ref().map(|p| (c, p)))
+        else {
+            let request = Request::for_register(CommandKind::WriteRam, R::INFO, 0).using(code);
+            return Err(TransactionError::new(
+                Some(&request),
+                TransactionErrorKind::Encode(EncodeError::NoSuchCommand {
+                    protocol: protocol.id.clone(),
+                    code,
+                    kind: CommandKind::WriteRam,
+                }),
+            ));
+        };
+        let request = Request::for_register(command.kind, R::INFO, 0).using(code);
+        if percent_of.register != F::INFO.code && percent_of.register != F::INFO.id {
+            return Err(TransactionError::new(
+                Some(&request),
+                TransactionErrorKind::Encode(EncodeError::NotPercentOf {
+                    protocol: protocol.id.clone(),
+                    code,
+                    register: F::INFO.code,
+                }),
+            ));
+        }
+        let value = engineering(value.to_raw(R::INFO)?, R::INFO);
+        let reference = engineering(reference.to_raw(F::INFO)?, F::INFO);
+        let raw = percent_of
+            .to_raw(value, reference)
+            .ok_or(ValueError::NotAPercentage {
+                register: R::INFO,
+                value,
+                reference,
+            })?;
+        self.transact(&Request {
+            data: raw,
+            ..request
+        })?;
+        Ok(raw)
     }
 
     /// Reads element `index` of the array register `R`. Refuses indexes beyond the array.
@@ -656,7 +730,25 @@ impl<T: Transport, D: 'static> Master<T, D> {
             }
         }
         self.discard_stale_input().map_err(io)?;
+        let sent = Instant::now();
         self.transport.send(&self.request[..len]).map_err(io)?;
+        if unanswered(command, request) {
+            // Nothing comes back: done once the frame is on the line and the gap kept.
+            let done = sent + self.settings.wire_time(len) + self.frame_gap();
+            let now = Instant::now();
+            if now < done {
+                std::thread::sleep(done - now);
+            }
+            self.last_activity = Some(Instant::now());
+            self.reply_len = 0;
+            return Ok(Answer {
+                data: None,
+                tripped: false,
+                process: None,
+                text: None,
+                block: None,
+            });
+        }
         let timeout = self.reply_timeout(len);
         let deadline = Instant::now() + timeout;
         let silence_limit = self.silence_limit();
@@ -932,6 +1024,17 @@ fn mismatch_of(difference: Difference, request: &Request) -> TransactionErrorKin
         expected: difference.expected,
         found: difference.found,
     }
+}
+
+/// Whether `request` sent by `command` gets no reply: the command is never answered
+/// (`reply: none`), or it writes a register whose writes are not (`no_reply: true`).
+fn unanswered(command: &CommandSpec, request: &Request) -> bool {
+    command.no_reply || (request.kind.is_write() && request.info.is_some_and(|info| info.no_reply))
+}
+
+/// A raw value in `info`'s engineering unit (unsigned; for percentages of positive values).
+fn engineering(raw: u32, info: &crate::info::RegisterInfo) -> f64 {
+    f64::from(raw) * info.scale
 }
 
 /// The exchange `step` needs before `request`, if it needs one.

@@ -235,10 +235,30 @@ fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> Token
                 }
                 _ => quote!(),
             };
+            // An extra command (a second read) is reached only by naming its code.
+            let extra = drive
+                .protocols
+                .iter()
+                .find(|p| p.id == example.protocol)
+                .and_then(|p| {
+                    p.commands.iter().find(|c| {
+                        c.extra
+                            && Some(c.kind) == request.meaning.kind
+                            && request.meaning.code == Some(c.code)
+                    })
+                });
+            let using = match extra {
+                Some(command) => {
+                    let code = int_literal(command.code);
+                    quote!(let request = request.using(#code);)
+                }
+                None => quote!(),
+            };
             if let Some(build) = build {
                 body.push(quote! {
                     {
                         #build
+                        #using
                         #at_index
                         ::vfd_runtime::testing::typed_request_encodes(#protocol, &request, #bytes);
                     }

@@ -287,6 +287,7 @@ fn lower_register(
         source: register.source.clone(),
         inferred: register.inferred.clone(),
         warnings: register.warnings.clone(),
+        no_reply: register.no_reply,
     }
 }
 
@@ -378,6 +379,14 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
                 reply: c.reply.name.to_string(),
                 reply_codes: c.reply_codes.to_vec(),
                 error_code: c.error_code,
+                no_reply: c.no_reply,
+                extra: c.extra,
+                lowercase_means_sender_tripped: c.lowercase_means_sender_tripped,
+                registers: c.registers.to_vec(),
+                percent_of: c
+                    .percent_of
+                    .as_ref()
+                    .map(|p| (p.register.to_string(), p.step)),
             })
             .collect(),
         error_reply: runtime.error_reply.as_ref().map(|l| l.name.to_string()),

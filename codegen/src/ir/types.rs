@@ -325,6 +325,21 @@ pub struct CommandIr {
     /// The code an error reply to it carries, where the error layout allows several.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error_code: Option<u32>,
+    /// Never answered (`reply: none`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub no_reply: bool,
+    /// Used only when a request names its code (`extra: true`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub extra: bool,
+    /// A lower-case code in the request says the sender has tripped.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub lowercase_means_sender_tripped: bool,
+    /// The registers it may address (numbers before the address map; empty: any).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub registers: Vec<u16>,
+    /// Its data is a percentage of this register (code), this many % per raw step.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub percent_of: Option<(String, f64)>,
 }
 
 /// The manual's error codes.
@@ -567,6 +582,9 @@ pub struct RegisterIr {
     pub inferred: Vec<InferredFact>,
     /// Safety warnings about this register.
     pub warnings: Vec<WarningIr>,
+    /// Writes to it are never answered.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub no_reply: bool,
 }
 
 impl RegisterIr {

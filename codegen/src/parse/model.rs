@@ -482,6 +482,26 @@ pub struct ProtocolRef {
     /// drive's `error_codes`): they name this protocol's error replies in place of the
     /// drive's table and of the protocol file's own.
     pub error_codes: Option<ProtocolErrorCodesModel>,
+    /// Per command (by code): the registers it may address on this drive, and what its data
+    /// is when not a value in the register's own unit
+    /// (`[{ code: S, registers: [FA01, FA05], percent_of: FH, step: 0.01 }]`).
+    #[serde(default)]
+    pub command_registers: Vec<CommandRegistersModel>,
+}
+
+/// What one command of a protocol may address on this drive, and what its data means.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CommandRegistersModel {
+    /// The command's code in the protocol file (`S`, `0x06`).
+    pub code: CodeModel,
+    /// Codes or ids of the registers it may address; any other is refused before sending.
+    pub registers: Vec<String>,
+    /// Code or id of the register whose value is 100 %: the data is a percentage of it,
+    /// not a value in the addressed register's unit (the unit must be the same).
+    pub percent_of: Option<String>,
+    /// With `percent_of`: the percentage one raw step stands for (default 0.01).
+    pub step: Option<f64>,
 }
 
 /// A range of station numbers.
@@ -722,6 +742,11 @@ pub struct RegisterModel {
     /// Safety warnings about writing or using this register.
     #[serde(default)]
     pub warnings: Vec<WarningModel>,
+    /// Writes to it are never answered (an inverter reset): a master returns once the
+    /// frame is sent (its wire time and the frame gap) instead of waiting for a reply, and
+    /// the virtual drive stays silent.
+    #[serde(default)]
+    pub no_reply: bool,
 }
 
 /// A reference word that is a percentage of a span chosen by a selector register.
@@ -1319,8 +1344,18 @@ pub struct CommandModel {
     pub kind: CommandKind,
     /// Name of the request's layout.
     pub request: String,
-    /// Name of the normal reply's layout.
+    /// Name of the normal reply's layout, or `none` for a command that is never answered
+    /// (a master returns once the frame is sent; the virtual drive stays silent).
     pub reply: String,
+    /// An extra command (default false): a drive gets it only by listing its code in
+    /// `protocols[].commands`, and a request uses it only by naming its code (a second read
+    /// command that some drives have).
+    #[serde(default)]
+    pub extra: bool,
+    /// What a lower-case code means for this command: `sender_tripped` (a request whose
+    /// letter is lower case says its sender, a master inverter, has tripped). Left out: as
+    /// the protocol's `lowercase_means_tripped` says of replies.
+    pub lowercase_means: Option<LowercaseMeans>,
     /// Data types carried (`word`, `double_word`, `bit`, `text`); empty: any.
     #[serde(default)]
     pub data_types: Vec<DataType>,
@@ -1369,6 +1404,14 @@ pub struct PreStepModel {
     #[serde(default)]
     #[allow(dead_code)]
     pub description: String,
+}
+
+/// What a lower-case command letter means for one command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum LowercaseMeans {
+    /// A request with the lower-case letter says its sender has tripped.
+    SenderTripped,
 }
 
 /// What a pre-step does.

@@ -56,7 +56,23 @@ fn lower_command(
     let reply_codes = reply_codes(command, source, &path, out);
     let space = command.space.unwrap_or(Space::Parameter);
     let request = layouts.find(&command.request, &format!("{path}.request"), out);
-    let reply = layouts.find(&command.reply, &format!("{path}.reply"), out);
+    // `reply: none`: never answered; the request's layout stands in, never awaited.
+    let no_reply = command.reply == NO_REPLY;
+    let reply = if no_reply {
+        request.clone()
+    } else {
+        layouts.find(&command.reply, &format!("{path}.reply"), out)
+    };
+    if no_reply && !command.reply_codes.is_empty() {
+        out.push(
+            source
+                .error(
+                    &format!("{path}.reply_codes"),
+                    "reply codes for a command that is never answered (`reply: none`)",
+                )
+                .hint("leave `reply_codes` out, or name the reply's layout"),
+        );
+    }
     if let Some(request) = &request {
         if command.code.is_some() && !request.has(Role::Command) {
             out.push(
@@ -89,8 +105,17 @@ fn lower_command(
                 None
             })?),
         },
+        no_reply,
+        extra: command.extra,
+        lowercase_means_sender_tripped: command.lowercase_means
+            == Some(crate::parse::model::LowercaseMeans::SenderTripped),
+        registers: Cow::Borrowed(&[]),
+        percent_of: None,
     })
 }
+
+/// The word `reply:` takes for a command that is never answered.
+pub(super) const NO_REPLY: &str = "none";
 
 /// The commands the drive carries out, with the data types it carries
 /// (`protocols[].commands`, `protocols[].data_types`); a command left with no data type is
@@ -125,7 +150,10 @@ pub(super) fn drive_subset(
     }
     commands
         .into_iter()
-        .filter(|c| reference.commands.is_none() || codes.contains(&c.spec.code))
+        .filter(|c| match &reference.commands {
+            None => !c.spec.extra,
+            Some(_) => codes.contains(&c.spec.code),
+        })
         .filter_map(|mut c| {
             let Some(allowed) = &reference.data_types else {
                 return Some(c);
@@ -147,6 +175,118 @@ pub(super) fn drive_subset(
             Some(c)
         })
         .collect()
+}
+
+/// Applies the drive's `command_registers`: the registers each command may address and
+/// what its data is a percentage of, resolved from the drive's registers. A code that is
+/// not among the drive's commands, an unknown register or a percentage of a register in
+/// another unit is reported.
+pub(super) fn apply_command_registers(
+    commands: &mut [LoweredCommand],
+    input: &Input<'_>,
+    out: &mut Diagnostics,
+) {
+    let registers = &input.drive.registers;
+    let find = |name: &str| registers.iter().find(|r| r.code == name || r.id == name);
+    for (index, entry) in input.reference.command_registers.iter().enumerate() {
+        let path = format!("{}.command_registers[{index}]", input.reference_path);
+        let error = |key: &str, message: String, hint: &str| {
+            input
+                .drive_source
+                .error(&format!("{path}.{key}"), message)
+                .hint(hint)
+        };
+        let value = entry.code.value();
+        let Some(command) = commands
+            .iter_mut()
+            .find(|c| value.is_some_and(|v| c.spec.code == v))
+        else {
+            out.push(error(
+                "code",
+                format!(
+                    "protocol `{}` as this drive uses it has no command {}",
+                    input.reference.uses,
+                    entry.code.shown()
+                ),
+                "name a command of the protocol file (an extra one must also be listed in `commands`)",
+            ));
+            continue;
+        };
+        let mut numbers = Vec::new();
+        let mut units = Vec::new();
+        for (position, name) in entry.registers.iter().enumerate() {
+            match find(name) {
+                Some(register) => {
+                    numbers.push(register.address as u16);
+                    units.push((position, register.unit.clone()));
+                }
+                None => out.push(error(
+                    &format!("registers[{position}]"),
+                    format!("no register has the code or id `{name}`"),
+                    "name registers of this drive file by code (FA01) or id",
+                )),
+            }
+        }
+        command.spec.registers = Cow::Owned(numbers);
+        if entry.step.is_some() && entry.percent_of.is_none() {
+            out.push(error(
+                "step",
+                "a step without `percent_of`".to_owned(),
+                "`step` is the percentage one raw step stands for: give `percent_of` too, or leave it out",
+            ));
+        }
+        let Some(name) = &entry.percent_of else {
+            continue;
+        };
+        if !command.spec.kind.is_write() {
+            out.push(error(
+                "percent_of",
+                format!(
+                    "command {} is a {}: only a write's data can be a percentage",
+                    entry.code.shown(),
+                    command.spec.kind.as_str()
+                ),
+                "leave `percent_of` out for this command",
+            ));
+            continue;
+        }
+        let Some(reference) = find(name) else {
+            out.push(error(
+                "percent_of",
+                format!("no register has the code or id `{name}`"),
+                "name the register whose value is 100 % by code (FH) or id",
+            ));
+            continue;
+        };
+        for (position, unit) in units {
+            if unit != reference.unit {
+                out.push(error(
+                    &format!("registers[{position}]"),
+                    format!(
+                        "register `{}` is in {}, but `{}` (100 %) is in {}",
+                        entry.registers[position],
+                        unit.as_deref().unwrap_or("no unit"),
+                        name,
+                        reference.unit.as_deref().unwrap_or("no unit")
+                    ),
+                    "a percentage converts between registers of the same unit",
+                ));
+            }
+        }
+        let step = entry.step.unwrap_or(0.01);
+        if !(step > 0.0 && step.is_finite()) {
+            out.push(error(
+                "step",
+                format!("step {step} is not a positive number"),
+                "the percentage one raw step stands for, e.g. 0.01",
+            ));
+            continue;
+        }
+        command.spec.percent_of = Some(vfd_runtime::protocol::PercentOf {
+            register: Cow::Owned(reference.code.clone()),
+            step,
+        });
+    }
 }
 
 /// Each command's `error_code` is one the error reply layout allows.
@@ -493,6 +633,34 @@ mod tests {
                 format!("{} commands[4].code: layout `fixed` has no command field to carry the code", at(&yaml, "1, kind")),
             ]
         );
+    }
+
+    #[test]
+    fn an_extra_command_reaches_only_drives_that_list_it() {
+        let yaml = protocol_with(&[(
+            "{ code: W, kind: write_persistent, request: write_request, reply: reply }",
+            "{ code: W, kind: write_persistent, request: write_request, reply: none, extra: true, lowercase_means: sender_tripped }",
+        )]);
+        let codes = |protocol: &vfd_runtime::Protocol| -> Vec<u32> {
+            protocol.commands.iter().map(|c| c.code).collect()
+        };
+        // Not listed: the drive does not get it.
+        assert_eq!(codes(&lowered(&yaml)), [u32::from(b'R')]);
+        let drive = drive_with("    commands: [R, W]");
+        let protocol = lower_both(&drive, &yaml).unwrap();
+        assert_eq!(codes(&protocol), [u32::from(b'R'), u32::from(b'W')]);
+        let write = &protocol.commands[1];
+        assert!(write.extra && write.no_reply && write.lowercase_means_sender_tripped);
+        // Never answered: the request's layout stands in for the reply, never awaited.
+        assert_eq!(write.reply.name, write.request.name);
+        // A request names it, or does not get it.
+        assert!(protocol
+            .command_for(
+                CommandKind::WritePersistent,
+                Space::Parameter,
+                DataType::Word
+            )
+            .is_none());
     }
 
     #[test]

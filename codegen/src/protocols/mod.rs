@@ -97,7 +97,8 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     let layouts = layouts::lower_layouts(file, source, out);
     layouts::check_rust_names(&input.reference.id, file, source, out);
     let commands = commands::lower_commands(input, &layouts, out);
-    let commands = commands::drive_subset(commands, input, out);
+    let mut commands = commands::drive_subset(commands, input, out);
+    commands::apply_command_registers(&mut commands, input, out);
     let error_reply = file
         .error_reply
         .as_ref()

@@ -59,6 +59,9 @@ pub struct VirtualDrive {
     requests: u64,
     /// The simulated time until which it starts up after a power cycle, answering nothing.
     silent_until: Duration,
+    /// The last request of a command whose lower case speaks of its sender said the sender
+    /// (a master inverter) has tripped.
+    sender_tripped: bool,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -95,6 +98,7 @@ impl VirtualDrive {
             echo: false,
             requests: 0,
             silent_until: Duration::ZERO,
+            sender_tripped: false,
         };
         virtual_drive.refresh();
         virtual_drive
@@ -203,6 +207,14 @@ impl VirtualDrive {
     /// often a master sent a request).
     pub fn requests(&self) -> u64 {
         self.requests
+    }
+
+    /// Whether the last drive-to-drive frame said its sender (the master inverter) has
+    /// tripped (a lower-case code of a command whose lower case means so). The model records
+    /// it only: what a receiver then does (stop, alarm, trip) is set by parameters the
+    /// behaviour model does not describe yet.
+    pub fn sender_tripped(&self) -> bool {
+        self.sender_tripped
     }
 
     /// Whether it is still starting up after a power cycle (and answers nothing).

@@ -108,6 +108,15 @@ impl VirtualDrive {
         if let (Some(process), Some(behaviour)) = (request.process, self.behaviour()) {
             self.process_words(behaviour, process);
         }
+        if request.command.no_reply {
+            self.unanswered(protocol, request);
+            return Outcome::Silent("the command is never answered");
+        }
+        if request.command.kind.is_write() && self.target_of(request).is_ok_and(|i| i.no_reply) {
+            // Carried out as any write (a refusal included), but never answered.
+            let _ = self.write(protocol, request);
+            return Outcome::Silent("writes of this register are never answered");
+        }
         if self.is_block_read(protocol, request) {
             return match self.read_block(protocol, request) {
                 Ok(block) => self.reply_block(protocol, request, &block),
@@ -120,7 +129,16 @@ impl VirtualDrive {
             // the drive reads one): a data range error, as the manual's refusals say.
             return self.refuse(protocol, Some(request), Refusal::OutOfRange);
         }
+        if request
+            .register
+            .is_some_and(|number| !request.command.serves_register(number))
+        {
+            return self.refuse(protocol, Some(request), Refusal::UnknownRegister);
+        }
         let result = match request.command.kind {
+            kind if kind.is_write() && request.command.percent_of.is_some() => {
+                self.write_percent(request).map(|()| (request.data, 0))
+            }
             CommandKind::Read => self.read(protocol, request),
             CommandKind::WriteRam | CommandKind::WritePersistent => self.write(protocol, request),
             CommandKind::Process => Ok((0, 0)),
@@ -130,6 +148,64 @@ impl VirtualDrive {
             Ok((data, data_size)) => self.reply(protocol, request, data, data_size),
             Err(refusal) => self.refuse(protocol, Some(request), refusal),
         }
+    }
+
+    /// Carries out a command that is never answered: a write of a register it may address
+    /// (RAM only; for data that is a percentage of another register, converted to the
+    /// addressed register's unit first, without range checks), and the sender's trip state
+    /// when its lower case says so. A register it may not address is ignored (the manual's
+    /// error cannot be sent back).
+    fn unanswered(&mut self, protocol: &Protocol, request: &DecodedRequest<'_>) {
+        let command = request.command;
+        if command.lowercase_means_sender_tripped {
+            self.sender_tripped = request.sender_tripped();
+        }
+        let Some(number) = request.register else {
+            return;
+        };
+        if !command.serves_register(number) || !command.kind.is_write() {
+            return;
+        }
+        let _ = match &command.percent_of {
+            Some(_) => self.write_percent(request),
+            None => self.write(protocol, request).map(|_| ()),
+        };
+    }
+
+    /// A write whose data is a percentage of another register: converted to the addressed
+    /// register's unit and stored in RAM, without range checks (the drive makes none).
+    fn write_percent(&mut self, request: &DecodedRequest<'_>) -> Result<(), Refusal> {
+        let Some(percent_of) = &request.command.percent_of else {
+            return Err(Refusal::UnknownRegister);
+        };
+        let info = self.target_of(request)?;
+        if !request
+            .register
+            .is_some_and(|n| request.command.serves_register(n))
+        {
+            return Err(Refusal::UnknownRegister);
+        }
+        if info.access == crate::kinds::Access::ReadOnly || info.data_type == DataType::Text {
+            return Err(Refusal::ReadOnly);
+        }
+        // The plain proportion, `value = percent x reference / 100`, truncated to the
+        // register's step. Hook: a receiver that converts through other parameters instead
+        // (frequency points chosen by parameters) needs vocabulary of its own; it would
+        // replace this line.
+        let value = self
+            .value_of(&percent_of.register)
+            .map_or(0.0, |reference| {
+                percent_of.from_raw(request.data, reference)
+            });
+        let raw = (value / info.scale + 1e-9)
+            .floor()
+            .clamp(0.0, f64::from(u32::MAX)) as u32;
+        self.storage.set(info, 0, raw, false);
+        if self.behaviour().map(|b| b.command.register) == Some(info.id) {
+            self.command_written(raw);
+        }
+        self.refresh();
+        Ok(())
     }
 
     /// The error reply for `refusal`, or silence when the protocol has no code for it.

@@ -73,6 +73,9 @@ struct CommandView<'a> {
     error_code: String,
     request: &'a str,
     reply: &'a str,
+    /// What sets the command apart (extra, never answered, registers, percentage), in
+    /// words; empty for an ordinary command.
+    notes: String,
 }
 
 #[derive(Serialize)]
@@ -207,6 +210,9 @@ struct ExampleView<'a> {
     value_display: String,
     request: Option<FrameView<'a>>,
     reply: Option<FrameView<'a>>,
+    /// The request is never answered (its command's `reply: none`, or a write of a register
+    /// with `no_reply: true`).
+    unanswered: bool,
 }
 
 #[derive(Serialize)]
@@ -416,7 +422,12 @@ impl<'a> DriveView<'a> {
                             }),
                         })
                     };
+                    let unanswered = example
+                        .request
+                        .as_ref()
+                        .is_some_and(|frame| request_unanswered(drive, example, frame, described));
                     ExampleView {
+                        unanswered,
                         example,
                         register_code: described.map(|r| r.code.clone()).unwrap_or_default(),
                         value_display: match (example.value, described) {
@@ -430,6 +441,76 @@ impl<'a> DriveView<'a> {
                 .collect(),
         }
     }
+}
+
+/// Whether the request `frame` of `example` is never answered: its command says so, or it
+/// writes a register whose writes are not answered.
+fn request_unanswered(
+    drive: &DriveIr,
+    example: &ExampleIr,
+    frame: &FrameIr,
+    register: Option<&RegisterIr>,
+) -> bool {
+    let meaning = &frame.meaning;
+    let command = drive
+        .protocols
+        .iter()
+        .find(|p| p.id == example.protocol)
+        .and_then(|p| {
+            p.commands.iter().find(|c| {
+                Some(c.kind) == meaning.kind
+                    && meaning.code.is_some_and(|code| {
+                        code == c.code
+                            || (c.lowercase_means_sender_tripped
+                                && u8::try_from(code)
+                                    .is_ok_and(|b| u32::from(b.to_ascii_uppercase()) == c.code))
+                    })
+            })
+        });
+    command.is_some_and(|c| c.no_reply)
+        || (meaning.kind.is_some_and(|k| k.is_write()) && register.is_some_and(|r| r.no_reply))
+}
+
+/// What sets a command apart, in words (empty for an ordinary one).
+fn command_notes(drive: &DriveIr, command: &CommandIr) -> String {
+    let mut notes = Vec::new();
+    let label = |number: u16| {
+        drive
+            .registers
+            .iter()
+            .find(|r| r.address == number && r.space == command.space)
+            .map_or_else(|| format!("{number:04X}h"), |r| r.code.clone())
+    };
+    if command.extra {
+        let verb = if command.kind.is_write() {
+            "write"
+        } else {
+            "read"
+        };
+        notes.push(format!(
+            "extra: used only when a request names it (`Request::using`, `vfd {verb} --command {}`)",
+            vfd_runtime::protocol::code_label(command.code)
+        ));
+    }
+    if command.no_reply {
+        notes.push(
+            "never answered: sending returns once the frame is on the line (wire time and frame gap)"
+                .to_owned(),
+        );
+    }
+    if command.lowercase_means_sender_tripped {
+        notes.push("lower case: the sender (master) has tripped".to_owned());
+    }
+    if !command.registers.is_empty() {
+        let names: Vec<String> = command.registers.iter().map(|r| label(*r)).collect();
+        notes.push(format!("addresses only {}", names.join(", ")));
+    }
+    if let Some((register, step)) = &command.percent_of {
+        notes.push(format!(
+            "data in {step} % of {register}, not in the register's unit"
+        ));
+    }
+    notes.join("; ")
 }
 
 fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolView<'a> {
@@ -491,7 +572,8 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
                     .error_code
                     .map_or_else(|| "—".to_owned(), vfd_runtime::protocol::code_label),
                 request: &c.request,
-                reply: &c.reply,
+                reply: if c.no_reply { "none (never answered)" } else { &c.reply },
+                notes: command_notes(drive, c),
             })
             .collect(),
         pre_steps: protocol

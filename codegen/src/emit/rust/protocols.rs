@@ -188,6 +188,23 @@ fn command_tokens(command: &CommandIr, file: &Ident) -> TokenStream {
         let code = int_literal(code);
         tokens.extend(quote!(.with_error_code(#code)));
     }
+    if command.no_reply {
+        tokens.extend(quote!(.without_reply()));
+    }
+    if command.extra {
+        tokens.extend(quote!(.as_extra()));
+    }
+    if command.lowercase_means_sender_tripped {
+        tokens.extend(quote!(.with_lowercase_sender_tripped()));
+    }
+    if !command.registers.is_empty() {
+        let registers = command.registers.iter().map(|r| int_literal(*r));
+        tokens.extend(quote!(.with_registers(&[#(#registers),*])));
+    }
+    if let Some((register, step)) = &command.percent_of {
+        let step = Literal::f64_unsuffixed(*step);
+        tokens.extend(quote!(.with_percent_of(#register, #step)));
+    }
     tokens
 }
 

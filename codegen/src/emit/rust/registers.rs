@@ -38,6 +38,9 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
     if register.panel_only {
         facts.push("effective only when set from the panel".into());
     }
+    if register.no_reply {
+        facts.push("writes are never answered (sending returns once the frame is sent)".into());
+    }
     if register.takes_effect == TakesEffect::AfterReset {
         facts.push("takes effect after a reset".into());
     }
@@ -115,6 +118,9 @@ fn info_chain(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
     }
     if register.panel_only {
         chain.extend(quote!(.with_panel_only()));
+    }
+    if register.no_reply {
+        chain.extend(quote!(.with_no_reply()));
     }
     if register.takes_effect != TakesEffect::Immediately {
         let takes_effect = register.takes_effect.bake();
