@@ -84,6 +84,27 @@ impl FrameValues {
             .flatten()
     }
 
+    /// The 16-bit words of the words field ([`Role::Words`]) in `frame` (the frame these
+    /// values were decoded from), each in the field's byte order; empty when the layout has
+    /// none or the frame carries none.
+    pub fn words(&self, layout: &FrameLayout, frame: &[u8]) -> Words {
+        let little_endian = layout
+            .field(Role::Words)
+            .is_some_and(|field| field.format == Format::U16Le);
+        let bytes = self.bytes(layout, Role::Words, frame).unwrap_or(&[]);
+        let mut words = Words::default();
+        for pair in bytes.chunks_exact(2).take(MAX_WORDS) {
+            let pair = [pair[0], pair[1]];
+            words.words[usize::from(words.len)] = if little_endian {
+                u16::from_le_bytes(pair)
+            } else {
+                u16::from_be_bytes(pair)
+            };
+            words.len += 1;
+        }
+        words
+    }
+
     /// Marks every optional part named in `names` present (e.g. `["sum", "end"]`).
     pub fn include(&mut self, layout: &FrameLayout, names: &[&str]) {
         for (index, part) in layout.parts.iter().enumerate() {
@@ -91,6 +112,62 @@ impl FrameValues {
                 self.parts[index].present = true;
             }
         }
+    }
+}
+
+/// The most words a words field ([`Role::Words`]) holds in a [`Words`] list.
+pub const MAX_WORDS: usize = 64;
+
+/// The words a frame's words field carries (a block transfer's), held without allocation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Words {
+    words: [u16; MAX_WORDS],
+    len: u8,
+}
+
+impl Default for Words {
+    fn default() -> Self {
+        Words {
+            words: [0; MAX_WORDS],
+            len: 0,
+        }
+    }
+}
+
+impl Words {
+    /// The words, in frame order.
+    pub fn as_slice(&self) -> &[u16] {
+        &self.words[..usize::from(self.len)]
+    }
+
+    /// These words; `None` when there are more than [`MAX_WORDS`].
+    pub fn from_slice(words: &[u16]) -> Option<Words> {
+        if words.len() > MAX_WORDS {
+            return None;
+        }
+        let mut list = Words {
+            len: words.len() as u8,
+            ..Words::default()
+        };
+        list.words[..words.len()].copy_from_slice(words);
+        Some(list)
+    }
+
+    /// The words as the payload of `layout`'s words field: each in the field's byte order.
+    pub fn payload(&self, layout: &FrameLayout) -> Vec<u8> {
+        let little_endian = layout
+            .field(Role::Words)
+            .is_some_and(|field| field.format == Format::U16Le);
+        self.as_slice()
+            .iter()
+            .flat_map(|word| {
+                if little_endian {
+                    word.to_le_bytes()
+                } else {
+                    word.to_be_bytes()
+                }
+            })
+            .collect()
     }
 }
 
@@ -129,7 +206,7 @@ impl Roles {
             Role::Process1 => Some(&mut self.process_1),
             Role::Process2 => Some(&mut self.process_2),
             Role::Decimals => Some(&mut self.decimals),
-            Role::Text => None,
+            Role::Text | Role::Words | Role::ReadCount | Role::WriteStatus => None,
         }
     }
 }
@@ -309,6 +386,10 @@ fn encode_field(
     data_size: u8,
     payload: &[u8],
 ) -> Result<(), EncodeError> {
+    if field.role == Role::Words {
+        // The words of a block transfer: the payload holds them, each in the field's format.
+        return writer.put(payload);
+    }
     match field.format {
         Format::Bytes => writer.put(payload),
         // A block of registers: the payload holds them, each in the field's byte order.
@@ -600,6 +681,9 @@ fn decode_field(
             return Ok(PartOutcome::Done);
         }
     }
+    if field.role == Role::Words {
+        return decode_words(layout, index, field, cursor, values);
+    }
     let size = match (field.sized_by, field.format) {
         (SizedBy::Rest, _) => Some(rest_size(layout, index, cursor)?),
         (SizedBy::Length, _) => {
@@ -682,6 +766,43 @@ fn decode_field(
             Ok(PartOutcome::Done)
         }
     }
+}
+
+/// A run of words sized by a length part (a block transfer's words): held as its offset
+/// and byte count; the count must be whole words.
+fn decode_words(
+    layout: &FrameLayout,
+    index: usize,
+    field: &FieldSpec,
+    cursor: &mut Cursor<'_>,
+    values: &mut FrameValues,
+) -> Result<PartOutcome, DecodeError> {
+    let rest = &cursor.bytes[cursor.pos..];
+    let word = field.format.fixed_len().unwrap_or(2);
+    let size = match field.sized_by {
+        SizedBy::Length if cursor.sized[index] != u16::MAX => usize::from(cursor.sized[index]),
+        SizedBy::Rest => rest_size(layout, index, cursor)?,
+        _ => usize::from(field.width),
+    };
+    if size % word != 0 || size > usize::from(u8::MAX) {
+        return Err(DecodeError::LengthMismatch {
+            layout: layout.name.clone(),
+            part: field.name.clone(),
+            offset: cursor.pos,
+            received: size as u32,
+            actual: (size - size % word) as u32,
+        });
+    }
+    if rest.len() < size {
+        return Ok(PartOutcome::Incomplete);
+    }
+    values.parts[index] = FieldValue {
+        present: true,
+        value: cursor.pos as u32,
+        width: size as u8,
+    };
+    cursor.pos += size;
+    Ok(PartOutcome::Done)
 }
 
 /// Size of a rest-of-frame field: up to the frame end, less the fixed parts after it.

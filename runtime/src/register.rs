@@ -248,6 +248,7 @@ impl Request {
                 }
                 None => "process exchange".to_owned(),
             },
+            CommandKind::Block => "block transfer".to_owned(),
         }
     }
 }

@@ -354,6 +354,15 @@ fn lower_error_codes(codes: &[ErrorCodeModel]) -> Vec<ErrorCodeIr> {
         .collect()
 }
 
+/// The drive's `block:` on the protocol with this id.
+fn block_model<'m>(model: &'m DriveFile, id: &str) -> Option<&'m crate::parse::model::BlockModel> {
+    model
+        .protocols
+        .iter()
+        .find(|p| p.id == id)
+        .and_then(|p| p.block.as_ref())
+}
+
 fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
     let runtime = &protocol.runtime;
     ProtocolIr {
@@ -390,6 +399,17 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         default_process: protocol.file.protocol.default_process,
         frame_gap_chars: runtime.frame_gap_chars,
         max_words_per_read: runtime.max_words_per_read,
+        block: runtime.block.clone(),
+        block_source: block_model(model, &protocol.id).map_or_else(String::new, |b| {
+            let modes: Vec<&str> = b.modes.iter().map(|m| m.source.as_str()).collect();
+            if modes.is_empty() {
+                b.source.clone()
+            } else {
+                format!("{}; modes: {}", b.source, modes.join(", "))
+            }
+        }),
+        block_note: block_model(model, &protocol.id)
+            .map_or_else(String::new, |b| b.note.trim().to_owned()),
         error_table: if drive_table_applies(model, &protocol.id) {
             ErrorTableIr::Drive
         } else {

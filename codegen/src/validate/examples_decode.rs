@@ -174,6 +174,8 @@ fn mismatches(
         ("index", expect.index, wide(decoded.index)),
         ("data", expect.data, decoded.data),
         ("error_code", expect.error_code, wide(decoded.error_code)),
+        ("read_count", expect.read_count, decoded.read_count),
+        ("write_status", expect.write_status, decoded.write_status),
         (
             "address",
             expect.address.map(u32::from),
@@ -199,6 +201,16 @@ fn mismatches(
         mismatches.push(format!(
             "text is {:?}, expected {:?}",
             decoded.text, expect.text
+        ));
+    }
+    let words = decoded
+        .words
+        .as_ref()
+        .map(|words| words.iter().map(|w| u32::from(*w)).collect::<Vec<_>>());
+    if expect.words != words {
+        mismatches.push(format!(
+            "words are {:X?}, expected {:X?}",
+            words, expect.words
         ));
     }
     if expect.tripped != decoded.tripped {
