@@ -117,17 +117,17 @@ pub fn block(args: &BlockArgs<'_>) -> Result<(), Failure> {
         .unwrap_or(u8::try_from(selection.read.len()).unwrap_or(u8::MAX));
     let outcome = session.block_transfer(&selection, &words, reads)?;
     say!(
-        "block transfer on {} ({}): selectors {}",
+        "block transfer on {}: selectors {}{}",
         protocol.id,
         if args.defaults {
-            "description defaults"
+            "at the description's defaults"
         } else {
-            "as read from the drive, in force since its last reset"
+            "as read from the drive (it uses the values of its last reset)"
         },
         if sets.is_empty() {
-            String::new()
+            ""
         } else {
-            "(some given with --set)".to_owned()
+            ", some given with --set"
         }
     );
     for (position, (target, word)) in outcome.writes.iter().zip(&words).enumerate() {

@@ -1272,6 +1272,91 @@ mod tests {
         );
     }
 
+    /// A block-transfer reply: start, command, a count of words, a status byte, the words
+    /// (each high byte first), a sum.
+    fn block_reply() -> FrameLayout {
+        let field = |name: &'static str, role: Role, format: Format| {
+            Part::Field(FieldSpec {
+                sized_by: if role == Role::Words {
+                    SizedBy::Length
+                } else {
+                    SizedBy::Format
+                },
+                ..FieldSpec::new(name, role, format, 1)
+            })
+        };
+        FrameLayout {
+            name: "block_reply".into(),
+            parts: List::Owned(vec![
+                Part::literal("start", b"/"),
+                field("command", Role::Command, Format::Char),
+                Part::Length(
+                    LengthSpec::new(
+                        "count",
+                        Format::U8,
+                        Counts::Parts {
+                            from: 4,
+                            through: 4,
+                        },
+                    )
+                    .with_ratio(1, 2),
+                ),
+                field("write_status", Role::WriteStatus, Format::U8),
+                field("words", Role::Words, Format::U16Be),
+                Part::Checksum(ChecksumSpec::new(
+                    "sum",
+                    ChecksumAlgorithm::Sum8,
+                    Format::U8,
+                    0,
+                )),
+            ]),
+        }
+    }
+
+    #[test]
+    fn a_words_field_holds_as_many_words_as_its_length_says() {
+        let layout = block_reply();
+        let frame = [
+            0x2F, 0x59, 0x05, 0x00, 0x64, 0x00, 0x17, 0x70, 0x1A, 0x8A, 0x24, 0xFD, 0x00, 0x00,
+            0x3D,
+        ];
+        for end in 0..frame.len() {
+            assert_eq!(decode(&layout, &frame[..end]), Ok(DecodeStatus::Incomplete));
+        }
+        let DecodeStatus::Complete { values, len } = decode(&layout, &frame).unwrap() else {
+            panic!("incomplete")
+        };
+        assert_eq!(len, frame.len());
+        let words = values.words(&layout, &frame);
+        assert_eq!(words.as_slice(), [0x6400, 0x1770, 0x1A8A, 0x24FD, 0x0000]);
+        assert_eq!(values.get(&layout, Role::WriteStatus), Some(0));
+        // Encoding computes the count from the words.
+        let mut built = FrameValues::default();
+        built.set(&layout, Role::Command, u32::from(b'Y'));
+        built.set(&layout, Role::WriteStatus, 0);
+        let mut out = [0u8; 32];
+        let n = encode_with_payload(&layout, &built, &words.payload(&layout), &mut out).unwrap();
+        assert_eq!(&out[..n], &frame[..]);
+        // No words at all: a count of 0.
+        let empty = [0x2F, 0x59, 0x00, 0x00, 0x88];
+        let DecodeStatus::Complete { values, .. } = decode(&layout, &empty).unwrap() else {
+            panic!("incomplete")
+        };
+        assert!(values.words(&layout, &empty).as_slice().is_empty());
+    }
+
+    #[test]
+    fn a_words_field_of_half_a_word_is_refused() {
+        // A count is in words here, so a half word cannot arise from it: a length counting
+        // bytes can.
+        let mut layout = block_reply();
+        if let Part::Length(length) = &mut layout.parts.to_mut()[2] {
+            length.per = 1;
+        }
+        let error = decode(&layout, &[0x2F, 0x59, 0x03, 0x00, 0x01, 0x02, 0x03, 0x00]).unwrap_err();
+        assert_eq!(error.kind(), crate::error::DecodeErrorKind::LengthMismatch);
+    }
+
     #[test]
     fn a_value_too_wide_for_its_digits_is_refused() {
         let layout = toshiba_ascii_read();
