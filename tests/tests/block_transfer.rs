@@ -279,3 +279,17 @@ fn a_drive_without_a_block_selection_has_no_block_command() {
         "{error}"
     );
 }
+
+#[test]
+fn a_tripped_drive_answers_with_a_lower_case_y() {
+    let sim = Simulator::new(&vf_as1::DRIVE);
+    let mut master = sim.master(&vf_as1::protocols::BINARY).with_address(None);
+    sim.inject_trip(0x18);
+    let outcome = master
+        .block_transfer(&block_spec().default_selection(), &[], 0)
+        .unwrap();
+    assert!(outcome.tripped);
+    assert!(outcome.reads.is_empty());
+    // 2Fh + 79h ('y') + count 0 + status 0.
+    assert_eq!(master.last_reply(), hex("2F 79 00 00 A8"));
+}
