@@ -146,6 +146,12 @@ pub fn block(args: &BlockArgs<'_>) -> Result<(), Failure> {
             label(*target)
         );
     }
+    if (0..words.len()).any(|position| outcome.write_failed(position)) {
+        say!(
+            "  (a word is not written when its position selects nothing on the drive, which \
+             takes its selection at a reset, or when its register refuses the value)"
+        );
+    }
     for (position, (target, word)) in outcome.reads.iter().enumerate() {
         match target.and_then(|r| drive.register_at(Space::Parameter, r)) {
             Some(info) => print_value(

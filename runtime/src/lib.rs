@@ -79,4 +79,6 @@ pub use protocol::{
     DriveProtocol, PreStep, Protocol, Reply,
 };
 pub use register::{DriveRequest, Persistable, Register, RegisterValue, Request, Writable};
-pub use transaction::{AnyDrive, BlockTransfer, Reading, TransactionError, TransactionErrorKind};
+pub use transaction::{
+    block_word, AnyDrive, BlockTransfer, Reading, TransactionError, TransactionErrorKind,
+};

@@ -64,6 +64,33 @@ impl BlockTransfer {
     pub fn write_failed(&self, position: usize) -> bool {
         position < 32 && self.write_status & (1 << position) != 0
     }
+
+    /// The typed value of register `R`, when a read position selected it (`None`
+    /// otherwise).
+    pub fn value<R: Register>(&self) -> Option<Result<R::Value, ValueError>> {
+        if R::INFO.space != Space::Parameter {
+            return None;
+        }
+        self.reads
+            .iter()
+            .find(|(register, _)| *register == Some(R::INFO.address))
+            .map(|(_, word)| R::Value::from_raw(u32::from(*word), R::INFO))
+    }
+
+    /// Whether the word written to register `R` was written: `None` when no write position
+    /// selected `R`.
+    pub fn written<R: Register>(&self) -> Option<bool> {
+        self.writes
+            .iter()
+            .position(|register| *register == Some(R::INFO.address))
+            .map(|position| !self.write_failed(position))
+    }
+}
+
+/// The word a block transfer writes for `value` of register `R`: its raw value, checked
+/// against the register's range as a typed write is (the frame carries 16-bit words).
+pub fn block_word<R: Writable>(value: &R::Value) -> Result<u16, ValueError> {
+    value.to_raw(R::INFO).map(|raw| raw as u16)
 }
 
 /// A value read from a drive, with what the reply said about the drive: a tripped drive

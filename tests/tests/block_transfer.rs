@@ -3,10 +3,13 @@
 //! exchanges come byte for byte from the virtual drive, configured as the manual says.
 
 use std::time::Duration;
+use vf_as1::registers::{CommandWord12wire, FrequencyCommand2wire, OutputFrequency, Status1};
 use vfd_drives::{vf_as1, yd1000};
+use vfd_runtime::prelude::*;
 use vfd_runtime::virtual_drive::{Outcome, Simulator};
 use vfd_runtime::{
-    BlockSelection, CommandKind, EncodeError, Request, TransactionError, TransactionErrorKind,
+    block_word, BlockSelection, CommandKind, EncodeError, Request, TransactionError,
+    TransactionErrorKind,
 };
 
 fn hex(text: &str) -> Vec<u8> {
@@ -139,9 +142,19 @@ fn the_manual_example_comes_from_the_virtual_drive() {
     );
 
     // Running at 60 Hz. The output voltage is not modelled: set as the drive would show it.
+    // The words, typed: command word 1 (priority, frequency priority, run) and 60 Hz.
     sim.advance(Duration::from_secs(30));
     assert!(sim.lock().set_raw("FD05", 0x24FD));
-    let running = master.block_transfer(&selection, &writes, 5).unwrap();
+    let run = vf_as1::bits::CommandWord1::new()
+        .with_command_priority(true)
+        .with_frequency_priority(true)
+        .with_run(true);
+    let typed = [
+        block_word::<CommandWord12wire>(&run).unwrap(),
+        block_word::<FrequencyCommand2wire>(&Hertz(60.0)).unwrap(),
+    ];
+    assert_eq!(typed, writes);
+    let running = master.block_transfer(&selection, &typed, 5).unwrap();
     assert_eq!(
         master.last_reply(),
         hex("2F 59 05 00 64 00 17 70 1A 8A 24 FD 00 00 3D")
@@ -157,6 +170,17 @@ fn the_manual_example_comes_from_the_virtual_drive() {
         ]
     );
     assert!(!running.tripped);
+    assert_eq!(
+        running.value::<OutputFrequency>().unwrap().unwrap(),
+        Hertz(60.0)
+    );
+    assert!(running.value::<Status1>().unwrap().unwrap().running());
+    assert!(
+        running.value::<FrequencyCommand2wire>().is_none(),
+        "not read"
+    );
+    assert_eq!(running.written::<FrequencyCommand2wire>(), Some(true));
+    assert_eq!(running.written::<OutputFrequency>(), None);
 }
 
 #[test]

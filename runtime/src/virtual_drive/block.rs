@@ -67,7 +67,8 @@ impl VirtualDrive {
                         self.command_written(raw);
                     }
                 }
-                None => status |= 1 << position,
+                None if position < 32 => status |= 1 << position,
+                None => {}
             }
         }
         self.refresh();
