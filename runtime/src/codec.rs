@@ -153,6 +153,24 @@ impl Words {
         Some(list)
     }
 
+    /// Writes the words into `out` as the payload of `layout`'s words field (each in the
+    /// field's byte order) and returns the byte count, without allocating; `out` holds
+    /// [`MAX_WORDS`] words.
+    pub fn write_payload(&self, layout: &FrameLayout, out: &mut [u8; 2 * MAX_WORDS]) -> usize {
+        let little_endian = layout
+            .field(Role::Words)
+            .is_some_and(|field| field.format == Format::U16Le);
+        for (word, pair) in self.as_slice().iter().zip(out.chunks_exact_mut(2)) {
+            let bytes = if little_endian {
+                word.to_le_bytes()
+            } else {
+                word.to_be_bytes()
+            };
+            pair.copy_from_slice(&bytes);
+        }
+        self.as_slice().len() * 2
+    }
+
     /// The words as the payload of `layout`'s words field: each in the field's byte order.
     pub fn payload(&self, layout: &FrameLayout) -> Vec<u8> {
         let little_endian = layout

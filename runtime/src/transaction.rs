@@ -531,7 +531,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
     /// for a drive in its factory state): the frame carries only the words, the drive
     /// decides where they go. More words than the selection has, or a protocol without a
     /// block transfer, is refused before anything is sent. Not repeated on failure (it
-    /// writes).
+    /// writes). The exchange allocates nothing; the result's lists are allocated.
     pub fn block_transfer(
         &mut self,
         selection: &crate::protocol::BlockSelection,
@@ -753,8 +753,9 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 .request_values(request, self.address)
                 .map_err(cannot_send)?;
             values.set(layout, Role::ReadCount, u32::from(read_count));
-            let payload = words.payload(layout);
-            crate::codec::encode_with_payload(layout, &values, &payload, &mut self.request)
+            let mut payload = [0u8; 2 * crate::codec::MAX_WORDS];
+            let size = words.write_payload(layout, &mut payload);
+            crate::codec::encode_with_payload(layout, &values, &payload[..size], &mut self.request)
                 .map_err(cannot_send)?
         } else if self.block_words > 1 {
             // A block read: the request counts the words it asks for.
