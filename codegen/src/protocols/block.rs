@@ -26,11 +26,11 @@ pub(super) fn lower_block(
                 .error(
                     &base,
                     format!(
-                        "protocol file `{}` has no block command (`kind: block`)",
-                        input.reference.uses
+                        "protocol `{}` (file `{}`) carries no block command (`kind: block`)",
+                        input.reference.id, input.reference.uses
                     ),
                 )
-                .hint("describe the block-transfer frames in the protocol file, or drop `block`"),
+                .hint("describe the block-transfer frames in the protocol file (and list the command under `commands`, if given), or drop `block`"),
         );
     }
     let write = selectors(input, &block.write, &format!("{base}.write"), out);
@@ -225,4 +225,53 @@ fn choices(
         return None;
     }
     Some(choices)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_support::{drive_with, lower_both, problems_of, PROTOCOL};
+
+    /// The test drive with a block selection on its ASCII protocol, and the registers and
+    /// code table it names.
+    fn drive_with_block(block: &str) -> String {
+        drive_with(&format!("    block:\n{block}"))
+            .replace(
+                "registers: []",
+                "codes:\n  - id: selection\n    name: Selection\n    source: \"1\"\n    values:\n      - { value: 0, id: none, name: None }\n      - { value: 1, id: frequency, name: Frequency, register: FA01 }\n\nregisters:\n  - { address: 0x0870, id: selector, code: F870, name: Selector, code_table: selection, default: 0, source: \"1\" }\n  - { address: 0xFA01, id: frequency, code: FA01, name: Frequency, source: \"1\" }\n",
+            )
+    }
+
+    #[test]
+    fn a_block_needs_a_block_command_in_the_protocol() {
+        let drive =
+            drive_with_block("      source: \"1\"\n      write: [F870]\n      read: [F870]\n");
+        let problems = problems_of(lower_both(&drive, PROTOCOL));
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert!(
+            problems[0].contains(
+                "protocols[0].block: protocol `ascii` (file `test`) carries no block command"
+            ),
+            "{problems:?}"
+        );
+    }
+
+    #[test]
+    fn every_name_of_a_block_must_resolve() {
+        let drive = drive_with_block(
+            "      source: \"1\"\n      write: [F870, F871]\n      read: [FA01]\n      modes:\n        - { register: FA80, value: 1, write: [FA01], read: [FA02], source: \"1\" }\n",
+        );
+        let problems = problems_of(lower_both(&drive, PROTOCOL));
+        let wanted = [
+            "protocols[0].block.write[1]: no parameter `F871`",
+            "protocols[0].block.read[0]: `FA01` has no code table",
+            "protocols[0].block.modes[0].register: no parameter `FA80`",
+            "protocols[0].block.modes[0].read[0]: no parameter `FA02`",
+        ];
+        for wanted in wanted {
+            assert!(
+                problems.iter().any(|p| p.contains(wanted)),
+                "missing `{wanted}` in {problems:?}"
+            );
+        }
+    }
 }
