@@ -87,7 +87,7 @@ enum Command {
     /// Run one block transfer (write several words, read several, in one exchange) where
     /// the drive describes one; the words' registers are the drive's block selection.
     #[command(
-        after_help = "The selection (F870-F879 on the VF-AS1) is read from the drive unless --defaults; the drive uses the values it had at its last reset.
+        after_help = "The selection (the drive's block selector parameters) is read from the drive unless --defaults; the drive uses the values it had at its last reset.
 
 Examples:
   vfd block --drive vf-as1 --port /dev/pts/5 --write command_priority,frequency_priority,run --write 60Hz

@@ -292,8 +292,9 @@ pub struct BlockChoice {
     pub register: Option<u16>,
 }
 
-/// Another selection of a block transfer, in force while a register holds a value (the
-/// VF-AS1's FA80 = 1): fixed registers instead of the selectors'.
+/// Another selection of a block transfer, in force while a mode register holds a value:
+/// fixed registers instead of the selectors' (see `protocols[].block.modes` in
+/// `drives/README.md`).
 #[derive(Debug, Clone, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct BlockMode {
