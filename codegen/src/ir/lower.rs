@@ -458,6 +458,19 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                 reply: frame(&example.reply, &decoded.reply),
                 value: example.value,
                 register: register.map(|r| r.id.clone()),
+                settings: example
+                    .settings
+                    .iter()
+                    .map(|(name, value)| {
+                        let code = drive
+                            .model
+                            .registers
+                            .iter()
+                            .find(|r| &r.code == name || &r.id == name)
+                            .map_or_else(|| name.clone(), |r| r.code.clone());
+                        (code, *value)
+                    })
+                    .collect(),
             }
         })
         .collect()

@@ -707,6 +707,9 @@ pub struct ExampleIr {
     pub value: Option<f64>,
     /// Id of the described register the example's data belongs to, if any.
     pub register: Option<String>,
+    /// The drive settings the frames assume: (register code, value in its unit).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub settings: Vec<(String, f64)>,
 }
 
 /// One frame of an example.

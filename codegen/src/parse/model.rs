@@ -844,6 +844,11 @@ pub struct ExampleModel {
     pub reply: Option<FrameModel>,
     /// The data word's value in the register's engineering unit.
     pub value: Option<f64>,
+    /// The drive settings the frames assume, where the frames depend on more than their
+    /// bytes (a block transfer's selectors): register (code or id) -> value, in the
+    /// register's unit (a code for code tables), as `default` is written.
+    #[serde(default)]
+    pub settings: BTreeMap<String, f64>,
 }
 
 /// Frame bytes, written as text (`ascii`) or as hex pairs (`hex`).

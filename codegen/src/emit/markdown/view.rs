@@ -206,6 +206,7 @@ struct ExampleView<'a> {
     example: &'a ExampleIr,
     register_code: String,
     value_display: String,
+    settings_display: String,
     request: Option<FrameView<'a>>,
     reply: Option<FrameView<'a>>,
 }
@@ -424,6 +425,12 @@ impl<'a> DriveView<'a> {
                             (Some(value), Some(r)) => value_text(r, value),
                             _ => String::new(),
                         },
+                        settings_display: example
+                            .settings
+                            .iter()
+                            .map(|(code, value)| format!("{code} = {value}"))
+                            .collect::<Vec<_>>()
+                            .join(", "),
                         request: frame(&example.request),
                         reply: frame(&example.reply),
                     }
