@@ -328,6 +328,19 @@ impl Session {
         Ok((answer.data, answer.tripped))
     }
 
+    /// Runs one block transfer with `selection` (see `vfd block`).
+    pub fn block_transfer(
+        &mut self,
+        selection: &vfd_runtime::BlockSelection,
+        writes: &[u16],
+        read_count: u8,
+    ) -> Result<vfd_runtime::BlockTransfer, Failure> {
+        self.requests += 1;
+        self.master
+            .block_transfer(selection, writes, read_count)
+            .map_err(|e| self.failure(e))
+    }
+
     /// Reads every register of `registers`, consecutive ones together where the protocol
     /// reads several registers in one request (its `max_words_per_read`); the others, and a
     /// block the drive refuses, one request each. Results are in the order given.

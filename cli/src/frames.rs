@@ -664,6 +664,30 @@ fn parts(protocol: &Protocol, direction: Direction, bytes: &[u8]) -> Vec<(String
                     Role::Register | Role::Data | Role::Process1 | Role::Process2 => {
                         format!("{:04X}h", value.value)
                     }
+                    Role::Words => {
+                        let words = values.words(layout, bytes);
+                        let shown: Vec<String> = words
+                            .as_slice()
+                            .iter()
+                            .map(|w| format!("{w:04X}h"))
+                            .collect();
+                        if shown.is_empty() {
+                            "(none)".to_owned()
+                        } else {
+                            shown.join(" ")
+                        }
+                    }
+                    Role::WriteStatus => {
+                        let failed: Vec<String> = (0..8)
+                            .filter(|bit| value.value & (1 << bit) != 0)
+                            .map(|bit| format!("word {} not written", bit + 1))
+                            .collect();
+                        if failed.is_empty() {
+                            format!("{:02X}h (every word written)", value.value)
+                        } else {
+                            format!("{:02X}h ({})", value.value, failed.join(", "))
+                        }
+                    }
                     _ => value.value.to_string(),
                 },
             ),

@@ -7,6 +7,7 @@
 //! protocol is named here. Errors are one line for people, a hint, and a non-zero exit.
 
 mod backup;
+mod block;
 mod bus;
 mod demo;
 mod describe;
@@ -93,6 +94,31 @@ enum Command {
         /// Value in the register's unit.
         #[arg(allow_hyphen_values = true)]
         value: String,
+    },
+    /// Run one block transfer (write several words, read several, in one exchange) where
+    /// the drive describes one; the words' registers are the drive's block selection.
+    #[command(
+        after_help = "The selection (the drive's block selector parameters) is read from the drive unless --defaults; the drive uses the values it had at its last reset.
+
+Examples:
+  vfd block --drive vf-as1 --port /dev/pts/5 --write command_priority,frequency_priority,run --write 60Hz
+  vfd block --drive vf-as1 --port /dev/pts/5 --defaults --set F875=2 --reads 1"
+    )]
+    Block {
+        #[command(flatten)]
+        line: bus::LineArgs,
+        /// A value to write, in its target register's units (repeat, in word order).
+        #[arg(long = "write", value_name = "VALUE", allow_hyphen_values = true)]
+        writes: Vec<String>,
+        /// Words to read back (default: every read position).
+        #[arg(long, value_name = "N")]
+        reads: Option<u8>,
+        /// Take the selectors at the description's defaults instead of reading them.
+        #[arg(long)]
+        defaults: bool,
+        /// A selector's value, CODE=VALUE (repeat), instead of the drive's.
+        #[arg(long = "set", value_name = "CODE=VALUE")]
+        sets: Vec<String>,
     },
     /// Poll registers and show them live, with a trend line for numbers (Ctrl-C stops).
     Watch {
@@ -289,6 +315,19 @@ fn run(command: Command) -> Result<(), Failure> {
             register,
             value,
         } => watch::write(&line, command.as_deref(), &register, &value, persist),
+        Command::Block {
+            line,
+            writes,
+            reads,
+            defaults,
+            sets,
+        } => block::block(&block::BlockArgs {
+            line: &line,
+            writes: &writes,
+            reads,
+            defaults,
+            sets: &sets,
+        }),
         Command::Watch {
             line,
             interval,

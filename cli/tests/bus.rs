@@ -613,3 +613,62 @@ fn dv1_reset_returns_without_waiting_for_a_reply() {
         text(&reset)
     );
 }
+
+#[test]
+fn vf_as1_block_transfer_over_the_sim() {
+    let sim = Sim::start("vf-as1", "binary");
+    // Factory selection: nothing selected, both words refused, five words of 0000h.
+    let factory = sim.vfd(
+        "vf-as1",
+        "binary",
+        &["block", "--write", "C400h", "--write", "1770h"],
+    );
+    assert!(factory.status.success(), "{}", text(&factory));
+    let shown = text(&factory);
+    assert_eq!(shown.matches("NOT written").count(), 2, "{shown}");
+    assert_eq!(
+        shown.matches("(no selection) = 0000h").count(),
+        5,
+        "{shown}"
+    );
+    // FA80 = 1 (in force at once): the words go to the LED data, the reply reads it as
+    // shown before the change ("dAtA", 8.3.1).
+    let mode = sim.vfd("vf-as1", "binary", &["write", "FA80", "1"]);
+    assert!(mode.status.success(), "{}", text(&mode));
+    let led = sim.vfd(
+        "vf-as1",
+        "binary",
+        &[
+            "block", "--write", "0x30", "--write", "0x31", "--write", "0x32", "--write", "0x33",
+            "--write", "3",
+        ],
+    );
+    assert!(led.status.success(), "{}", text(&led));
+    let shown = text(&led);
+    assert_eq!(shown.matches(" written").count(), 5, "{shown}");
+    assert!(!shown.contains("NOT written"), "{shown}");
+    assert!(shown.contains("Character: 'd'"), "{shown}");
+    let after = sim.vfd("vf-as1", "binary", &["read", "FA70"]);
+    assert!(text(&after).contains("0030h"), "{}", text(&after));
+    // More words than the selection has: refused before anything is sent.
+    let too_many = sim.vfd(
+        "vf-as1",
+        "binary",
+        &[
+            "block",
+            "--defaults",
+            "--write",
+            "1",
+            "--write",
+            "2",
+            "--write",
+            "3",
+        ],
+    );
+    assert!(!too_many.status.success());
+    assert!(
+        text(&too_many).contains("at most 2 word(s)"),
+        "{}",
+        text(&too_many)
+    );
+}

@@ -84,6 +84,27 @@ impl FrameValues {
             .flatten()
     }
 
+    /// The 16-bit words of the words field ([`Role::Words`]) in `frame` (the frame these
+    /// values were decoded from), each in the field's byte order; empty when the layout has
+    /// none or the frame carries none.
+    pub fn words(&self, layout: &FrameLayout, frame: &[u8]) -> Words {
+        let little_endian = layout
+            .field(Role::Words)
+            .is_some_and(|field| field.format == Format::U16Le);
+        let bytes = self.bytes(layout, Role::Words, frame).unwrap_or(&[]);
+        let mut words = Words::default();
+        for pair in bytes.chunks_exact(2).take(MAX_WORDS) {
+            let pair = [pair[0], pair[1]];
+            words.words[usize::from(words.len)] = if little_endian {
+                u16::from_le_bytes(pair)
+            } else {
+                u16::from_be_bytes(pair)
+            };
+            words.len += 1;
+        }
+        words
+    }
+
     /// Marks every optional part named in `names` present (e.g. `["sum", "end"]`).
     pub fn include(&mut self, layout: &FrameLayout, names: &[&str]) {
         for (index, part) in layout.parts.iter().enumerate() {
@@ -91,6 +112,80 @@ impl FrameValues {
                 self.parts[index].present = true;
             }
         }
+    }
+}
+
+/// The most words a words field ([`Role::Words`]) holds in a [`Words`] list.
+pub const MAX_WORDS: usize = 64;
+
+/// The words a frame's words field carries (a block transfer's), held without allocation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Words {
+    words: [u16; MAX_WORDS],
+    len: u8,
+}
+
+impl Default for Words {
+    fn default() -> Self {
+        Words {
+            words: [0; MAX_WORDS],
+            len: 0,
+        }
+    }
+}
+
+impl Words {
+    /// The words, in frame order.
+    pub fn as_slice(&self) -> &[u16] {
+        &self.words[..usize::from(self.len)]
+    }
+
+    /// These words; `None` when there are more than [`MAX_WORDS`].
+    pub fn from_slice(words: &[u16]) -> Option<Words> {
+        if words.len() > MAX_WORDS {
+            return None;
+        }
+        let mut list = Words {
+            len: words.len() as u8,
+            ..Words::default()
+        };
+        list.words[..words.len()].copy_from_slice(words);
+        Some(list)
+    }
+
+    /// Writes the words into `out` as the payload of `layout`'s words field (each in the
+    /// field's byte order) and returns the byte count, without allocating; `out` holds
+    /// [`MAX_WORDS`] words.
+    pub fn write_payload(&self, layout: &FrameLayout, out: &mut [u8; 2 * MAX_WORDS]) -> usize {
+        let little_endian = layout
+            .field(Role::Words)
+            .is_some_and(|field| field.format == Format::U16Le);
+        for (word, pair) in self.as_slice().iter().zip(out.chunks_exact_mut(2)) {
+            let bytes = if little_endian {
+                word.to_le_bytes()
+            } else {
+                word.to_be_bytes()
+            };
+            pair.copy_from_slice(&bytes);
+        }
+        self.as_slice().len() * 2
+    }
+
+    /// The words as the payload of `layout`'s words field: each in the field's byte order.
+    pub fn payload(&self, layout: &FrameLayout) -> Vec<u8> {
+        let little_endian = layout
+            .field(Role::Words)
+            .is_some_and(|field| field.format == Format::U16Le);
+        self.as_slice()
+            .iter()
+            .flat_map(|word| {
+                if little_endian {
+                    word.to_le_bytes()
+                } else {
+                    word.to_be_bytes()
+                }
+            })
+            .collect()
     }
 }
 
@@ -129,7 +224,7 @@ impl Roles {
             Role::Process1 => Some(&mut self.process_1),
             Role::Process2 => Some(&mut self.process_2),
             Role::Decimals => Some(&mut self.decimals),
-            Role::Text => None,
+            Role::Text | Role::Words | Role::ReadCount | Role::WriteStatus => None,
         }
     }
 }
@@ -455,6 +550,10 @@ fn encode_field(
     data_size: u8,
     payload: &[u8],
 ) -> Result<(), EncodeError> {
+    if field.role == Role::Words {
+        // The words of a block transfer: the payload holds them, each in the field's format.
+        return writer.put(payload);
+    }
     match field.format {
         Format::Bytes => writer.put(payload),
         // A block of registers: the payload holds them, each in the field's byte order.
@@ -768,6 +867,9 @@ fn decode_field(
             return Ok(PartOutcome::Done);
         }
     }
+    if field.role == Role::Words {
+        return decode_words(layout, index, field, cursor, values);
+    }
     let size = match (field.sized_by, field.format) {
         (SizedBy::Rest, _) => Some(rest_size(layout, index, cursor)?),
         (SizedBy::Length, _) => {
@@ -850,6 +952,43 @@ fn decode_field(
             Ok(PartOutcome::Done)
         }
     }
+}
+
+/// A run of words sized by a length part (a block transfer's words): held as its offset
+/// and byte count; the count must be whole words.
+fn decode_words(
+    layout: &FrameLayout,
+    index: usize,
+    field: &FieldSpec,
+    cursor: &mut Cursor<'_>,
+    values: &mut FrameValues,
+) -> Result<PartOutcome, DecodeError> {
+    let rest = &cursor.bytes[cursor.pos..];
+    let word = field.format.fixed_len().unwrap_or(2);
+    let size = match field.sized_by {
+        SizedBy::Length if cursor.sized[index] != u16::MAX => usize::from(cursor.sized[index]),
+        SizedBy::Rest => rest_size(layout, index, cursor)?,
+        _ => usize::from(field.width),
+    };
+    if size % word != 0 || size > usize::from(u8::MAX) {
+        return Err(DecodeError::LengthMismatch {
+            layout: layout.name.clone(),
+            part: field.name.clone(),
+            offset: cursor.pos,
+            received: size as u32,
+            actual: (size - size % word) as u32,
+        });
+    }
+    if rest.len() < size {
+        return Ok(PartOutcome::Incomplete);
+    }
+    values.parts[index] = FieldValue {
+        present: true,
+        value: cursor.pos as u32,
+        width: size as u8,
+    };
+    cursor.pos += size;
+    Ok(PartOutcome::Done)
 }
 
 /// Size of a rest-of-frame field: up to the frame end, less the fixed parts after it.
@@ -1319,6 +1458,92 @@ mod tests {
             matches!(error, DecodeError::NotAllowed { offset: 1, .. }),
             "{error}"
         );
+    }
+
+    /// A block-transfer reply: start, command, a count of words, a status byte, the words
+    /// (each high byte first), a sum.
+    fn block_reply() -> FrameLayout {
+        let field = |name: &'static str, role: Role, format: Format| {
+            Part::Field(FieldSpec {
+                sized_by: if role == Role::Words {
+                    SizedBy::Length
+                } else {
+                    SizedBy::Format
+                },
+                ..FieldSpec::new(name, role, format, 1)
+            })
+        };
+        FrameLayout {
+            name: "block_reply".into(),
+            encoding: Encoding::Binary,
+            parts: List::Owned(vec![
+                Part::literal("start", b"/"),
+                field("command", Role::Command, Format::Char),
+                Part::Length(
+                    LengthSpec::new(
+                        "count",
+                        Format::U8,
+                        Counts::Parts {
+                            from: 4,
+                            through: 4,
+                        },
+                    )
+                    .with_ratio(1, 2),
+                ),
+                field("write_status", Role::WriteStatus, Format::U8),
+                field("words", Role::Words, Format::U16Be),
+                Part::Checksum(ChecksumSpec::new(
+                    "sum",
+                    ChecksumAlgorithm::Sum8,
+                    Format::U8,
+                    0,
+                )),
+            ]),
+        }
+    }
+
+    #[test]
+    fn a_words_field_holds_as_many_words_as_its_length_says() {
+        let layout = block_reply();
+        let frame = [
+            0x2F, 0x59, 0x05, 0x00, 0x64, 0x00, 0x17, 0x70, 0x1A, 0x8A, 0x24, 0xFD, 0x00, 0x00,
+            0x3D,
+        ];
+        for end in 0..frame.len() {
+            assert_eq!(decode(&layout, &frame[..end]), Ok(DecodeStatus::Incomplete));
+        }
+        let DecodeStatus::Complete { values, len } = decode(&layout, &frame).unwrap() else {
+            panic!("incomplete")
+        };
+        assert_eq!(len, frame.len());
+        let words = values.words(&layout, &frame);
+        assert_eq!(words.as_slice(), [0x6400, 0x1770, 0x1A8A, 0x24FD, 0x0000]);
+        assert_eq!(values.get(&layout, Role::WriteStatus), Some(0));
+        // Encoding computes the count from the words.
+        let mut built = FrameValues::default();
+        built.set(&layout, Role::Command, u32::from(b'Y'));
+        built.set(&layout, Role::WriteStatus, 0);
+        let mut out = [0u8; 32];
+        let n = encode_with_payload(&layout, &built, &words.payload(&layout), &mut out).unwrap();
+        assert_eq!(&out[..n], &frame[..]);
+        // No words at all: a count of 0.
+        let empty = [0x2F, 0x59, 0x00, 0x00, 0x88];
+        let DecodeStatus::Complete { values, .. } = decode(&layout, &empty).unwrap() else {
+            panic!("incomplete")
+        };
+        assert!(values.words(&layout, &empty).as_slice().is_empty());
+    }
+
+    #[test]
+    fn a_words_field_of_half_a_word_is_refused() {
+        // A count is in words here, so a half word cannot arise from it: a length counting
+        // bytes can.
+        let mut layout = block_reply();
+        if let Part::Length(length) = &mut layout.parts.to_mut()[2] {
+            length.per = 1;
+        }
+        let error = decode(&layout, &[0x2F, 0x59, 0x03, 0x00, 0x01, 0x02, 0x03, 0x00]).unwrap_err();
+        assert_eq!(error.kind(), crate::error::DecodeErrorKind::LengthMismatch);
     }
 
     #[test]

@@ -304,6 +304,19 @@ pub enum EncodeError {
         /// Code of the register given as 100 %.
         register: &'static str,
     },
+    /// A block transfer with more words to write, or to read, than the drive's block
+    /// selection has positions for.
+    #[error("a block transfer of protocol {protocol} {what} at most {max} word(s), not {words}")]
+    BlockTooLong {
+        /// Protocol id.
+        protocol: Text,
+        /// `writes` or `reads`.
+        what: &'static str,
+        /// Words asked for.
+        words: usize,
+        /// Positions the selection has.
+        max: usize,
+    },
     /// A read of more consecutive registers than the protocol (or the drive) allows in one
     /// request, or a protocol that reads one register at a time.
     #[error("protocol {protocol} reads at most {max} register(s) per request, not {words}")]

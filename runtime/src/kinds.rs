@@ -48,16 +48,21 @@ pub enum CommandKind {
     /// Exchange process words only (control word and reference out, status word and
     /// output value back).
     Process,
+    /// A block transfer: write the words the drive's write selection names and read the
+    /// words its read selection names, in one exchange (the selection is the drive's, see
+    /// `crate::protocol::BlockSpec`).
+    Block,
 }
 
 impl CommandKind {
     /// Every kind, in the order the description format documents them.
-    pub const ALL: [CommandKind; 5] = [
+    pub const ALL: [CommandKind; 6] = [
         CommandKind::Read,
         CommandKind::WriteRam,
         CommandKind::WritePersistent,
         CommandKind::ReadText,
         CommandKind::Process,
+        CommandKind::Block,
     ];
 
     /// Name as written in protocol description files.
@@ -68,6 +73,7 @@ impl CommandKind {
             CommandKind::WritePersistent => "write_persistent",
             CommandKind::ReadText => "read_text",
             CommandKind::Process => "process",
+            CommandKind::Block => "block",
         }
     }
 

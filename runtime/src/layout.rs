@@ -17,7 +17,7 @@ impl Part {
                 ..
             } => Some(bytes.len()),
             Part::Literal { .. } => None,
-            Part::Field(field) if field.optional.is_some() => None,
+            Part::Field(field) if field.optional.is_some() || field.role == Role::Words => None,
             Part::Field(field) => match field.format {
                 Format::Decimal | Format::Hex if field.min_width == field.width => {
                     Some(usize::from(field.width))
@@ -145,11 +145,21 @@ pub enum Role {
     /// How many decimal places the data has, as a number (an Eaton data reply's unit digit:
     /// 0 for whole units, 1 for tenths, 2 for hundredths, 3 for thousandths).
     Decimals,
+    /// A run of 16-bit words, each in the field's format (`u16be` or `u16le`), sized by a
+    /// length part: the words a block transfer writes (request) or reads (reply). Held
+    /// like a bytes field: its offset in the frame and its byte count.
+    Words,
+    /// How many words a block-transfer request asks the reply to carry (the reply says how
+    /// many it carries with a length part counting its words).
+    ReadCount,
+    /// A block-transfer reply's write status: bit `n` set means the word at position `n`
+    /// of the request (0: the first) was not written.
+    WriteStatus,
 }
 
 impl Role {
     /// Every role, in the order the description format documents them.
-    pub const ALL: [Role; 10] = [
+    pub const ALL: [Role; 13] = [
         Role::Address,
         Role::Command,
         Role::Register,
@@ -160,6 +170,9 @@ impl Role {
         Role::Process2,
         Role::Text,
         Role::Decimals,
+        Role::Words,
+        Role::ReadCount,
+        Role::WriteStatus,
     ];
 
     /// The role's name as written in protocol description files.
@@ -175,6 +188,9 @@ impl Role {
             Role::Process2 => "process_2",
             Role::Text => "text",
             Role::Decimals => "decimals",
+            Role::Words => "words",
+            Role::ReadCount => "read_count",
+            Role::WriteStatus => "write_status",
         }
     }
 }

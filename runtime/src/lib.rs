@@ -65,7 +65,7 @@ pub mod transport;
 pub mod units;
 pub mod virtual_drive;
 
-pub use codec::{FieldValue, FrameValues, Roles};
+pub use codec::{FieldValue, FrameValues, Roles, Words};
 pub use drive::DriveInfo;
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
 pub use info::{BitFieldInfo, BitWordInfo, CodeInfo, CodeTableInfo, ErrorCodeInfo, RegisterInfo};
@@ -74,6 +74,11 @@ pub use layout::{
     BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, Encoding, FieldSpec, Format, FrameLayout,
     LengthSpec, Part, Presence, Role, SizedBy, WordSpec,
 };
-pub use protocol::{AddressMap, CommandSpec, DriveProtocol, PreStep, Protocol, Reply};
+pub use protocol::{
+    AddressMap, BlockChoice, BlockMode, BlockSelection, BlockSelector, BlockSpec, CommandSpec,
+    DriveProtocol, PreStep, Protocol, Reply,
+};
 pub use register::{DriveRequest, Persistable, Register, RegisterValue, Request, Writable};
-pub use transaction::{AnyDrive, Reading, TransactionError, TransactionErrorKind};
+pub use transaction::{
+    block_word, AnyDrive, BlockTransfer, Reading, TransactionError, TransactionErrorKind,
+};

@@ -59,6 +59,15 @@ pub struct FrameMeaning {
     pub process: Option<[u16; 2]>,
     /// Text carried by a text reply.
     pub text: Option<String>,
+    /// The words of a words field (a block transfer's words written or read).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub words: Option<Vec<u16>>,
+    /// How many words a block-transfer request asks back.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub read_count: Option<u32>,
+    /// A block-transfer reply's write status (bit `n`: word `n` not written).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub write_status: Option<u32>,
     /// The drive answered with a lower-case command: it is tripped. In a request: the
     /// sender says it has tripped (a command whose lower case means so, see
     /// [`crate::protocol::CommandSpec::lowercase_means_sender_tripped`]).
@@ -87,6 +96,12 @@ pub fn decode_meaning(
                 error_code: None,
                 process: request.process,
                 text: None,
+                words: command
+                    .request
+                    .has(Role::Words)
+                    .then(|| request.words.as_slice().to_vec()),
+                read_count: request.values.get(&command.request, Role::ReadCount),
+                write_status: None,
                 tripped: request.sender_tripped(),
             })
         }
@@ -101,6 +116,7 @@ pub fn decode_meaning(
                 data,
                 process,
                 text,
+                values,
                 ..
             } => Ok(FrameMeaning {
                 address,
@@ -116,6 +132,12 @@ pub fn decode_meaning(
                 text: text.map(|(start, len)| {
                     String::from_utf8_lossy(&bytes[start..start + len]).into_owned()
                 }),
+                words: command
+                    .reply
+                    .has(Role::Words)
+                    .then(|| values.words(&command.reply, bytes).as_slice().to_vec()),
+                read_count: values.get(&command.reply, Role::ReadCount),
+                write_status: values.get(&command.reply, Role::WriteStatus),
                 tripped,
             }),
             Reply::Error {

@@ -265,6 +265,7 @@ impl Request {
                 }
                 None => "process exchange".to_owned(),
             },
+            CommandKind::Block => "block transfer".to_owned(),
         }
     }
 }

@@ -13,7 +13,7 @@
 //! The functions panic with a message naming the mismatch, like `assert_eq!`.
 
 use crate::codec::{self, FrameValues};
-use crate::layout::{FrameLayout, Part};
+use crate::layout::{FrameLayout, Part, Role};
 use crate::meaning::{decode_meaning, Direction, FrameMeaning};
 use crate::protocol::DecodedRequest;
 use crate::{DataType, DecodeErrorKind, Protocol, Reply, Request};
@@ -101,9 +101,14 @@ fn encodes_like(
         .request_values_for(decoded.command, request, decoded.address)
         .unwrap_or_else(|e| panic!("cannot build the request: {e}"));
     adopt_presentation(layout, &mut values, &decoded.values);
+    // A block transfer: the count asked back and the words written, as the manual's.
+    if let Some(count) = decoded.values.get(layout, Role::ReadCount) {
+        values.set(layout, Role::ReadCount, count);
+    }
+    let payload = decoded.words.payload(layout);
     let mut out = [0u8; 256];
-    let len =
-        codec::encode(layout, &values, &mut out).unwrap_or_else(|e| panic!("cannot encode: {e}"));
+    let len = codec::encode_with_payload(layout, &values, &payload, &mut out)
+        .unwrap_or_else(|e| panic!("cannot encode: {e}"));
     assert_eq!(
         crate::error::hex(&out[..len]),
         crate::error::hex(bytes),
@@ -128,7 +133,8 @@ pub fn reply_round_trips(protocol: &'static Protocol, bytes: &[u8], expect: &Fra
             ..
         } => {
             let text_bytes = text.map(|(start, len)| &bytes[start..start + len]);
-            (&command.reply, values, text_bytes.unwrap_or(&[]))
+            let words = values.bytes(&command.reply, Role::Words, bytes);
+            (&command.reply, values, text_bytes.or(words).unwrap_or(&[]))
         }
         Reply::Error {
             error,

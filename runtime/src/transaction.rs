@@ -42,8 +42,59 @@ pub struct Answer {
     /// Offset and length of text in the reply, for text reads.
     pub text: Option<(usize, usize)>,
     /// Offset and length in the reply of the registers a block read returned
-    /// ([`Master::read_words`]).
+    /// ([`Master::read_words`]), or of the words a block transfer read
+    /// ([`Master::block_transfer`]).
     pub block: Option<(usize, usize)>,
+    /// The write status a block transfer's reply carries ([`Role::WriteStatus`]).
+    pub write_status: Option<u32>,
+}
+
+/// What a block transfer ([`Master::block_transfer`]) returned.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BlockTransfer {
+    /// The words read, in order, each with the register its position selects (`None`: the
+    /// position selects nothing and the drive sends 0).
+    pub reads: Vec<(Option<u16>, u16)>,
+    /// The registers the written words went to, in order (`None`: not selected).
+    pub writes: Vec<Option<u16>>,
+    /// The reply's write status: bit `n` set means word `n` was not written.
+    pub write_status: u32,
+    /// The reply said the drive is tripped.
+    pub tripped: bool,
+}
+
+impl BlockTransfer {
+    /// Whether word `position` (0: the first) was not written.
+    pub fn write_failed(&self, position: usize) -> bool {
+        position < 32 && self.write_status & (1 << position) != 0
+    }
+
+    /// The typed value of register `R`, when a read position selected it (`None`
+    /// otherwise).
+    pub fn value<R: Register>(&self) -> Option<Result<R::Value, ValueError>> {
+        if R::INFO.space != Space::Parameter {
+            return None;
+        }
+        self.reads
+            .iter()
+            .find(|(register, _)| *register == Some(R::INFO.address))
+            .map(|(_, word)| R::Value::from_raw(u32::from(*word), R::INFO))
+    }
+
+    /// Whether the word written to register `R` was written: `None` when no write position
+    /// selected `R`.
+    pub fn written<R: Register>(&self) -> Option<bool> {
+        self.writes
+            .iter()
+            .position(|register| *register == Some(R::INFO.address))
+            .map(|position| !self.write_failed(position))
+    }
+}
+
+/// The word a block transfer writes for `value` of register `R`: its raw value, checked
+/// against the register's range as a typed write is (the frame carries 16-bit words).
+pub fn block_word<R: Writable>(value: &R::Value) -> Result<u16, ValueError> {
+    value.to_raw(R::INFO).map(|raw| raw as u16)
 }
 
 /// A value read from a drive, with what the reply said about the drive: a tripped drive
@@ -119,6 +170,8 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     echo_fixed: bool,
     /// Registers the request under way reads in one block (0: an ordinary request).
     block_words: u16,
+    /// The words a block transfer under way writes, and the words it asks back.
+    block_transfer: Option<(crate::codec::Words, u8)>,
     /// Added to the drive's processing time in every reply timeout: the adapter's and the
     /// host's latency, which no manual can know.
     host_latency: Duration,
@@ -173,6 +226,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
             echo: None,
             echo_fixed: false,
             block_words: 0,
+            block_transfer: None,
             host_latency: crate::serial::HOST_LATENCY,
             late_reply_until: None,
         }
@@ -554,6 +608,98 @@ impl<T: Transport, D: 'static> Master<T, D> {
         }
     }
 
+    /// Runs one block transfer ([`CommandKind::Block`]): writes `writes` to the registers
+    /// `selection` names for writing (word `n` to position `n`) and asks back `read_count`
+    /// words, which come from the registers it names for reading. `selection` must be the
+    /// drive's selection in force (from [`crate::protocol::BlockSpec::selection`] with the
+    /// drive's current selector values, or [`crate::protocol::BlockSpec::default_selection`]
+    /// for a drive in its factory state): the frame carries only the words, the drive
+    /// decides where they go. More words than the selection has, or a protocol without a
+    /// block transfer, is refused before anything is sent. Not repeated on failure (it
+    /// writes). The exchange allocates nothing; the result's lists are allocated.
+    pub fn block_transfer(
+        &mut self,
+        selection: &crate::protocol::BlockSelection,
+        writes: &[u16],
+        read_count: u8,
+    ) -> Result<BlockTransfer, TransactionError> {
+        let request = Request::raw(CommandKind::Block, 0, 0);
+        let protocol = self.protocol;
+        let refuse = |what: &'static str, words: usize, max: usize| {
+            TransactionError::new(
+                Some(&request),
+                TransactionErrorKind::Encode(EncodeError::BlockTooLong {
+                    protocol: protocol.id.clone(),
+                    what,
+                    words,
+                    max,
+                }),
+            )
+        };
+        if protocol.block_command().is_none() {
+            return Err(TransactionError::new(
+                Some(&request),
+                TransactionErrorKind::Encode(EncodeError::UnsupportedCommand {
+                    protocol: protocol.id.clone(),
+                    kind: CommandKind::Block,
+                    space: Space::Parameter,
+                    data_type: DataType::Word,
+                }),
+            ));
+        }
+        if writes.len() > selection.write.len() {
+            return Err(refuse("writes", writes.len(), selection.write.len()));
+        }
+        if usize::from(read_count) > selection.read.len() {
+            return Err(refuse(
+                "reads",
+                usize::from(read_count),
+                selection.read.len(),
+            ));
+        }
+        let words = crate::codec::Words::from_slice(writes)
+            .ok_or_else(|| refuse("writes", writes.len(), crate::codec::MAX_WORDS))?;
+        self.block_transfer = Some((words, read_count));
+        let outcome = self.exchange(&request);
+        self.block_transfer = None;
+        let answer = outcome?;
+        let bytes = answer
+            .block
+            .and_then(|(offset, len)| self.reply.get(offset..offset + len))
+            .unwrap_or(&[]);
+        let little_endian = self
+            .protocol
+            .block_command()
+            .and_then(|command| command.reply.field(Role::Words))
+            .is_some_and(|field| field.format == crate::layout::Format::U16Le);
+        let read: Vec<u16> = bytes
+            .chunks_exact(2)
+            .map(|pair| {
+                if little_endian {
+                    u16::from_le_bytes([pair[0], pair[1]])
+                } else {
+                    u16::from_be_bytes([pair[0], pair[1]])
+                }
+            })
+            .collect();
+        if read.len() != usize::from(read_count) {
+            return Err(TransactionError::new(
+                Some(&request),
+                TransactionErrorKind::Mismatch {
+                    field: ReplyField::Data,
+                    expected: u32::from(read_count),
+                    found: read.len() as u32,
+                },
+            ));
+        }
+        Ok(BlockTransfer {
+            reads: selection.read.iter().copied().zip(read).collect(),
+            writes: selection.write[..writes.len()].to_vec(),
+            write_status: answer.write_status.unwrap_or(0),
+            tripped: answer.tripped,
+        })
+    }
+
     /// Whether the block read's data field is least significant byte first.
     fn block_little_endian(&self) -> bool {
         self.protocol
@@ -686,7 +832,17 @@ impl<T: Transport, D: 'static> Master<T, D> {
         let io = |error| fail(TransactionErrorKind::Io(error));
         let cannot_send = |error| fail(TransactionErrorKind::Encode(error));
         let command = protocol.command_for_request(request).map_err(cannot_send)?;
-        let len = if self.block_words > 1 {
+        let len = if let Some((words, read_count)) = self.block_transfer {
+            // A block transfer: the words to write and the count of words asked back.
+            let (layout, mut values) = protocol
+                .request_values(request, self.address)
+                .map_err(cannot_send)?;
+            values.set(layout, Role::ReadCount, u32::from(read_count));
+            let mut payload = [0u8; 2 * crate::codec::MAX_WORDS];
+            let size = words.write_payload(layout, &mut payload);
+            crate::codec::encode_with_payload(layout, &values, &payload[..size], &mut self.request)
+                .map_err(cannot_send)?
+        } else if self.block_words > 1 {
             // A block read: the request counts the words it asks for.
             let (layout, mut values) = protocol
                 .request_values(request, self.address)
@@ -747,6 +903,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 process: None,
                 text: None,
                 block: None,
+                write_status: None,
             });
         }
         let timeout = self.reply_timeout(len);
@@ -1118,7 +1275,14 @@ fn check_reply(
                             .wire_span(slot.value as usize, usize::from(slot.width))
                     })
                 })
-                .flatten();
+                .flatten()
+                .or_else(|| {
+                    // A block transfer's words.
+                    command.reply.index_of(Role::Words).map(|index| {
+                        let slot = values.parts[index];
+                        (slot.value as usize, usize::from(slot.width))
+                    })
+                });
             if request.data_type == DataType::Text && text.is_none() {
                 return Err(TransactionError::new(
                     Some(request),
@@ -1135,6 +1299,7 @@ fn check_reply(
                 process,
                 text,
                 block,
+                write_status: values.get(&command.reply, Role::WriteStatus),
             })
         }
     }

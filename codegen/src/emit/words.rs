@@ -223,6 +223,19 @@ pub fn meaning_text(drive: &DriveIr, frame: &FrameIr) -> String {
     if let Some(text) = &meaning.text {
         parts.push(format!("text {text:?}"));
     }
+    if let Some(words) = &meaning.words {
+        let shown: Vec<String> = words.iter().map(|w| format!("{w:04X}h")).collect();
+        parts.push(match shown.is_empty() {
+            true => "no words".to_owned(),
+            false => format!("words {}", shown.join(" ")),
+        });
+    }
+    if let Some(count) = meaning.read_count {
+        parts.push(format!("{count} word(s) asked back"));
+    }
+    if let Some(status) = meaning.write_status {
+        parts.push(format!("write status {status:02X}h"));
+    }
     if meaning.tripped {
         parts.push("drive tripped".to_owned());
     }

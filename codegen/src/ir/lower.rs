@@ -356,6 +356,15 @@ fn lower_error_codes(codes: &[ErrorCodeModel]) -> Vec<ErrorCodeIr> {
         .collect()
 }
 
+/// The drive's `block:` on the protocol with this id.
+fn block_model<'m>(model: &'m DriveFile, id: &str) -> Option<&'m crate::parse::model::BlockModel> {
+    model
+        .protocols
+        .iter()
+        .find(|p| p.id == id)
+        .and_then(|p| p.block.as_ref())
+}
+
 fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
     let runtime = &protocol.runtime;
     let reference = model.protocols.iter().find(|p| p.id == protocol.id);
@@ -402,6 +411,17 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         default_process: protocol.file.protocol.default_process,
         frame_gap_chars: runtime.frame_gap_chars,
         max_words_per_read: runtime.max_words_per_read,
+        block: runtime.block.clone(),
+        block_source: block_model(model, &protocol.id).map_or_else(String::new, |b| {
+            let modes: Vec<&str> = b.modes.iter().map(|m| m.source.as_str()).collect();
+            if modes.is_empty() {
+                b.source.clone()
+            } else {
+                format!("{}; modes: {}", b.source, modes.join(", "))
+            }
+        }),
+        block_note: block_model(model, &protocol.id)
+            .map_or_else(String::new, |b| b.note.trim().to_owned()),
         error_table: if let Some(table) = own_table {
             ErrorTableIr::Protocol(ErrorCodesIr {
                 source: table.source.clone(),
@@ -465,6 +485,19 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                 answers: decoded.answers.as_ref().is_some_and(Result::is_ok),
                 value: example.value,
                 register: register.map(|r| r.id.clone()),
+                settings: example
+                    .settings
+                    .iter()
+                    .map(|(name, value)| {
+                        let code = drive
+                            .model
+                            .registers
+                            .iter()
+                            .find(|r| &r.code == name || &r.id == name)
+                            .map_or_else(|| name.clone(), |r| r.code.clone());
+                        (code, *value)
+                    })
+                    .collect(),
             }
         })
         .collect()

@@ -289,6 +289,15 @@ pub struct ProtocolIr {
     pub frame_gap_chars: f32,
     /// The most registers one read carries (1: one per read).
     pub max_words_per_read: u16,
+    /// What a block transfer writes and reads on this drive (`None`: no block transfer).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub block: Option<vfd_runtime::BlockSpec>,
+    /// The manual sections and the note of the drive's `block:` (empty without one).
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub block_source: String,
+    /// See `block_source`.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub block_note: String,
     /// The table its error replies are named from.
     pub error_table: ErrorTableIr,
 }
@@ -718,6 +727,9 @@ pub struct ExampleIr {
     pub register: Option<String>,
     /// The example has both frames, and its reply answers its request.
     pub answers: bool,
+    /// The drive settings the frames assume: (register code, value in its unit).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub settings: Vec<(String, f64)>,
 }
 
 /// One frame of an example.

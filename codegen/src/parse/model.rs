@@ -487,6 +487,9 @@ pub struct ProtocolRef {
     /// (`[{ code: S, registers: [FA01, FA05], percent_of: FH, step: 0.01 }]`).
     #[serde(default)]
     pub command_registers: Vec<CommandRegistersModel>,
+    /// What the protocol's block-transfer command (`kind: block`) writes and reads on this
+    /// drive; left out, the drive has no block transfer and the command is dropped.
+    pub block: Option<BlockModel>,
 }
 
 /// What one command of a protocol may address on this drive, and what its data means.
@@ -502,6 +505,45 @@ pub struct CommandRegistersModel {
     pub percent_of: Option<String>,
     /// With `percent_of`: the percentage one raw step stands for (default 0.01).
     pub step: Option<f64>,
+}
+
+/// A drive's block transfer: which registers the words of a block-transfer request are
+/// written to and which registers its reply reads, position by position.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BlockModel {
+    /// The manual section describing it.
+    pub source: String,
+    /// The selector registers (codes or ids) of the words written, in word order (`[F870,
+    /// F871]`). Each has a `code_table` whose values say which `register` they select.
+    pub write: Vec<String>,
+    /// The selector registers of the words read, in word order (`[F875, ..., F879]`).
+    pub read: Vec<String>,
+    /// Selections that replace the selectors' while a register holds a value.
+    #[serde(default)]
+    pub modes: Vec<BlockModeModel>,
+    /// The bit field naming the reply's write-status bits (bit `n`: word `n` not written).
+    pub status: Option<String>,
+    /// What the manual leaves open.
+    #[serde(default)]
+    pub note: String,
+}
+
+/// A block-transfer mode: while `register` holds `value`, the words go to and come from
+/// fixed registers.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BlockModeModel {
+    /// The register (code or id) that turns the mode on (`FA80`).
+    pub register: String,
+    /// The value that turns it on.
+    pub value: u32,
+    /// The registers written, in word order.
+    pub write: Vec<String>,
+    /// The registers read, in word order.
+    pub read: Vec<String>,
+    /// The manual section describing it.
+    pub source: String,
 }
 
 /// A range of station numbers.
@@ -584,6 +626,9 @@ pub struct CodeValueModel {
     /// What the value means, as the manual prints it in Chinese.
     #[serde(default)]
     pub name_zh: String,
+    /// The register (code or id) this value selects, in a code table of selector registers
+    /// (a block transfer's: F870 = 1 selects FA00).
+    pub register: Option<String>,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
@@ -829,6 +874,11 @@ pub struct ExampleModel {
     pub reply: Option<FrameModel>,
     /// The data word's value in the register's engineering unit.
     pub value: Option<f64>,
+    /// The drive settings the frames assume, where the frames depend on more than their
+    /// bytes (a block transfer's selectors): register (code or id) -> value, in the
+    /// register's unit (a code for code tables), as `default` is written.
+    #[serde(default)]
+    pub settings: BTreeMap<String, f64>,
 }
 
 /// Frame bytes, written as text (`ascii`) or as hex pairs (`hex`).
@@ -934,6 +984,12 @@ pub struct ExpectModel {
     pub process: Option<[u32; 2]>,
     /// Text carried by the frame.
     pub text: Option<String>,
+    /// The words of a block transfer (written by the request, read by the reply).
+    pub words: Option<Vec<u32>>,
+    /// How many words a block-transfer request asks back.
+    pub read_count: Option<u32>,
+    /// A block-transfer reply's write status.
+    pub write_status: Option<u32>,
     /// The reply says the drive has tripped.
     #[serde(default)]
     pub tripped: bool,

@@ -429,6 +429,7 @@ pub(super) fn check_commands(
     for (position, command) in commands.iter().enumerate() {
         check_code_is_allowed(command, source, out);
         check_register_field(command, source, out);
+        check_block_fields(command, source, out);
         check_not_repeated(command, &commands[..position], source, out);
     }
 }
@@ -479,6 +480,40 @@ fn check_register_field(command: &LoweredCommand, source: &SourceFile, out: &mut
                 )
                 .hint("add a `field: register` part to the request layout"),
         );
+    }
+}
+
+/// A block transfer's request carries the words written and the count asked back, and its
+/// reply the words read.
+fn check_block_fields(command: &LoweredCommand, source: &SourceFile, out: &mut Diagnostics) {
+    let spec = &command.spec;
+    if spec.kind != CommandKind::Block {
+        return;
+    }
+    for (key, layout, roles) in [
+        (
+            "request",
+            &spec.request,
+            &[Role::Words, Role::ReadCount][..],
+        ),
+        ("reply", &spec.reply, &[Role::Words][..]),
+    ] {
+        for role in roles {
+            if !layout.has(*role) {
+                out.push(
+                    source
+                        .error(
+                            &format!("{}.{key}", command.path()),
+                            format!(
+                                "a block command needs a `{}` field, and layout `{}` has none",
+                                role.as_str(),
+                                layout.name
+                            ),
+                        )
+                        .hint("a block request carries `words` (sized by a length) and `read_count`; its reply `words`"),
+                );
+            }
+        }
     }
 }
 

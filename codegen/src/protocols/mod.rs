@@ -9,6 +9,7 @@
 //! `text: true` forbids). Every function reports into one
 //! [`Diagnostics`] and returns `None` when it cannot produce a value.
 
+mod block;
 mod commands;
 mod error_codes;
 mod layouts;
@@ -99,6 +100,14 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     let commands = commands::lower_commands(input, &layouts, out);
     let mut commands = commands::drive_subset(commands, input, out);
     commands::apply_command_registers(&mut commands, input, out);
+    let block = block::lower_block(input, &commands, out);
+    // Without a block selection the drive has no block transfer: its command is dropped.
+    let commands: Vec<_> = commands
+        .into_iter()
+        .filter(|c| {
+            c.spec.kind != vfd_runtime::CommandKind::Block || input.reference.block.is_some()
+        })
+        .collect();
     let error_reply = file
         .error_reply
         .as_ref()
@@ -139,6 +148,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         frame_gap_chars: meta.frame_gap_chars,
         max_words_per_read,
         error_codes: Cow::Owned(error_codes::error_table(input)),
+        block,
     })
 }
 

@@ -433,7 +433,27 @@ fn field(
     let sized_by = model.size.unwrap_or(SizedBy::Format);
     let (width, min_width) = widths(format, sized_by, model, context, out)?;
     let variable = matches!(format, Format::UintBe | Format::UintLe | Format::Bytes);
-    if sized_by != SizedBy::Format && !variable {
+    if role == Role::Words {
+        if !matches!(format, Format::U16Be | Format::U16Le) {
+            return context.fail(
+                out,
+                "format",
+                format!(
+                    "a words field is a run of 16-bit words: u16be or u16le, not {}",
+                    format.as_str()
+                ),
+                "format: u16be",
+            );
+        }
+        if sized_by == SizedBy::Format {
+            return context.fail(
+                out,
+                "size",
+                "a words field needs `size: length` (a length part counting it) or `size: rest`",
+                "add size: length, and a length part with counts: { from: words, through: words }",
+            );
+        }
+    } else if sized_by != SizedBy::Format && !variable {
         return context.fail(
             out,
             "size",

@@ -74,6 +74,50 @@ pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
         if let Some(value) = example.value {
             check_example_value(drive, &base, value, decoded, out);
         }
+        check_settings(drive, &base, &example.settings, out);
+    }
+}
+
+/// Each assumed setting names a described register and a value it can hold (a code of its
+/// table, or a raw value in its range).
+fn check_settings(
+    drive: &Context,
+    base: &str,
+    settings: &std::collections::BTreeMap<String, f64>,
+    out: &mut Diagnostics,
+) {
+    let index = ranges::RegisterIndex::new(&drive.model);
+    for (name, value) in settings {
+        let path = format!("{base}.settings.{name}");
+        let Some(register) = index.find(name) else {
+            out.push(
+                drive
+                    .source
+                    .error(&path, format!("no register `{name}`"))
+                    .hint("name a register of this drive by its code or id"),
+            );
+            continue;
+        };
+        let table = register
+            .code_table
+            .as_ref()
+            .and_then(|id| drive.model.codes.iter().find(|t| &t.id == id));
+        let fits = match table {
+            Some(table) => table.values.iter().any(|v| f64::from(v.value) == *value),
+            None => {
+                let raw = (value / ranges::scale_of(register)).round() as i64;
+                let (min, max) = index.raw_range(register);
+                (min..=max).contains(&raw)
+            }
+        };
+        if !fits {
+            out.push(
+                drive
+                    .source
+                    .error(&path, format!("{} cannot hold {value}", register.code))
+                    .hint("give a code of its table, or a value in its range and unit"),
+            );
+        }
     }
 }
 
@@ -238,6 +282,8 @@ fn mismatches(
         ("index", expect.index, wide(decoded.index)),
         ("data", expect.data, decoded.data),
         ("error_code", expect.error_code, wide(decoded.error_code)),
+        ("read_count", expect.read_count, decoded.read_count),
+        ("write_status", expect.write_status, decoded.write_status),
         (
             "address",
             expect.address.map(u32::from),
@@ -263,6 +309,16 @@ fn mismatches(
         mismatches.push(format!(
             "text is {:?}, expected {:?}",
             decoded.text, expect.text
+        ));
+    }
+    let words = decoded
+        .words
+        .as_ref()
+        .map(|words| words.iter().map(|w| u32::from(*w)).collect::<Vec<_>>());
+    if expect.words != words {
+        mismatches.push(format!(
+            "words are {:X?}, expected {:X?}",
+            words, expect.words
         ));
     }
     if expect.tripped != decoded.tripped {

@@ -17,6 +17,7 @@
 //!
 //! (see `vfd_drives::guide` for a complete, tested example).
 
+mod block;
 mod faults;
 mod link;
 mod motor;

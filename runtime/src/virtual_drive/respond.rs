@@ -50,7 +50,7 @@ pub enum Outcome {
 
 /// The code a normal reply to `command` carries for a register of `data_type`: the
 /// request's own code, or the reply code listed at the data type's position.
-fn reply_code(command: &CommandSpec, data_type: DataType) -> u32 {
+pub(super) fn reply_code(command: &CommandSpec, data_type: DataType) -> u32 {
     match command.reply_codes.len() {
         0 => command.code,
         1 => command.reply_codes[0],
@@ -89,7 +89,7 @@ fn error_code_for(layout: &FrameLayout, command: Option<&CommandSpec>) -> u32 {
 
 impl VirtualDrive {
     /// Lower-case letters while tripped, when the protocol says so.
-    fn shown(&self, protocol: &Protocol, code: u32) -> u32 {
+    pub(super) fn shown(&self, protocol: &Protocol, code: u32) -> u32 {
         if protocol.lowercase_means_tripped && self.motor.trip.is_some() {
             if let Ok(byte) = u8::try_from(code) {
                 return u32::from(byte.to_ascii_lowercase());
@@ -139,6 +139,7 @@ impl VirtualDrive {
             kind if kind.is_write() && request.command.percent_of.is_some() => {
                 self.write_percent(request).map(|()| (request.data, 0))
             }
+            CommandKind::Block => return self.block(protocol, request),
             CommandKind::Read => self.read(protocol, request),
             CommandKind::WriteRam | CommandKind::WritePersistent => self.write(protocol, request),
             CommandKind::Process => Ok((0, 0)),
@@ -547,7 +548,12 @@ impl VirtualDrive {
         Ok((request.data, 0))
     }
 
-    fn check_write(&self, info: &RegisterInfo, raw: u32, persistent: bool) -> Result<(), Refusal> {
+    pub(super) fn check_write(
+        &self,
+        info: &RegisterInfo,
+        raw: u32,
+        persistent: bool,
+    ) -> Result<(), Refusal> {
         if info.access == crate::kinds::Access::ReadOnly
             || info.data_type == DataType::Text
             || (persistent && info.ram_only && info.space == Space::Parameter)
@@ -581,7 +587,7 @@ impl VirtualDrive {
 
 /// Marks present in `reply` the optional parts that were present in the request (a
 /// Toshiba-style reply carries the station number, `&SUM` and `)` only if the request did).
-fn mirror_optional_parts(
+pub(super) fn mirror_optional_parts(
     request: &FrameLayout,
     request_values: &FrameValues,
     reply: &FrameLayout,
@@ -613,7 +619,7 @@ fn encode(layout: &FrameLayout, values: &FrameValues, protocol: &Protocol) -> Ou
 }
 
 /// Encodes a reply, with `payload` for a data field carrying a block of registers.
-fn encode_with(
+pub(super) fn encode_with(
     layout: &FrameLayout,
     values: &FrameValues,
     payload: &[u8],

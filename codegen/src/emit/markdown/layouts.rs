@@ -3,7 +3,7 @@
 
 use crate::emit::words::{hex, shown_bytes};
 use serde::Serialize;
-use vfd_runtime::layout::{Format, Part, Presence};
+use vfd_runtime::layout::{Format, Part, Presence, Role};
 
 /// A part of a layout, described for people.
 #[derive(Debug, Clone, Serialize)]
@@ -47,6 +47,12 @@ pub(super) fn part_view(part: &Part, parts: &[Part]) -> PartView {
         },
         Part::Field(field) => {
             let size = match (field.format.fixed_len(), field.sized_by) {
+                (Some(len), vfd_runtime::SizedBy::Length) if field.role == Role::Words => {
+                    format!("{len} per word, given by its length")
+                }
+                (Some(len), vfd_runtime::SizedBy::Rest) if field.role == Role::Words => {
+                    format!("{len} per word, rest of the frame")
+                }
                 (Some(len), _) => len.to_string(),
                 (None, vfd_runtime::SizedBy::Rest) => "rest of the frame".into(),
                 (None, vfd_runtime::SizedBy::Length) => "given by its length".into(),

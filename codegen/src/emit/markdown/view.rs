@@ -59,6 +59,7 @@ struct ProtocolView<'a> {
     description: &'a str,
     commands: Vec<CommandView<'a>>,
     pre_steps: Vec<String>,
+    block: Vec<String>,
     layouts: Vec<LayoutView>,
 }
 
@@ -208,6 +209,7 @@ struct ExampleView<'a> {
     example: &'a ExampleIr,
     register_code: String,
     value_display: String,
+    settings_display: String,
     request: Option<FrameView<'a>>,
     reply: Option<FrameView<'a>>,
     /// The request is never answered (its command's `reply: none`, or a write of a register
@@ -434,6 +436,12 @@ impl<'a> DriveView<'a> {
                             (Some(value), Some(r)) => value_text(r, value),
                             _ => String::new(),
                         },
+                        settings_display: example
+                            .settings
+                            .iter()
+                            .map(|(code, value)| format!("{code} = {value}"))
+                            .collect::<Vec<_>>()
+                            .join(", "),
                         request: frame(&example.request),
                         reply: frame(&example.reply),
                     }
@@ -511,6 +519,56 @@ fn command_notes(drive: &DriveIr, command: &CommandIr) -> String {
         ));
     }
     notes.join("; ")
+}
+
+/// What the block transfer writes and reads, one line each, registers by code.
+fn block_lines(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
+    let Some(block) = &protocol.block else {
+        return Vec::new();
+    };
+    let code = |address: u16| {
+        drive
+            .registers
+            .iter()
+            .find(|r| r.address == address)
+            .map_or_else(|| format!("{address:04X}h"), |r| r.code.clone())
+    };
+    let list = |addresses: &mut dyn Iterator<Item = u16>| {
+        addresses.map(code).collect::<Vec<_>>().join(", ")
+    };
+    let choices = |choices: &[vfd_runtime::BlockChoice]| {
+        choices
+            .iter()
+            .map(|c| match c.register {
+                Some(r) => format!("{} = {}", c.value, code(r)),
+                None => format!("{} = none", c.value),
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let mut lines = vec![
+        format!(
+            "Block transfer (manual section {}): the words written go, in order, to the registers {} select ({}); the words read come from the registers {} select ({}). The selectors are read at a reset. Reply write status: bit n set = word n not written.",
+            protocol.block_source,
+            list(&mut block.write.iter().map(|s| s.register)),
+            choices(&block.write_choices),
+            list(&mut block.read.iter().map(|s| s.register)),
+            choices(&block.read_choices),
+        ),
+    ];
+    for mode in block.modes.iter() {
+        lines.push(format!(
+            "While {} = {}: the words written go to {}; the words read come from {}.",
+            code(mode.register),
+            mode.value,
+            list(&mut mode.write.iter().copied()),
+            list(&mut mode.read.iter().copied()),
+        ));
+    }
+    if !protocol.block_note.is_empty() {
+        lines.push(protocol.block_note.clone());
+    }
+    lines
 }
 
 fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolView<'a> {
@@ -595,6 +653,7 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
                 ),
             })
             .collect(),
+        block: block_lines(drive, protocol),
         layouts: names
             .into_iter()
             .filter_map(layout)

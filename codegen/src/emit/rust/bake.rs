@@ -80,7 +80,8 @@ bake_unit_enum!(CommandKind {
     WriteRam,
     WritePersistent,
     ReadText,
-    Process
+    Process,
+    Block
 });
 bake_unit_enum!(Parity { None, Even, Odd });
 bake_unit_enum!(Role {
@@ -93,7 +94,10 @@ bake_unit_enum!(Role {
     Process1,
     Process2,
     Text,
-    Decimals
+    Decimals,
+    Words,
+    ReadCount,
+    WriteStatus
 });
 bake_unit_enum!(Format {
     Decimal,
@@ -164,10 +168,75 @@ impl Bake for FrameMeaning {
             }),
         );
         field("text", self.text.as_ref().map(|t| quote!(#t.to_owned())));
+        field(
+            "words",
+            self.words.as_ref().map(|words| {
+                let words = words.iter().map(|w| int_literal(*w));
+                quote!(vec![#(#words),*])
+            }),
+        );
+        field("read_count", int(self.read_count));
+        field("write_status", int(self.write_status));
         if self.tripped {
             fields.push(quote!(tripped: true));
         }
         quote!(FrameMeaning { #(#fields,)* ..FrameMeaning::default() })
+    }
+}
+
+impl Bake for vfd_runtime::BlockSpec {
+    /// A `BlockSpec` literal with borrowed lists (full paths: few modules hold one).
+    fn bake(&self) -> TokenStream {
+        let selectors = |list: &[vfd_runtime::BlockSelector]| {
+            let items = list.iter().map(|s| {
+                let (register, default) = (int_literal(s.register), int_literal(s.default));
+                quote!(::vfd_runtime::BlockSelector { register: #register, default: #default })
+            });
+            quote!(Cow::Borrowed(&[#(#items),*]))
+        };
+        let choices = |list: &[vfd_runtime::BlockChoice]| {
+            let items = list.iter().map(|c| {
+                let value = int_literal(c.value);
+                let register = match c.register {
+                    Some(r) => {
+                        let r = int_literal(r);
+                        quote!(Some(#r))
+                    }
+                    None => quote!(None),
+                };
+                quote!(::vfd_runtime::BlockChoice { value: #value, register: #register })
+            });
+            quote!(Cow::Borrowed(&[#(#items),*]))
+        };
+        let registers = |list: &[u16]| {
+            let items = list.iter().map(|r| int_literal(*r));
+            quote!(Cow::Borrowed(&[#(#items),*]))
+        };
+        let modes = self.modes.iter().map(|m| {
+            let (register, value, default) = (
+                int_literal(m.register),
+                int_literal(m.value),
+                int_literal(m.default),
+            );
+            let (write, read) = (registers(&m.write), registers(&m.read));
+            quote!(::vfd_runtime::BlockMode {
+                register: #register,
+                value: #value,
+                default: #default,
+                write: #write,
+                read: #read,
+            })
+        });
+        let (write, read) = (selectors(&self.write), selectors(&self.read));
+        let (write_choices, read_choices) =
+            (choices(&self.write_choices), choices(&self.read_choices));
+        quote!(::vfd_runtime::BlockSpec {
+            write: #write,
+            read: #read,
+            write_choices: #write_choices,
+            read_choices: #read_choices,
+            modes: Cow::Borrowed(&[#(#modes),*]),
+        })
     }
 }
 

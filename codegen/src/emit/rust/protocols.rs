@@ -243,6 +243,13 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
     let [first, second] = protocol.default_process.unwrap_or([0, 0]).map(int_literal);
     let gap = Literal::f32_unsuffixed(protocol.frame_gap_chars);
     let max_words = int_literal(protocol.max_words_per_read);
+    let block = match &protocol.block {
+        Some(block) => {
+            let block = block.bake();
+            quote!(Some(#block))
+        }
+        None => quote!(None),
+    };
     let doc = doc_text(format!(
         "{}, from the protocol file `{}`; manual section {}.",
         protocol.name, protocol.uses, protocol.source
@@ -287,6 +294,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             default_process: [#first, #second],
             frame_gap_chars: #gap,
             max_words_per_read: #max_words,
+            block: #block,
         };
     }
 }
