@@ -42,6 +42,7 @@
 
 pub mod behaviour;
 pub mod bits;
+pub mod broadcast;
 pub mod checksum;
 pub mod codec;
 pub mod codes;
@@ -65,14 +66,15 @@ pub mod transport;
 pub mod units;
 pub mod virtual_drive;
 
+pub use broadcast::{Broadcast, BroadcastAnswer, BroadcastRule, StationGroup};
 pub use codec::{FieldValue, FrameValues, Roles};
 pub use drive::DriveInfo;
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
 pub use info::{BitFieldInfo, BitWordInfo, CodeInfo, CodeTableInfo, ErrorCodeInfo, RegisterInfo};
 pub use kinds::{Access, CommandKind, DataType, Space, TakesEffect};
 pub use layout::{
-    BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,
-    Part, Presence, Role, SizedBy, WordSpec,
+    BitsSpec, BroadcastAddress, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format,
+    FrameLayout, LengthSpec, Part, Presence, Role, SizedBy, WordSpec,
 };
 pub use protocol::{AddressMap, CommandSpec, DriveProtocol, PreStep, Protocol, Reply};
 pub use register::{DriveRequest, Persistable, Register, RegisterValue, Request, Writable};

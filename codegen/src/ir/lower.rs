@@ -390,6 +390,8 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         default_process: protocol.file.protocol.default_process,
         frame_gap_chars: runtime.frame_gap_chars,
         max_words_per_read: runtime.max_words_per_read,
+        timing: runtime.timing.clone(),
+        broadcast: runtime.broadcast.clone(),
         error_table: if drive_table_applies(model, &protocol.id) {
             ErrorTableIr::Drive
         } else {

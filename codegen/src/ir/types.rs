@@ -289,6 +289,10 @@ pub struct ProtocolIr {
     pub frame_gap_chars: f32,
     /// The most registers one read carries (1: one per read).
     pub max_words_per_read: u16,
+    /// The drive's timing rules beyond the gap in characters.
+    pub timing: vfd_runtime::serial::LinkTiming,
+    /// The drive's broadcast rule, when it takes broadcasts over this protocol.
+    pub broadcast: Option<vfd_runtime::broadcast::BroadcastRule>,
     /// The table its error replies are named from.
     pub error_table: ErrorTableIr,
 }
