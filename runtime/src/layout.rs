@@ -311,6 +311,7 @@ pub struct FieldSpec {
     pub sized_by: SizedBy,
     /// How a station address field addresses several stations at once (broadcast and
     /// group addressing); `None` for other fields and for protocols without broadcasts.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
     pub broadcast: Option<BroadcastAddress>,
 }
 
@@ -629,7 +630,7 @@ impl FieldSpec {
     /// A station address that may also address every station, or a group.
     pub const fn with_broadcast(mut self, broadcast: BroadcastAddress) -> FieldSpec {
         // A const fn cannot drop the old value; it is `None` when built by `new`.
-        core::mem::forget(core::mem::replace(&mut self.broadcast, Some(broadcast)));
+        core::mem::forget(self.broadcast.replace(broadcast));
         self
     }
 
