@@ -9,6 +9,7 @@
 //! * [`layout`] describes a frame as a list of parts (literals, fields, checksums);
 //! * [`codec`] encodes and decodes any such layout without heap allocation;
 //! * [`protocol`] ties layouts to commands (read, RAM write, persistent write) and error replies;
+//!   [`broadcast`] says which stations a broadcast or group request reaches and who answers;
 //! * [`register`] holds the traits that make register access typed (each register gets
 //!   `R::read()`, `R::write_ram(value)`, ... from them) and the protocol-independent
 //!   [`Request`]; [`units`] the quantities and value conversions (scaling, ranges);
