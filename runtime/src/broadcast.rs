@@ -313,6 +313,57 @@ mod tests {
         assert!("*x".parse::<Broadcast>().is_err());
     }
 
+    /// `(` station `R` `)`: a two-digit station with `**` and the wildcard `*`.
+    fn layout() -> crate::layout::FrameLayout {
+        use crate::layout::{FrameLayout, Part, Presence, Role};
+        FrameLayout {
+            name: "test".into(),
+            parts: std::borrow::Cow::Owned(vec![
+                Part::literal("start", b"("),
+                Part::Field(
+                    FieldSpec::new("address", Role::Address, Format::Decimal, 2)
+                        .with_optional(Presence::IfFormatMatches)
+                        .with_broadcast(BroadcastAddress::bytes(b"**").with_wildcard(b'*')),
+                ),
+                Part::Field(FieldSpec::new("command", Role::Command, Format::Char, 1)),
+                Part::literal("end", b")"),
+            ]),
+        }
+    }
+
+    #[test]
+    fn open_digits_encode_and_decode_through_the_codec() {
+        use crate::codec::{decode, encode, DecodeStatus, FrameValues};
+        use crate::layout::Role;
+        let layout = layout();
+        let field = layout.field(Role::Address).unwrap().clone();
+        let mut out = [0u8; 16];
+        for (broadcast, wire) in [
+            (Broadcast::All, &b"(**R)"[..]),
+            ("*9".parse().unwrap(), b"(*9R)"),
+            ("1*".parse().unwrap(), b"(1*R)"),
+        ] {
+            let mut values = FrameValues::default();
+            values.set(&layout, Role::Address, field_value(&field, &broadcast));
+            values.set(&layout, Role::Command, u32::from(b'R'));
+            let len = encode(&layout, &values, &mut out).unwrap();
+            assert_eq!(&out[..len], wire);
+            let DecodeStatus::Complete { values, .. } = decode(&layout, wire).unwrap() else {
+                panic!("{wire:?} is a whole frame");
+            };
+            let value = values.get(&layout, Role::Address).unwrap();
+            assert_eq!(from_field_value(&field, value), Some(broadcast));
+        }
+        // An ordinary station is no broadcast; a half-written one waits; a stray byte fails.
+        let DecodeStatus::Complete { values, .. } = decode(&layout, b"(19R)").unwrap() else {
+            panic!("a whole frame");
+        };
+        assert_eq!(values.get(&layout, Role::Address), Some(19));
+        assert_eq!(from_field_value(&field, 19), None);
+        assert_eq!(decode(&layout, b"(*").unwrap(), DecodeStatus::Incomplete);
+        assert!(decode(&layout, b"(*xR)").is_err());
+    }
+
     #[test]
     fn the_lowest_matching_station_answers() {
         let rule = BroadcastRule {

@@ -302,6 +302,12 @@ impl VirtualDrive {
                         pending = None;
                         let own = self.address;
                         self.address = frame.address.unwrap_or(own);
+                        // A broadcast is answered as if it addressed this station alone.
+                        let frame = crate::protocol::DecodedRequest {
+                            address: frame.address.or(frame.broadcast.map(|_| own)),
+                            broadcast: None,
+                            ..frame
+                        };
                         let outcome = self.answer(protocol, &frame);
                         self.address = own;
                         outcome
