@@ -288,6 +288,25 @@ pub fn decode(args: &DecodeArgs) -> Result<(), Failure> {
             other_protocols.join(", ")
         ));
     }
+    if first.meaning.broadcast.is_some() {
+        let reads = first.meaning.kind.is_some_and(|kind| !kind.is_write());
+        match &first.protocol.broadcast {
+            _ if reads => notes.push(
+                "a broadcast read: only writes may be broadcast, so drives ignore it and the library never sends one".to_owned(),
+            ),
+            None => notes.push(format!(
+                "{} takes no broadcasts over this protocol",
+                first.drive.id
+            )),
+            Some(rule) if !first.meaning.code.is_some_and(|code| rule.commands.contains(&code)) => {
+                notes.push(format!(
+                    "{} does not carry out this command when broadcast",
+                    first.drive.id
+                ))
+            }
+            Some(_) => {}
+        }
+    }
     let report = Report::new(first, &bytes, notes);
     if args.json {
         let text = serde_json::to_string_pretty(&report.json())
