@@ -341,6 +341,37 @@ impl Session {
             .map_err(|e| self.failure(e))
     }
 
+    /// Broadcasts a write of `raw` to `info` (see `Master::broadcast`): returns the value
+    /// the answering station reports written (when `reply_from` names one) and the station
+    /// the description says answers, if any.
+    pub fn broadcast_write(
+        &mut self,
+        info: &'static RegisterInfo,
+        raw: u32,
+        persist: bool,
+        to: vfd_runtime::Broadcast,
+        reply_from: Option<u8>,
+    ) -> Result<(Option<u32>, Option<u8>), Failure> {
+        check_writable(info, persist)?;
+        let kind = if persist {
+            CommandKind::WritePersistent
+        } else {
+            CommandKind::WriteRam
+        };
+        let request = Request::for_register(kind, info, raw);
+        let reply = match reply_from {
+            Some(station) => vfd_runtime::transaction::BroadcastReply::From(station),
+            None => vfd_runtime::transaction::BroadcastReply::None,
+        };
+        let responder = self.protocol.broadcast_responder(&request, &to);
+        self.requests += 1;
+        let answer = self
+            .master
+            .broadcast(&request, to, reply)
+            .map_err(|e| self.failure(e))?;
+        Ok((answer.and_then(|a| a.data), responder))
+    }
+
     /// Reads every register of `registers`, consecutive ones together where the protocol
     /// reads several registers in one request (its `max_words_per_read`); the others, and a
     /// block the drive refuses, one request each. Results are in the order given.

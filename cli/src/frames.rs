@@ -301,6 +301,25 @@ pub fn decode(args: &DecodeArgs) -> Result<(), Failure> {
             other_protocols.join(", ")
         ));
     }
+    if first.meaning.broadcast.is_some() {
+        let reads = first.meaning.kind.is_some_and(|kind| !kind.is_write());
+        match &first.protocol.broadcast {
+            _ if reads => notes.push(
+                "a broadcast read: only writes may be broadcast, so drives ignore it and the library never sends one".to_owned(),
+            ),
+            None => notes.push(format!(
+                "{} takes no broadcasts over this protocol",
+                first.drive.id
+            )),
+            Some(rule) if !first.meaning.code.is_some_and(|code| rule.commands.contains(&code)) => {
+                notes.push(format!(
+                    "{} does not carry out this command when broadcast",
+                    first.drive.id
+                ))
+            }
+            Some(_) => {}
+        }
+    }
     let report = Report::new(first, &bytes, notes);
     if args.json {
         let text = serde_json::to_string_pretty(&report.json())
@@ -463,6 +482,13 @@ impl<'a> Report<'a> {
         if let Some(address) = meaning.address {
             self.add("station", address.to_string());
         }
+        if let Some(broadcast) = meaning.broadcast {
+            let stations = match broadcast {
+                vfd_runtime::Broadcast::All => "every station".to_owned(),
+                vfd_runtime::Broadcast::Group(group) => format!("every station matching {group}"),
+            };
+            self.add("broadcast", stations);
+        }
         if meaning.tripped {
             let who = match self.fit.direction {
                 Direction::Request => "yes: the sender (master) reports a trip",
@@ -611,6 +637,7 @@ impl<'a> Report<'a> {
             "direction": fit.direction.as_str(),
             "checksum": self.checksum(),
             "station": meaning.address,
+            "broadcast": meaning.broadcast.map(|b| b.to_string()),
             "code": meaning.code.map(code_label),
             "kind": meaning.kind.map(CommandKind::as_str),
             "register": info.map(|i| i.code),
@@ -660,6 +687,12 @@ fn parts(protocol: &Protocol, direction: Direction, bytes: &[u8]) -> Vec<(String
             Part::Field(field) => (
                 field.name.to_string(),
                 match field.role {
+                    Role::Address => {
+                        match vfd_runtime::broadcast::from_field_value(field, value.value) {
+                            Some(_) => format!("{} (broadcast)", value_shown(field, value.value)),
+                            None => value.value.to_string(),
+                        }
+                    }
                     Role::Command => code_label(value.value),
                     Role::Register | Role::Data | Role::Process1 | Role::Process2 => {
                         format!("{:04X}h", value.value)
@@ -699,4 +732,31 @@ fn parts(protocol: &Protocol, direction: Direction, bytes: &[u8]) -> Vec<(String
             Part::Length(length) => (length.name.to_string(), value.value.to_string()),
         })
         .collect()
+}
+
+/// A station field's value as written on the wire: the broadcast bytes, the digits with the
+/// wildcard in the open places, or the number.
+fn value_shown(field: &vfd_runtime::FieldSpec, value: u32) -> String {
+    let layout = FrameLayout {
+        name: "station".into(),
+        parts: std::borrow::Cow::Owned(vec![Part::Field(field.clone())]),
+        encoding: vfd_runtime::Encoding::Binary,
+    };
+    let values = FrameValues {
+        parts: {
+            let mut parts = [vfd_runtime::FieldValue::default(); vfd_runtime::layout::MAX_PARTS];
+            parts[0] = vfd_runtime::FieldValue {
+                present: true,
+                value,
+                width: 0,
+            };
+            parts
+        },
+        data_size: 0,
+    };
+    let mut out = [0u8; 16];
+    match vfd_runtime::codec::encode(&layout, &values, &mut out) {
+        Ok(len) if field.format.is_digits() => escaped(&out[..len]),
+        _ => format!("{value:02X}h"),
+    }
 }

@@ -75,7 +75,7 @@ enum Command {
     },
     /// Write a value to a register (RAM only unless --persist), checked before anything is sent.
     #[command(
-        after_help = "Values: 60, 60Hz, 30.0s, a raw word (C400h, 0xC400), a code's name (even), or bit fields by name (command_enabled,run).\n\nExamples:\n  vfd write --drive yd1000 --port /dev/ttyUSB0 FA01 60Hz\n  vfd write --drive yd1000 --port /dev/ttyUSB0 FA00 command_enabled,frequency_enabled,run"
+        after_help = "Values: 60, 60Hz, 30.0s, a raw word (C400h, 0xC400), a code's name (even), or bit fields by name (command_enabled,run).\n\nExamples:\n  vfd write --drive yd1000 --port /dev/ttyUSB0 FA01 60Hz\n  vfd write --drive yd1000 --port /dev/ttyUSB0 FA00 command_enabled,frequency_enabled,run\n  vfd write --drive vf-as1 --port /dev/ttyUSB0 --broadcast '*9' --reply-from 9 FA01 60Hz"
     )]
     Write {
         #[command(flatten)]
@@ -89,6 +89,15 @@ enum Command {
         /// gets no reply returns once the frame is sent.
         #[arg(long, value_name = "CODE")]
         command: Option<String>,
+        /// Broadcast the write instead of addressing one station: `all` (or `**`) for every
+        /// station, or a group with `*` for each open digit (`*9`, `1*`), where the drive's
+        /// description allows it.
+        #[arg(long, value_name = "STATIONS")]
+        broadcast: Option<String>,
+        /// With --broadcast: the station that answers on this installation (its own number
+        /// in the reply); left out, no answer is awaited.
+        #[arg(long, value_name = "N", requires = "broadcast")]
+        reply_from: Option<u8>,
         /// Register to write.
         register: String,
         /// Value in the register's unit.
@@ -312,9 +321,16 @@ fn run(command: Command) -> Result<(), Failure> {
             line,
             persist,
             command,
+            broadcast,
+            reply_from,
             register,
             value,
-        } => watch::write(&line, command.as_deref(), &register, &value, persist),
+        } => match broadcast {
+            Some(stations) => {
+                watch::broadcast_write(&line, &register, &value, persist, &stations, reply_from)
+            }
+            None => watch::write(&line, command.as_deref(), &register, &value, persist),
+        },
         Command::Block {
             line,
             writes,

@@ -176,6 +176,58 @@ pub fn percentage(
     })
 }
 
+/// `vfd write --broadcast`: one write to every station (or a group), where the drive's
+/// description allows it; waits for the station `reply_from` names, else returns once the
+/// frame is on the line. Nothing is sent when the value, the register or the broadcast is
+/// refused.
+pub fn broadcast_write(
+    line: &LineArgs,
+    name: &str,
+    text: &str,
+    persist: bool,
+    stations: &str,
+    reply_from: Option<u8>,
+) -> Result<(), Failure> {
+    let drive = lookup::drive(&line.drive)?;
+    let info = lookup::register(drive, name)?;
+    crate::bus::check_writable(info, persist)?;
+    let to: vfd_runtime::Broadcast = stations
+        .parse()
+        .map_err(|e: vfd_runtime::broadcast::GroupParseError| Failure::new(e.to_string()))?;
+    let raw = values::parse(info, text).map_err(|m| {
+        Failure::new(m).hint(format!(
+            "nothing was sent; `vfd info {} {}` shows the range",
+            drive.id, info.code
+        ))
+    })?;
+    let mut session = Session::open(line)?;
+    let (echo, responder) = session.broadcast_write(info, raw, persist, to, reply_from)?;
+    let target = if persist { "RAM and EEPROM" } else { "RAM" };
+    let answered = match (reply_from, echo) {
+        (Some(station), Some(echo)) if echo != raw => {
+            format!("; station {station} reports {}", values::short(info, echo))
+        }
+        (Some(station), _) => format!("; station {station} confirms it"),
+        (None, _) => match responder {
+            Some(station) => format!(
+                "; no answer awaited (station {station} would answer where it exists: --reply-from {station})"
+            ),
+            None => "; no station answers a broadcast".to_owned(),
+        },
+    };
+    say!(
+        "broadcast {} {} = {} to {} ({target}){answered}",
+        info.code,
+        info.name,
+        values::short(info, raw),
+        match to {
+            vfd_runtime::Broadcast::All => "every station".to_owned(),
+            vfd_runtime::Broadcast::Group(group) => format!("the stations {group}"),
+        }
+    );
+    Ok(())
+}
+
 /// Refuses a value beyond a bound another register sets at run time (FH for the frequency
 /// command), reading that register first. Nothing is written when it refuses.
 fn check_run_time_bounds(

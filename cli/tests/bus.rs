@@ -672,3 +672,54 @@ fn vf_as1_block_transfer_over_the_sim() {
         text(&too_many)
     );
 }
+
+#[test]
+fn write_broadcast_reaches_a_group_and_waits_for_the_station_named() {
+    // A VF-AS1 as station 09: the group *9 reaches it, and it is the one that answers.
+    let sim = Sim::start_with("vf-as1", "ascii", &["--address", "9"]);
+    let sent = sim.vfd(
+        "vf-as1",
+        "ascii",
+        &[
+            "write",
+            "--broadcast",
+            "*9",
+            "--reply-from",
+            "9",
+            "FA01",
+            "60Hz",
+        ],
+    );
+    assert!(sent.status.success(), "{}", text(&sent));
+    assert!(
+        text(&sent).contains("to the stations *9") && text(&sent).contains("station 9 confirms it"),
+        "{}",
+        text(&sent)
+    );
+    let read = sim.vfd("vf-as1", "ascii", &["read", "FA01"]);
+    assert!(text(&read).contains("60.00 Hz"), "{}", text(&read));
+    // Without --reply-from no answer is awaited, and the description's responder is named.
+    let quiet = sim.vfd(
+        "vf-as1",
+        "ascii",
+        &["write", "--broadcast", "all", "FA01", "50Hz"],
+    );
+    assert!(quiet.status.success(), "{}", text(&quiet));
+    assert!(
+        text(&quiet).contains("station 0 would answer"),
+        "{}",
+        text(&quiet)
+    );
+    // The binary station byte has no wildcard: refused, nothing sent.
+    let refused = sim.vfd(
+        "vf-as1",
+        "binary",
+        &["write", "--broadcast", "*9", "FA01", "60Hz"],
+    );
+    assert!(!refused.status.success());
+    assert!(
+        text(&refused).contains("cannot broadcast"),
+        "{}",
+        text(&refused)
+    );
+}

@@ -90,3 +90,36 @@ fn every_example_frame_of_every_manual_decodes() {
     );
     assert!(decoded > 100, "only {decoded} frames");
 }
+
+#[test]
+fn broadcast_frames_decode_with_their_stations_and_what_the_drive_makes_of_them() {
+    let text = |output: std::process::Output| String::from_utf8_lossy(&output.stdout).into_owned();
+    let group = text(decode("vf-as1", "ascii", "--request", b"(*9PFA011770)\r"));
+    assert!(group.contains("every station matching *9"), "{group}");
+    assert!(group.contains("*9 (broadcast)"), "{group}");
+    let read = text(decode("vf-as1", "ascii", "--request", b"(*2R0000)\r"));
+    assert!(read.contains("a broadcast read"), "{read}");
+    let yd1000 = text(decode("yd1000", "ascii", "--request", b"(**PFA011770)\r"));
+    assert!(yd1000.contains("yd1000 takes no broadcasts"), "{yd1000}");
+    let binary = text(decode(
+        "vf-as1",
+        "binary",
+        "--request",
+        &[0x2F, 0xFF, 0x50, 0xFA, 0x01, 0x17, 0x70, 0x00],
+    ));
+    assert!(binary.contains("broadcast: every station"), "{binary}");
+    // A reply comes from one station: open digits are refused there.
+    let reply = Command::new(env!("CARGO_BIN_EXE_vfd"))
+        .args([
+            "decode",
+            "--drive",
+            "vf-as1",
+            "--protocol",
+            "ascii",
+            "--reply",
+            "(**PFA011770)\\r",
+        ])
+        .output()
+        .expect("vfd runs");
+    assert!(!reply.status.success());
+}

@@ -11,8 +11,8 @@
 use crate::checksum;
 use crate::error::{DecodeError, EncodeError};
 use crate::layout::{
-    checksum_size, BitsSpec, ChecksumSpec, Counts, Encoding, FieldSpec, Format, FrameLayout,
-    LengthSpec, Part, Presence, Role, SizedBy, WordSpec, MAX_PARTS,
+    checksum_size, BitsSpec, BroadcastAddress, ChecksumSpec, Counts, Encoding, FieldSpec, Format,
+    FrameLayout, LengthSpec, Part, Presence, Role, SizedBy, WordSpec, MAX_PARTS,
 };
 
 /// The value of one part of a frame.
@@ -578,8 +578,68 @@ fn encode_field(
             } else {
                 slot.width
             };
-            writer.put_value(&field.name, field.format, slot.value, width)
+            match &field.broadcast {
+                Some(broadcast) if BroadcastAddress::is_open(slot.value) => {
+                    encode_open_digits(writer, field, broadcast, slot.value)
+                }
+                _ => writer.put_value(&field.name, field.format, slot.value, width),
+            }
         }
+    }
+}
+
+/// A station number with open digits: the broadcast bytes when every digit is open and the
+/// field has them, else the digits with the wildcard character in the open places.
+fn encode_open_digits(
+    writer: &mut Writer<'_, '_>,
+    field: &FieldSpec,
+    broadcast: &BroadcastAddress,
+    value: u32,
+) -> Result<(), EncodeError> {
+    let width = usize::from(field.width);
+    let mask = (value >> BroadcastAddress::MASK_SHIFT) & 0x7F;
+    let all = (1u32 << width.min(7)) - 1;
+    let too_wide = || EncodeError::ValueTooWide {
+        layout: writer.layout.name.clone(),
+        field: field.name.clone(),
+        value,
+        format: field.format,
+        width: field.width,
+    };
+    if mask == all && !broadcast.all_bytes.is_empty() {
+        return writer.put(&broadcast.all_bytes);
+    }
+    let (Some(wildcard), Some(radix)) = (broadcast.wildcard, digit_radix(field.format)) else {
+        return Err(too_wide());
+    };
+    if width == 0 || width > 7 {
+        return Err(too_wide());
+    }
+    let mut digits = [0u8; 7];
+    let mut rest = value & ((1 << BroadcastAddress::MASK_SHIFT) - 1);
+    for (position, slot) in digits[..width].iter_mut().rev().enumerate() {
+        let digit = (rest % radix) as u8;
+        rest /= radix;
+        *slot = if mask & (1 << position) != 0 {
+            wildcard
+        } else if digit < 10 {
+            b'0' + digit
+        } else {
+            b'A' + digit - 10
+        };
+    }
+    if rest != 0 {
+        return Err(too_wide());
+    }
+    writer.put(&digits[..width])
+}
+
+/// The radix of a digit format.
+fn digit_radix(format: Format) -> Option<u32> {
+    match format {
+        Format::Decimal => Some(10),
+        Format::Hex => Some(16),
+        _ => None,
     }
 }
 
@@ -862,13 +922,22 @@ fn decode_field(
         let present = match presence {
             Presence::IfFormatMatches => field.format.accepts_digit(next),
             Presence::IfByteAtMost(limit) => next <= limit,
-        };
+        } || field
+            .broadcast
+            .as_ref()
+            .is_some_and(|b| b.starts_with(next));
         if !present {
             return Ok(PartOutcome::Done);
         }
     }
     if field.role == Role::Words {
         return decode_words(layout, index, field, cursor, values);
+    }
+    if let Some(broadcast) = &field.broadcast {
+        if let Some(outcome) = decode_open_digits(layout, field, broadcast, index, cursor, values)?
+        {
+            return Ok(outcome);
+        }
     }
     let size = match (field.sized_by, field.format) {
         (SizedBy::Rest, _) => Some(rest_size(layout, index, cursor)?),
@@ -989,6 +1058,83 @@ fn decode_words(
     };
     cursor.pos += size;
     Ok(PartOutcome::Done)
+}
+
+/// A station field written with open digits (`**`, `*9`): `Some` when the bytes at the
+/// cursor are (or may still become) one, `None` when they are an ordinary value.
+fn decode_open_digits(
+    layout: &FrameLayout,
+    field: &FieldSpec,
+    broadcast: &BroadcastAddress,
+    index: usize,
+    cursor: &mut Cursor<'_>,
+    values: &mut FrameValues,
+) -> Result<Option<PartOutcome>, DecodeError> {
+    let rest = &cursor.bytes[cursor.pos..];
+    let width = usize::from(field.width);
+    let all_bytes: &[u8] = &broadcast.all_bytes;
+    if !all_bytes.is_empty() {
+        let compared = rest.len().min(all_bytes.len());
+        if compared > 0 && rest[..compared] == all_bytes[..compared] {
+            if compared < all_bytes.len() {
+                return Ok(Some(PartOutcome::Incomplete));
+            }
+            let mask = (1u32 << width.clamp(1, 7)) - 1;
+            values.parts[index] = FieldValue {
+                present: true,
+                value: BroadcastAddress::OPEN | (mask << BroadcastAddress::MASK_SHIFT),
+                width: field.width,
+            };
+            cursor.pos += all_bytes.len();
+            return Ok(Some(PartOutcome::Done));
+        }
+    }
+    let (Some(wildcard), Some(radix)) = (broadcast.wildcard, digit_radix(field.format)) else {
+        return Ok(None);
+    };
+    if width == 0 || width > 7 {
+        return Ok(None);
+    }
+    let shown = &rest[..rest.len().min(width)];
+    if !shown.contains(&wildcard) {
+        return Ok(None);
+    }
+    let mut mask = 0u32;
+    let mut value = 0u32;
+    for (offset, &byte) in shown.iter().enumerate() {
+        let digit = if byte == wildcard {
+            mask |= 1 << (width - 1 - offset);
+            0
+        } else {
+            match (byte as char).to_digit(radix) {
+                Some(digit) => digit,
+                None => {
+                    return Err(DecodeError::UnexpectedByte {
+                        layout: layout.name.clone(),
+                        part: field.name.clone(),
+                        offset: cursor.pos + offset,
+                        found: byte,
+                        expected: format!("a digit or {}", byte_shown(wildcard)),
+                    })
+                }
+            }
+        };
+        value = value * radix + digit;
+    }
+    if shown.len() < width {
+        return Ok(Some(PartOutcome::Incomplete));
+    }
+    values.parts[index] = FieldValue {
+        present: true,
+        value: BroadcastAddress::OPEN | (mask << BroadcastAddress::MASK_SHIFT) | value,
+        width: field.width,
+    };
+    cursor.pos += width;
+    Ok(Some(PartOutcome::Done))
+}
+
+fn byte_shown(byte: u8) -> String {
+    crate::error::describe_bytes(&[byte])
 }
 
 /// Size of a rest-of-frame field: up to the frame end, less the fixed parts after it.
@@ -1286,6 +1432,7 @@ mod tests {
                     allowed: Cow::Borrowed(&[]),
                     fold_case: false,
                     sized_by: crate::layout::SizedBy::Format,
+                    broadcast: None,
                 }),
                 Part::Field(FieldSpec {
                     name: "command".into(),
@@ -1297,6 +1444,7 @@ mod tests {
                     allowed: Cow::Borrowed(&[b'R' as u32]),
                     fold_case: true,
                     sized_by: crate::layout::SizedBy::Format,
+                    broadcast: None,
                 }),
                 Part::Field(FieldSpec {
                     name: "register".into(),
@@ -1308,6 +1456,7 @@ mod tests {
                     allowed: Cow::Borrowed(&[]),
                     fold_case: false,
                     sized_by: crate::layout::SizedBy::Format,
+                    broadcast: None,
                 }),
                 Part::Checksum(ChecksumSpec {
                     name: "sum".into(),
@@ -1343,6 +1492,7 @@ mod tests {
             allowed: Cow::Borrowed(&[]),
             fold_case: false,
             sized_by: crate::layout::SizedBy::Format,
+            broadcast: None,
         })
     }
 
@@ -1569,6 +1719,7 @@ mod tests {
                 allowed: Cow::Borrowed(&[]),
                 fold_case: false,
                 sized_by: crate::layout::SizedBy::Format,
+                broadcast: None,
             })
         };
         let literal = |name: &'static str, bytes: &'static [u8]| Part::Literal {

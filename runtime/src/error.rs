@@ -342,6 +342,16 @@ pub enum EncodeError {
         /// Protocol id.
         protocol: Text,
     },
+    /// A broadcast the protocol, the drive or the request does not allow; nothing is sent.
+    #[error("protocol {protocol}: cannot broadcast a {kind}: {reason}", kind = kind.as_str())]
+    NoBroadcast {
+        /// Protocol id.
+        protocol: Text,
+        /// The request's kind.
+        kind: CommandKind,
+        /// Why.
+        reason: &'static str,
+    },
     /// The protocol has no address field, but an address was given.
     #[error("protocol {protocol}: station address {address} is outside {min}..={max}")]
     AddressOutOfRange {

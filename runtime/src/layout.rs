@@ -352,6 +352,74 @@ pub struct FieldSpec {
     pub fold_case: bool,
     /// Where the field's size comes from.
     pub sized_by: SizedBy,
+    /// How a station address field addresses several stations at once (broadcast and
+    /// group addressing); `None` for other fields and for protocols without broadcasts.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub broadcast: Option<BroadcastAddress>,
+}
+
+/// The broadcast encodings of a station address field (protocol file: `broadcast:` on the
+/// address part): what stands in the field's place to address every station, and the
+/// character that leaves one digit open to address a group.
+///
+/// In [`crate::codec::FrameValues`] a station number with open digits (a group, or every
+/// station written as `**`) is held as [`BroadcastAddress::OPEN`] | the open digits' mask
+/// (bit 0: the last digit) << [`BroadcastAddress::MASK_SHIFT`] | the value of the closed
+/// digits; [`crate::broadcast`] converts it.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct BroadcastAddress {
+    /// Bytes written instead of the station number to address every station (`"**"`);
+    /// empty when a value does it.
+    pub all_bytes: List<u8>,
+    /// The station value that addresses every station (FFh; Modbus 0), when a value does.
+    pub all_value: Option<u32>,
+    /// A character standing for any one digit of a digit-format station number (`*`):
+    /// group addressing (`*9`: every station whose last digit is 9).
+    pub wildcard: Option<u8>,
+}
+
+impl BroadcastAddress {
+    /// Flag of a field value holding open digits.
+    pub const OPEN: u32 = 1 << 31;
+    /// Position of the open digits' mask in a field value.
+    pub const MASK_SHIFT: u32 = 24;
+
+    /// Every station is addressed by `bytes` in the field's place.
+    pub const fn bytes(bytes: &'static [u8]) -> BroadcastAddress {
+        BroadcastAddress {
+            all_bytes: Cow::Borrowed(bytes),
+            all_value: None,
+            wildcard: None,
+        }
+    }
+
+    /// Every station is addressed by the field value `value`.
+    pub const fn value(value: u32) -> BroadcastAddress {
+        BroadcastAddress {
+            all_bytes: Cow::Borrowed(&[]),
+            all_value: Some(value),
+            wildcard: None,
+        }
+    }
+
+    /// `character` leaves one digit open (group addressing).
+    pub const fn with_wildcard(mut self, character: u8) -> BroadcastAddress {
+        self.wildcard = Some(character);
+        self
+    }
+
+    /// Whether a field value holds open digits.
+    pub const fn is_open(value: u32) -> bool {
+        value & Self::OPEN != 0
+    }
+
+    /// Whether `byte` can begin a broadcast station field.
+    pub fn starts_with(&self, byte: u8) -> bool {
+        self.all_bytes.first() == Some(&byte)
+            || self.wildcard == Some(byte)
+            || self.all_value == Some(u32::from(byte))
+    }
 }
 
 /// A word whose bits hold several fields (the FC PKE: command nibble + parameter number).
@@ -632,7 +700,15 @@ impl FieldSpec {
             allowed: Cow::Borrowed(&[]),
             fold_case: false,
             sized_by: SizedBy::Format,
+            broadcast: None,
         }
+    }
+
+    /// A station address that may also address every station, or a group.
+    pub const fn with_broadcast(mut self, broadcast: BroadcastAddress) -> FieldSpec {
+        // A const fn cannot drop the old value; it is `None` when built by `new`.
+        core::mem::forget(self.broadcast.replace(broadcast));
+        self
     }
 
     /// Accepts as few as `min_width` digits or bytes on decode.

@@ -9,6 +9,7 @@
 //! * [`layout`] describes a frame as a list of parts (literals, fields, checksums);
 //! * [`codec`] encodes and decodes any such layout without heap allocation;
 //! * [`protocol`] ties layouts to commands (read, RAM write, persistent write) and error replies;
+//!   [`broadcast`] says which stations a broadcast or group request reaches and who answers;
 //! * [`register`] holds the traits that make register access typed (each register gets
 //!   `R::read()`, `R::write_ram(value)`, ... from them) and the protocol-independent
 //!   [`Request`]; [`units`] the quantities and value conversions (scaling, ranges);
@@ -42,6 +43,7 @@
 
 pub mod behaviour;
 pub mod bits;
+pub mod broadcast;
 pub mod checksum;
 pub mod codec;
 pub mod codes;
@@ -65,14 +67,15 @@ pub mod transport;
 pub mod units;
 pub mod virtual_drive;
 
+pub use broadcast::{Broadcast, BroadcastAnswer, BroadcastRule, StationGroup};
 pub use codec::{FieldValue, FrameValues, Roles, Words};
 pub use drive::DriveInfo;
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
 pub use info::{BitFieldInfo, BitWordInfo, CodeInfo, CodeTableInfo, ErrorCodeInfo, RegisterInfo};
 pub use kinds::{Access, CommandKind, DataType, Space, TakesEffect};
 pub use layout::{
-    BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, Encoding, FieldSpec, Format, FrameLayout,
-    LengthSpec, Part, Presence, Role, SizedBy, WordSpec,
+    BitsSpec, BroadcastAddress, ChecksumAlgorithm, ChecksumSpec, Counts, Encoding, FieldSpec,
+    Format, FrameLayout, LengthSpec, Part, Presence, Role, SizedBy, WordSpec,
 };
 pub use protocol::{
     AddressMap, BlockChoice, BlockMode, BlockSelection, BlockSelector, BlockSpec, CommandSpec,

@@ -39,6 +39,12 @@ impl Direction {
 pub struct FrameMeaning {
     /// Station address.
     pub address: Option<u8>,
+    /// The stations a broadcast request addresses (`all`, or a group such as `*9`).
+    #[cfg_attr(
+        feature = "serde",
+        serde(skip_serializing_if = "Option::is_none", serialize_with = "shown")
+    )]
+    pub broadcast: Option<crate::broadcast::Broadcast>,
     /// Command code as on the wire (the letter in its case, the AK nibble, the function code).
     pub code: Option<u32>,
     /// Kind of the command the frame belongs to (absent for error replies).
@@ -86,6 +92,7 @@ pub fn decode_meaning(
             let command = request.command;
             Ok(FrameMeaning {
                 address: request.address,
+                broadcast: request.broadcast,
                 code: command.request.has(Role::Command).then(|| request.code()),
                 kind: Some(command.kind),
                 space: Some(command.space),
@@ -120,6 +127,7 @@ pub fn decode_meaning(
                 ..
             } => Ok(FrameMeaning {
                 address,
+                broadcast: None,
                 code: command.reply.has(Role::Command).then_some(code),
                 kind: Some(command.kind),
                 space: Some(command.space),
@@ -154,5 +162,17 @@ pub fn decode_meaning(
                 ..FrameMeaning::default()
             }),
         },
+    }
+}
+
+/// A broadcast as written (`all`, `*9`).
+#[cfg(feature = "serde")]
+fn shown<S: serde::Serializer>(
+    broadcast: &Option<crate::broadcast::Broadcast>,
+    serializer: S,
+) -> Result<S::Ok, S::Error> {
+    match broadcast {
+        Some(broadcast) => serializer.serialize_some(&broadcast.to_string()),
+        None => serializer.serialize_none(),
     }
 }

@@ -2,6 +2,7 @@
 //! drive's error-code table and any steps a request needs first; this module encodes
 //! requests and decodes replies with it.
 
+use crate::broadcast::{self as broadcasts, Broadcast, BroadcastRule};
 use crate::codec::{self, DecodeStatus, FrameValues, Progress, Roles, Words};
 use crate::error::{DecodeError, EncodeError};
 pub use crate::info::ErrorCodeInfo;
@@ -9,6 +10,7 @@ pub use crate::kinds::{CommandKind, DataType, Space};
 use crate::layout::{Counts, Format, FrameLayout, List, Part, Role, SizedBy, Text};
 use crate::register::DriveRequest;
 pub use crate::register::Request;
+use crate::serial::LinkTiming;
 use std::borrow::Cow;
 use std::fmt;
 use std::marker::PhantomData;
@@ -374,6 +376,13 @@ pub struct Protocol {
     /// What a block-transfer command ([`CommandKind::Block`]) writes and reads on this
     /// drive; `None`: the drive has no block transfer (and no such command).
     pub block: Option<BlockSpec>,
+    /// The drive's timing rules for this protocol beyond `frame_gap_chars` (gap floor in
+    /// milliseconds, inner-gap limit, bytes before the start, reply delay register).
+    pub timing: LinkTiming,
+    /// Which commands the drive carries out when broadcast and which station answers;
+    /// `None`: the drive takes no broadcasts over this protocol (its address field's
+    /// broadcast encodings, if any, are not used).
+    pub broadcast: Option<BroadcastRule>,
 }
 
 /// One selector of a block transfer: a register whose value chooses the register one word
@@ -516,8 +525,11 @@ pub fn command_reads_blocks(command: &CommandSpec) -> bool {
 pub struct DecodedRequest<'p> {
     /// The command it carries.
     pub command: &'p CommandSpec,
-    /// Station address, if the frame carries one.
+    /// Station address, if the frame carries one (`None` for a broadcast).
     pub address: Option<u8>,
+    /// The stations a broadcast addresses, when the station field holds a broadcast
+    /// encoding (`**`, `*9`, FFh, Modbus 0) rather than one station.
+    pub broadcast: Option<Broadcast>,
     /// Register number on the wire.
     pub wire_register: Option<u16>,
     /// Register number after undoing the command's address map, when it maps back.
@@ -797,6 +809,67 @@ impl Protocol {
         codec::encode(layout, &values, out)
     }
 
+    /// Encodes `request` as a broadcast to the stations `to` addresses. Refused before
+    /// anything is built: a protocol the drive takes no broadcasts over, a command the
+    /// drive's rule does not list, any request that reads (only writes may be broadcast),
+    /// and a group the station field cannot carry.
+    pub fn encode_broadcast(
+        &self,
+        request: &Request,
+        to: &Broadcast,
+        out: &mut [u8],
+    ) -> Result<usize, EncodeError> {
+        let (layout, values) = self.broadcast_values(request, to)?;
+        codec::encode(layout, &values, out)
+    }
+
+    /// The frame values of `request` broadcast to `to` (see [`Protocol::encode_broadcast`]).
+    pub fn broadcast_values(
+        &self,
+        request: &Request,
+        to: &Broadcast,
+    ) -> Result<(&FrameLayout, FrameValues), EncodeError> {
+        let refuse = |reason: &'static str| EncodeError::NoBroadcast {
+            protocol: self.id.clone(),
+            kind: request.kind,
+            reason,
+        };
+        if !request.kind.is_write() {
+            return Err(refuse(
+                "only writes may be broadcast: no station could answer a read for all of them",
+            ));
+        }
+        let rule = self
+            .broadcast
+            .as_ref()
+            .ok_or_else(|| refuse("the drive takes no broadcasts over this protocol"))?;
+        let command = self.command_for_request(request)?;
+        if !rule.commands.contains(&command.code) {
+            return Err(refuse(
+                "the drive does not carry out this command when broadcast",
+            ));
+        }
+        let layout = &command.request;
+        let field = layout
+            .field(Role::Address)
+            .filter(|field| broadcasts::field_carries(field, to))
+            .ok_or_else(|| refuse("the station field has no encoding for these stations"))?;
+        let value = broadcasts::field_value(field, to);
+        let placeholder = self.address_range.0;
+        let (layout, mut values) = self.request_values_for(command, request, Some(placeholder))?;
+        values.set(layout, Role::Address, value);
+        Ok((layout, values))
+    }
+
+    /// Which station answers a broadcast to `to` by the drive's rule (`None`: none does, or
+    /// the drive takes no broadcasts over this protocol).
+    pub fn broadcast_responder(&self, request: &Request, to: &Broadcast) -> Option<u8> {
+        let rule = self.broadcast.as_ref()?;
+        let command = self.command_for_request(request).ok()?;
+        let field = command.request.field(Role::Address)?;
+        rule.responder(to, self.address_range.0, broadcasts::field_radix(field))
+    }
+
     /// Decodes a request frame starting at `bytes[0]`.
     pub fn decode_request(&self, bytes: &[u8]) -> Result<Found<DecodedRequest<'_>>, DecodeError> {
         let mut best: Option<DecodeError> = None;
@@ -813,10 +886,17 @@ impl Protocol {
                         continue;
                     }
                     let wire = values.get(layout, Role::Register).map(|r| r as u16);
+                    let station = values.get(layout, Role::Address);
+                    let broadcast = station.and_then(|value| {
+                        layout
+                            .field(Role::Address)
+                            .and_then(|field| broadcasts::from_field_value(field, value))
+                    });
                     return Ok(Found::Frame {
                         frame: DecodedRequest {
                             command,
-                            address: values.get(layout, Role::Address).map(|a| a as u8),
+                            address: station.filter(|_| broadcast.is_none()).map(|a| a as u8),
+                            broadcast,
                             wire_register: wire,
                             register: wire.and_then(|w| command.address_map.from_wire(w)),
                             index: values.get(layout, Role::Index).map(|i| i as u16),
@@ -907,6 +987,7 @@ impl Protocol {
         match codec::decode(layout, bytes)? {
             DecodeStatus::Incomplete => Ok(None),
             DecodeStatus::Complete { values, len } => {
+                no_open_station(layout, &values)?;
                 Ok(Some(self.error_reply_from(layout, values, len)))
             }
         }
@@ -951,6 +1032,7 @@ impl Protocol {
         len: usize,
     ) -> Result<Reply<'p>, DecodeError> {
         let layout = &command.reply;
+        no_open_station(layout, &values)?;
         let roles = values.roles(layout);
         let code = roles.command;
         if let Some(code) = code.filter(|code| !self.reply_code_matches(command, *code)) {
@@ -1358,6 +1440,10 @@ impl Protocol {
                             }
                         }
                     } else {
+                        if let Err(error) = no_open_station(layout, &values) {
+                            best = Some(furthest(best, error));
+                            continue;
+                        }
                         self.error_reply_from(layout, values, len)
                     };
                     let size = expectation
@@ -1391,6 +1477,26 @@ impl Protocol {
                 len: bytes.len(),
             }))
         }
+    }
+}
+
+/// A reply comes from one station: a station field with open digits (`**`, `*9`) is a
+/// broadcast request's, never a reply's.
+fn no_open_station(layout: &FrameLayout, values: &FrameValues) -> Result<(), DecodeError> {
+    match layout.locate(Role::Address) {
+        Some((index, None))
+            if values.parts[index].present
+                && crate::layout::BroadcastAddress::is_open(values.parts[index].value) =>
+        {
+            Err(DecodeError::NotAllowed {
+                layout: layout.name.clone(),
+                part: layout.parts[index].name().to_owned().into(),
+                offset: 0,
+                value: values.parts[index].value & 0xFF_FFFF,
+                format: Format::Decimal,
+            })
+        }
+        _ => Ok(()),
     }
 }
 

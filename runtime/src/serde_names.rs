@@ -113,6 +113,7 @@ fn layout_data_serialises_with_borrowed_and_owned_lists() {
                 allowed: vec![].into(),
                 fold_case: false,
                 sized_by: SizedBy::Format,
+                broadcast: None,
             }),
         ]
         .into(),

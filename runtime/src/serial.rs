@@ -1,6 +1,7 @@
 //! Serial line settings and the timings derived from them (character time, wire time,
 //! reply timeout).
 
+use crate::layout::List;
 use std::time::Duration;
 
 /// Parity bit setting.
@@ -88,6 +89,85 @@ impl DriveTiming {
         settings.wire_time(request_len)
             + settings.wire_time(max_reply_len)
             + self.processing_allowance
+    }
+}
+
+/// Timing rules of one protocol as one drive speaks it, beyond the frame gap in characters
+/// (drive file: overrides on the drive's `protocols[]` entry, since protocol files are
+/// shared with drives whose manuals lack these rules).
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct LinkTiming {
+    /// The shortest silence between frames whatever the baud rate (VF-AS1: about 2 ms;
+    /// DV1 Modbus RTU: 10 ms); the gap is the longer of this and the gap in characters.
+    pub frame_gap_min: Duration,
+    /// The longest silence allowed between two bytes of one frame, in character times
+    /// (VF-AS1: 1.5): the drive drops a frame with a longer one. 0: no limit but the
+    /// frame abandon time.
+    pub max_inner_gap_chars: f32,
+    /// What the drive makes of bytes before a frame's start sequence.
+    pub before_start: BeforeStart,
+    /// The registers whose value delays every reply, when the drive has them.
+    pub reply_delay: Option<ReplyDelay>,
+}
+
+impl LinkTiming {
+    /// No rule beyond the protocol file's: no gap floor, no inner-gap limit, bytes before
+    /// the start skipped, no reply delay.
+    pub const NONE: LinkTiming = LinkTiming {
+        frame_gap_min: Duration::ZERO,
+        max_inner_gap_chars: 0.0,
+        before_start: BeforeStart::Skip,
+        reply_delay: None,
+    };
+}
+
+/// What a drive makes of bytes received before a frame's start sequence.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "schemars", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
+pub enum BeforeStart {
+    /// They are skipped: the frame begins at its start sequence (YD1000, VF-A7).
+    Skip,
+    /// The frame they precede (up to the next silence) is rejected, unanswered (VF-AS1:
+    /// every frame must begin with its start code).
+    Reject,
+}
+
+impl BeforeStart {
+    /// Every rule.
+    pub const ALL: [BeforeStart; 2] = [BeforeStart::Skip, BeforeStart::Reject];
+
+    /// The rule's name as description files write it.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            BeforeStart::Skip => "skip",
+            BeforeStart::Reject => "reject",
+        }
+    }
+}
+
+/// A wait before every reply that registers of the drive set (VF-AS1 F805 / F825: 0.00-2.00
+/// s): the master adds it to the reply timeout, the virtual drive waits that long.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct ReplyDelay {
+    /// The registers (numbers before any address map). With several (one per port), the
+    /// master does not know which applies and takes the longest.
+    pub registers: List<u16>,
+    /// The wait one raw step stands for (0.01 s).
+    pub step: Duration,
+    /// The wait at the registers' factory setting.
+    pub default: Duration,
+    /// The longest wait the registers can set.
+    pub max: Duration,
+}
+
+impl ReplyDelay {
+    /// The wait a raw register value sets.
+    pub fn of_raw(&self, raw: u32) -> Duration {
+        self.step.saturating_mul(raw).min(self.max.max(self.step))
     }
 }
 

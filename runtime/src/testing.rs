@@ -97,8 +97,11 @@ fn encodes_like(
     request: &Request,
     bytes: &[u8],
 ) {
+    let address = decoded
+        .address
+        .or(decoded.broadcast.map(|_| protocol.address_range.0));
     let (layout, mut values) = protocol
-        .request_values_for(decoded.command, request, decoded.address)
+        .request_values_for(decoded.command, request, address)
         .unwrap_or_else(|e| panic!("cannot build the request: {e}"));
     adopt_presentation(layout, &mut values, &decoded.values);
     // A block transfer: the count asked back and the words written, as the manual's.
@@ -106,6 +109,15 @@ fn encodes_like(
         values.set(layout, Role::ReadCount, count);
     }
     let payload = decoded.words.payload(layout);
+    // A broadcast (a read too: the manual may print one) carries its stations' encoding.
+    if let (Some(broadcast), Some(field)) = (decoded.broadcast, layout.field(crate::Role::Address))
+    {
+        values.set(
+            layout,
+            crate::Role::Address,
+            crate::broadcast::field_value(field, &broadcast),
+        );
+    }
     let mut out = [0u8; 256];
     let len = codec::encode_with_payload(layout, &values, &payload, &mut out)
         .unwrap_or_else(|e| panic!("cannot encode: {e}"));

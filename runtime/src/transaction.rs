@@ -26,6 +26,9 @@ use std::fmt;
 use std::marker::PhantomData;
 use std::time::{Duration, Instant};
 
+mod broadcast;
+pub use broadcast::BroadcastReply;
+
 /// Largest frame the master buffers; longer noise is dropped from the front.
 pub const MAX_FRAME: usize = 256;
 
@@ -178,6 +181,12 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     /// After a timeout: until when a late reply may still arrive (the next exchange waits
     /// for it and drops it, so it cannot be taken for the next reply).
     late_reply_until: Option<Instant>,
+    /// The drive's wait before replying as the caller stated or read it
+    /// ([`Master::with_reply_delay`], [`Master::read_reply_delay`]); `None`: the
+    /// description's factory setting.
+    reply_delay: Option<Duration>,
+    /// The stations the request under way is broadcast to (see [`Master::broadcast`]).
+    broadcast_to: Option<crate::broadcast::Broadcast>,
 }
 
 impl<T: Transport> Master<T, AnyDrive> {
@@ -229,6 +238,8 @@ impl<T: Transport, D: 'static> Master<T, D> {
             block_transfer: None,
             host_latency: crate::serial::HOST_LATENCY,
             late_reply_until: None,
+            reply_delay: None,
+            broadcast_to: None,
         }
     }
 
@@ -290,13 +301,60 @@ impl<T: Transport, D: 'static> Master<T, D> {
     }
 
     /// The reply timeout for a request of `request_len` bytes: both frames' wire time, the
-    /// drive's processing time and the host latency.
+    /// drive's processing time, its wait before replying ([`Master::reply_delay`]) and the
+    /// host latency.
     pub fn reply_timeout(&self, request_len: usize) -> Duration {
         self.timing.reply_timeout(
             &self.settings,
             request_len,
             usize::from(self.protocol.max_frame_len),
-        ) + self.host_latency
+        ) + self.reply_delay()
+            + self.host_latency
+    }
+
+    /// States the drive's wait before every reply, where registers of the drive set one
+    /// (the protocol's [`crate::serial::ReplyDelay`]: VF-AS1 F805 / F825): it is added to
+    /// every reply timeout. Without it the master takes the description's factory setting.
+    pub fn with_reply_delay(mut self, delay: Duration) -> Self {
+        self.reply_delay = Some(delay);
+        self
+    }
+
+    /// The drive's wait before replying that the master allows for: the value stated or
+    /// read, else the factory setting of the protocol's reply-delay registers (zero when
+    /// the protocol has none).
+    pub fn reply_delay(&self) -> Duration {
+        self.reply_delay.unwrap_or_else(|| {
+            self.protocol
+                .timing
+                .reply_delay
+                .as_ref()
+                .map_or(Duration::ZERO, |delay| delay.default)
+        })
+    }
+
+    /// Reads the protocol's reply-delay registers (allowing the longest wait they can set
+    /// while reading them) and from then on allows for the longest value read. Returns it;
+    /// zero, without an exchange, when the protocol has no such register.
+    pub fn read_reply_delay(&mut self) -> Result<Duration, TransactionError> {
+        let Some(delay) = self.protocol.timing.reply_delay.clone() else {
+            return Ok(Duration::ZERO);
+        };
+        let before = self.reply_delay;
+        self.reply_delay = Some(delay.max);
+        let mut longest = Duration::ZERO;
+        for register in delay.registers.iter() {
+            let request = Request::raw(CommandKind::Read, *register, 0);
+            match self.transact(&request) {
+                Ok(answer) => longest = longest.max(delay.of_raw(answer.data.unwrap_or(0))),
+                Err(error) => {
+                    self.reply_delay = before;
+                    return Err(error);
+                }
+            }
+        }
+        self.reply_delay = Some(longest);
+        Ok(longest)
     }
 
     /// How long after a timeout a late reply may still arrive: the longest frame's wire
@@ -308,18 +366,22 @@ impl<T: Transport, D: 'static> Master<T, D> {
             + self.host_latency
     }
 
-    /// The silence kept between frames (Modbus RTU: 3.5 character times).
+    /// The silence kept between frames: the protocol's gap in character times (Modbus
+    /// RTU: 3.5), or the drive's floor in milliseconds where that is longer (DV1 Modbus
+    /// RTU: 10 ms; VF-AS1: 2 ms).
     pub fn frame_gap(&self) -> Duration {
         self.settings
             .char_time()
             .mul_f32(self.protocol.frame_gap_chars)
+            .max(self.protocol.timing.frame_gap_min)
     }
 
-    /// The longest silence a frame may hold, from the protocol's timing: a longer one
-    /// inside a reply starts a new frame. `None` when the protocol states no such limit.
+    /// The longest silence a frame may hold, from the protocol's timing (the frame gap): a
+    /// longer one inside a reply starts a new frame. `None` when the protocol states no
+    /// gap.
     pub fn silence_limit(&self) -> Option<Duration> {
-        let chars = self.protocol.frame_gap_chars;
-        (chars > 0.0).then(|| self.settings.char_time().mul_f32(chars))
+        let gap = self.frame_gap();
+        (!gap.is_zero()).then_some(gap)
     }
 
     /// Reads register `R`: its typed value, and whether the reply said the drive is tripped.
@@ -841,6 +903,10 @@ impl<T: Transport, D: 'static> Master<T, D> {
             let mut payload = [0u8; 2 * crate::codec::MAX_WORDS];
             let size = words.write_payload(layout, &mut payload);
             crate::codec::encode_with_payload(layout, &values, &payload[..size], &mut self.request)
+                .map_err(cannot_send)?
+        } else if let Some(to) = self.broadcast_to {
+            protocol
+                .encode_broadcast(request, &to, &mut self.request)
                 .map_err(cannot_send)?
         } else if self.block_words > 1 {
             // A block read: the request counts the words it asks for.

@@ -187,6 +187,13 @@ pub fn meaning_text(drive: &DriveIr, frame: &FrameIr) -> String {
     if let Some(address) = meaning.address {
         parts.push(format!("station {address}"));
     }
+    match meaning.broadcast {
+        Some(vfd_runtime::Broadcast::All) => parts.push("broadcast to every station".to_owned()),
+        Some(vfd_runtime::Broadcast::Group(group)) => {
+            parts.push(format!("broadcast to the stations {group}"))
+        }
+        None => {}
+    }
     let named = meaning
         .register
         .and_then(|address| drive.register_at(meaning.space.unwrap_or(Space::Parameter), address));

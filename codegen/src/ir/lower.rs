@@ -422,6 +422,8 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         }),
         block_note: block_model(model, &protocol.id)
             .map_or_else(String::new, |b| b.note.trim().to_owned()),
+        timing: runtime.timing.clone(),
+        broadcast: runtime.broadcast.clone(),
         error_table: if let Some(table) = own_table {
             ErrorTableIr::Protocol(ErrorCodesIr {
                 source: table.source.clone(),

@@ -298,6 +298,10 @@ pub struct ProtocolIr {
     /// See `block_source`.
     #[serde(skip_serializing_if = "String::is_empty")]
     pub block_note: String,
+    /// The drive's timing rules beyond the gap in characters.
+    pub timing: vfd_runtime::serial::LinkTiming,
+    /// The drive's broadcast rule, when it takes broadcasts over this protocol.
+    pub broadcast: Option<vfd_runtime::broadcast::BroadcastRule>,
     /// The table its error replies are named from.
     pub error_table: ErrorTableIr,
 }

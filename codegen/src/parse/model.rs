@@ -10,10 +10,10 @@ use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fmt;
-use vfd_runtime::serial::Parity;
+use vfd_runtime::serial::{BeforeStart, Parity};
 use vfd_runtime::{
-    Access, ChecksumAlgorithm, CommandKind, DataType, DecodeErrorKind, Encoding, Format, Role,
-    SizedBy, Space, TakesEffect,
+    Access, BroadcastAnswer, ChecksumAlgorithm, CommandKind, DataType, DecodeErrorKind, Encoding,
+    Format, Role, SizedBy, Space, TakesEffect,
 };
 
 /// A drive file (`drives/<id>.yaml`).
@@ -490,6 +490,26 @@ pub struct ProtocolRef {
     /// What the protocol's block-transfer command (`kind: block`) writes and reads on this
     /// drive; left out, the drive has no block transfer and the command is dropped.
     pub block: Option<BlockModel>,
+    /// Silence between frames in character times, where this drive's manual states its own
+    /// (overrides the protocol file's `frame_gap_chars`; VF-AS1 Toshiba protocol: 3.5).
+    pub frame_gap_chars: Option<f32>,
+    /// The shortest silence between frames in milliseconds, whatever the baud rate: the gap
+    /// is the longer of this and `frame_gap_chars` (DV1 Modbus RTU: 10; VF-AS1: 2).
+    pub frame_gap_ms: Option<f32>,
+    /// The longest silence between two bytes of one frame, in character times; the drive
+    /// drops a frame with a longer one (VF-AS1: 1.5). Left out: no limit but
+    /// `serial.timing.frame_abandon_ms`.
+    pub max_inner_gap_chars: Option<f32>,
+    /// What the drive makes of bytes before a frame's start sequence: `skip` (the default:
+    /// the frame begins at its start) or `reject` (the frame is not answered; VF-AS1).
+    pub before_start: Option<BeforeStart>,
+    /// Registers whose value delays every reply (VF-AS1 F805 / F825): the master adds the
+    /// wait to its reply timeout, the virtual drive waits that long.
+    pub reply_delay: Option<ReplyDelayModel>,
+    /// Which commands the drive carries out when broadcast over this protocol (the address
+    /// part's `broadcast:` encodings in the protocol file) and which station answers. Left
+    /// out: the drive takes no broadcasts over this protocol.
+    pub broadcast: Option<BroadcastRuleModel>,
 }
 
 /// What one command of a protocol may address on this drive, and what its data means.
@@ -544,6 +564,28 @@ pub struct BlockModeModel {
     pub read: Vec<String>,
     /// The manual section describing it.
     pub source: String,
+}
+
+/// Registers that set a wait before every reply (`protocols[].reply_delay`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ReplyDelayModel {
+    /// The registers (code or id), each with a unit of time (`s` or `ms`) and a range. With
+    /// several (one per port), the longest value applies: the master cannot tell which port
+    /// it is on.
+    pub registers: Vec<String>,
+}
+
+/// A drive's broadcast rule for one protocol (`protocols[].broadcast`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BroadcastRuleModel {
+    /// The command codes the drive carries out when broadcast: writes only (`[W, P]`,
+    /// `[0x06, 0x10]`); a broadcast read is refused before anything is sent.
+    pub commands: Vec<CodeModel>,
+    /// Which station answers: `none` (Modbus) or `lowest_matching` (the lowest station the
+    /// broadcast addresses: 00 for every station, 09 for the group `*9`).
+    pub answered_by: BroadcastAnswer,
 }
 
 /// A range of station numbers.
@@ -967,6 +1009,9 @@ impl PrintedRejection {
 pub struct ExpectModel {
     /// Station number.
     pub address: Option<u8>,
+    /// The stations a broadcast request addresses: `all`, or a group written with `*` for
+    /// each open digit (`"*9"`, `"1*"`).
+    pub broadcast: Option<String>,
     /// The command code: a letter (`R`) or a number (`0x03`).
     pub command: Option<CodeModel>,
     /// Register number as the drive file numbers it (before the protocol's address map).
@@ -1103,6 +1148,7 @@ pub const PART_FIELDS: &[&str] = &[
     "counts",
     "times",
     "per",
+    "broadcast",
 ];
 
 /// A layout entry: the name of a shared part, or a part written in place.
@@ -1208,6 +1254,23 @@ pub struct PartModel {
     pub times: Option<u8>,
     /// A length: the count is divided by this.
     pub per: Option<u8>,
+    /// A station address field: how one frame addresses every station, or a group
+    /// (`{ literal: "**", wildcard: "*" }`, `{ value: 0xFF }`, Modbus `{ value: 0 }`).
+    pub broadcast: Option<BroadcastAddressModel>,
+}
+
+/// The broadcast encodings of a station address part.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BroadcastAddressModel {
+    /// Text written instead of the station number to address every station (`"**"`).
+    pub literal: Option<String>,
+    /// The station value that addresses every station (`0xFF`; Modbus `0`).
+    pub value: Option<u32>,
+    /// One character that stands for any digit of a digit-format station number: group
+    /// addressing (`"*"`: `*9` is every station whose last digit is 9, `1*` every station
+    /// whose first digit is 1).
+    pub wildcard: Option<String>,
 }
 
 /// A command code or allowed value: one character (`R`) or a number (`0x03`).

@@ -13,6 +13,7 @@ mod block;
 mod commands;
 mod error_codes;
 mod layouts;
+mod link;
 mod parts;
 mod pre_steps;
 mod text;
@@ -125,6 +126,9 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     error_codes::check_error_codes(input, out);
     let out_of_band = check_station_range(input, out);
     let max_words_per_read = max_words_per_read(input, &commands, out);
+    let frame_gap_chars = link::frame_gap_chars(input, out);
+    let timing = link::timing(input, out);
+    let broadcast = link::broadcast(input, &commands, out);
     if out.items.len() > before {
         return None;
     }
@@ -145,8 +149,10 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         ),
         pre_steps: Cow::Owned(pre_steps),
         default_process: meta.default_process.unwrap_or([0, 0]),
-        frame_gap_chars: meta.frame_gap_chars,
+        frame_gap_chars,
         max_words_per_read,
+        timing,
+        broadcast,
         error_codes: Cow::Owned(error_codes::error_table(input)),
         block,
     })

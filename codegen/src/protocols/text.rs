@@ -78,6 +78,7 @@ mod tests {
             allowed: Cow::Borrowed(&[]),
             fold_case: false,
             sized_by: SizedBy::Format,
+            broadcast: None,
         })
     }
 

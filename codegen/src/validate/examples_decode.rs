@@ -298,6 +298,21 @@ fn mismatches(
             ));
         }
     }
+    let wanted = expect.broadcast.as_deref().map(|text| {
+        text.parse::<vfd_runtime::Broadcast>().map_or_else(
+            |_| format!("`{text}` (not all or a group like *9)"),
+            |b| b.to_string(),
+        )
+    });
+    let got = decoded.broadcast.map(|b| b.to_string());
+    if wanted != got {
+        let shown = |v: Option<String>| v.unwrap_or_else(|| "absent".to_owned());
+        mismatches.push(format!(
+            "broadcast is {}, expected {}",
+            shown(got),
+            shown(wanted)
+        ));
+    }
     let process = decoded.process.map(|[a, b]| [u32::from(a), u32::from(b)]);
     if expect.process != process {
         mismatches.push(format!(

@@ -19,6 +19,8 @@ pub struct SimLink {
     /// Replies the drive sends late: they arrive after the master's deadline.
     late: VecDeque<u8>,
     single_bytes: bool,
+    /// When the pending reply may be received: the drive's reply delay after the request.
+    available_at: Option<Instant>,
 }
 
 impl SimLink {
@@ -30,6 +32,7 @@ impl SimLink {
             pending: VecDeque::new(),
             late: VecDeque::new(),
             single_bytes: false,
+            available_at: None,
         }
     }
 }
@@ -37,10 +40,12 @@ impl SimLink {
 impl Transport for SimLink {
     fn send(&mut self, bytes: &[u8]) -> io::Result<()> {
         self.input.extend_from_slice(bytes);
-        let transmissions = self
-            .simulator
-            .lock()
-            .receive(self.protocol, &mut self.input);
+        let transmissions = {
+            let mut drive = self.simulator.lock();
+            // Each send is one burst after a silence (the master keeps the frame gap).
+            drive.line_silent();
+            drive.receive(self.protocol, &mut self.input)
+        };
         // The master sends whole frames: what is left cannot become one.
         self.input.clear();
         for transmission in transmissions {
@@ -48,9 +53,11 @@ impl Transport for SimLink {
                 bytes,
                 delayed,
                 split,
+                wait,
                 ..
             } = transmission;
             self.single_bytes = split.is_some();
+            self.available_at = (!wait.is_zero()).then(|| Instant::now() + wait);
             if delayed {
                 self.late.extend(bytes);
             } else {
@@ -78,6 +85,17 @@ impl Transport for SimLink {
             // Nothing more is coming before the deadline: late replies come after it.
             self.pending.extend(self.late.drain(..));
             return Ok(0);
+        }
+        if let Some(at) = self.available_at {
+            // The drive waits before replying (its reply-delay registers).
+            let now = Instant::now();
+            if now < at {
+                std::thread::sleep(at.min(deadline).saturating_duration_since(now));
+                if deadline < at {
+                    return Ok(0);
+                }
+            }
+            self.available_at = None;
         }
         let count = if self.single_bytes {
             1

@@ -63,6 +63,9 @@ pub struct VirtualDrive {
     /// The last request of a command whose lower case speaks of its sender said the sender
     /// (a master inverter) has tripped.
     sender_tripped: bool,
+    /// Bytes that were no frame came since the line was last silent: where the protocol
+    /// says so, they reject the frame that follows ([`crate::serial::BeforeStart`]).
+    garbage: bool,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -74,6 +77,9 @@ pub struct Transmission {
     pub delayed: bool,
     /// Sent one byte at a time with gaps of this many character times.
     pub split: Option<u32>,
+    /// Held back this long after the request before it is sent: the wait the drive's
+    /// reply-delay registers set (VF-AS1 F805 / F825).
+    pub wait: Duration,
     /// Length of the request answered, in bytes (for the reply timing).
     pub request_len: usize,
 }
@@ -100,6 +106,7 @@ impl VirtualDrive {
             requests: 0,
             silent_until: Duration::ZERO,
             sender_tripped: false,
+            garbage: false,
         };
         virtual_drive.refresh();
         virtual_drive
@@ -223,6 +230,30 @@ impl VirtualDrive {
         self.now < self.silent_until
     }
 
+    /// The line has been silent for a frame gap: bytes received before no longer belong
+    /// to the next frame (see [`crate::serial::BeforeStart`]).
+    pub fn line_silent(&mut self) {
+        self.garbage = false;
+    }
+
+    /// The wait before its replies over `protocol` that its reply-delay registers set (the
+    /// longest, where there are several); zero when the protocol has none.
+    pub fn reply_delay(&self, protocol: &Protocol) -> Duration {
+        let Some(delay) = &protocol.timing.reply_delay else {
+            return Duration::ZERO;
+        };
+        delay
+            .registers
+            .iter()
+            .filter_map(|number| {
+                self.drive
+                    .register_at(crate::kinds::Space::Parameter, *number)
+            })
+            .map(|info| delay.of_raw(self.storage.get(info, 0)))
+            .max()
+            .unwrap_or(Duration::ZERO)
+    }
+
     /// Answers one whole request frame (no bytes before or after it).
     pub fn respond(&mut self, protocol: &Protocol, frame: &[u8]) -> Outcome {
         match protocol.decode_request_exact(frame) {
@@ -254,9 +285,13 @@ impl VirtualDrive {
         loop {
             if !start.is_empty() {
                 match find(input, start) {
-                    Some(offset) => drop(input.drain(..offset)),
+                    Some(offset) => {
+                        self.garbage |= offset > 0;
+                        drop(input.drain(..offset));
+                    }
                     None => {
                         let keep = input.len().min(start.len() - 1);
+                        self.garbage |= input.len() > keep;
                         input.drain(..input.len() - keep);
                         break;
                     }
@@ -269,13 +304,23 @@ impl VirtualDrive {
                 Ok(Found::Frame { frame, .. }) => {
                     self.requests += 1;
                     let mut pending = self.faults.front().cloned();
+                    let rejected = std::mem::take(&mut self.garbage)
+                        && protocol.timing.before_start == crate::serial::BeforeStart::Reject;
                     let outcome = if self.starting_up() {
                         Outcome::Silent("starting up after power-on")
+                    } else if rejected {
+                        Outcome::Silent("bytes before the start sequence reject the frame")
                     } else if pending == Some(Fault::AnswerBroadcast) {
                         self.faults.pop_front();
                         pending = None;
                         let own = self.address;
                         self.address = frame.address.unwrap_or(own);
+                        // A broadcast is answered as if it addressed this station alone.
+                        let frame = crate::protocol::DecodedRequest {
+                            address: frame.address.or(frame.broadcast.map(|_| own)),
+                            broadcast: None,
+                            ..frame
+                        };
                         let outcome = self.answer(protocol, &frame);
                         self.address = own;
                         outcome
@@ -319,6 +364,7 @@ impl VirtualDrive {
                     bytes: request.clone(),
                     delayed: false,
                     split: None,
+                    wait: Duration::ZERO,
                     request_len: request.len(),
                 });
             }
@@ -342,6 +388,7 @@ impl VirtualDrive {
             bytes: Vec::new(),
             delayed: false,
             split: None,
+            wait: self.reply_delay(protocol),
             request_len: request.len(),
         };
         match self.faults.pop_front() {

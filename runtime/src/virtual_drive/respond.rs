@@ -5,6 +5,7 @@
 use super::motor::engineering;
 use super::VirtualDrive;
 use crate::behaviour::Refusals;
+use crate::broadcast::{self as broadcasts, Broadcast};
 use crate::codec::{self, FrameValues, Roles};
 use crate::info::RegisterInfo;
 use crate::kinds::{CommandKind, DataType, Space};
@@ -100,6 +101,9 @@ impl VirtualDrive {
 
     /// Answers a decoded request addressed to this drive.
     pub(crate) fn answer(&mut self, protocol: &Protocol, request: &DecodedRequest<'_>) -> Outcome {
+        if let Some(broadcast) = request.broadcast {
+            return self.answer_broadcast(protocol, request, broadcast);
+        }
         if let Some(address) = request.address {
             if address != self.address {
                 return Outcome::Silent("another station's request");
@@ -207,6 +211,43 @@ impl VirtualDrive {
         }
         self.refresh();
         Ok(())
+    }
+
+    /// A broadcast: carried out when the drive's rule lists the command and the drive is
+    /// among the stations addressed, answered (with the drive's own number) only when the
+    /// rule names this drive to answer.
+    fn answer_broadcast(
+        &mut self,
+        protocol: &Protocol,
+        request: &DecodedRequest<'_>,
+        broadcast: Broadcast,
+    ) -> Outcome {
+        let Some(rule) = &protocol.broadcast else {
+            return Outcome::Silent("the drive takes no broadcasts over this protocol");
+        };
+        if !request.command.kind.is_write() || !rule.commands.contains(&request.command.code) {
+            return Outcome::Silent("a command the drive does not carry out when broadcast");
+        }
+        let radix = request
+            .command
+            .request
+            .field(Role::Address)
+            .map_or(10, broadcasts::field_radix);
+        if !broadcasts::addresses(&broadcast, self.address, radix) {
+            return Outcome::Silent("a broadcast to other stations");
+        }
+        let own = DecodedRequest {
+            address: Some(self.address),
+            broadcast: None,
+            ..*request
+        };
+        let outcome = self.answer(protocol, &own);
+        let answers =
+            rule.responder(&broadcast, protocol.address_range.0, radix) == Some(self.address);
+        match outcome {
+            Outcome::Reply(_) if answers => outcome,
+            _ => Outcome::Silent("a broadcast another station answers, or none"),
+        }
     }
 
     /// The error reply for `refusal`, or silence when the protocol has no code for it.

@@ -29,7 +29,11 @@ pub fn serve<T: Transport>(
 ) -> io::Result<()> {
     let timing = simulator.lock().drive().serial.timing;
     let char_time = settings.char_time();
-    let gap = char_time.mul_f32(protocol.frame_gap_chars);
+    let gap = char_time
+        .mul_f32(protocol.frame_gap_chars)
+        .max(protocol.timing.frame_gap_min);
+    // A silence this long inside a frame drops it (where the drive states such a limit).
+    let inner_gap = char_time.mul_f32(protocol.timing.max_inner_gap_chars);
     let mut input = Vec::new();
     let mut buf = [0u8; 256];
     let mut clock = Instant::now();
@@ -42,12 +46,14 @@ pub fn serve<T: Transport>(
         if got > 0 {
             input.extend_from_slice(&buf[..got]);
             last_byte = now;
-        } else if !input.is_empty() {
+        } else {
             let quiet = now - last_byte;
             let dropped_by_gap = !gap.is_zero() && quiet >= gap;
+            let dropped_inside = !inner_gap.is_zero() && quiet >= inner_gap;
             let abandoned = !timing.frame_abandon.is_zero() && quiet >= timing.frame_abandon;
-            if dropped_by_gap || abandoned {
+            if dropped_by_gap || dropped_inside || abandoned {
                 input.clear();
+                simulator.lock().line_silent();
             }
         }
         if simulator.has_fault(&Fault::Noise) {
@@ -55,8 +61,9 @@ pub fn serve<T: Transport>(
         }
         let transmissions = simulator.lock().receive(protocol, &mut input);
         for transmission in transmissions {
-            // The reply starts after the request's last byte and the frame gap.
-            std::thread::sleep(gap.max(char_time));
+            // The reply starts after the request's last byte and the frame gap, and the
+            // wait the drive's reply-delay registers set.
+            std::thread::sleep(gap.max(char_time) + transmission.wait);
             if transmission.delayed {
                 let timeout = timing.reply_timeout(
                     &settings,

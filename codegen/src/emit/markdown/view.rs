@@ -11,7 +11,7 @@ use crate::emit::words::{
 use crate::ir::*;
 use serde::Serialize;
 use vfd_runtime::serial::SerialSettings;
-use vfd_runtime::{PreStep, Role};
+use vfd_runtime::{PreStep, Role, Space};
 
 #[derive(Serialize)]
 pub(super) struct DriveView<'a> {
@@ -60,6 +60,9 @@ struct ProtocolView<'a> {
     commands: Vec<CommandView<'a>>,
     pre_steps: Vec<String>,
     block: Vec<String>,
+    /// The drive's own line rules (gap floor, inner gap, bytes before the start, reply
+    /// delay, broadcasts), one sentence each.
+    link_rules: Vec<String>,
     layouts: Vec<LayoutView>,
 }
 
@@ -634,6 +637,7 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
                 notes: command_notes(drive, c),
             })
             .collect(),
+        link_rules: link_rules(drive, protocol),
         pre_steps: protocol
             .pre_steps
             .iter()
@@ -667,4 +671,70 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
             })
             .collect(),
     }
+}
+
+/// One sentence per line rule the drive states for `protocol`.
+fn link_rules(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
+    use vfd_runtime::serial::BeforeStart;
+    let timing = &protocol.timing;
+    let ms = |d: std::time::Duration| {
+        let text = format!("{:.2}", d.as_secs_f64() * 1000.0);
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
+    };
+    let mut rules = Vec::new();
+    if !timing.frame_gap_min.is_zero() {
+        rules.push(format!(
+            "The silence between frames is at least {} ms whatever the baud rate.",
+            ms(timing.frame_gap_min)
+        ));
+    }
+    if timing.max_inner_gap_chars > 0.0 {
+        rules.push(format!(
+            "A frame may not hold a silence of {} character times or more: the drive drops it.",
+            timing.max_inner_gap_chars
+        ));
+    }
+    if timing.before_start == BeforeStart::Reject {
+        rules.push(
+            "Bytes before a frame's start sequence reject the frame (it is not answered)."
+                .to_owned(),
+        );
+    }
+    if let Some(delay) = &timing.reply_delay {
+        let names: Vec<String> = delay
+            .registers
+            .iter()
+            .map(|number| {
+                drive
+                    .register_at(Space::Parameter, *number)
+                    .map_or_else(|| format!("{number:04X}h"), |r| r.code.clone())
+            })
+            .collect();
+        rules.push(format!(
+            "Every reply waits the time set by {} (0-{} ms in steps of {} ms, factory setting {} ms); the master adds it to the reply timeout{}.",
+            names.join(" / "),
+            ms(delay.max),
+            ms(delay.step),
+            ms(delay.default),
+            if names.len() > 1 { ", the longer of them" } else { "" }
+        ));
+    }
+    if let Some(rule) = &protocol.broadcast {
+        let codes: Vec<String> = rule
+            .commands
+            .iter()
+            .map(|c| format!("`{}`", vfd_runtime::protocol::code_label(*c)))
+            .collect();
+        let answered = match rule.answered_by {
+            vfd_runtime::BroadcastAnswer::None => "no station answers".to_owned(),
+            vfd_runtime::BroadcastAnswer::LowestMatching => {
+                "only the lowest station addressed answers, if it exists".to_owned()
+            }
+        };
+        rules.push(format!(
+            "Broadcasts: {} may be sent to every station (or a group, where the station field has a wildcard); {answered}.",
+            codes.join(", ")
+        ));
+    }
+    rules
 }

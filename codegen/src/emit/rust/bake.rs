@@ -152,6 +152,13 @@ impl Bake for FrameMeaning {
         };
         let int = |v: Option<u32>| v.map(|v| int_literal(v).into_token_stream());
         field("address", int(self.address.map(u32::from)));
+        field(
+            "broadcast",
+            self.broadcast.map(|broadcast| {
+                let shown = broadcast.to_string();
+                quote!(#shown.parse().expect("a broadcast as written"))
+            }),
+        );
         field("code", int(self.code));
         field("kind", self.kind.map(|k| k.bake()));
         field("space", self.space.map(|s| s.bake()));
@@ -332,6 +339,23 @@ impl Bake for FieldSpec {
         if self.sized_by != SizedBy::Format {
             let sized_by = self.sized_by.bake();
             tokens.extend(quote!(.with_sized_by(#sized_by)));
+        }
+        if let Some(broadcast) = &self.broadcast {
+            let mut encoding = match broadcast.all_value {
+                Some(value) => {
+                    let value = int_literal(value);
+                    quote!(BroadcastAddress::value(#value))
+                }
+                None => {
+                    let bytes = Literal::byte_string(&broadcast.all_bytes);
+                    quote!(BroadcastAddress::bytes(#bytes))
+                }
+            };
+            if let Some(wildcard) = broadcast.wildcard {
+                let wildcard = Literal::u8_suffixed(wildcard);
+                encoding.extend(quote!(.with_wildcard(#wildcard)));
+            }
+            tokens.extend(quote!(.with_broadcast(#encoding)));
         }
         tokens
     }

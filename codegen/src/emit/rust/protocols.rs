@@ -58,6 +58,9 @@ fn layout_imports(file: &ProtocolFileIr) -> TokenStream {
                 if field.sized_by != vfd_runtime::SizedBy::Format {
                     names.insert("SizedBy");
                 }
+                if field.broadcast.is_some() {
+                    names.insert("BroadcastAddress");
+                }
             }
             Part::Checksum(_) => {
                 names.extend(["ChecksumSpec", "ChecksumAlgorithm", "Format"]);
@@ -243,6 +246,21 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
     let [first, second] = protocol.default_process.unwrap_or([0, 0]).map(int_literal);
     let gap = Literal::f32_unsuffixed(protocol.frame_gap_chars);
     let max_words = int_literal(protocol.max_words_per_read);
+    let timing = link_timing_tokens(&protocol.timing);
+    let broadcast = match &protocol.broadcast {
+        Some(rule) => {
+            let codes = rule.commands.iter().map(|c| int_literal(*c));
+            let answered_by = match rule.answered_by {
+                vfd_runtime::BroadcastAnswer::None => quote!(None),
+                vfd_runtime::BroadcastAnswer::LowestMatching => quote!(LowestMatching),
+            };
+            quote!(Some(::vfd_runtime::broadcast::BroadcastRule {
+                commands: Cow::Borrowed(&[#(#codes),*]),
+                answered_by: ::vfd_runtime::broadcast::BroadcastAnswer::#answered_by,
+            }))
+        }
+        None => quote!(None),
+    };
     let block = match &protocol.block {
         Some(block) => {
             let block = block.bake();
@@ -295,6 +313,43 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             frame_gap_chars: #gap,
             max_words_per_read: #max_words,
             block: #block,
+            timing: #timing,
+            broadcast: #broadcast,
         };
     }
+}
+
+/// A `LinkTiming` literal (`LinkTiming::NONE` when the drive states no rule).
+fn link_timing_tokens(timing: &vfd_runtime::serial::LinkTiming) -> TokenStream {
+    use vfd_runtime::serial::{BeforeStart, LinkTiming};
+    if *timing == LinkTiming::NONE {
+        return quote!(::vfd_runtime::serial::LinkTiming::NONE);
+    }
+    let micros = |d: std::time::Duration| int_literal(d.as_micros() as u64);
+    let gap = micros(timing.frame_gap_min);
+    let inner = Literal::f32_unsuffixed(timing.max_inner_gap_chars);
+    let before_start = match timing.before_start {
+        BeforeStart::Skip => quote!(Skip),
+        BeforeStart::Reject => quote!(Reject),
+    };
+    let reply_delay = match &timing.reply_delay {
+        Some(delay) => {
+            let registers = delay.registers.iter().map(|r| int_literal(*r));
+            let (step, default, max) =
+                (micros(delay.step), micros(delay.default), micros(delay.max));
+            quote!(Some(::vfd_runtime::serial::ReplyDelay {
+                registers: Cow::Borrowed(&[#(#registers),*]),
+                step: ::std::time::Duration::from_micros(#step),
+                default: ::std::time::Duration::from_micros(#default),
+                max: ::std::time::Duration::from_micros(#max),
+            }))
+        }
+        None => quote!(None),
+    };
+    quote!(::vfd_runtime::serial::LinkTiming {
+        frame_gap_min: ::std::time::Duration::from_micros(#gap),
+        max_inner_gap_chars: #inner,
+        before_start: ::vfd_runtime::serial::BeforeStart::#before_start,
+        reply_delay: #reply_delay,
+    })
 }
