@@ -18,7 +18,9 @@ pub fn read(line: &LineArgs, names: &[String]) -> Result<(), Failure> {
     for info in registers {
         let value = session.read(info)?;
         tripped |= value.tripped;
-        print_value(info, &value);
+        // A register whose scale another register chooses is shown in that scale.
+        let shown = session.scaled(info)?;
+        print_value(shown, &value);
     }
     if tripped {
         show_trip(&mut session);
@@ -30,7 +32,7 @@ pub fn read(line: &LineArgs, names: &[String]) -> Result<(), Failure> {
 pub fn resolve(session: &Session, names: &[String]) -> Result<Vec<&'static RegisterInfo>, Failure> {
     names
         .iter()
-        .map(|name| lookup::register(session.drive, name))
+        .map(|name| lookup::register(session.drive, name).map(|info| session.on_port(info)))
         .collect()
 }
 
@@ -85,14 +87,34 @@ pub fn show_trip(session: &mut Session) {
 pub fn write(line: &LineArgs, name: &str, text: &str, persist: bool) -> Result<(), Failure> {
     let drive = lookup::drive(&line.drive)?;
     let info = lookup::register(drive, name)?;
+    let info = match lookup::port(drive, line.port_kind.as_deref())? {
+        Some(port) => port.register(info),
+        None => info,
+    };
     crate::bus::check_writable(info, persist)?;
-    let raw = values::parse(info, text).map_err(|m| {
-        Failure::new(m).hint(format!(
-            "nothing was sent; `vfd info {} {}` shows the range",
-            drive.id, info.code
-        ))
-    })?;
+    let parse = |info: &'static RegisterInfo| {
+        values::parse(info, text).map_err(|m| {
+            Failure::new(m).hint(format!(
+                "nothing was sent; `vfd info {} {}` shows the range",
+                drive.id, info.code
+            ))
+        })
+    };
+    // A value is checked before the line is opened, except for a register whose scale
+    // another register chooses: that one is read first (nothing is written before the
+    // value is checked in the scale it chooses now).
+    let raw = match info.scale_by {
+        Some(_) => None,
+        None => Some(parse(info)?),
+    };
     let mut session = Session::open(line)?;
+    let (info, raw) = match raw {
+        Some(raw) => (info, raw),
+        None => {
+            let scaled = session.scaled(info)?;
+            (scaled, parse(scaled)?)
+        }
+    };
     check_run_time_bounds(&mut session, info, raw)?;
     let (echo, tripped) = session.write(info, raw, persist)?;
     let target = if persist { "RAM and EEPROM" } else { "RAM" };

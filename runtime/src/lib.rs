@@ -45,6 +45,7 @@ pub mod bits;
 pub mod checksum;
 pub mod codec;
 pub mod codes;
+pub mod conversion;
 pub mod drive;
 pub mod error;
 pub mod info;
@@ -66,9 +67,12 @@ pub mod units;
 pub mod virtual_drive;
 
 pub use codec::{FieldValue, FrameValues, Roles};
-pub use drive::DriveInfo;
+pub use drive::{DriveInfo, Port};
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
-pub use info::{BitFieldInfo, BitWordInfo, CodeInfo, CodeTableInfo, ErrorCodeInfo, RegisterInfo};
+pub use info::{
+    BitFieldInfo, BitWordInfo, CodeInfo, CodeTableInfo, ErrorCodeInfo, PortInfo, Ports,
+    RegisterInfo, ScaleBy, ScaleChoice,
+};
 pub use kinds::{Access, CommandKind, DataType, Space, TakesEffect};
 pub use layout::{
     BitsSpec, ChecksumAlgorithm, ChecksumSpec, Counts, FieldSpec, Format, FrameLayout, LengthSpec,

@@ -121,6 +121,9 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     /// After a timeout: until when a late reply may still arrive (the next exchange waits
     /// for it and drops it, so it cannot be taken for the next reply).
     late_reply_until: Option<Instant>,
+    /// The port the master talks to, for drives with several: requests for a register
+    /// that exists once per port go to this port's copy.
+    port: Option<crate::drive::Port>,
 }
 
 impl<T: Transport> Master<T, AnyDrive> {
@@ -171,7 +174,17 @@ impl<T: Transport, D: 'static> Master<T, D> {
             block_words: 0,
             host_latency: crate::serial::HOST_LATENCY,
             late_reply_until: None,
+            port: None,
         }
+    }
+
+    /// Talks to the drive's port `port` (of a drive with several serial ports): a request
+    /// for a register that exists once per port goes to this port's copy, as the
+    /// description's `ports.registers` pairs them (one port's command word becomes the
+    /// other's). `None`: registers are sent as given.
+    pub fn with_port(mut self, port: Option<crate::drive::Port>) -> Self {
+        self.port = port;
+        self
     }
 
     /// The latency added to the drive's processing time in every reply timeout, for the
@@ -488,6 +501,14 @@ impl<T: Transport, D: 'static> Master<T, D> {
     /// index, choosing RAM or EEPROM). Every frame is built and checked before the first
     /// is sent: when the protocol cannot carry any of them, nothing goes on the line.
     pub fn transact(&mut self, request: &Request) -> Result<Answer, TransactionError> {
+        let on_port;
+        let request = match self.port {
+            Some(port) => {
+                on_port = port.map(*request);
+                &on_port
+            }
+            None => request,
+        };
         let protocol = self.protocol;
         let main = self.main_request(request);
         for step in protocol.pre_steps.iter() {

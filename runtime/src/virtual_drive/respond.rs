@@ -452,7 +452,7 @@ impl VirtualDrive {
         for (info, raw) in &words {
             self.check_write(info, *raw, persistent)?;
         }
-        let command = self.behaviour().map(|b| b.command.register);
+        let command = self.behaviour().map(|b| self.served(b.command.register));
         for (info, raw) in words {
             let index = if info.array_len == 0 { 0 } else { index };
             self.storage
@@ -465,7 +465,12 @@ impl VirtualDrive {
         Ok((request.data, 0))
     }
 
-    fn check_write(&self, info: &RegisterInfo, raw: u32, persistent: bool) -> Result<(), Refusal> {
+    fn check_write(
+        &self,
+        info: &'static RegisterInfo,
+        raw: u32,
+        persistent: bool,
+    ) -> Result<(), Refusal> {
         if info.access == crate::kinds::Access::ReadOnly
             || info.data_type == DataType::Text
             || (persistent && info.ram_only && info.space == Space::Parameter)
@@ -483,6 +488,8 @@ impl VirtualDrive {
         } else {
             i64::from(raw)
         };
+        // A register whose scale another register chooses has that choice's range.
+        let info = self.scaled(info);
         if signed < info.raw_min || signed > info.raw_max {
             return Err(Refusal::OutOfRange);
         }
