@@ -310,6 +310,15 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
             );
         }
     }
+    for special in r.special_values {
+        say!(
+            "  also        {} ({}: {}), carried as {:04X}h",
+            special.value,
+            special.id,
+            special.name,
+            special.raw
+        );
+    }
     if !r.per_port.is_empty() {
         let copies: Vec<String> = r
             .per_port

@@ -1,6 +1,6 @@
-//! `vfd --port-kind` against `vfd sim --port-kind` for the VF-AS1's two serial ports, and
-//! registers whose scale another register chooses (ACC by FA09), read and written through
-//! the command line.
+//! `vfd --port-kind` against `vfd sim --port-kind` for the VF-AS1's two serial ports,
+//! registers whose scale another register chooses (ACC by FA09) and values taken besides
+//! the range (the DV1's 99999 as FFFFh), read and written through the command line.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Output, Stdio};
@@ -35,14 +35,19 @@ impl Sim {
 
     /// `vfd COMMAND --drive vf-as1 --protocol binary --port DEVICE ARGS...`.
     fn vfd(&self, args: &[&str]) -> Output {
+        self.vfd_on("vf-as1", "binary", args)
+    }
+
+    /// `vfd COMMAND --drive DRIVE --protocol PROTOCOL --port DEVICE ARGS...`.
+    fn vfd_on(&self, drive: &str, protocol: &str, args: &[&str]) -> Output {
         let (command, rest) = args.split_first().expect("a command");
         Command::new(env!("CARGO_BIN_EXE_vfd"))
             .arg(command)
             .args([
                 "--drive",
-                "vf-as1",
+                drive,
                 "--protocol",
-                "binary",
+                protocol,
                 "--port",
                 &self.device,
             ])
@@ -172,4 +177,32 @@ fn acc_is_shown_and_written_in_the_step_fa09_chooses() {
     let beyond = sim.vfd(&["write", "ACC", "700"]);
     assert!(!beyond.status.success());
     assert!(text(&beyond).contains("0.01 to 600 s"), "{}", text(&beyond));
+}
+
+#[test]
+fn dv1_shows_and_takes_99999_by_number_or_name() {
+    let sim = Sim::start(&["--drive", "dv1", "--protocol", "modbus"]);
+    let read = sim.vfd_on("dv1", "modbus", &["read", "07-09"]);
+    assert!(read.status.success(), "{}", text(&read));
+    assert!(
+        text(&read).contains("99999 (no_check: No time-out check)"),
+        "{}",
+        text(&read)
+    );
+    let write = sim.vfd_on("dv1", "modbus", &["write", "07-09", "2.5"]);
+    assert!(write.status.success(), "{}", text(&write));
+    let back = sim.vfd_on("dv1", "modbus", &["read", "07-09"]);
+    assert!(text(&back).contains("2.5 s"), "{}", text(&back));
+    for value in ["no_check", "99999"] {
+        let write = sim.vfd_on("dv1", "modbus", &["write", "07-09", value]);
+        assert!(write.status.success(), "{value}: {}", text(&write));
+        let back = sim.vfd_on("dv1", "modbus", &["read", "07-09"]);
+        assert!(
+            text(&back).contains("99999 (no_check"),
+            "{value}: {}",
+            text(&back)
+        );
+    }
+    let beyond = sim.vfd_on("dv1", "modbus", &["write", "07-09", "1000"]);
+    assert!(!beyond.status.success(), "{}", text(&beyond));
 }

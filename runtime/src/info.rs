@@ -71,6 +71,22 @@ pub struct RegisterInfo {
     /// Its copies on each serial port (port id, register code), when it exists once per
     /// port; empty otherwise.
     pub per_port: &'static [(&'static str, &'static str)],
+    /// Values it takes besides its range, each carried by its own raw word (99999 as
+    /// FFFFh); empty for most registers.
+    pub special_values: &'static [SpecialValue],
+}
+
+/// A value a register takes besides its range, with its own raw word.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpecialValue {
+    /// The value as the manual writes it (99999).
+    pub value: f64,
+    /// The raw word carrying it (FFFFh).
+    pub raw: u32,
+    /// Identifier in the drive file (`no_check`).
+    pub id: &'static str,
+    /// What it means.
+    pub name: &'static str,
 }
 
 /// A register's scale chosen by another register's value.
@@ -245,6 +261,12 @@ impl RegisterInfo {
         self
     }
 
+    /// It takes these values besides its range.
+    pub const fn with_special_values(mut self, special_values: &'static [SpecialValue]) -> Self {
+        self.special_values = special_values;
+        self
+    }
+
     /// It exists once per serial port: (port id, register code) of every copy.
     pub const fn with_per_port(
         mut self,
@@ -289,6 +311,7 @@ impl RegisterInfo {
         live_except_while_tripped: false,
         scale_by: None,
         per_port: &[],
+        special_values: &[],
     };
 
     /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.
@@ -327,6 +350,16 @@ impl RegisterInfo {
             (Some(scale_by), Some(selector)) => scale_by.choice(selector).unwrap_or(self),
             _ => self,
         }
+    }
+
+    /// The special value (taken besides the range) carried by `raw`, if any.
+    pub fn special_raw(&self, raw: u32) -> Option<&'static SpecialValue> {
+        self.special_values.iter().find(|s| s.raw == raw)
+    }
+
+    /// The special value (taken besides the range) equal to `value`, if any.
+    pub fn special_value(&self, value: f64) -> Option<&'static SpecialValue> {
+        self.special_values.iter().find(|s| s.value == value)
     }
 
     /// The code of its copy on the port `port`: itself when it is not per port or the

@@ -71,7 +71,7 @@ pub use drive::{DriveInfo, Port};
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
 pub use info::{
     BitFieldInfo, BitWordInfo, CodeInfo, CodeTableInfo, ErrorCodeInfo, PortInfo, Ports,
-    RegisterInfo, ScaleBy, ScaleChoice,
+    RegisterInfo, ScaleBy, ScaleChoice, SpecialValue,
 };
 pub use kinds::{Access, CommandKind, DataType, Space, TakesEffect};
 pub use layout::{

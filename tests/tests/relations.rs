@@ -6,7 +6,7 @@
 use std::time::Duration;
 use vf_as1::bits::CommandWord1 as Word;
 use vf_as1::registers::*;
-use vfd_drives::{vf_as1, yd1000};
+use vfd_drives::{dv1, vf_as1, yd1000};
 use vfd_runtime::prelude::*;
 use vfd_runtime::virtual_drive::Simulator;
 use vfd_runtime::{Port, TransactionErrorKind, ValueError};
@@ -292,4 +292,24 @@ fn the_manuals_formulas_give_the_manuals_numbers() {
         None,
         "F810 != 0"
     );
+}
+
+#[test]
+fn dv1_takes_99999_as_ffffh_besides_its_range_and_starts_with_it() {
+    use dv1::registers::CommunicationInterval as Interval;
+    // *6): a parameter's 99999 is written and read as FFFFh; 07-09's factory setting.
+    assert_eq!(Interval::write_ram(Seconds(99999.0)).unwrap().data, 0xFFFF);
+    assert_eq!(Interval::INFO.default_raw, Some(0xFFFF));
+    assert!(matches!(
+        Interval::write_ram(Seconds(1000.0)),
+        Err(ValueError::OutOfRange { .. })
+    ));
+    let sim = Simulator::new(&dv1::DRIVE);
+    let mut master = sim.master(&dv1::protocols::MODBUS);
+    assert_eq!(master.read::<Interval>().unwrap(), Seconds(99999.0));
+    master.write_ram::<Interval>(Seconds(2.0)).unwrap();
+    assert_eq!(sim.lock().raw("07-09"), Some(20));
+    master.write_ram::<Interval>(Seconds(99999.0)).unwrap();
+    assert_eq!(sim.lock().raw("07-09"), Some(0xFFFF));
+    assert_eq!(master.read::<Interval>().unwrap(), Seconds(99999.0));
 }

@@ -323,6 +323,17 @@ fn lower_register(
                 .collect(),
         }),
         per_port: per_port(model, index, register),
+        special_values: register
+            .special_values
+            .iter()
+            .map(|special| SpecialValueIr {
+                value: special.value,
+                raw: special.raw,
+                id: special.id.clone(),
+                name: special.name.clone(),
+                name_zh: special.name_zh.clone(),
+            })
+            .collect(),
     }
 }
 

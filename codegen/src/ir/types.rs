@@ -679,6 +679,24 @@ pub struct RegisterIr {
     /// Its copies on each port (port id, register code), when it exists once per port.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub per_port: Vec<(String, String)>,
+    /// Values it takes besides its range, each with its raw word.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub special_values: Vec<SpecialValueIr>,
+}
+
+/// A value a register takes besides its range.
+#[derive(Debug, Clone, Serialize)]
+pub struct SpecialValueIr {
+    /// The value as the manual writes it.
+    pub value: f64,
+    /// Its raw word.
+    pub raw: u32,
+    /// Identifier.
+    pub id: String,
+    /// English meaning.
+    pub name: String,
+    /// Chinese meaning.
+    pub name_zh: String,
 }
 
 impl RegisterIr {
@@ -701,6 +719,9 @@ impl RegisterIr {
     /// values), when the description gives a default.
     pub fn default_raw(&self) -> Option<u32> {
         let default = self.default?;
+        if let Some(special) = self.special_values.iter().find(|s| s.value == default) {
+            return Some(special.raw);
+        }
         let raw = (default / self.scale).round() as i64;
         let bits = u32::from(self.data_type.size().max(1)) * 8;
         let mask = if bits >= 32 {

@@ -886,6 +886,28 @@ pub struct RegisterModel {
     /// `{ register: FA09, values: [{ value: 0, scale: 0.01 }, { value: 1, scale: 0.1 }] }`.
     /// `scale` and `range` remain the register's when the selector is not known.
     pub scale_by: Option<ScaleByModel>,
+    /// Values outside the range that the register also takes, each carried by its own raw
+    /// word (`{ value: 99999, raw: 0xFFFF, id: no_check, name: No time-out check }`); a
+    /// special value may be the default.
+    #[serde(default)]
+    pub special_values: Vec<SpecialValueModel>,
+}
+
+/// A value a register takes besides its range, with its own raw word.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SpecialValueModel {
+    /// The value as the manual writes it (`99999`), in the register's engineering terms.
+    pub value: f64,
+    /// The raw word carrying it (`0xFFFF`).
+    pub raw: u32,
+    /// Lower snake case name of the value.
+    pub id: String,
+    /// What it means, in English.
+    pub name: String,
+    /// What it means, as the manual prints it in Chinese.
+    #[serde(default)]
+    pub name_zh: String,
 }
 
 /// A reference word that is a percentage of a span chosen by a selector register.

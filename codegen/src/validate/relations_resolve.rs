@@ -93,6 +93,40 @@ pub fn relations_resolve(drive: &Context, out: &mut Diagnostics) {
             }
         }
     }
+    for (i, register) in drive.model.registers.iter().enumerate() {
+        let (low, high) = ranges::word_limits(register);
+        let word_max = if register.signed {
+            // Two's complement: every bit pattern of the word is a raw word.
+            (high - low) as u64
+        } else {
+            high as u64
+        };
+        for (j, special) in register.special_values.iter().enumerate() {
+            let path = format!("registers[{i}].special_values[{j}]");
+            if u64::from(special.raw) > word_max {
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("{path}.raw"),
+                            format!("raw {:X}h does not fit the register's word", special.raw),
+                        )
+                        .hint("the raw word carrying the special value, e.g. 0xFFFF"),
+                );
+            }
+            if !is_snake_case(&special.id) {
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("{path}.id"),
+                            format!("`{}` is not lower snake case", special.id),
+                        )
+                        .hint("use lower_snake_case"),
+                );
+            }
+        }
+    }
     for (i, example) in drive.model.value_examples.iter().enumerate() {
         for name in example.given.keys() {
             if index.find(name).is_none() {
@@ -483,6 +517,22 @@ mod tests {
         assert_eq!(found[0].message, "register `XY` is not defined");
         assert_eq!(found[0].path, "registers[0].scale_by.register");
         assert_eq!(found[1].message, "selector value 0 is given twice");
+    }
+
+    #[test]
+    fn reports_a_special_value_beyond_the_word() {
+        let yaml = valid_with(&[(
+            "default: 10.0, source: \"11.1\" }",
+            "default: 10.0, source: \"11.1\", special_values: [{ value: 99999, raw: 0x1FFFF, id: No_check, name: No check }] }",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_eq!(found.len(), 2, "{found:#?}");
+        assert_eq!(
+            found[0].message,
+            "raw 1FFFFh does not fit the register's word"
+        );
+        assert_eq!(found[0].path, "registers[0].special_values[0].raw");
+        assert_eq!(found[1].message, "`No_check` is not lower snake case");
     }
 
     #[test]

@@ -14,6 +14,27 @@ pub fn value_examples_match(drive: &Context, out: &mut Diagnostics) {
         };
         // The runtime rounds to the nearest step, so the example must round to its raw value.
         // A signed register's negative values are two's complement in its word.
+        if let Some(special) = register
+            .special_values
+            .iter()
+            .find(|s| s.value == example.value)
+        {
+            if special.raw != example.raw {
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("value_examples[{index}].raw"),
+                            format!(
+                                "{} in `{}` is the special value `{}`, raw {:04X}h, not {:04X}h",
+                                example.value, register.code, special.id, special.raw, example.raw
+                            ),
+                        )
+                        .hint("check the special value's raw word, or the example"),
+                );
+            }
+            continue;
+        }
         let scale = given_scale(&registers, register, &example.given);
         let steps = example.value / scale;
         let bits = 8 * register
@@ -107,6 +128,37 @@ mod tests {
             only(&found).message,
             "10 s in `Acc` is not raw 03E8h with a step of 0.1 s"
         );
+    }
+
+    #[test]
+    fn a_special_value_is_its_own_raw_word() {
+        let special = valid_with(&[
+            (
+                "default: 80.0, source: \"11.1\" }\n  - { address: 0x0012",
+                "default: 99999, special_values: [{ value: 99999, raw: 0xFFFF, id: no_limit, name: No limit }], source: \"11.1\" }\n  - { address: 0x0012",
+            ),
+            (
+                "register: FH, value: 80.0, raw: 0x1F40",
+                "register: FH, value: 99999, raw: 0xFFFF",
+            ),
+        ]);
+        assert!(
+            check_yaml(check, &special).is_empty(),
+            "{:?}",
+            check_yaml(check, &special)
+        );
+        let wrong = special.replace(
+            "value: 99999, raw: 0xFFFF, source",
+            "value: 99999, raw: 0xFFFE, source",
+        );
+        let found = check_yaml(check, &wrong);
+        assert_eq!(
+            only(&found).message,
+            "99999 in `FH` is the special value `no_limit`, raw FFFFh, not FFFEh"
+        );
+        // The special value may be the default, though it lies outside the range.
+        let defaults = super::super::defaults_are_in_range::defaults_are_in_range;
+        assert!(check_yaml(defaults, &special).is_empty());
     }
 
     #[test]

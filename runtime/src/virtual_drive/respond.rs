@@ -488,6 +488,10 @@ impl VirtualDrive {
         } else {
             i64::from(raw)
         };
+        // A value taken besides the range (99999 as FFFFh) is accepted as it is.
+        if info.special_raw(raw).is_some() {
+            return Ok(());
+        }
         // A register whose scale another register chooses has that choice's range.
         let info = self.scaled(info);
         if signed < info.raw_min || signed > info.raw_max {

@@ -117,6 +117,20 @@ pub(crate) fn relation_lines(register: &RegisterIr) -> Vec<String> {
             choices.join("; ")
         ));
     }
+    for special in &register.special_values {
+        lines.push(format!(
+            "Also takes {} (`{}`: {}{}), carried as {:04X}h.",
+            special.value,
+            special.id,
+            special.name,
+            if special.name_zh.is_empty() {
+                String::new()
+            } else {
+                format!(" / {}", special.name_zh)
+            },
+            special.raw
+        ));
+    }
     if !register.per_port.is_empty() {
         let copies: Vec<String> = register
             .per_port
@@ -219,6 +233,14 @@ fn info_chain(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
     if register.scale_by.is_some() {
         let name = scale_by_const(register);
         chain.extend(quote!(.with_scale_by(&#name)));
+    }
+    if !register.special_values.is_empty() {
+        let specials = register.special_values.iter().map(|special| {
+            let (value, raw) = (f64_literal(special.value), int_literal(special.raw));
+            let (id, name) = (str_literal(&special.id), str_literal(&special.name));
+            quote!(::vfd_runtime::SpecialValue { value: #value, raw: #raw, id: #id, name: #name })
+        });
+        chain.extend(quote!(.with_special_values(&[#(#specials),*])));
     }
     if !register.per_port.is_empty() {
         let pairs = register.per_port.iter().map(|(port, code)| {
