@@ -28,6 +28,24 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
                 .set
                 .iter()
                 .map(|id| Ident::new(&crate::naming::method_name(id), Span::call_site()));
+            let field_setters: Vec<TokenStream> = example
+                .fields
+                .iter()
+                .map(|(id, v)| {
+                    let setter = format_ident!("with_{}", id);
+                    let v = int_literal(*v);
+                    quote!(.#setter(#v))
+                })
+                .collect();
+            let field_checks: Vec<TokenStream> = example
+                .fields
+                .iter()
+                .map(|(id, v)| {
+                    let getter = Ident::new(&crate::naming::method_name(id), Span::call_site());
+                    let v = int_literal(*v);
+                    quote!(assert_eq!(read.#getter(), #v, "{} in {:04X}h", stringify!(#getter), #value);)
+                })
+                .collect();
             let doc = format!(
                 " {} (manual section {}).",
                 example.description, example.source
@@ -36,10 +54,11 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
                 #[doc = #doc]
                 #[test]
                 fn #name() {
-                    let built = #root::bits::#ty::new()#(.#setters(true))*;
+                    let built = #root::bits::#ty::new()#(.#setters(true))*#(#field_setters)*;
                     assert_eq!(built.bits(), #value, "builder gives {:04X}h", built.bits());
                     let read = #root::bits::#ty(#value);
                     #(assert!(read.#getters(), "{} should be set in {:04X}h", stringify!(#getters), #value);)*
+                    #(#field_checks)*
                     assert!(!read.has_reserved_bits());
                 }
             });

@@ -152,6 +152,11 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
                     .map(|e| BitExampleIr {
                         value: e.value as u16,
                         set: e.set.clone(),
+                        fields: e
+                            .fields
+                            .iter()
+                            .map(|(id, v)| (id.clone(), *v as u16))
+                            .collect(),
                         description: e.description.clone(),
                         source: e.source.clone(),
                     })

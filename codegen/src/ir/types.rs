@@ -571,6 +571,9 @@ pub struct BitExampleIr {
     pub value: u16,
     /// Ids of the fields it sets.
     pub set: Vec<String>,
+    /// Multi-bit fields and their values, by id.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub fields: Vec<(String, u16)>,
     /// The manual's words.
     pub description: String,
     /// Manual section.

@@ -785,6 +785,10 @@ pub struct BitExampleModel {
     pub value: u32,
     /// The ids of the one-bit fields that are 1 in it.
     pub set: Vec<String>,
+    /// The values of multi-bit fields in it, by field id (`{ character: 0x30 }`); fields
+    /// left out are 0.
+    #[serde(default)]
+    pub fields: BTreeMap<String, u32>,
     /// What the manual says the value does.
     pub description: String,
     /// The manual section giving the example.

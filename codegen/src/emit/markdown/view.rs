@@ -198,6 +198,8 @@ struct BitExampleView<'a> {
     #[serde(flatten)]
     example: &'a BitExampleIr,
     value_hex: String,
+    /// The one-bit fields set and the multi-bit fields' values (`character = 30h`).
+    fields_display: String,
 }
 
 #[derive(Serialize)]
@@ -390,6 +392,18 @@ impl<'a> DriveView<'a> {
                         .map(|example| BitExampleView {
                             example,
                             value_hex: format!("{:04X}h", example.value),
+                            fields_display: example
+                                .set
+                                .iter()
+                                .cloned()
+                                .chain(
+                                    example
+                                        .fields
+                                        .iter()
+                                        .map(|(id, v)| format!("{id} = {v:X}h")),
+                                )
+                                .collect::<Vec<_>>()
+                                .join(", "),
                         })
                         .collect(),
                 })
