@@ -222,7 +222,12 @@ pub fn watch(
     count: Option<u64>,
 ) -> Result<(), Failure> {
     let mut session = Session::open(line)?;
-    let registers = resolve(&session, names)?;
+    // Registers whose scale another register chooses are shown in the scale it chooses
+    // when the watch starts.
+    let registers = resolve(&session, names)?
+        .into_iter()
+        .map(|info| session.scaled(info))
+        .collect::<Result<Vec<_>, Failure>>()?;
     let stop = stop_flag()?;
     watch_loop(
         &mut session,

@@ -173,6 +173,9 @@ fn acc_is_shown_and_written_in_the_step_fa09_chooses() {
     assert!(text(&write).contains("10.00 s"), "{}", text(&write));
     let read = sim.vfd(&["read", "ACC"]);
     assert!(text(&read).contains("10.00 s"), "{}", text(&read));
+    let watch = sim.vfd(&["watch", "--count", "1", "ACC"]);
+    assert!(watch.status.success(), "{}", text(&watch));
+    assert!(text(&watch).contains("10.00 s"), "{}", text(&watch));
     // 700 s is beyond 600 s in 0.01 s steps: refused, nothing written.
     let beyond = sim.vfd(&["write", "ACC", "700"]);
     assert!(!beyond.status.success());
