@@ -11,7 +11,7 @@ use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{PtyTransport, SerialTransport, Transport};
 use vfd_runtime::{
-    CommandKind, DataType, DriveInfo, EncodeError, Protocol, RegisterInfo, Request,
+    CommandKind, DataType, DriveInfo, EncodeError, Port, Protocol, RegisterInfo, Request,
     TransactionError, TransactionErrorKind,
 };
 
@@ -60,6 +60,10 @@ pub struct LineArgs {
     /// Time the drive may take to answer, in milliseconds, added to both frames' wire time and the 50 ms host latency (default: the drive's manual).
     #[arg(long, value_name = "MS")]
     pub timeout: Option<u64>,
+    /// The drive's port the line is on, for drives with several (`vfd info DRIVE` lists
+    /// them): registers that exist once per port are read and written on this port's copy.
+    #[arg(long, value_name = "PORT")]
+    pub port_kind: Option<String>,
 }
 
 /// A byte line to a drive: a serial port, or a terminal device (pseudo-terminals), traced
@@ -179,6 +183,8 @@ pub struct Session {
     /// The command code reads and writes name (`--command`), where the protocol has
     /// several for their kind; `None`: the protocol's default.
     pub command: Option<u32>,
+    /// The drive's port the line is on, when the drive has several and one was named.
+    pub port: Option<Port>,
 }
 
 /// The drive's factory serial settings with the baud rate and parity given on the command
@@ -213,10 +219,51 @@ impl Session {
             Some(address) => Some(address),
             None => default_address(protocol),
         };
-        let master = Master::for_protocol(line, protocol, settings, timing).with_address(address);
-        Ok(Session::with_master(
-            drive, protocol, settings, master, address,
-        ))
+        let port = lookup::port(drive, args.port_kind.as_deref())?;
+        let master = Master::for_protocol(line, protocol, settings, timing)
+            .with_address(address)
+            .with_port(port);
+        let mut session = Session::with_master(drive, protocol, settings, master, address);
+        session.port = port;
+        Ok(session)
+    }
+
+    /// `info` as this session reaches it: its copy on the session's port (itself when
+    /// the register is not per port or no port was named).
+    pub fn on_port(&self, info: &'static RegisterInfo) -> &'static RegisterInfo {
+        self.port.map_or(info, |port| port.register(info))
+    }
+
+    /// `info` with the scale its selector register chooses now (`scale_by`), reading the
+    /// selector first; `info` itself when its scale is fixed.
+    pub fn scaled(
+        &mut self,
+        info: &'static RegisterInfo,
+    ) -> Result<&'static RegisterInfo, Failure> {
+        let Some(scale_by) = info.scale_by else {
+            return Ok(info);
+        };
+        let Some(selector) = self.drive.register(scale_by.register) else {
+            return Ok(info);
+        };
+        let value = self.read(selector).map_err(|failure| {
+            failure.hint(format!(
+                "the scale of {} depends on {}, which could not be read",
+                info.code, selector.code
+            ))
+        })?;
+        match value.raw.and_then(|raw| scale_by.choice(raw)) {
+            Some(chosen) => Ok(chosen),
+            None => Err(Failure::new(format!(
+                "{} = {} chooses no scale the description knows for {}",
+                selector.code,
+                value
+                    .raw
+                    .map_or_else(|| "(no data)".to_owned(), |raw| raw.to_string()),
+                info.code
+            ))
+            .hint("the description's `scale_by` lists the values it knows")),
+        }
     }
 
     fn with_master(
@@ -234,6 +281,7 @@ impl Session {
             requests: 0,
             address,
             command: None,
+            port: None,
         }
     }
 
@@ -266,6 +314,7 @@ impl Session {
 
     /// Reads `info`.
     pub fn read(&mut self, info: &'static RegisterInfo) -> Result<Value, Failure> {
+        let info = self.on_port(info);
         let text = info.data_type == DataType::Text;
         let kind = if text {
             CommandKind::ReadText
@@ -313,6 +362,7 @@ impl Session {
         raw: u32,
         persist: bool,
     ) -> Result<(Option<u32>, bool), Failure> {
+        let info = self.on_port(info);
         check_writable(info, persist)?;
         let kind = if persist {
             CommandKind::WritePersistent

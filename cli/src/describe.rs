@@ -65,6 +65,26 @@ pub fn info(drive: &str, names: &[String]) -> Result<(), Failure> {
             drive.registers.len(),
             drive.id
         );
+        if let Some(ports) = drive.ports {
+            for port in ports.ports {
+                let settings: Vec<String> = port
+                    .settings
+                    .iter()
+                    .map(|(what, code)| format!("{what} {code}"))
+                    .collect();
+                say!(
+                    "port {} ({} / {}): {}",
+                    port.id,
+                    port.name,
+                    port.name_zh,
+                    settings.join(", ")
+                );
+            }
+            say!(
+                "shared by the ports: {}; pick a port with --port-kind",
+                ports.shared.join(", ")
+            );
+        }
         say!(
             "{:<8} {:<7} {:<34} {:<22} {:<7} {:<26} {:<11} {}",
             "number",
@@ -268,6 +288,47 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
                 field.name_zh
             );
         }
+    }
+    if let Some(live) = r.held_at_trip_of {
+        say!("  at trip     holds the value {live} had at the last trip");
+    }
+    if r.live_except_while_tripped {
+        say!("  at trip     live, but keeps its value while the drive is tripped");
+    }
+    if let Some(scale_by) = r.scale_by {
+        for choice in scale_by.choices {
+            let c = choice.info;
+            let end = |raw: i64| format!("{:.*}", usize::from(c.decimals()), raw as f64 * c.scale);
+            say!(
+                "  scale       {} = {}: steps of {} {} ({}..{})",
+                scale_by.register,
+                choice.value,
+                c.scale,
+                c.unit_symbol(),
+                end(c.raw_min),
+                end(c.raw_max)
+            );
+        }
+    }
+    for special in r.special_values {
+        say!(
+            "  also        {} ({}: {}), carried as {:04X}h",
+            special.value,
+            special.id,
+            special.name,
+            special.raw
+        );
+    }
+    if !r.per_port.is_empty() {
+        let copies: Vec<String> = r
+            .per_port
+            .iter()
+            .map(|(port, code)| format!("{code} on {port}"))
+            .collect();
+        say!(
+            "  per port    {} (--port-kind picks one)",
+            copies.join(", ")
+        );
     }
     if !r.text.is_empty() {
         say!("  manual      {}", r.text);

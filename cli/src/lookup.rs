@@ -5,7 +5,7 @@
 
 use crate::Failure;
 use vfd_runtime::info::manual_number;
-use vfd_runtime::{DriveInfo, Protocol, RegisterInfo};
+use vfd_runtime::{DriveInfo, Port, Protocol, RegisterInfo};
 
 /// The described drive with this id (case-insensitive).
 pub fn drive(id: &str) -> Result<&'static DriveInfo, Failure> {
@@ -102,6 +102,25 @@ pub fn registers(drive: &DriveInfo, name: &str) -> Vec<&'static RegisterInfo> {
                 || r.id.contains(&lower.replace(' ', "_"))
         })
         .collect()
+}
+
+/// The port `name` names (id or English name) of `drive`; `None` when no port is named.
+/// Refuses a name the drive does not have, or any name for a drive with one port.
+pub fn port(drive: &'static DriveInfo, name: Option<&str>) -> Result<Option<Port>, Failure> {
+    let Some(name) = name else {
+        return Ok(None);
+    };
+    let Some(ports) = drive.ports else {
+        return Err(Failure::new(format!(
+            "drive {} has one serial port: --port-kind does not apply",
+            drive.id
+        ))
+        .hint("leave --port-kind out"));
+    };
+    Port::of(drive, name).map(Some).ok_or_else(|| {
+        Failure::new(format!("drive {} has no port `{name}`", drive.id))
+            .hint(format!("its ports: {}", ports.ids()))
+    })
 }
 
 /// The one register `name` means, or a message saying why not (none, or several).

@@ -39,6 +39,10 @@ pub struct SimArgs {
     /// Start tripped with this trip code.
     #[arg(long, value_name = "CODE")]
     pub trip: Option<u16>,
+    /// The drive's port it serves, for drives with several: that port's command word and
+    /// frequency command act (default: the registers as the behaviour model names them).
+    #[arg(long, value_name = "PORT")]
+    pub port_kind: Option<String>,
 }
 
 /// Faults the virtual drive can commit.
@@ -90,6 +94,9 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
         .address
         .unwrap_or_else(|| protocol.address_range.0.max(1));
     sim.lock().set_address(address);
+    if let Some(port) = lookup::port(drive, args.port_kind.as_deref())? {
+        sim.lock().set_port(port.id);
+    }
     for fault in &args.fault {
         sim.inject((*fault).into());
     }

@@ -29,6 +29,9 @@ pub fn hex(info: &RegisterInfo, raw: u32) -> String {
 /// The value on one line: `60.00 Hz`, `1 (Even parity / 偶校验)`, `C400h: command_enabled,
 /// frequency_enabled, run`.
 pub fn short(info: &RegisterInfo, raw: u32) -> String {
+    if let Some(special) = info.special_raw(raw) {
+        return format!("{} ({}: {})", special.value, special.id, special.name);
+    }
     if let Some(bits) = info.bits {
         let set = set_fields(bits, raw as u16);
         return format!(
@@ -111,6 +114,13 @@ pub fn parse(info: &'static RegisterInfo, text: &str) -> Result<u32, String> {
     if let Some(raw) = raw_word(info, trimmed) {
         return check_raw(info, raw);
     }
+    if let Some(special) = info
+        .special_values
+        .iter()
+        .find(|s| s.id.eq_ignore_ascii_case(trimmed))
+    {
+        return Ok(special.raw);
+    }
     if let Some(bits) = info.bits {
         return parse_fields(info, bits, trimmed);
     }
@@ -165,6 +175,9 @@ fn check_raw(info: &'static RegisterInfo, raw: u32) -> Result<u32, String> {
     } else {
         0xFFFF
     };
+    if info.special_raw(raw).is_some() {
+        return Ok(raw);
+    }
     let number = raw_to_number(raw, info.signed, info.data_type) as i64;
     if raw > limit || number < info.raw_min || number > info.raw_max {
         return Err(format!(

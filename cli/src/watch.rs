@@ -19,7 +19,9 @@ pub fn read(line: &LineArgs, command: Option<&str>, names: &[String]) -> Result<
     for info in registers {
         let value = session.read(info)?;
         tripped |= value.tripped;
-        print_value(info, &value);
+        // A register whose scale another register chooses is shown in that scale.
+        let shown = session.scaled(info)?;
+        print_value(shown, &value);
     }
     if tripped {
         show_trip(&mut session);
@@ -31,7 +33,7 @@ pub fn read(line: &LineArgs, command: Option<&str>, names: &[String]) -> Result<
 pub fn resolve(session: &Session, names: &[String]) -> Result<Vec<&'static RegisterInfo>, Failure> {
     names
         .iter()
-        .map(|name| lookup::register(session.drive, name))
+        .map(|name| lookup::register(session.drive, name).map(|info| session.on_port(info)))
         .collect()
 }
 
@@ -92,20 +94,33 @@ pub fn write(
 ) -> Result<(), Failure> {
     let drive = lookup::drive(&line.drive)?;
     let info = lookup::register(drive, name)?;
+    let info = match lookup::port(drive, line.port_kind.as_deref())? {
+        Some(port) => port.register(info),
+        None => info,
+    };
     crate::bus::check_writable(info, persist)?;
     let code = command.map(command_code).transpose()?;
-    let mut session = Session::open(line)?;
-    session.command = code;
-    let percent_of = session.named_command().and_then(|c| c.percent_of.clone());
-    let raw = match &percent_of {
-        // The data is a percentage of another register: the value is one (50%).
-        Some(percent_of) => percentage(percent_of, text)?,
-        None => values::parse(info, text).map_err(|m| {
+    let parse = |info: &'static RegisterInfo| {
+        values::parse(info, text).map_err(|m| {
             Failure::new(m).hint(format!(
                 "nothing was sent; `vfd info {} {}` shows the range",
                 drive.id, info.code
             ))
-        })?,
+        })
+    };
+    let mut session = Session::open(line)?;
+    session.command = code;
+    let percent_of = session.named_command().and_then(|c| c.percent_of.clone());
+    // The data is a percentage of another register (50%), or a value in the register's
+    // scale; a register whose scale another register chooses is read in the scale it
+    // chooses now. Nothing is written before the value is checked.
+    let (info, raw) = match (&percent_of, info.scale_by) {
+        (Some(percent_of), _) => (info, percentage(percent_of, text)?),
+        (None, Some(_)) => {
+            let scaled = session.scaled(info)?;
+            (scaled, parse(scaled)?)
+        }
+        (None, None) => (info, parse(info)?),
     };
     if percent_of.is_none() {
         check_run_time_bounds(&mut session, info, raw)?;
@@ -315,7 +330,12 @@ pub fn watch(
     count: Option<u64>,
 ) -> Result<(), Failure> {
     let mut session = Session::open(line)?;
-    let registers = resolve(&session, names)?;
+    // Registers whose scale another register chooses are shown in the scale it chooses
+    // when the watch starts.
+    let registers = resolve(&session, names)?
+        .into_iter()
+        .map(|info| session.scaled(info))
+        .collect::<Result<Vec<_>, Failure>>()?;
     let stop = stop_flag()?;
     watch_loop(
         &mut session,

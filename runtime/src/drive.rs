@@ -2,8 +2,10 @@
 //! described drive without naming it.
 
 use crate::behaviour::Behaviour;
-use crate::info::RegisterInfo;
+use crate::conversion::Conversion;
+use crate::info::{PortInfo, Ports, RegisterInfo};
 use crate::protocol::Protocol;
+use crate::register::Request;
 use crate::serial::SerialSpec;
 
 /// One described drive.
@@ -29,6 +31,57 @@ pub struct DriveInfo {
     pub registers: &'static [&'static RegisterInfo],
     /// The behaviour model the virtual drive follows, when the description declares one.
     pub behaviour: Option<&'static Behaviour>,
+    /// The serial ports, when the drive has several.
+    pub ports: Option<&'static Ports>,
+    /// The manual's formulas between registers.
+    pub conversions: &'static [Conversion],
+}
+
+/// One port of a drive, chosen once: requests for a register that exists once per port go
+/// to this port's copy ([`Port::map`]). A [`crate::transaction::Master`] given a port
+/// (`with_port`) maps every request it sends.
+#[derive(Debug, Clone, Copy)]
+pub struct Port {
+    /// The drive.
+    pub drive: &'static DriveInfo,
+    /// The port's identifier (`two_wire`).
+    pub id: &'static str,
+}
+
+impl Port {
+    /// The port `name` (identifier or English name) of `drive`, if it has one.
+    pub fn of(drive: &'static DriveInfo, name: &str) -> Option<Port> {
+        let port = drive.ports?.port(name)?;
+        Some(Port { drive, id: port.id })
+    }
+
+    /// The port's description.
+    pub fn info(&self) -> Option<&'static PortInfo> {
+        self.drive.ports?.port(self.id)
+    }
+
+    /// This port's copy of `info` (`info` itself when it is not per port).
+    pub fn register(&self, info: &'static RegisterInfo) -> &'static RegisterInfo {
+        self.drive.on_port(info, self.id)
+    }
+
+    /// `request` aimed at this port's copy of its register (unchanged when the register
+    /// is not per port, or the request was not built from a described register).
+    pub fn map(&self, request: Request) -> Request {
+        let Some(info) = request.info else {
+            return request;
+        };
+        let mapped = self.register(info);
+        if std::ptr::eq(mapped, info) {
+            return request;
+        }
+        Request {
+            register: mapped.address,
+            space: mapped.space,
+            info: Some(mapped),
+            ..request
+        }
+    }
 }
 
 impl DriveInfo {
@@ -47,6 +100,21 @@ impl DriveInfo {
             .iter()
             .copied()
             .find(|r| r.space == space && r.address == address)
+    }
+
+    /// The copy of `info` on the port `port` (its id), when `info` exists once per port;
+    /// otherwise `info` itself.
+    pub fn on_port(&self, info: &'static RegisterInfo, port: &str) -> &'static RegisterInfo {
+        let code = info.code_on_port(port);
+        if code == info.code {
+            return info;
+        }
+        self.register(code).unwrap_or(info)
+    }
+
+    /// The conversion with this identifier.
+    pub fn conversion(&self, id: &str) -> Option<&'static Conversion> {
+        self.conversions.iter().find(|c| c.id == id)
     }
 
     /// The register with this manual code (case-insensitive) or identifier.

@@ -435,6 +435,17 @@ pub enum ValueError {
         /// Raw value.
         raw: u32,
     },
+    /// The register's scale is chosen by another register, and that register's value is
+    /// not one the description gives a scale for.
+    #[error("{register}: {selector} = {value} chooses no scale the description knows", register = register.label())]
+    UnknownScale {
+        /// The register.
+        register: &'static RegisterInfo,
+        /// Code of the register choosing the scale.
+        selector: &'static str,
+        /// The selector's value.
+        value: u32,
+    },
 }
 
 #[cfg(test)]

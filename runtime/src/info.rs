@@ -64,6 +64,62 @@ pub struct RegisterInfo {
     /// Writes to it are never answered (an inverter reset): a master returns once the
     /// frame is on the line, and the virtual drive stays silent.
     pub no_reply: bool,
+    /// Code of the live register whose value this one holds from the moment of the last
+    /// trip (FE00 holds FD00's), if it is such a copy.
+    pub held_at_trip_of: Option<&'static str>,
+    /// It shows the live value, but keeps the value it had while the drive is tripped.
+    pub live_except_while_tripped: bool,
+    /// Its scale and range chosen by another register's value, if they are.
+    pub scale_by: Option<&'static ScaleBy>,
+    /// Its copies on each serial port (port id, register code), when it exists once per
+    /// port; empty otherwise.
+    pub per_port: &'static [(&'static str, &'static str)],
+    /// Values it takes besides its range, each carried by its own raw word (99999 as
+    /// FFFFh); empty for most registers.
+    pub special_values: &'static [SpecialValue],
+}
+
+/// A value a register takes besides its range, with its own raw word.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpecialValue {
+    /// The value as the manual writes it (99999).
+    pub value: f64,
+    /// The raw word carrying it (FFFFh).
+    pub raw: u32,
+    /// Identifier in the drive file (`no_check`).
+    pub id: &'static str,
+    /// What it means.
+    pub name: &'static str,
+}
+
+/// A register's scale chosen by another register's value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScaleBy {
+    /// Code of the selector register.
+    pub register: &'static str,
+    /// One choice per selector value.
+    pub choices: &'static [ScaleChoice],
+}
+
+/// The register as it is for one selector value: the same register with that choice's
+/// scale and range.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScaleChoice {
+    /// The selector's value.
+    pub value: u32,
+    /// The register with this choice's scale and raw range (and no `scale_by`).
+    pub info: &'static RegisterInfo,
+}
+
+impl ScaleBy {
+    /// The register as it is when the selector holds `selector`, if the description gives
+    /// that value.
+    pub fn choice(&self, selector: u32) -> Option<&'static RegisterInfo> {
+        self.choices
+            .iter()
+            .find(|choice| choice.value == selector)
+            .map(|choice| choice.info)
+    }
 }
 
 /// Const builders: generated code writes a register as `RegisterInfo::new(..)` followed by
@@ -195,6 +251,39 @@ impl RegisterInfo {
         self.array_len = len;
         self
     }
+
+    /// It holds the value of the live register `code` from the moment of the last trip.
+    pub const fn with_held_at_trip_of(mut self, code: &'static str) -> Self {
+        self.held_at_trip_of = Some(code);
+        self
+    }
+
+    /// It shows the live value except while the drive is tripped.
+    pub const fn with_live_except_while_tripped(mut self) -> Self {
+        self.live_except_while_tripped = true;
+        self
+    }
+
+    /// Its scale and range are chosen by another register.
+    pub const fn with_scale_by(mut self, scale_by: &'static ScaleBy) -> Self {
+        self.scale_by = Some(scale_by);
+        self
+    }
+
+    /// It takes these values besides its range.
+    pub const fn with_special_values(mut self, special_values: &'static [SpecialValue]) -> Self {
+        self.special_values = special_values;
+        self
+    }
+
+    /// It exists once per serial port: (port id, register code) of every copy.
+    pub const fn with_per_port(
+        mut self,
+        per_port: &'static [(&'static str, &'static str)],
+    ) -> Self {
+        self.per_port = per_port;
+        self
+    }
 }
 
 impl RegisterInfo {
@@ -228,6 +317,11 @@ impl RegisterInfo {
         codes: None,
         text: "",
         no_reply: false,
+        held_at_trip_of: None,
+        live_except_while_tripped: false,
+        scale_by: None,
+        per_port: &[],
+        special_values: &[],
     };
 
     /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.
@@ -259,6 +353,34 @@ impl RegisterInfo {
         decimals_of(self.scale)
     }
 
+    /// The register as it is when its scale selector holds `selector` (itself when its
+    /// scale is fixed, or the selector's value is not one the description gives).
+    pub fn scaled_for(&'static self, selector: Option<u32>) -> &'static RegisterInfo {
+        match (self.scale_by, selector) {
+            (Some(scale_by), Some(selector)) => scale_by.choice(selector).unwrap_or(self),
+            _ => self,
+        }
+    }
+
+    /// The special value (taken besides the range) carried by `raw`, if any.
+    pub fn special_raw(&self, raw: u32) -> Option<&'static SpecialValue> {
+        self.special_values.iter().find(|s| s.raw == raw)
+    }
+
+    /// The special value (taken besides the range) equal to `value`, if any.
+    pub fn special_value(&self, value: f64) -> Option<&'static SpecialValue> {
+        self.special_values.iter().find(|s| s.value == value)
+    }
+
+    /// The code of its copy on the port `port`: itself when it is not per port or the
+    /// port is not one of its ports.
+    pub fn code_on_port(&self, port: &str) -> &'static str {
+        self.per_port
+            .iter()
+            .find(|(id, _)| *id == port)
+            .map_or(self.code, |(_, code)| code)
+    }
+
     /// Explains run-time bounds named after other registers, for error messages.
     pub fn bound_note(&self) -> String {
         match (self.min_bound, self.max_bound) {
@@ -279,6 +401,46 @@ pub fn manual_number(space: Space, address: u16, code: &str) -> String {
         address.to_string()
     } else {
         format!("{address:04X}")
+    }
+}
+
+/// One serial port of a drive with several (a 2-wire and a 4-wire RS-485 port).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PortInfo {
+    /// Identifier in the drive file (`two_wire`).
+    pub id: &'static str,
+    /// English name.
+    pub name: &'static str,
+    /// The manual's Chinese name.
+    pub name_zh: &'static str,
+    /// The registers setting this port: (what they set, register code).
+    pub settings: &'static [(&'static str, &'static str)],
+}
+
+/// A drive's serial ports: each port's settings, the registers they share and the
+/// registers that exist once per port.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Ports {
+    /// The ports, the first being the one a client uses when it names none.
+    pub ports: &'static [PortInfo],
+    /// Codes of the registers both ports share.
+    pub shared: &'static [&'static str],
+    /// Registers that exist once per port: each row one code per port, in port order.
+    pub registers: &'static [&'static [&'static str]],
+}
+
+impl Ports {
+    /// The port with this identifier (case-insensitive) or English name.
+    pub fn port(&self, name: &str) -> Option<&'static PortInfo> {
+        self.ports
+            .iter()
+            .find(|port| port.id.eq_ignore_ascii_case(name) || port.name.eq_ignore_ascii_case(name))
+    }
+
+    /// The identifiers of the ports, for messages (`two_wire, four_wire`).
+    pub fn ids(&self) -> String {
+        let ids: Vec<&str> = self.ports.iter().map(|port| port.id).collect();
+        ids.join(", ")
     }
 }
 

@@ -47,6 +47,7 @@ pub mod broadcast;
 pub mod checksum;
 pub mod codec;
 pub mod codes;
+pub mod conversion;
 pub mod drive;
 pub mod error;
 pub mod info;
@@ -69,9 +70,12 @@ pub mod virtual_drive;
 
 pub use broadcast::{Broadcast, BroadcastAnswer, BroadcastRule, StationGroup};
 pub use codec::{FieldValue, FrameValues, Roles, Words};
-pub use drive::DriveInfo;
+pub use drive::{DriveInfo, Port};
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
-pub use info::{BitFieldInfo, BitWordInfo, CodeInfo, CodeTableInfo, ErrorCodeInfo, RegisterInfo};
+pub use info::{
+    BitFieldInfo, BitWordInfo, CodeInfo, CodeTableInfo, ErrorCodeInfo, PortInfo, Ports,
+    RegisterInfo, ScaleBy, ScaleChoice, SpecialValue,
+};
 pub use kinds::{Access, CommandKind, DataType, Space, TakesEffect};
 pub use layout::{
     BitsSpec, BroadcastAddress, ChecksumAlgorithm, ChecksumSpec, Counts, Encoding, FieldSpec,

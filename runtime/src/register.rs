@@ -49,6 +49,33 @@ pub trait Register {
     {
         Self::read().at_index(index)
     }
+
+    /// The register as it is when its scale selector holds `selector` (for registers whose
+    /// scale another register chooses, `scale_by` in the description: a time in 0.01 s or
+    /// 0.1 s steps). Registers with a fixed scale are themselves for any `selector`;
+    /// refuses a selector value the description gives no scale for.
+    fn scaled_info(selector: u32) -> Result<&'static RegisterInfo, ValueError>
+    where
+        Self: Sized,
+    {
+        match Self::INFO.scale_by {
+            None => Ok(Self::INFO),
+            Some(scale_by) => scale_by.choice(selector).ok_or(ValueError::UnknownScale {
+                register: Self::INFO,
+                selector: scale_by.register,
+                value: selector,
+            }),
+        }
+    }
+
+    /// The typed value of a raw word read from this register while its scale selector
+    /// holds `selector` (see [`Register::scaled_info`]).
+    fn value_scaled(raw: u32, selector: u32) -> Result<Self::Value, ValueError>
+    where
+        Self: Sized,
+    {
+        Self::Value::from_raw(raw, Self::scaled_info(selector)?)
+    }
 }
 
 /// A register that may be written (implemented only for writable registers, so writing a
@@ -61,6 +88,25 @@ pub trait Writable: Register {
         Self: Sized,
     {
         Request::write_ram::<Self>(value).map(DriveRequest::new)
+    }
+
+    /// A request writing `value` in RAM only, in the scale and range the selector value
+    /// `selector` chooses (see [`Register::scaled_info`]): 10 s is 03E8h when the selector
+    /// chooses 0.01 s steps and 0064h when it chooses 0.1 s.
+    fn write_ram_scaled(
+        value: Self::Value,
+        selector: u32,
+    ) -> Result<DriveRequest<Self::Drive>, ValueError>
+    where
+        Self: Sized,
+    {
+        let info = Self::scaled_info(selector)?;
+        let data = value.to_raw(info)?;
+        Ok(DriveRequest::new(Request::for_register(
+            CommandKind::WriteRam,
+            info,
+            data,
+        )))
     }
 
     /// A request writing `value` to element `index` of this array register, in RAM only.

@@ -187,6 +187,9 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     reply_delay: Option<Duration>,
     /// The stations the request under way is broadcast to (see [`Master::broadcast`]).
     broadcast_to: Option<crate::broadcast::Broadcast>,
+    /// The port the master talks to, for drives with several: requests for a register
+    /// that exists once per port go to this port's copy.
+    port: Option<crate::drive::Port>,
 }
 
 impl<T: Transport> Master<T, AnyDrive> {
@@ -240,7 +243,17 @@ impl<T: Transport, D: 'static> Master<T, D> {
             late_reply_until: None,
             reply_delay: None,
             broadcast_to: None,
+            port: None,
         }
+    }
+
+    /// Talks to the drive's port `port` (of a drive with several serial ports): a request
+    /// for a register that exists once per port goes to this port's copy, as the
+    /// description's `ports.registers` pairs them (one port's command word becomes the
+    /// other's). `None`: registers are sent as given.
+    pub fn with_port(mut self, port: Option<crate::drive::Port>) -> Self {
+        self.port = port;
+        self
     }
 
     /// The latency added to the drive's processing time in every reply timeout, for the
@@ -781,6 +794,14 @@ impl<T: Transport, D: 'static> Master<T, D> {
     /// index, choosing RAM or EEPROM). Every frame is built and checked before the first
     /// is sent: when the protocol cannot carry any of them, nothing goes on the line.
     pub fn transact(&mut self, request: &Request) -> Result<Answer, TransactionError> {
+        let on_port;
+        let request = match self.port {
+            Some(port) => {
+                on_port = port.map(*request);
+                &on_port
+            }
+            None => request,
+        };
         let protocol = self.protocol;
         let main = self.main_request(request);
         for step in protocol.pre_steps.iter() {

@@ -15,6 +15,10 @@ pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u32, Val
             value,
         });
     }
+    // A value taken besides the range (99999) has its own raw word (FFFFh).
+    if let Some(special) = info.special_value(value) {
+        return Ok(special.raw);
+    }
     let raw = (value / info.scale).round();
     if raw < info.raw_min as f64 || raw > info.raw_max as f64 {
         return Err(ValueError::OutOfRange {
@@ -48,8 +52,12 @@ pub fn raw_to_number(raw: u32, signed: bool, data_type: DataType) -> f64 {
     }
 }
 
-/// Converts a raw value to its engineering value.
+/// Converts a raw value to its engineering value (the raw word of a special value, such as
+/// FFFFh for 99999, to that value).
 pub fn raw_to_scaled(raw: u32, info: &RegisterInfo) -> f64 {
+    if let Some(special) = info.special_raw(raw) {
+        return special.value;
+    }
     let raw = raw_to_number(raw, info.signed, info.data_type);
     // Round away binary noise such as 0.1 * 3 = 0.30000000000000004.
     rounded(raw * info.scale, info)
@@ -181,5 +189,40 @@ impl RegisterValue for String {
     }
     fn from_raw(_raw: u32, info: &'static RegisterInfo) -> Result<Self, ValueError> {
         Err(ValueError::NotWritable { register: info })
+    }
+}
+
+#[cfg(test)]
+mod special_value_tests {
+    use super::*;
+    use crate::info::SpecialValue;
+
+    /// A time-out of 0-999.8 s in 0.1 s steps that also takes 99999 ("no check") as FFFFh.
+    static INTERVAL: RegisterInfo = RegisterInfo::new(0x0035, "07-09", "interval")
+        .with_unit(Unit::Second, 0.1)
+        .with_raw_range(0, 9998)
+        .with_special_values(&[SpecialValue {
+            value: 99999.0,
+            raw: 0xFFFF,
+            id: "no_check",
+            name: "No time-out check",
+        }]);
+
+    #[test]
+    fn a_special_value_has_its_own_raw_word_besides_the_range() {
+        assert_eq!(Seconds(99999.0).to_raw(&INTERVAL).unwrap(), 0xFFFF);
+        assert_eq!(
+            Seconds::from_raw(0xFFFF, &INTERVAL).unwrap(),
+            Seconds(99999.0)
+        );
+        assert_eq!(Seconds(999.8).to_raw(&INTERVAL).unwrap(), 9998);
+        assert_eq!(Seconds::from_raw(9998, &INTERVAL).unwrap(), Seconds(999.8));
+        // Values between the range and the special value are still refused.
+        assert!(matches!(
+            Seconds(1000.0).to_raw(&INTERVAL),
+            Err(ValueError::OutOfRange { .. })
+        ));
+        assert_eq!(INTERVAL.special_raw(0xFFFF).map(|s| s.id), Some("no_check"));
+        assert!(INTERVAL.special_raw(0xFFFE).is_none());
     }
 }

@@ -28,6 +28,24 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
                 .set
                 .iter()
                 .map(|id| Ident::new(&crate::naming::method_name(id), Span::call_site()));
+            let field_setters: Vec<TokenStream> = example
+                .fields
+                .iter()
+                .map(|(id, v)| {
+                    let setter = format_ident!("with_{}", id);
+                    let v = int_literal(*v);
+                    quote!(.#setter(#v))
+                })
+                .collect();
+            let field_checks: Vec<TokenStream> = example
+                .fields
+                .iter()
+                .map(|(id, v)| {
+                    let getter = Ident::new(&crate::naming::method_name(id), Span::call_site());
+                    let v = int_literal(*v);
+                    quote!(assert_eq!(read.#getter(), #v, "{} in {:04X}h", stringify!(#getter), #value);)
+                })
+                .collect();
             let doc = format!(
                 " {} (manual section {}).",
                 example.description, example.source
@@ -36,10 +54,11 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
                 #[doc = #doc]
                 #[test]
                 fn #name() {
-                    let built = #root::bits::#ty::new()#(.#setters(true))*;
+                    let built = #root::bits::#ty::new()#(.#setters(true))*#(#field_setters)*;
                     assert_eq!(built.bits(), #value, "builder gives {:04X}h", built.bits());
                     let read = #root::bits::#ty(#value);
                     #(assert!(read.#getters(), "{} should be set in {:04X}h", stringify!(#getters), #value);)*
+                    #(#field_checks)*
                     assert!(!read.has_reserved_bits());
                 }
             });
@@ -53,6 +72,22 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
         let name = format_ident!("value_{}_example_{}", register.id, index + 1);
         let value_ty = value_type_at(&register.value, &root);
         let construct = construct_value(&register.value, example.value, &value_ty);
+        // With a scale selector among the values the example assumes: the register as
+        // that selector value makes it.
+        let selector = register.scale_by.as_ref().and_then(|scale_by| {
+            example
+                .given
+                .iter()
+                .find(|(code, _)| *code == scale_by.register)
+                .map(|(_, value)| *value)
+        });
+        let info = match selector {
+            Some(value) => {
+                let value = int_literal(value);
+                quote!(R::INFO.scaled_for(Some(#value)))
+            }
+            None => quote!(R::INFO),
+        };
         let register = Ident::new(&register.type_name, Span::call_site());
         let raw = int_literal(example.raw);
         let doc = format!(
@@ -64,13 +99,34 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
             #[test]
             fn #name() {
                 type R = #root::registers::#register;
+                let info: &'static ::vfd_runtime::RegisterInfo = #info;
                 let value = #construct;
-                assert_eq!(value.to_raw(R::INFO).unwrap(), #raw, "the manual's value encodes to its raw word");
+                assert_eq!(value.to_raw(info).unwrap(), #raw, "the manual's value encodes to its raw word");
                 // Scales such as 100/16384 % are lossy: decoding then encoding must give the raw word back.
-                let decoded = <R as Register>::Value::from_raw(#raw, R::INFO).unwrap();
-                assert_eq!(decoded.to_raw(R::INFO).unwrap(), #raw, "decoded {decoded:?} re-encodes");
+                let decoded = <R as Register>::Value::from_raw(#raw, info).unwrap();
+                assert_eq!(decoded.to_raw(info).unwrap(), #raw, "decoded {decoded:?} re-encodes");
             }
         });
+    }
+    for conversion in &drive.conversions {
+        let function = Ident::new(&conversion.id, Span::call_site());
+        for (index, (inputs, result, source)) in conversion.examples.iter().enumerate() {
+            let name = format_ident!("conversion_{}_example_{}", conversion.id, index + 1);
+            let args = inputs.iter().map(|v| Literal::f64_unsuffixed(*v));
+            let expected = Literal::f64_unsuffixed(*result);
+            let doc = format!(" {} (manual section {source}).", conversion.name);
+            tests.push(quote! {
+                #[doc = #doc]
+                #[test]
+                fn #name() {
+                    let result = #root::conversions::#function(#(#args),*);
+                    assert!(
+                        result.is_some_and(|r| (r - #expected).abs() < 1e-6),
+                        "the manual's numbers give {:?}, not {}", result, #expected
+                    );
+                }
+            });
+        }
     }
     quote! {
         #[allow(unused_imports)]

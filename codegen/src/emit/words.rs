@@ -27,6 +27,9 @@ pub fn number_text(register: &RegisterIr, value: f64) -> String {
 
 /// An engineering value with its unit (`60.00 Hz`).
 pub fn value_text(register: &RegisterIr, value: f64) -> String {
+    if let Some(special) = register.special_values.iter().find(|s| s.value == value) {
+        return format!("{} ({})", special.value, special.id);
+    }
     let unit = register.unit.symbol();
     let number = number_text(register, value);
     if unit.is_empty() {
@@ -49,14 +52,27 @@ pub fn range_text(register: &RegisterIr) -> String {
         Some(name) => format!("{name} (≤ {})", raw_text(register, max.raw)),
         None => raw_text(register, max.raw),
     };
-    format!("{low} … {high}")
+    let specials: Vec<String> = register
+        .special_values
+        .iter()
+        .map(|s| format!("{} ({})", s.value, s.id))
+        .collect();
+    if specials.is_empty() {
+        format!("{low} … {high}")
+    } else {
+        format!("{low} … {high}, or {}", specials.join(", "))
+    }
 }
 
 /// The factory default (`50.00`), or `—`.
 pub fn default_text(register: &RegisterIr) -> String {
-    register
-        .default
-        .map_or_else(|| "—".to_owned(), |d| number_text(register, d))
+    register.default.map_or_else(
+        || "—".to_owned(),
+        |d| match register.special_values.iter().find(|s| s.value == d) {
+            Some(special) => format!("{} ({})", special.value, special.id),
+            None => number_text(register, d),
+        },
+    )
 }
 
 /// The Rust type of the register's value, as written in docs (`Hertz`, `u16`).

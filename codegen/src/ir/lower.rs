@@ -153,6 +153,11 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
                     .map(|e| BitExampleIr {
                         value: e.value as u16,
                         set: e.set.clone(),
+                        fields: e
+                            .fields
+                            .iter()
+                            .map(|(id, v)| (id.clone(), *v as u16))
+                            .collect(),
                         description: e.description.clone(),
                         source: e.source.clone(),
                     })
@@ -170,6 +175,11 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
                     raw: example.raw,
                     source: example.source.clone(),
                     description: example.description.clone(),
+                    given: example
+                        .given
+                        .iter()
+                        .map(|(name, value)| (code_of(&index, name), *value))
+                        .collect(),
                 })
             })
             .collect(),
@@ -215,6 +225,8 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
         warnings: model.warnings.clone(),
         registers,
         behaviour: None,
+        ports: lower_ports(model, &index),
+        conversions: lower_conversions(model, &index),
     };
     ir.behaviour = model
         .behaviour
@@ -288,7 +300,173 @@ fn lower_register(
         inferred: register.inferred.clone(),
         warnings: register.warnings.clone(),
         no_reply: register.no_reply,
+        held_at_trip_of: register
+            .held_at_trip_of
+            .as_ref()
+            .map(|name| code_of(index, name)),
+        live_except_while_tripped: register.live_except_while_tripped,
+        scale_by: register.scale_by.as_ref().map(|scale_by| ScaleByIr {
+            register: code_of(index, &scale_by.register),
+            choices: scale_by
+                .values
+                .iter()
+                .map(|choice| {
+                    // The register as it is with this choice: its scale, and its range
+                    // where the choice gives one.
+                    let mut chosen = register.clone();
+                    chosen.scale = Some(choice.scale);
+                    if let Some(range) = &choice.range {
+                        chosen.range = Some(range.clone());
+                    }
+                    chosen.scale_by = None;
+                    let (raw_min, raw_max) = index.raw_range(&chosen);
+                    ScaleChoiceIr {
+                        value: choice.value,
+                        scale: choice.scale,
+                        raw_min,
+                        raw_max,
+                    }
+                })
+                .collect(),
+        }),
+        per_port: per_port(model, index, register),
+        special_values: register
+            .special_values
+            .iter()
+            .map(|special| SpecialValueIr {
+                value: special.value,
+                raw: special.raw,
+                id: special.id.clone(),
+                name: special.name.clone(),
+                name_zh: special.name_zh.clone(),
+            })
+            .collect(),
     }
+}
+
+/// The code of the register `name` names (code or id), or `name` itself.
+fn code_of(index: &ranges::RegisterIndex<'_>, name: &str) -> String {
+    index
+        .find(name)
+        .map_or_else(|| name.to_owned(), |r| r.code.clone())
+}
+
+/// The register's copies on each port, when it is in a row of `ports.registers`.
+fn per_port(
+    model: &DriveFile,
+    index: &ranges::RegisterIndex<'_>,
+    register: &RegisterModel,
+) -> Vec<(String, String)> {
+    let Some(ports) = &model.ports else {
+        return Vec::new();
+    };
+    let row = ports.registers.iter().find(|row| {
+        row.values()
+            .any(|name| index.find(name).is_some_and(|r| r.id == register.id))
+    });
+    let Some(row) = row else {
+        return Vec::new();
+    };
+    ports
+        .list
+        .iter()
+        .filter_map(|port| {
+            let name = row.get(&port.id)?;
+            Some((port.id.clone(), code_of(index, name)))
+        })
+        .collect()
+}
+
+/// The ports, resolved to register codes.
+fn lower_ports(model: &DriveFile, index: &ranges::RegisterIndex<'_>) -> Option<PortsIr> {
+    let ports = model.ports.as_ref()?;
+    Some(PortsIr {
+        source: ports.source.clone(),
+        note: ports.note.trim().to_owned(),
+        ports: ports
+            .list
+            .iter()
+            .map(|port| PortIr {
+                id: port.id.clone(),
+                const_name: const_name(&port.id),
+                name: port.name.clone(),
+                name_zh: port.name_zh.clone(),
+                settings: port
+                    .settings
+                    .iter()
+                    .map(|(what, name)| (what.clone(), code_of(index, name)))
+                    .collect(),
+            })
+            .collect(),
+        shared: ports.shared.iter().map(|n| code_of(index, n)).collect(),
+        registers: ports
+            .registers
+            .iter()
+            .map(|row| {
+                ports
+                    .list
+                    .iter()
+                    .filter_map(|port| row.get(&port.id).map(|n| code_of(index, n)))
+                    .collect()
+            })
+            .collect(),
+    })
+}
+
+/// The conversions, their formulas parsed (validation has checked they parse).
+fn lower_conversions(model: &DriveFile, index: &ranges::RegisterIndex<'_>) -> Vec<ConversionIr> {
+    model
+        .conversions
+        .iter()
+        .filter_map(|conversion| {
+            let names: Vec<&str> = conversion.inputs.iter().map(|i| i.name.as_str()).collect();
+            let program = crate::validate::formula::parse(&conversion.formula, &names).ok()?;
+            Some(ConversionIr {
+                id: conversion.id.clone(),
+                name: conversion.name.clone(),
+                source: conversion.source.clone(),
+                formula: conversion.formula.clone(),
+                program,
+                inputs: conversion
+                    .inputs
+                    .iter()
+                    .map(|input| ConversionInputIr {
+                        name: input.name.clone(),
+                        register: input.register.as_ref().map(|n| code_of(index, n)),
+                        times: input.times.unwrap_or(1.0),
+                        description: input.description.clone(),
+                    })
+                    .collect(),
+                unit: conversion
+                    .unit
+                    .as_deref()
+                    .and_then(Unit::from_symbol)
+                    .unwrap_or(Unit::None),
+                result: conversion.result.as_ref().map(|n| code_of(index, n)),
+                truncate: conversion.rounding.is_some(),
+                when: conversion.when.as_ref().map(|when| {
+                    let value = match &when.value {
+                        crate::parse::model::ConditionValueModel::Value(value) => Some(*value),
+                        crate::parse::model::ConditionValueModel::Word(_) => None,
+                    };
+                    (code_of(index, &when.register), value)
+                }),
+                note: conversion.note.trim().to_owned(),
+                examples: conversion
+                    .examples
+                    .iter()
+                    .map(|example| {
+                        let inputs = conversion
+                            .inputs
+                            .iter()
+                            .map(|input| example.inputs.get(&input.name).copied().unwrap_or(0.0))
+                            .collect();
+                        (inputs, example.result, example.source.clone())
+                    })
+                    .collect(),
+            })
+        })
+        .collect()
 }
 
 /// A range bound as written; without a range, the raw bound an exhaustive code table gives

@@ -66,6 +66,106 @@ pub struct DriveIr {
     pub warnings: Vec<WarningIr>,
     /// The behaviour model for the virtual drive, when the description declares one.
     pub behaviour: Option<BehaviourIr>,
+    /// The serial ports, when the drive has several.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ports: Option<PortsIr>,
+    /// The manual's formulas between registers.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub conversions: Vec<ConversionIr>,
+}
+
+/// The drive's serial ports, resolved to register codes.
+#[derive(Debug, Clone, Serialize)]
+pub struct PortsIr {
+    /// Manual sections.
+    pub source: String,
+    /// Remarks.
+    pub note: String,
+    /// The ports, in file order.
+    pub ports: Vec<PortIr>,
+    /// Codes of the registers both ports share.
+    pub shared: Vec<String>,
+    /// Registers that exist once per port: each row holds one code per port, in port order.
+    pub registers: Vec<Vec<String>>,
+}
+
+/// One serial port.
+#[derive(Debug, Clone, Serialize)]
+pub struct PortIr {
+    /// Identifier (`two_wire`).
+    pub id: String,
+    /// Rust name of its constant (`TWO_WIRE`).
+    pub const_name: String,
+    /// English name.
+    pub name: String,
+    /// Chinese name.
+    pub name_zh: String,
+    /// The registers setting it: (what they set, register code), sorted by the first.
+    pub settings: Vec<(String, String)>,
+}
+
+/// A scale chosen by another register.
+#[derive(Debug, Clone, Serialize)]
+pub struct ScaleByIr {
+    /// Code of the selector register.
+    pub register: String,
+    /// One choice per selector value.
+    pub choices: Vec<ScaleChoiceIr>,
+}
+
+/// The scale and range a register has for one selector value.
+#[derive(Debug, Clone, Serialize)]
+pub struct ScaleChoiceIr {
+    /// The selector's value.
+    pub value: u32,
+    /// Engineering value of one raw step.
+    pub scale: f64,
+    /// Lowest raw value.
+    pub raw_min: i64,
+    /// Highest raw value.
+    pub raw_max: i64,
+}
+
+/// A formula of the manual, parsed.
+#[derive(Debug, Clone, Serialize)]
+pub struct ConversionIr {
+    /// Identifier (the function's name).
+    pub id: String,
+    /// What the result is.
+    pub name: String,
+    /// Manual section.
+    pub source: String,
+    /// The formula as written.
+    pub formula: String,
+    /// The formula in postfix order, as the runtime evaluates it.
+    pub program: Vec<vfd_runtime::conversion::Op>,
+    /// The inputs, in argument order.
+    pub inputs: Vec<ConversionInputIr>,
+    /// The result's unit.
+    pub unit: Unit,
+    /// Code of the register the result belongs to, if any.
+    pub result: Option<String>,
+    /// The result is cut to a whole number.
+    pub truncate: bool,
+    /// The selector register (code) and value it applies for (`None` value: nonzero).
+    pub when: Option<(String, Option<u32>)>,
+    /// Remarks.
+    pub note: String,
+    /// Worked examples: input values in argument order, and the result.
+    pub examples: Vec<(Vec<f64>, f64, String)>,
+}
+
+/// One input of a conversion.
+#[derive(Debug, Clone, Serialize)]
+pub struct ConversionInputIr {
+    /// Its name in the formula and as an argument.
+    pub name: String,
+    /// Code of the register it comes from, if any.
+    pub register: Option<String>,
+    /// The factor applied to the register's value first.
+    pub times: f64,
+    /// What it is, when it is no register.
+    pub description: String,
 }
 
 /// A bit of a bit-field word, resolved: its id, mask and the level at which it acts.
@@ -499,6 +599,9 @@ pub struct BitExampleIr {
     pub value: u16,
     /// Ids of the fields it sets.
     pub set: Vec<String>,
+    /// Multi-bit fields and their values, by id.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub fields: Vec<(String, u16)>,
     /// The manual's words.
     pub description: String,
     /// Manual section.
@@ -598,6 +701,36 @@ pub struct RegisterIr {
     /// Writes to it are never answered.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub no_reply: bool,
+    /// Code of the live register whose value this one holds from the last trip.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held_at_trip_of: Option<String>,
+    /// Shows the live value, but keeps its value while the drive is tripped.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub live_except_while_tripped: bool,
+    /// Its scale chosen by another register.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scale_by: Option<ScaleByIr>,
+    /// Its copies on each port (port id, register code), when it exists once per port.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub per_port: Vec<(String, String)>,
+    /// Values it takes besides its range, each with its raw word.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub special_values: Vec<SpecialValueIr>,
+}
+
+/// A value a register takes besides its range.
+#[derive(Debug, Clone, Serialize)]
+pub struct SpecialValueIr {
+    /// The value as the manual writes it.
+    pub value: f64,
+    /// Its raw word.
+    pub raw: u32,
+    /// Identifier.
+    pub id: String,
+    /// English meaning.
+    pub name: String,
+    /// Chinese meaning.
+    pub name_zh: String,
 }
 
 impl RegisterIr {
@@ -620,6 +753,9 @@ impl RegisterIr {
     /// values), when the description gives a default.
     pub fn default_raw(&self) -> Option<u32> {
         let default = self.default?;
+        if let Some(special) = self.special_values.iter().find(|s| s.value == default) {
+            return Some(special.raw);
+        }
         let raw = (default / self.scale).round() as i64;
         let bits = u32::from(self.data_type.size().max(1)) * 8;
         let mask = if bits >= 32 {
@@ -653,6 +789,9 @@ pub struct ValueExampleIr {
     pub source: String,
     /// The manual's words.
     pub description: String,
+    /// Values of other registers the example assumes: (code, value).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub given: Vec<(String, u32)>,
 }
 
 /// Mode-dependent reference scaling.

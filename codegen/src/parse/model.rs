@@ -58,6 +58,164 @@ pub struct DriveFile {
     /// which status bits show its state, where trips are recorded and which error code
     /// answers each refused request.
     pub behaviour: Option<BehaviourModel>,
+    /// The drive's serial ports, where it has more than one (a 2-wire and a 4-wire
+    /// RS-485 port): each port's own setting registers, the registers both ports share,
+    /// and the registers that exist once per port.
+    pub ports: Option<PortsModel>,
+    /// The manual's formulas between registers (a speed from a frequency and the motor's
+    /// poles), each becoming a typed function tested with the manual's numbers.
+    #[serde(default)]
+    pub conversions: Vec<ConversionModel>,
+}
+
+/// The drive's serial ports (`ports:`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PortsModel {
+    /// The manual sections describing the ports.
+    pub source: String,
+    /// Anything the manual says about the ports that fits nowhere else.
+    #[serde(default)]
+    pub note: String,
+    /// The ports, the one a client uses when it names none first.
+    pub list: Vec<PortModel>,
+    /// Registers (codes or ids) that both ports share (parity, station number).
+    #[serde(default)]
+    pub shared: Vec<String>,
+    /// Registers that exist once per port: each entry maps every port id to its copy
+    /// (`{ two_wire: FA00, four_wire: FA04 }`); a client that picks a port is pointed
+    /// from one copy to its port's.
+    #[serde(default)]
+    pub registers: Vec<BTreeMap<String, String>>,
+}
+
+/// One serial port.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PortModel {
+    /// Lower snake case id (`two_wire`): what `--port-kind` and the generated port
+    /// constants are named by.
+    pub id: String,
+    /// The port's name in English.
+    pub name: String,
+    /// The port's name as the manual prints it in Chinese.
+    #[serde(default)]
+    pub name_zh: String,
+    /// The registers setting this port, by what they set (`{ baud_rate: F800,
+    /// protocol: F807 }`); every port names the same settings.
+    #[serde(default)]
+    pub settings: BTreeMap<String, String>,
+}
+
+/// A register's scale chosen by another register's value (`scale_by:`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ScaleByModel {
+    /// Code or id of the register whose value chooses the scale.
+    pub register: String,
+    /// One entry per value of that register.
+    pub values: Vec<ScaleChoiceModel>,
+}
+
+/// The scale (and range) a register has for one value of its selector.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ScaleChoiceModel {
+    /// The selector's value.
+    pub value: u32,
+    /// Engineering value of one raw step with this choice.
+    pub scale: f64,
+    /// The range with this choice, in engineering units (left out: the register's).
+    pub range: Option<RangeModel>,
+}
+
+/// A formula of the manual between registers (`conversions:`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ConversionModel {
+    /// Lower snake case: it names the generated function.
+    pub id: String,
+    /// What the result is, in English.
+    pub name: String,
+    /// The manual section giving the formula.
+    pub source: String,
+    /// The formula with `+ - * /` and parentheses over numbers and the inputs' names
+    /// (`"(speed * poles * 10 + 6) / 12"`).
+    pub formula: String,
+    /// The inputs, in the generated function's argument order.
+    pub inputs: Vec<ConversionInputModel>,
+    /// The result's unit (`Hz`, `rpm`); left out for plain numbers.
+    pub unit: Option<String>,
+    /// The register the result goes to or comes from, when it is one (code or id).
+    pub result: Option<String>,
+    /// `truncate`: the result is cut to a whole number, as the drive's integer arithmetic
+    /// does; left out: exact.
+    pub rounding: Option<RoundingModel>,
+    /// When the formula applies: the selector register (code or id) and its value
+    /// (`{ register: F810, value: 0 }`); left out: always.
+    pub when: Option<ConversionWhenModel>,
+    /// Anything the manual says about the formula that fits nowhere else.
+    #[serde(default)]
+    pub note: String,
+    /// The manual's worked numbers; each becomes a test.
+    pub examples: Vec<ConversionExampleModel>,
+}
+
+/// How a conversion's result is rounded.
+#[derive(Debug, Clone, Copy, Deserialize, Serialize, JsonSchema, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum RoundingModel {
+    /// Cut towards zero to a whole number.
+    Truncate,
+}
+
+/// The condition under which a conversion applies.
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ConversionWhenModel {
+    /// Code or id of the register.
+    pub register: String,
+    /// Its value (`0`), or `nonzero`.
+    pub value: ConditionValueModel,
+}
+
+/// A selector value a conversion applies for.
+#[derive(Debug, Clone, Deserialize, Serialize, JsonSchema, PartialEq)]
+#[serde(untagged)]
+pub enum ConditionValueModel {
+    /// This value.
+    Value(u32),
+    /// `nonzero`: any value but 0.
+    Word(String),
+}
+
+/// One input of a conversion.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ConversionInputModel {
+    /// The name the formula uses (lower snake case; also the argument's name).
+    pub name: String,
+    /// The register it comes from (code or id), when it is one: the value is the
+    /// register's raw word times its scale (a code table's value as is).
+    pub register: Option<String>,
+    /// Multiplies the register's value first (F856 counts pole pairs: `times: 2` gives
+    /// the poles).
+    pub times: Option<f64>,
+    /// What the input is, when it is no register (the received percentage).
+    #[serde(default)]
+    pub description: String,
+}
+
+/// A worked example of a conversion: its inputs and result.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ConversionExampleModel {
+    /// Input values by name (the register's own value, before `times`).
+    pub inputs: BTreeMap<String, f64>,
+    /// The result the manual gives.
+    pub result: f64,
+    /// The manual section giving the numbers.
+    pub source: String,
 }
 
 /// A bit of a bit-field word: its id (`run`), or `{ bit: no_coast, active: 0 }` for a bit
@@ -739,6 +897,10 @@ pub struct BitExampleModel {
     pub value: u32,
     /// The ids of the one-bit fields that are 1 in it.
     pub set: Vec<String>,
+    /// The values of multi-bit fields in it, by field id (`{ character: 0x30 }`); fields
+    /// left out are 0.
+    #[serde(default)]
+    pub fields: BTreeMap<String, u32>,
     /// What the manual says the value does.
     pub description: String,
     /// The manual section giving the example.
@@ -834,6 +996,39 @@ pub struct RegisterModel {
     /// the virtual drive stays silent.
     #[serde(default)]
     pub no_reply: bool,
+    /// The live register (code or id) whose value this register holds from the moment of
+    /// the last trip (`FD00` for FE00): the virtual drive copies it when it trips.
+    pub held_at_trip_of: Option<String>,
+    /// The register shows the live value but keeps the value it had while the drive is
+    /// tripped.
+    #[serde(default)]
+    pub live_except_while_tripped: bool,
+    /// The scale (and range) is chosen by another register's value:
+    /// `{ register: FA09, values: [{ value: 0, scale: 0.01 }, { value: 1, scale: 0.1 }] }`.
+    /// `scale` and `range` remain the register's when the selector is not known.
+    pub scale_by: Option<ScaleByModel>,
+    /// Values outside the range that the register also takes, each carried by its own raw
+    /// word (`{ value: 99999, raw: 0xFFFF, id: no_check, name: No time-out check }`); a
+    /// special value may be the default.
+    #[serde(default)]
+    pub special_values: Vec<SpecialValueModel>,
+}
+
+/// A value a register takes besides its range, with its own raw word.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SpecialValueModel {
+    /// The value as the manual writes it (`99999`), in the register's engineering terms.
+    pub value: f64,
+    /// The raw word carrying it (`0xFFFF`).
+    pub raw: u32,
+    /// Lower snake case name of the value.
+    pub id: String,
+    /// What it means, in English.
+    pub name: String,
+    /// What it means, as the manual prints it in Chinese.
+    #[serde(default)]
+    pub name_zh: String,
 }
 
 /// A reference word that is a percentage of a span chosen by a selector register.
@@ -881,6 +1076,10 @@ pub struct ValueExampleModel {
     pub source: String,
     /// What the manual says.
     pub description: String,
+    /// The values of other registers the example assumes, by code or id (`{ FA09: 0 }`
+    /// for a register whose `scale_by` names FA09).
+    #[serde(default)]
+    pub given: BTreeMap<String, u32>,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]

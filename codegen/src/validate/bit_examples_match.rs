@@ -31,6 +31,37 @@ pub fn bit_examples_match(drive: &Context, out: &mut Diagnostics) {
                     ),
                 }
             }
+            for (name, field_value) in &example.fields {
+                let path = format!("bitfields[{i}].examples[{j}].fields.{name}");
+                let field = bitfield
+                    .fields
+                    .iter()
+                    .find(|f| f.id.as_deref() == Some(name.as_str()));
+                let span = field.and_then(|f| bit_span(f.bit, f.bits.as_deref()).ok());
+                match span {
+                    None => out.push(
+                        drive
+                            .source
+                            .error(
+                                &path,
+                                format!("`{name}` is not a field of `{}`", bitfield.id),
+                            )
+                            .hint("name fields by id"),
+                    ),
+                    Some((_, width)) if u64::from(*field_value) >= 1u64 << width => out.push(
+                        drive
+                            .source
+                            .error(
+                                &path,
+                                format!(
+                                    "{field_value:X}h does not fit the {width} bit(s) of `{name}`"
+                                ),
+                            )
+                            .hint("give the field's own value, shifted down to bit 0"),
+                    ),
+                    Some((lsb, _)) => value |= field_value << lsb,
+                }
+            }
             if value != example.value {
                 out.push(
                     drive
@@ -57,6 +88,32 @@ mod tests {
     #[test]
     fn accepts_an_example_that_matches_the_bits() {
         assert!(check_yaml(check, VALID).is_empty());
+    }
+
+    #[test]
+    fn multi_bit_fields_add_their_values_at_their_bits() {
+        let yaml = valid_with(&[
+            (
+                r#"{ bits: "14:11", reserved: true }"#,
+                r#"{ bits: "14:11", id: mode, name: Mode }"#,
+            ),
+            (
+                "{ value: 0x8400, set: [command_enabled, run],",
+                "{ value: 0x9C00, set: [command_enabled, run], fields: { mode: 3 },",
+            ),
+        ]);
+        assert!(
+            check_yaml(check, &yaml).is_empty(),
+            "{:?}",
+            check_yaml(check, &yaml)
+        );
+        let wide = yaml.replace("fields: { mode: 3 }", "fields: { mode: 16 }");
+        let found = check_yaml(check, &wide);
+        assert_eq!(found[0].message, "10h does not fit the 4 bit(s) of `mode`");
+        assert_eq!(found[0].path, "bitfields[0].examples[0].fields.mode");
+        let unknown = yaml.replace("fields: { mode: 3 }", "fields: { speed: 3 }");
+        let found = check_yaml(check, &unknown);
+        assert_eq!(found[0].message, "`speed` is not a field of `command_word`");
     }
 
     #[test]

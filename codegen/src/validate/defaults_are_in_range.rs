@@ -12,6 +12,10 @@ pub fn defaults_are_in_range(drive: &Context, out: &mut Diagnostics) {
         let Some(default) = register.default else {
             continue;
         };
+        // A value the register takes besides its range (99999) may be its default.
+        if register.special_values.iter().any(|s| s.value == default) {
+            continue;
+        }
         let (raw_min, raw_max) = registers.raw_range(register);
         let scale = ranges::scale_of(register);
         let path = format!("registers[{index}].default");

@@ -4,6 +4,7 @@
 //! lowered protocols and its decoded example frames); [`check`] runs them all in order.
 //! Nothing is generated from a description that has problems.
 
+pub(crate) mod formula;
 pub(crate) mod ranges;
 
 mod behaviour_resolves;
@@ -19,6 +20,7 @@ mod ranges_resolve;
 mod reference_scaling_resolves;
 mod references_resolve;
 mod register_addresses_are_unique;
+mod relations_resolve;
 mod replies_answer_requests;
 mod rust_names_are_unique;
 mod scales_are_positive;
@@ -48,7 +50,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 19] = [
+    let checks: [fn(&Context, &mut Diagnostics); 20] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -68,6 +70,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         bit_examples_match::bit_examples_match,
         reference_scaling_resolves::reference_scaling_resolves,
         behaviour_resolves::behaviour_resolves,
+        relations_resolve::relations_resolve,
     ];
     for check in checks {
         check(drive, out);

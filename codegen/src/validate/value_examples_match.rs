@@ -14,7 +14,29 @@ pub fn value_examples_match(drive: &Context, out: &mut Diagnostics) {
         };
         // The runtime rounds to the nearest step, so the example must round to its raw value.
         // A signed register's negative values are two's complement in its word.
-        let steps = example.value / ranges::scale_of(register);
+        if let Some(special) = register
+            .special_values
+            .iter()
+            .find(|s| s.value == example.value)
+        {
+            if special.raw != example.raw {
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("value_examples[{index}].raw"),
+                            format!(
+                                "{} in `{}` is the special value `{}`, raw {:04X}h, not {:04X}h",
+                                example.value, register.code, special.id, special.raw, example.raw
+                            ),
+                        )
+                        .hint("check the special value's raw word, or the example"),
+                );
+            }
+            continue;
+        }
+        let scale = given_scale(&registers, register, &example.given);
+        let steps = example.value / scale;
         let bits = 8 * register
             .data_type
             .unwrap_or(vfd_runtime::DataType::Word)
@@ -35,13 +57,36 @@ pub fn value_examples_match(drive: &Context, out: &mut Diagnostics) {
                             with_unit(register, example.value.to_string()),
                             register.code,
                             example.raw,
-                            with_unit(register, ranges::scale_of(register).to_string())
+                            with_unit(register, scale.to_string())
                         ),
                     )
                     .hint("check the register's scale, or record a manual mistake"),
             );
         }
     }
+}
+
+/// The register's scale with the selector values an example assumes (`given`): the
+/// `scale_by` choice for the selector's value, else the register's own scale.
+pub(crate) fn given_scale(
+    registers: &ranges::RegisterIndex<'_>,
+    register: &crate::parse::model::RegisterModel,
+    given: &std::collections::BTreeMap<String, u32>,
+) -> f64 {
+    let Some(scale_by) = &register.scale_by else {
+        return ranges::scale_of(register);
+    };
+    let selector = registers.find(&scale_by.register);
+    given
+        .iter()
+        .find(|(name, _)| {
+            registers
+                .find(name)
+                .zip(selector)
+                .is_some_and(|(a, b)| a.id == b.id)
+        })
+        .and_then(|(_, value)| scale_by.values.iter().find(|c| c.value == *value))
+        .map_or_else(|| ranges::scale_of(register), |choice| choice.scale)
 }
 
 #[cfg(test)]
@@ -58,6 +103,62 @@ mod tests {
             "register: maximum_frequency, value: 80.004",
         )]);
         assert!(check_yaml(check, &yaml).is_empty());
+    }
+
+    #[test]
+    fn an_example_given_a_scale_selector_uses_the_chosen_scale() {
+        let scaled = valid_with(&[
+            (
+                "default: 10.0, source: \"11.1\" }",
+                "default: 10.0, source: \"11.1\", scale_by: { register: F601, values: [{ value: 0, scale: 0.01 }, { value: 1, scale: 0.1 }] } }",
+            ),
+            (
+                "register: FH, value: 80.0, raw: 0x1F40",
+                "register: Acc, given: { F601: 0 }, value: 10.0, raw: 0x03E8",
+            ),
+        ]);
+        assert!(
+            check_yaml(check, &scaled).is_empty(),
+            "{:?}",
+            check_yaml(check, &scaled)
+        );
+        let other = scaled.replace("given: { F601: 0 }", "given: { F601: 1 }");
+        let found = check_yaml(check, &other);
+        assert_eq!(
+            only(&found).message,
+            "10 s in `Acc` is not raw 03E8h with a step of 0.1 s"
+        );
+    }
+
+    #[test]
+    fn a_special_value_is_its_own_raw_word() {
+        let special = valid_with(&[
+            (
+                "default: 80.0, source: \"11.1\" }\n  - { address: 0x0012",
+                "default: 99999, special_values: [{ value: 99999, raw: 0xFFFF, id: no_limit, name: No limit }], source: \"11.1\" }\n  - { address: 0x0012",
+            ),
+            (
+                "register: FH, value: 80.0, raw: 0x1F40",
+                "register: FH, value: 99999, raw: 0xFFFF",
+            ),
+        ]);
+        assert!(
+            check_yaml(check, &special).is_empty(),
+            "{:?}",
+            check_yaml(check, &special)
+        );
+        let wrong = special.replace(
+            "value: 99999, raw: 0xFFFF, source",
+            "value: 99999, raw: 0xFFFE, source",
+        );
+        let found = check_yaml(check, &wrong);
+        assert_eq!(
+            only(&found).message,
+            "99999 in `FH` is the special value `no_limit`, raw FFFFh, not FFFEh"
+        );
+        // The special value may be the default, though it lies outside the range.
+        let defaults = super::super::defaults_are_in_range::defaults_are_in_range;
+        assert!(check_yaml(defaults, &special).is_empty());
     }
 
     #[test]

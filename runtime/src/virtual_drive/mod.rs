@@ -32,6 +32,7 @@ pub use serve::serve;
 
 use crate::drive::DriveInfo;
 use crate::error::DecodeErrorKind;
+use crate::info::RegisterInfo;
 use crate::protocol::{DriveProtocol, Found, Protocol};
 use crate::transaction::Master;
 use motor::Motor;
@@ -66,6 +67,10 @@ pub struct VirtualDrive {
     /// Bytes that were no frame came since the line was last silent: where the protocol
     /// says so, they reject the frame that follows ([`crate::serial::BeforeStart`]).
     garbage: bool,
+    /// The serial port it serves (a port id of the description's `ports`): that port's
+    /// copies of the behaviour's registers act. `None`: the registers as the behaviour
+    /// names them.
+    port: Option<&'static str>,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -107,6 +112,7 @@ impl VirtualDrive {
             silent_until: Duration::ZERO,
             sender_tripped: false,
             garbage: false,
+            port: None,
         };
         virtual_drive.refresh();
         virtual_drive
@@ -125,6 +131,46 @@ impl VirtualDrive {
     /// Sets its station number.
     pub fn set_address(&mut self, address: u8) {
         self.address = address;
+    }
+
+    /// The serial port it serves, for a drive with several (`None`: not chosen).
+    pub fn port(&self) -> Option<&'static str> {
+        self.port
+    }
+
+    /// Serves the port `name` (an id or English name of the description's `ports`): the
+    /// command word and frequency command of that port act. Returns false, changing
+    /// nothing, when the drive has no such port.
+    pub fn set_port(&mut self, name: &str) -> bool {
+        match self.drive.ports.and_then(|ports| ports.port(name)) {
+            Some(port) => {
+                self.port = Some(port.id);
+                self.refresh();
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The id of the register `id` names on the port served (its port's copy).
+    pub(crate) fn served(&self, id: &'static str) -> &'static str {
+        match (self.port, self.drive.register(id)) {
+            (Some(port), Some(info)) => self.drive.on_port(info, port).id,
+            _ => id,
+        }
+    }
+
+    /// `info` as it is with its scale selector's present value (itself when its scale is
+    /// fixed).
+    pub(crate) fn scaled(&self, info: &'static RegisterInfo) -> &'static RegisterInfo {
+        let Some(scale_by) = info.scale_by else {
+            return info;
+        };
+        let selector = self
+            .drive
+            .register(scale_by.register)
+            .map(|selector| self.storage.in_effect(selector, 0));
+        info.scaled_for(selector)
     }
 
     /// Simulated time since power-up.

@@ -55,7 +55,8 @@ impl VirtualDrive {
     /// The engineering value of the register with this id, as the drive acts on it.
     pub(crate) fn value_of(&self, id: &str) -> Option<f64> {
         let info = self.drive.register(id)?;
-        Some(engineering(info, self.storage.in_effect(info, 0)))
+        let raw = self.storage.in_effect(info, 0);
+        Some(engineering(self.scaled(info), raw))
     }
 
     fn amount(&self, amount: Amount) -> f64 {
@@ -63,6 +64,25 @@ impl VirtualDrive {
             Amount::Value(value) => value,
             Amount::Register(id) => self.value_of(id).unwrap_or(0.0),
         }
+    }
+
+    /// Evaluates the description's conversion `id` with its register inputs as the drive
+    /// holds them (values in effect) and its other inputs from `free`, in argument order.
+    /// `None` when there is no such conversion, it does not apply for its selector's
+    /// present value (`when`), or an input is missing.
+    pub fn convert(&self, id: &str, free: &[f64]) -> Option<f64> {
+        let conversion = self.drive.conversion(id)?;
+        let selector = match conversion.when {
+            Some((code, _)) => {
+                let info = self.drive.register(code)?;
+                Some(self.storage.in_effect(info, 0))
+            }
+            None => None,
+        };
+        if !conversion.applies(selector) {
+            return None;
+        }
+        conversion.evaluate_with(|code| self.value_of(code), free)
     }
 
     /// Whether the motor runs: a run command in force, or an output not yet zero.
@@ -105,12 +125,12 @@ impl VirtualDrive {
         let frequency = &behaviour.frequency;
         let word = self
             .drive
-            .register(behaviour.command.register)
+            .register(self.served(behaviour.command.register))
             .map_or(0, |info| self.storage.get(info, 0));
         if !all_active(frequency.require, word) {
             return 0.0;
         }
-        self.value_of(frequency.command).unwrap_or(0.0)
+        self.value_of(self.served(frequency.command)).unwrap_or(0.0)
     }
 
     /// Runs the motor model for `elapsed` of simulated time.
@@ -154,6 +174,7 @@ impl VirtualDrive {
     /// Trips the drive with `code`: the output drops to zero, the code goes into the trip
     /// registers and the trip history.
     pub fn inject_trip(&mut self, code: u16) {
+        self.hold_trip_data();
         self.motor.trip = Some(code);
         self.motor.run = false;
         self.motor.output = 0.0;
@@ -173,6 +194,21 @@ impl VirtualDrive {
             }
         }
         self.refresh();
+    }
+
+    /// Copies each live register into the register holding its value at a trip
+    /// (`held_at_trip_of`), as the drive does at the moment it trips.
+    fn hold_trip_data(&mut self) {
+        for held in self.drive.registers {
+            let Some(live) = held
+                .held_at_trip_of
+                .and_then(|code| self.drive.register(code))
+            else {
+                continue;
+            };
+            let raw = self.storage.get(live, 0);
+            self.storage.set(held, 0, raw, false);
+        }
     }
 
     /// A fault reset: clears a trip, and parameters that take effect after a reset take
@@ -197,9 +233,13 @@ impl VirtualDrive {
         let running = self.is_running();
         let output = self.motor.output;
         let target = self.target();
+        let tripped = self.motor.trip.is_some();
         let monitor = |drive: &mut VirtualDrive, id: &str, value: f64| {
             if let Some(info) = drive.drive.register(id) {
-                drive.storage.set(info, 0, raw_of(info, value), false);
+                // Registers live except while tripped keep their value during a trip.
+                if !(tripped && info.live_except_while_tripped) {
+                    drive.storage.set(info, 0, raw_of(info, value), false);
+                }
             }
         };
         for id in behaviour.frequency.output {
@@ -225,6 +265,24 @@ impl VirtualDrive {
         let code = f64::from(self.motor.trip.unwrap_or(0));
         for id in behaviour.trip.code {
             monitor(self, id, code);
+        }
+        // Read-only registers a conversion computes from other registers alone.
+        for conversion in self.drive.conversions {
+            let Some(result) = conversion.result else {
+                continue;
+            };
+            let derived = self.drive.register(result).is_some_and(|info| {
+                info.access == crate::kinds::Access::ReadOnly
+                    && conversion
+                        .inputs
+                        .iter()
+                        .all(|input| input.register.is_some())
+            });
+            if derived {
+                if let Some(value) = self.convert(conversion.id, &[]) {
+                    monitor(self, result, value);
+                }
+            }
         }
         let status = &behaviour.status;
         let mut word = 0u32;

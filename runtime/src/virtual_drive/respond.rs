@@ -576,7 +576,7 @@ impl VirtualDrive {
         for (info, raw) in &words {
             self.check_write(info, *raw, persistent)?;
         }
-        let command = self.behaviour().map(|b| b.command.register);
+        let command = self.behaviour().map(|b| self.served(b.command.register));
         for (info, raw) in words {
             let index = if info.array_len == 0 { 0 } else { index };
             self.storage
@@ -591,7 +591,7 @@ impl VirtualDrive {
 
     pub(super) fn check_write(
         &self,
-        info: &RegisterInfo,
+        info: &'static RegisterInfo,
         raw: u32,
         persistent: bool,
     ) -> Result<(), Refusal> {
@@ -612,6 +612,12 @@ impl VirtualDrive {
         } else {
             i64::from(raw)
         };
+        // A value taken besides the range (99999 as FFFFh) is accepted as it is.
+        if info.special_raw(raw).is_some() {
+            return Ok(());
+        }
+        // A register whose scale another register chooses has that choice's range.
+        let info = self.scaled(info);
         if signed < info.raw_min || signed > info.raw_max {
             return Err(Refusal::OutOfRange);
         }

@@ -30,6 +30,42 @@ pub(super) struct DriveView<'a> {
     examples: Vec<ExampleView<'a>>,
     /// The drive's warnings, then each register's, as sentences.
     warning_lines: Vec<WarningView>,
+    /// The serial ports, when the drive has several.
+    ports: Option<PortsView<'a>>,
+    /// Live registers and the registers holding their value at a trip.
+    held_pairs: Vec<HeldPairView>,
+    /// The manual's formulas.
+    conversions: Vec<ConversionView<'a>>,
+}
+
+#[derive(Serialize)]
+struct PortsView<'a> {
+    #[serde(flatten)]
+    ports: &'a PortsIr,
+    /// The settings' names (the columns of the ports table).
+    setting_names: Vec<&'a str>,
+    /// Per port: its id, names and the register setting each named setting.
+    rows: Vec<(String, String, String, Vec<String>)>,
+    /// Per-port register groups: (name of the first copy, the copies in port order).
+    pairs: Vec<(String, Vec<String>)>,
+}
+
+#[derive(Serialize)]
+struct HeldPairView {
+    live: String,
+    held: String,
+    name: String,
+    /// The held register keeps its value only while tripped (no live partner).
+    live_except_while_tripped: bool,
+}
+
+#[derive(Serialize)]
+struct ConversionView<'a> {
+    #[serde(flatten)]
+    conversion: &'a ConversionIr,
+    inputs_display: String,
+    when_display: String,
+    examples_display: String,
 }
 
 #[derive(Serialize)]
@@ -143,6 +179,9 @@ struct RegisterView<'a> {
     value_type_display: String,
     /// The inferred facts in words, empty when there are none.
     inferred_display: String,
+    /// Its relations to other registers (held copy, scale selector, port copies), as
+    /// sentences; empty when there are none.
+    relations_display: String,
 }
 
 #[derive(Serialize)]
@@ -166,6 +205,8 @@ struct BitExampleView<'a> {
     #[serde(flatten)]
     example: &'a BitExampleIr,
     value_hex: String,
+    /// The one-bit fields set and the multi-bit fields' values (`character = 30h`).
+    fields_display: String,
 }
 
 #[derive(Serialize)]
@@ -331,6 +372,7 @@ impl<'a> DriveView<'a> {
                     default_display: default_text(register),
                     value_type_display: format!("`{}`", value_type_text(register)),
                     inferred_display: inferred_text(&register.inferred),
+                    relations_display: crate::emit::rust::relation_lines(register).join(" "),
                 })
                 .collect(),
             bitfields: drive
@@ -361,6 +403,18 @@ impl<'a> DriveView<'a> {
                         .map(|example| BitExampleView {
                             example,
                             value_hex: format!("{:04X}h", example.value),
+                            fields_display: example
+                                .set
+                                .iter()
+                                .cloned()
+                                .chain(
+                                    example
+                                        .fields
+                                        .iter()
+                                        .map(|(id, v)| format!("{id} = {v:X}h")),
+                                )
+                                .collect::<Vec<_>>()
+                                .join(", "),
                         })
                         .collect(),
                 })
@@ -404,12 +458,125 @@ impl<'a> DriveView<'a> {
                 .iter()
                 .filter_map(|example| {
                     let register = register(&example.register)?;
+                    let given: Vec<String> = example
+                        .given
+                        .iter()
+                        .map(|(code, value)| format!("{code} = {value}"))
+                        .collect();
+                    let value = value_text(register, example.value);
                     Some(ValueExampleView {
                         example,
                         register_code: register.code.clone(),
-                        value_display: value_text(register, example.value),
+                        value_display: if given.is_empty() {
+                            value
+                        } else {
+                            format!("{value} (with {})", given.join(", "))
+                        },
                         raw_hex: format!("{:04X}h", example.raw),
                     })
+                })
+                .collect(),
+            ports: drive.ports.as_ref().map(|ports| {
+                let setting_names: Vec<&str> = ports
+                    .ports
+                    .first()
+                    .map(|p| p.settings.iter().map(|(name, _)| name.as_str()).collect())
+                    .unwrap_or_default();
+                PortsView {
+                    ports,
+                    rows: ports
+                        .ports
+                        .iter()
+                        .map(|port| {
+                            (
+                                port.id.clone(),
+                                port.name.clone(),
+                                port.name_zh.clone(),
+                                setting_names
+                                    .iter()
+                                    .map(|name| {
+                                        port.settings.iter().find(|(n, _)| n == name).map_or_else(
+                                            || "—".to_owned(),
+                                            |(_, code)| code.clone(),
+                                        )
+                                    })
+                                    .collect(),
+                            )
+                        })
+                        .collect(),
+                    setting_names,
+                    pairs: ports
+                        .registers
+                        .iter()
+                        .map(|row| {
+                            let name = row
+                                .first()
+                                .and_then(|code| drive.registers.iter().find(|r| &r.code == code))
+                                .map_or_else(String::new, |r| r.name.clone());
+                            (name, row.clone())
+                        })
+                        .collect(),
+                }
+            }),
+            held_pairs: drive
+                .registers
+                .iter()
+                .filter_map(|r| {
+                    if let Some(live) = &r.held_at_trip_of {
+                        Some(HeldPairView {
+                            live: live.clone(),
+                            held: r.code.clone(),
+                            name: r.name.clone(),
+                            live_except_while_tripped: false,
+                        })
+                    } else if r.live_except_while_tripped {
+                        Some(HeldPairView {
+                            live: r.code.clone(),
+                            held: r.code.clone(),
+                            name: r.name.clone(),
+                            live_except_while_tripped: true,
+                        })
+                    } else {
+                        None
+                    }
+                })
+                .collect(),
+            conversions: drive
+                .conversions
+                .iter()
+                .map(|conversion| ConversionView {
+                    conversion,
+                    inputs_display: conversion
+                        .inputs
+                        .iter()
+                        .map(|input| match &input.register {
+                            Some(code) if (input.times - 1.0).abs() > f64::EPSILON => {
+                                format!("`{}` = {} × {code}", input.name, input.times)
+                            }
+                            Some(code) => format!("`{}` = {code}", input.name),
+                            None => format!("`{}`: {}", input.name, input.description),
+                        })
+                        .collect::<Vec<_>>()
+                        .join("; "),
+                    when_display: match &conversion.when {
+                        Some((code, Some(value))) => format!("{code} = {value}"),
+                        Some((code, None)) => format!("{code} ≠ 0"),
+                        None => "always".to_owned(),
+                    },
+                    examples_display: conversion
+                        .examples
+                        .iter()
+                        .map(|(inputs, result, source)| {
+                            let args: Vec<String> = conversion
+                                .inputs
+                                .iter()
+                                .zip(inputs)
+                                .map(|(input, value)| format!("{} = {value}", input.name))
+                                .collect();
+                            format!("{} → {result} ({source})", args.join(", "))
+                        })
+                        .collect::<Vec<_>>()
+                        .join("; "),
                 })
                 .collect(),
             examples: drive

@@ -10,6 +10,7 @@ mod bitfields;
 mod code_tables;
 mod protocols;
 mod registers;
+mod relations;
 
 use crate::emit::words::zh;
 use crate::ir::{BitfieldIr, CodeTableIr, DriveIr, ProtocolFileIr, ProtocolIr, RegisterIr};
@@ -24,6 +25,7 @@ use quote::{format_ident, quote};
 use registers::registers_module;
 
 pub(crate) use protocols::layouts_module;
+pub(crate) use registers::relation_lines;
 
 /// Where a drive module finds the frame layouts of its protocol files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -77,6 +79,8 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
     let errors = error_code_enum(drive);
     let scaling = reference_scaling(drive);
     let (behaviour, behaviour_ref) = behaviour::behaviour_static(drive);
+    let (ports, ports_ref) = relations::ports_module(drive);
+    let conversions = relations::conversions_module(drive);
     quote! {
         #(#[doc = #docs])*
         #[allow(clippy::excessive_precision, clippy::unreadable_literal)]
@@ -106,6 +110,8 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
                 protocols: &protocols::ALL,
                 registers: &registers::ALL,
                 behaviour: #behaviour_ref,
+                ports: #ports_ref,
+                conversions: &conversions::ALL,
             };
             #own_layouts
             #protocols
@@ -115,6 +121,8 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
             #errors
             #scaling
             #behaviour
+            #ports
+            #conversions
         }
     }
 }

@@ -56,6 +56,10 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
         lines.push(String::new());
         lines.push(format!("**Warning:** {}", warning_text(warning)));
     }
+    for line in relation_lines(register) {
+        lines.push(String::new());
+        lines.push(line);
+    }
     for text in [&register.description, &register.note] {
         if !text.is_empty() {
             lines.push(String::new());
@@ -67,6 +71,77 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
         "Source: `{}`, section {}.",
         drive.manual, register.source
     ));
+    lines
+}
+
+/// What the description says of the register's relations to others: the live register
+/// it holds at a trip, its scale selector, its copies on each port.
+pub(crate) fn relation_lines(register: &RegisterIr) -> Vec<String> {
+    let mut lines = Vec::new();
+    if let Some(live) = &register.held_at_trip_of {
+        lines.push(format!(
+            "Holds the value {live} had at the moment of the last trip."
+        ));
+    }
+    if register.live_except_while_tripped {
+        lines.push("Shows the live value, except while the drive is tripped: then it keeps the value it had.".to_owned());
+    }
+    if let Some(scale_by) = &register.scale_by {
+        let choices: Vec<String> = scale_by
+            .choices
+            .iter()
+            .map(|c| {
+                let unit = register.unit.symbol();
+                let decimals = usize::from(vfd_runtime::units::decimals_of(c.scale));
+                let end = |raw: i64| format!("{:.*}", decimals, raw as f64 * c.scale);
+                format!(
+                    "{} = {}: steps of {}{} ({}-{}{})",
+                    scale_by.register,
+                    c.value,
+                    c.scale,
+                    if unit.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" {unit}")
+                    },
+                    end(c.raw_min),
+                    end(c.raw_max),
+                    if unit.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" {unit}")
+                    },
+                )
+            })
+            .collect();
+        lines.push(format!(
+            "Its scale is chosen by {}: {}.",
+            scale_by.register,
+            choices.join("; ")
+        ));
+    }
+    for special in &register.special_values {
+        lines.push(format!(
+            "Also takes {} (`{}`: {}{}), carried as {:04X}h.",
+            special.value,
+            special.id,
+            special.name,
+            if special.name_zh.is_empty() {
+                String::new()
+            } else {
+                format!(" / {}", special.name_zh)
+            },
+            special.raw
+        ));
+    }
+    if !register.per_port.is_empty() {
+        let copies: Vec<String> = register
+            .per_port
+            .iter()
+            .map(|(port, code)| format!("{code} on port `{port}`"))
+            .collect();
+        lines.push(format!("Exists once per port: {}.", copies.join(", ")));
+    }
     lines
 }
 
@@ -154,7 +229,80 @@ fn info_chain(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
         let text = str_literal(&text.join(" "));
         chain.extend(quote!(.with_text(#text)));
     }
+    if let Some(live) = &register.held_at_trip_of {
+        let live = str_literal(live);
+        chain.extend(quote!(.with_held_at_trip_of(#live)));
+    }
+    if register.live_except_while_tripped {
+        chain.extend(quote!(.with_live_except_while_tripped()));
+    }
+    if register.scale_by.is_some() {
+        let name = scale_by_const(register);
+        chain.extend(quote!(.with_scale_by(&#name)));
+    }
+    if !register.special_values.is_empty() {
+        let specials = register.special_values.iter().map(|special| {
+            let (value, raw) = (f64_literal(special.value), int_literal(special.raw));
+            let (id, name) = (str_literal(&special.id), str_literal(&special.name));
+            quote!(::vfd_runtime::SpecialValue { value: #value, raw: #raw, id: #id, name: #name })
+        });
+        chain.extend(quote!(.with_special_values(&[#(#specials),*])));
+    }
+    if !register.per_port.is_empty() {
+        let pairs = register.per_port.iter().map(|(port, code)| {
+            let (port, code) = (str_literal(port), str_literal(code));
+            quote!((#port, #code))
+        });
+        chain.extend(quote!(.with_per_port(&[#(#pairs),*])));
+    }
     chain
+}
+
+/// The name of the const holding a register's `ScaleBy`.
+fn scale_by_const(register: &RegisterIr) -> Ident {
+    ident(&format!(
+        "SCALE_BY_{}",
+        crate::naming::const_name(&register.id)
+    ))
+}
+
+/// The `ScaleBy` const of a register whose scale another register chooses: per choice,
+/// the register's info with that choice's scale and raw range (and no default, which is
+/// given in the register's own scale).
+fn scale_by_item(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
+    let Some(scale_by) = &register.scale_by else {
+        return quote!();
+    };
+    let name = scale_by_const(register);
+    let selector = str_literal(&scale_by.register);
+    let choices = scale_by.choices.iter().map(|choice| {
+        let mut chosen = register.clone();
+        chosen.scale = choice.scale;
+        chosen.scale_by = None;
+        chosen.default = None;
+        chosen.min = Some(crate::ir::BoundIr {
+            raw: choice.raw_min,
+            register: register.min.as_ref().and_then(|b| b.register.clone()),
+        });
+        chosen.max = Some(crate::ir::BoundIr {
+            raw: choice.raw_max,
+            register: register.max.as_ref().and_then(|b| b.register.clone()),
+        });
+        let info = info_chain(drive, &chosen);
+        let value = int_literal(choice.value);
+        quote!(::vfd_runtime::ScaleChoice { value: #value, info: &#info })
+    });
+    let doc = doc_text(format!(
+        "The scale of {} as register {} chooses it.",
+        register.code, scale_by.register
+    ));
+    quote! {
+        #[doc = #doc]
+        const #name: ::vfd_runtime::ScaleBy = ::vfd_runtime::ScaleBy {
+            register: #selector,
+            choices: &[#(#choices),*],
+        };
+    }
 }
 
 pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
@@ -182,6 +330,7 @@ pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
         if register.persistable() {
             markers.push(quote!(impl Persistable for #name {}));
         }
+        body.extend(scale_by_item(drive, register));
         body.extend(quote! {
             #(#[doc = #docs])*
             #[derive(Debug, Clone, Copy)]
