@@ -38,6 +38,17 @@ fn every_example_frame_of_every_manual_decodes() {
     for path in names {
         let drive = vfd_codegen::compile(&path, None).expect("a valid description");
         for example in &drive.examples {
+            if let Some(ignored) = &example.ignored_request {
+                let output = decode(&drive.id, &example.protocol, "--request", &ignored.bytes);
+                assert!(
+                    !output.status.success(),
+                    "{} {}: the drive ignores {}, yet it decodes",
+                    drive.id,
+                    example.id,
+                    hex(&ignored.bytes)
+                );
+                refused += 1;
+            }
             for (side, frame) in [("--request", &example.request), ("--reply", &example.reply)] {
                 let Some(frame) = frame else { continue };
                 let output = decode(&drive.id, &example.protocol, side, &frame.bytes);

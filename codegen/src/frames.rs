@@ -25,6 +25,8 @@ pub(crate) struct DecodedExample {
     pub answers: Option<Result<(), NotAnAnswer>>,
     /// The same for the manual's misprinted reply, when the example records one.
     pub printed_answers: Option<Result<(), NotAnAnswer>>,
+    /// A request the drive does not answer (`unanswered_request`), decoded.
+    pub unanswered: Option<PrintedFrame>,
 }
 
 impl DecodedExample {
@@ -107,8 +109,21 @@ fn decode_example(example: &ExampleModel, protocols: &[LoweredProtocol]) -> Deco
         }
         _ => None,
     };
+    let unanswered = example.unanswered_request.as_ref().map(|model| {
+        let bytes = frame_bytes(&model.ascii, &model.hex);
+        PrintedFrame {
+            meaning: match (&bytes, runtime) {
+                (Ok(bytes), Some(runtime)) => {
+                    Some(decode_meaning(runtime, Direction::Request, bytes))
+                }
+                _ => None,
+            },
+            bytes,
+        }
+    });
     DecodedExample {
         protocol,
+        unanswered,
         answers: answer(reply.as_ref().map(|r| &r.bytes)),
         printed_answers: answer(
             reply

@@ -243,3 +243,22 @@ pub fn printed_means_otherwise(
         "the misprinted frame means what the manual says"
     );
 }
+
+/// A request the manual prints as one the drive does not answer: the decoder refuses it
+/// for `reason`, and the drive's virtual drive stays silent.
+#[track_caller]
+pub fn drive_ignores(
+    drive: &'static crate::DriveInfo,
+    protocol: &'static Protocol,
+    bytes: &[u8],
+    reason: DecodeErrorKind,
+) {
+    printed_is_rejected(protocol, Direction::Request, bytes, reason);
+    let mut virtual_drive = crate::virtual_drive::VirtualDrive::new(drive);
+    let outcome = virtual_drive.respond(protocol, bytes);
+    assert!(
+        matches!(outcome, crate::virtual_drive::Outcome::Silent(_)),
+        "the virtual drive answers {}: {outcome:?}",
+        crate::error::hex(bytes)
+    );
+}

@@ -243,6 +243,13 @@ fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> Token
             example.request.as_ref(),
         ));
     }
+    if let Some(ignored) = &example.ignored_request {
+        let bytes = bytes_tokens(&ignored.bytes);
+        let reason = ignored.rejected_as.bake();
+        body.push(quote! {
+            ::vfd_runtime::testing::drive_ignores(&#root::DRIVE, #protocol, #bytes, ::vfd_runtime::#reason);
+        });
+    }
     if let (true, Some(request), Some(reply)) = (example.answers, &example.request, &example.reply)
     {
         let (request, reply) = (bytes_tokens(&request.bytes), bytes_tokens(&reply.bytes));

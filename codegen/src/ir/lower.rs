@@ -663,6 +663,18 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                     decoded.printed_answers.as_ref(),
                 ),
                 answers: decoded.answers.as_ref().is_some_and(Result::is_ok),
+                ignored_request: match (&example.unanswered_request, &decoded.unanswered) {
+                    (Some(model), Some(frame)) => match (&frame.bytes, &frame.meaning) {
+                        (Ok(bytes), Some(Err(error))) => Some(UnansweredIr {
+                            bytes: bytes.clone(),
+                            rejected_as: model.rejected_as,
+                            rejection: error.to_string(),
+                            reason: model.reason.clone(),
+                        }),
+                        _ => None,
+                    },
+                    _ => None,
+                },
                 value: example.value,
                 register: register.map(|r| r.id.clone()),
                 settings: example

@@ -14,7 +14,8 @@ use vfd_runtime::meaning::FrameMeaning;
 use vfd_runtime::serial::Parity;
 use vfd_runtime::units::Unit;
 use vfd_runtime::{
-    Access, AddressMap, CommandKind, DataType, FrameLayout, PreStep, Space, TakesEffect,
+    Access, AddressMap, CommandKind, DataType, DecodeErrorKind, FrameLayout, PreStep, Space,
+    TakesEffect,
 };
 
 /// One drive, ready to emit.
@@ -870,6 +871,9 @@ pub struct ExampleIr {
     pub register: Option<String>,
     /// The example has both frames, and its reply answers its request.
     pub answers: bool,
+    /// A request the drive does not answer (the decoder refuses it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ignored_request: Option<UnansweredIr>,
     /// The drive settings the frames assume: (register code, value in its unit).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub settings: Vec<(String, f64)>,
@@ -886,6 +890,19 @@ pub struct FrameIr {
     pub meaning: FrameMeaning,
     /// The manual's misprint, when there is an erratum.
     pub printed: Option<PrintedIr>,
+}
+
+/// A request the manual prints as one the drive does not answer.
+#[derive(Debug, Clone, Serialize)]
+pub struct UnansweredIr {
+    /// The bytes.
+    pub bytes: Vec<u8>,
+    /// The decoder's reason for refusing them.
+    pub rejected_as: DecodeErrorKind,
+    /// The decoder's message.
+    pub rejection: String,
+    /// Why the drive does not answer, as the manual says.
+    pub reason: String,
 }
 
 /// Bytes a manual printed wrong.

@@ -1113,6 +1113,9 @@ pub struct ExampleModel {
     pub request: Option<FrameModel>,
     /// The reply frame, if the manual gives one.
     pub reply: Option<FrameModel>,
+    /// A request the manual prints as one the drive does not answer (a format error): the
+    /// decoder refuses it and the virtual drive stays silent.
+    pub unanswered_request: Option<UnansweredModel>,
     /// The data word's value in the register's engineering unit.
     pub value: Option<f64>,
     /// The drive settings the frames assume, where the frames depend on more than their
@@ -1120,6 +1123,20 @@ pub struct ExampleModel {
     /// register's unit (a code for code tables), as `default` is written.
     #[serde(default)]
     pub settings: BTreeMap<String, f64>,
+}
+
+/// A request the drive does not answer, as the manual prints it.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct UnansweredModel {
+    /// The frame as text (text protocols).
+    pub ascii: Option<String>,
+    /// The frame as hex byte pairs (binary protocols).
+    pub hex: Option<String>,
+    /// The decoder's reason for refusing it.
+    pub rejected_as: DecodeErrorKind,
+    /// Why the drive does not answer it, as the manual says.
+    pub reason: String,
 }
 
 /// Frame bytes, written as text (`ascii`) or as hex pairs (`hex`).

@@ -42,7 +42,10 @@ pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
             );
             continue;
         }
-        if example.request.is_none() && example.reply.is_none() {
+        if example.request.is_none()
+            && example.reply.is_none()
+            && example.unanswered_request.is_none()
+        {
             out.push(
                 drive
                     .source
@@ -51,6 +54,15 @@ pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
             );
         }
         let decoded = &drive.frames[index];
+        if let (Some(model), Some(frame)) = (&example.unanswered_request, &decoded.unanswered) {
+            check_unanswered(
+                drive,
+                &format!("{base}.unanswered_request"),
+                model.rejected_as,
+                frame,
+                out,
+            );
+        }
         for (key, model, frame, printed_answers) in [
             ("request", &example.request, &decoded.request, None),
             (
@@ -185,6 +197,45 @@ fn check_frame(
                 .error(path, "an erratum needs `printed`, `erratum` and `printed_rejected_as` together")
                 .hint("printed: the manual's bytes; erratum: why they are wrong; printed_rejected_as: the decoder's reason (checksum_mismatch, length_mismatch, not_allowed, unexpected_byte, truncated, trailing_bytes) or, for a frame valid on its own, does_not_answer_request or contradicts_expect"),
         ),
+    }
+}
+
+/// A request the manual prints as one the drive does not answer is refused by the decoder
+/// for the stated reason.
+fn check_unanswered(
+    drive: &Context,
+    path: &str,
+    reason: DecodeErrorKind,
+    frame: &crate::frames::PrintedFrame,
+    out: &mut Diagnostics,
+) {
+    match (&frame.bytes, &frame.meaning) {
+        (Err(message), _) => out.push(
+            drive
+                .source
+                .error(path, message.clone())
+                .hint("give the bytes exactly as printed"),
+        ),
+        (Ok(_), Some(Ok(_))) => out.push(
+            drive
+                .source
+                .error(path, "the frame decodes as a request, so a drive would answer it")
+                .hint("an unanswered request is one the decoder refuses (a format error); give it as `request:` otherwise"),
+        ),
+        (Ok(_), Some(Err(error))) if error.kind() != reason => out.push(
+            drive
+                .source
+                .error(
+                    &format!("{path}.rejected_as"),
+                    format!(
+                        "the frame is rejected as {}, not {}: {error}",
+                        error.kind().as_str(),
+                        reason.as_str()
+                    ),
+                )
+                .hint("state the reason the decoder gives"),
+        ),
+        _ => {}
     }
 }
 

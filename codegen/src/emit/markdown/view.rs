@@ -259,6 +259,8 @@ struct ExampleView<'a> {
     /// The request is never answered (its command's `reply: none`, or a write of a register
     /// with `no_reply: true`).
     unanswered: bool,
+    /// The bytes of the request the drive ignores, for a table cell.
+    ignored_shown: String,
 }
 
 #[derive(Serialize)]
@@ -600,6 +602,10 @@ impl<'a> DriveView<'a> {
                         .is_some_and(|frame| request_unanswered(drive, example, frame, described));
                     ExampleView {
                         unanswered,
+                        ignored_shown: example
+                            .ignored_request
+                            .as_ref()
+                            .map_or_else(String::new, |ignored| shown(&ignored.bytes)),
                         example,
                         register_code: described.map(|r| r.code.clone()).unwrap_or_default(),
                         value_display: match (example.value, described) {
