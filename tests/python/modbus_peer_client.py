@@ -1,7 +1,7 @@
 """Independent Modbus RTU masters for tests/tests/modbus_peer_master.rs: pymodbus's client or
 minimalmodbus acts as the master against our virtual drive on a serial port.
 
-Usage: modbus_peer_client.py (pymodbus|minimalmodbus) PORT STATION < plan.json
+Usage: modbus_peer_client.py (pymodbus|minimalmodbus) PORT STATION [rtu|ascii] < plan.json
 The plan is a JSON list of operations:
   {"op": "read", "address": A, "count": N}        function 03
   {"op": "write", "address": A, "value": V}       function 06
@@ -19,12 +19,13 @@ import sys
 import time
 
 
-def run_pymodbus(port, station, plan):
+def run_pymodbus(port, station, plan, mode):
     from pymodbus import FramerType
     from pymodbus.client import ModbusSerialClient
     from pymodbus.pdu import ExceptionResponse
 
-    client = ModbusSerialClient(port, framer=FramerType.RTU, baudrate=115200, parity="N",
+    framer = FramerType.ASCII if mode == "ascii" else FramerType.RTU
+    client = ModbusSerialClient(port, framer=framer, baudrate=115200, parity="N",
                                 stopbits=1, bytesize=8, timeout=1, retries=0)
     if not client.connect():
         raise SystemExit(f"cannot open {port}")
@@ -66,10 +67,11 @@ def run_pymodbus(port, station, plan):
     client.close()
 
 
-def run_minimalmodbus(port, station, plan):
+def run_minimalmodbus(port, station, plan, mode):
     import minimalmodbus
 
-    instrument = minimalmodbus.Instrument(port, station, mode=minimalmodbus.MODE_RTU)
+    framing = minimalmodbus.MODE_ASCII if mode == "ascii" else minimalmodbus.MODE_RTU
+    instrument = minimalmodbus.Instrument(port, station, mode=framing)
     instrument.serial.baudrate = 115200
     instrument.serial.parity = "N"
     instrument.serial.stopbits = 1
@@ -121,11 +123,12 @@ def run_minimalmodbus(port, station, plan):
 def main():
     logging.disable(logging.CRITICAL)
     client, port, station = sys.argv[1], sys.argv[2], int(sys.argv[3])
+    mode = sys.argv[4] if len(sys.argv) > 4 else "rtu"
     plan = json.load(sys.stdin)
     if client == "pymodbus":
-        run_pymodbus(port, station, plan)
+        run_pymodbus(port, station, plan, mode)
     elif client == "minimalmodbus":
-        run_minimalmodbus(port, station, plan)
+        run_minimalmodbus(port, station, plan, mode)
     else:
         raise SystemExit(f"unknown client {client}")
 

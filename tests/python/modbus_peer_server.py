@@ -24,7 +24,8 @@ def main() -> None:
     )
     print("ready", flush=True)
     # Linux pseudo-terminals refuse parity settings: 8N1.
-    StartSerialServer(context, framer=FramerType.RTU, port=sys.argv[1], baudrate=115200, parity="N", stopbits=1, bytesize=8)
+    framer = FramerType.ASCII if len(sys.argv) > 2 and sys.argv[2] == "ascii" else FramerType.RTU
+    StartSerialServer(context, framer=framer, port=sys.argv[1], baudrate=115200, parity="N", stopbits=1, bytesize=8)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,7 @@
 //! Modbus RTU against an independent implementation: the FC drive's typed API drives a
 //! pymodbus server over a pseudo-terminal. Reads, writes (with the coil-65 step), indexed
-//! access, coils and exception replies must all be understood by both sides.
+//! access, coils and exception replies must all be understood by both sides. The DV1's
+//! Modbus RTU and Modbus ASCII masters read and write the same server in each framing.
 //!
 //! Needs `pip install -r tests/python/requirements.txt` (.ci/run does it). Without the
 //! packages the test reports that it skipped, except under CI, where it fails.
@@ -30,7 +31,9 @@ fn peers_installed() -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
-fn start() -> Option<(Server, Master<PtyTransport, vfd_drives::fc51::Drive>)> {
+/// Starts the pymodbus server in `framing` (`rtu` or `ascii`) on a pseudo-terminal; the
+/// master's end of it.
+fn start_server(framing: &str) -> Option<(Server, PtyTransport)> {
     if !peers_installed() {
         assert!(
             std::env::var_os("CI").is_none(),
@@ -43,7 +46,7 @@ fn start() -> Option<(Server, Master<PtyTransport, vfd_drives::fc51::Drive>)> {
     let path = pty.slave_path().display().to_string();
     let ours = pty.master().expect("the master side");
     let mut child = Command::new("python3")
-        .args(["python/modbus_peer_server.py", &path])
+        .args(["python/modbus_peer_server.py", &path, framing])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
         .spawn()
@@ -52,7 +55,18 @@ fn start() -> Option<(Server, Master<PtyTransport, vfd_drives::fc51::Drive>)> {
     BufReader::new(child.stdout.take().expect("piped"))
         .read_line(&mut line)
         .expect("the server starts");
-    let server = Server(child);
+    Some((Server(child), ours))
+}
+
+const SETTINGS: SerialSettings = SerialSettings {
+    baud: 115_200,
+    data_bits: 8,
+    parity: Parity::None,
+    stop_bits: 1,
+};
+
+fn start() -> Option<(Server, Master<PtyTransport, vfd_drives::fc51::Drive>)> {
+    let (server, ours) = start_server("rtu")?;
     let settings = SerialSettings {
         baud: 115_200,
         data_bits: 8,
@@ -118,4 +132,61 @@ fn the_fc_modbus_api_works_against_pymodbus() {
         matches!(error.kind, TransactionErrorKind::Rejected { code: 2, .. }),
         "{error:?}"
     );
+}
+
+/// The DV1's Modbus masters (typed API) against pymodbus's server, in `framing`.
+fn dv1_against_pymodbus(framing: &str) {
+    use vfd_drives::dv1;
+    let Some((_server, ours)) = start_server(framing) else {
+        return;
+    };
+    let protocol = match framing {
+        "ascii" => &dv1::protocols::MODBUS_ASCII,
+        _ => &dv1::protocols::MODBUS,
+    };
+    let timing = DriveTiming {
+        startup_delay: Duration::ZERO,
+        processing_allowance: Duration::from_millis(300),
+        frame_abandon: Duration::from_secs(1),
+    };
+    let mut master = Master::new(ours, protocol, SETTINGS, timing).with_address(Some(1));
+    let started = Instant::now();
+    // 02-15 at 00C3h: the server's register holds 0 until written.
+    while master.read::<dv1::registers::Parameter0215>().is_err() {
+        assert!(
+            started.elapsed() < Duration::from_secs(30),
+            "the pymodbus server does not answer ({framing})"
+        );
+    }
+    master
+        .write_ram::<dv1::registers::Parameter0215>(vfd_runtime::units::Hertz(50.0))
+        .unwrap();
+    assert_eq!(
+        master.read::<dv1::registers::Parameter0215>().unwrap(),
+        vfd_runtime::units::Hertz(50.0),
+        "{framing}"
+    );
+    // Twelve registers in one 03 request (the DV1's limit).
+    let mut words = [0u16; 12];
+    master.read_words(0x00C0, &mut words).unwrap();
+    assert_eq!(words[3], 5000, "{framing}: 00C3h in the block");
+    // An address the server does not have: exception 02.
+    let nowhere = vfd_runtime::Request::raw(vfd_runtime::CommandKind::Read, 0x3000, 0);
+    match master.transact(&nowhere) {
+        Err(error) => assert!(
+            matches!(error.kind, TransactionErrorKind::Rejected { code: 2, .. }),
+            "{framing}: {error}"
+        ),
+        Ok(answer) => panic!("{framing}: answered {answer:?}"),
+    }
+}
+
+#[test]
+fn the_dv1_modbus_rtu_master_works_against_pymodbus() {
+    dv1_against_pymodbus("rtu");
+}
+
+#[test]
+fn the_dv1_modbus_ascii_master_works_against_pymodbus() {
+    dv1_against_pymodbus("ascii");
 }

@@ -9,6 +9,9 @@
 //! - VF-AS1 (its Modbus subset: 03 with one word, 06): they read FD00, write the frequency
 //!   command FA01 and command word FA00 to run at 60 Hz, and get exception 03 for a read of
 //!   two words and 02 for a communication number that does not exist (manual 5.1, 5.3).
+//! - DV1, in Modbus RTU and Modbus ASCII: reads of one register and of a block of eight,
+//!   writes of one and of several registers, and exception 02 for an address with no
+//!   register (manual 5.8.1).
 //!
 //! Needs `pip install -r tests/python/requirements.txt` (.ci/run does it). Without the
 //! packages the test says SKIPPED, except under CI, where it fails.
@@ -17,7 +20,7 @@ use std::io::{BufRead, BufReader, Write};
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use vfd_drives::{fc51, vf_as1};
+use vfd_drives::{dv1, fc51, vf_as1};
 use vfd_runtime::bits::BitWord;
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transport::PseudoTerminal;
@@ -74,6 +77,17 @@ fn run(
     protocol: &'static Protocol,
     plan: serde_json::Value,
 ) -> Option<Vec<serde_json::Value>> {
+    run_framed(client, sim, protocol, "rtu", plan)
+}
+
+/// [`run`] in a Modbus framing: `rtu` or `ascii`.
+fn run_framed(
+    client: &str,
+    sim: Simulator,
+    protocol: &'static Protocol,
+    framing: &str,
+    plan: serde_json::Value,
+) -> Option<Vec<serde_json::Value>> {
     if !installed(client) {
         assert!(
             std::env::var_os("CI").is_none(),
@@ -101,7 +115,7 @@ fn run(
         })
     };
     let mut child = Command::new("python3")
-        .args(["python/modbus_peer_client.py", client, &path, "1"])
+        .args(["python/modbus_peer_client.py", client, &path, "1", framing])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
@@ -262,4 +276,83 @@ fn pymodbus_drives_our_virtual_vf_as1_to_60_hz() {
 #[test]
 fn minimalmodbus_drives_our_virtual_vf_as1_to_60_hz() {
     check_vf_as1("minimalmodbus");
+}
+
+/// The DV1 over Modbus, in either framing (5.8.1): the communication parameters and the
+/// monitor block are consecutive registers.
+fn dv1_plan() -> serde_json::Value {
+    let register = |id: &str| dv1::DRIVE.register(id).expect(id).address;
+    serde_json::json!([
+        // 例二 / 例三: read 02-15 (60.00 Hz), write 50.00 Hz, read it back.
+        { "op": "read", "address": register("parameter_02_15"), "count": 1 },
+        { "op": "write", "address": register("parameter_02_15"), "value": 5000 },
+        { "op": "read", "address": register("parameter_02_15"), "count": 1 },
+        // Function 10 over 07-03 and 07-04 (the virtual drive takes up to two registers per
+        // write), then a block read of 07-03 .. 07-06.
+        { "op": "write_many", "address": register("data_length"), "values": [0, 1] },
+        { "op": "read", "address": register("data_length"), "count": 4 },
+        // The monitor block 1019h-1020h: eight registers in one read.
+        { "op": "read", "address": register("dc_bus_voltage"), "count": 8 },
+        // No register at 2000h: exception 02, illegal data address.
+        { "op": "read", "address": 0x2000, "count": 1 },
+    ])
+}
+
+fn check_dv1(client: &str, framing: &str) {
+    let (sim, protocol) = match framing {
+        "ascii" => (
+            Simulator::new(&dv1::DRIVE),
+            dv1::protocols::MODBUS_ASCII.protocol(),
+        ),
+        _ => (
+            Simulator::new(&dv1::DRIVE),
+            dv1::protocols::MODBUS.protocol(),
+        ),
+    };
+    let Some(answers) = run_framed(client, sim, protocol, framing, dv1_plan()) else {
+        return;
+    };
+    let ok = |i: usize| -> &Vec<serde_json::Value> {
+        assert_eq!(
+            answers[i]["ok"], true,
+            "{client} {framing} step {i}: {}",
+            answers[i]
+        );
+        answers[i]["values"].as_array().expect("values")
+    };
+    assert_eq!(ok(0), &[serde_json::json!(6000)], "{client} {framing}");
+    ok(1);
+    assert_eq!(ok(2), &[serde_json::json!(5000)], "{client} {framing}");
+    ok(3);
+    assert_eq!(
+        ok(4),
+        &[0, 1, 0, 1].map(serde_json::Value::from),
+        "{client} {framing}"
+    );
+    assert_eq!(ok(5).len(), 8, "{client} {framing}");
+    assert_eq!(
+        answers[6]["exception"], 2,
+        "{client} {framing}: {}",
+        answers[6]
+    );
+}
+
+#[test]
+fn pymodbus_talks_to_our_virtual_dv1_in_modbus_rtu() {
+    check_dv1("pymodbus", "rtu");
+}
+
+#[test]
+fn pymodbus_talks_to_our_virtual_dv1_in_modbus_ascii() {
+    check_dv1("pymodbus", "ascii");
+}
+
+#[test]
+fn minimalmodbus_talks_to_our_virtual_dv1_in_modbus_rtu() {
+    check_dv1("minimalmodbus", "rtu");
+}
+
+#[test]
+fn minimalmodbus_talks_to_our_virtual_dv1_in_modbus_ascii() {
+    check_dv1("minimalmodbus", "ascii");
 }

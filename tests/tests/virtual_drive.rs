@@ -593,6 +593,36 @@ mod dv1_drive {
     use dv1::registers::*;
 
     #[test]
+    fn a_write_of_several_registers_puts_the_first_word_in_the_first_register() {
+        // Function 10h, 07-03 = 0 and 07-04 = 1, then a read of both: Modbus sends the
+        // first register's word first (a write once stored the whole data in 07-03).
+        let sim = Simulator::new(&dv1::DRIVE);
+        let mut drive = sim.lock();
+        drive.set_address(1);
+        let protocol = dv1::protocols::MODBUS.protocol();
+        let with_crc = |mut frame: Vec<u8>| {
+            let crc =
+                vfd_runtime::checksum::compute(vfd_runtime::ChecksumAlgorithm::Crc16Modbus, &frame);
+            frame.extend([crc as u8, (crc >> 8) as u8]);
+            frame
+        };
+        let write = with_crc(vec![
+            0x01, 0x10, 0x00, 0x30, 0x00, 0x02, 0x04, 0x00, 0x00, 0x00, 0x01,
+        ]);
+        assert!(matches!(
+            drive.respond(protocol, &write),
+            vfd_runtime::virtual_drive::Outcome::Reply(_)
+        ));
+        let read = with_crc(vec![0x01, 0x03, 0x00, 0x30, 0x00, 0x02]);
+        assert_eq!(
+            drive.respond(protocol, &read),
+            vfd_runtime::virtual_drive::Outcome::Reply(with_crc(vec![
+                0x01, 0x03, 0x04, 0x00, 0x00, 0x00, 0x01
+            ]))
+        );
+    }
+
+    #[test]
     fn runs_to_60_hz_stops_coasts_and_records_a_fault() {
         for protocol in DV1_PROTOCOLS {
             let sim = Simulator::new(&dv1::DRIVE);

@@ -493,18 +493,38 @@ impl VirtualDrive {
         size: u8,
     ) -> Result<Vec<&'static RegisterInfo>, Refusal> {
         let own = first.data_type.size().max(1);
-        if size <= own || first.space != Space::Coil {
+        if size <= own {
             return Ok(vec![first]);
         }
         let mut covered = vec![first];
         let mut address = first.address;
-        for _ in 1..size / own {
-            address = address.checked_add(16).ok_or(Refusal::UnknownRegister)?;
-            covered.push(
-                self.drive
-                    .register_at(Space::Coil, address)
-                    .ok_or(Refusal::UnknownRegister)?,
-            );
+        if first.space == Space::Coil {
+            // 16-coil words, the next word 16 coils on.
+            for _ in 1..size / own {
+                address = address.checked_add(16).ok_or(Refusal::UnknownRegister)?;
+                covered.push(
+                    self.drive
+                        .register_at(Space::Coil, address)
+                        .ok_or(Refusal::UnknownRegister)?,
+                );
+            }
+            return Ok(covered);
+        }
+        // Consecutive one-word registers (a Modbus write of several registers), each of its
+        // own: the data carries one word per register.
+        if own != 2 || size % 2 != 0 {
+            return Err(Refusal::OutOfRange);
+        }
+        for _ in 1..size / 2 {
+            address = address.checked_add(1).ok_or(Refusal::UnknownRegister)?;
+            let next = self
+                .drive
+                .register_at(first.space, address)
+                .ok_or(Refusal::UnknownRegister)?;
+            if next.data_type.size() != 2 {
+                return Err(Refusal::OutOfRange);
+            }
+            covered.push(next);
         }
         Ok(covered)
     }
@@ -567,10 +587,18 @@ impl VirtualDrive {
         let words: Vec<(&'static RegisterInfo, u32)> = if registers.len() == 1 {
             vec![(first, request.data)]
         } else {
+            // Coil words put the first register in the lowest bits (a little-endian data
+            // field); registers written most significant byte first (Modbus 10h) put it in
+            // the highest.
+            let last = registers.len() - 1;
+            let little_endian = data_little_endian(&request.command.request);
             registers
                 .iter()
                 .enumerate()
-                .map(|(i, info)| (*info, (request.data >> (16 * i)) & 0xFFFF))
+                .map(|(i, info)| {
+                    let shift = if little_endian { i } else { last - i };
+                    (*info, (request.data >> (16 * shift)) & 0xFFFF)
+                })
                 .collect()
         };
         for (info, raw) in &words {
