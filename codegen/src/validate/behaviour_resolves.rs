@@ -86,6 +86,19 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
             );
         }
     }
+    // A protocol without refusals would leave the virtual drive silent on every refused
+    // request over it: say so explicitly (`{}`) where the manual gives no error replies.
+    if !behaviour.refusals.is_empty() {
+        for protocol in &model.protocols {
+            if !behaviour.refusals.contains_key(&protocol.id) {
+                problem(
+                    "behaviour.refusals".to_owned(),
+                    format!("protocol `{}` has no refusals: the virtual drive would not answer a refused request over it", protocol.id),
+                    "give its error codes (unknown_register, read_only, out_of_range, while_running, bad_checksum) as the manual lists them, or `{}` where it gives none",
+                );
+            }
+        }
+    }
 }
 
 fn protocol_hint(model: &DriveFile) -> String {
@@ -244,7 +257,8 @@ behaviour:
     #[test]
     fn reports_refusals_for_a_protocol_the_drive_lacks() {
         let found = check_yaml(check, &with_behaviour(("ascii: {", "modbus: {")));
-        let problem = only(&found);
+        assert_eq!(found.len(), 2, "{found:?}");
+        let problem = &found[0];
         assert_eq!(
             problem.message,
             "protocol `modbus` is not one of the drive's"
@@ -252,6 +266,10 @@ behaviour:
         assert_eq!(
             problem.hint.as_deref(),
             Some("the drive's protocols are: ascii")
+        );
+        assert_eq!(
+            found[1].message,
+            "protocol `ascii` has no refusals: the virtual drive would not answer a refused request over it"
         );
     }
 }
