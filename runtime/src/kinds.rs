@@ -52,17 +52,21 @@ pub enum CommandKind {
     /// words its read selection names, in one exchange (the selection is the drive's, see
     /// `crate::protocol::BlockSpec`).
     Block,
+    /// A diagnostic echo: the reply repeats the request's data (Modbus 08, sub-function
+    /// 0000h, whose layout gives the sub-function the `register` role).
+    Echo,
 }
 
 impl CommandKind {
     /// Every kind, in the order the description format documents them.
-    pub const ALL: [CommandKind; 6] = [
+    pub const ALL: [CommandKind; 7] = [
         CommandKind::Read,
         CommandKind::WriteRam,
         CommandKind::WritePersistent,
         CommandKind::ReadText,
         CommandKind::Process,
         CommandKind::Block,
+        CommandKind::Echo,
     ];
 
     /// Name as written in protocol description files.
@@ -74,6 +78,7 @@ impl CommandKind {
             CommandKind::ReadText => "read_text",
             CommandKind::Process => "process",
             CommandKind::Block => "block",
+            CommandKind::Echo => "echo",
         }
     }
 
@@ -82,10 +87,22 @@ impl CommandKind {
         matches!(self, CommandKind::WriteRam | CommandKind::WritePersistent)
     }
 
+    /// Whether the reply reports the request's data back (a write's value written, an
+    /// echo's data), so a reply carrying another value answers another request.
+    pub const fn reports_data(self) -> bool {
+        matches!(
+            self,
+            CommandKind::WriteRam | CommandKind::WritePersistent | CommandKind::Echo
+        )
+    }
+
     /// Whether the command only reads: sending it again changes nothing in the drive, so a
     /// master may repeat it after a failed exchange.
     pub const fn only_reads(self) -> bool {
-        matches!(self, CommandKind::Read | CommandKind::ReadText)
+        matches!(
+            self,
+            CommandKind::Read | CommandKind::ReadText | CommandKind::Echo
+        )
     }
 }
 

@@ -1224,7 +1224,7 @@ impl Expectation {
             data: request
                 .command
                 .kind
-                .is_write()
+                .reports_data()
                 .then_some((request.data, mask)),
             data_size: None,
         }

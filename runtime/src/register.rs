@@ -312,6 +312,7 @@ impl Request {
                 None => "process exchange".to_owned(),
             },
             CommandKind::Block => "block transfer".to_owned(),
+            CommandKind::Echo => format!("diagnostic echo of {:04X}h", self.data),
         }
     }
 }

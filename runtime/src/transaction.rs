@@ -584,6 +584,22 @@ impl<T: Transport, D: 'static> Master<T, D> {
         })
     }
 
+    /// A diagnostic echo (Modbus 08, sub-function 0000h): sends `data` and returns what the
+    /// drive sends back, which must be the same (a reply carrying other data answers another
+    /// request). Refused before anything is sent when the protocol has no echo command.
+    pub fn echo(&mut self, data: u16) -> Result<u16, TransactionError> {
+        let mut request = Request::raw(CommandKind::Echo, 0, u32::from(data));
+        request.wire_register = true;
+        request.command = self
+            .protocol
+            .commands
+            .iter()
+            .find(|c| c.kind == CommandKind::Echo)
+            .map(|c| c.code);
+        let answer = self.transact(&request)?;
+        Ok(answer.data.map_or(data, |d| d as u16))
+    }
+
     /// Reads `words.len()` consecutive 16-bit registers of the parameter space, from
     /// register `start` (its number before the protocol's address map), in one exchange
     /// where the protocol's read command counts its data (Modbus 03: its quantity), at most
@@ -949,7 +965,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 command.address_map.to_wire(request.register)
             },
             index: request.index,
-            data: request.kind.is_write().then(|| {
+            data: request.kind.reports_data().then(|| {
                 let mask = match request.data_type.size() {
                     0 => 0,
                     bytes @ 1..=3 => (1u32 << (8 * u32::from(bytes))) - 1,

@@ -9,6 +9,7 @@ The plan is a JSON list of operations:
   {"op": "read_coils", "address": A, "count": N}  function 01
   {"op": "write_coil", "address": A, "value": true|false}  function 05
   {"op": "write_coils", "address": A, "values": [true|false, ...]}  function 15
+  {"op": "echo", "value": V}                      function 08, sub-function 0000h (V echoed)
   {"op": "sleep", "seconds": S}
 One JSON line is printed per operation: {"ok": true, "values": [...]} or
 {"ok": false, "exception": CODE} for a Modbus exception reply, or {"ok": false, "error": TEXT}.
@@ -50,6 +51,9 @@ def run_pymodbus(port, station, plan, mode):
             elif op == "write_many":
                 r = client.write_registers(step["address"], step["values"], device_id=station)
                 result = answer(r, lambda r: [])
+            elif op == "echo":
+                r = client.diag_query_data(step["value"].to_bytes(2, "big"), device_id=station)
+                result = answer(r, lambda r: [int.from_bytes(r.message, "big")])
             elif op == "read_coils":
                 r = client.read_coils(step["address"], count=step["count"], device_id=station)
                 result = answer(r, lambda r: [int(b) for b in r.bits[: step["count"]]])
@@ -98,6 +102,11 @@ def run_minimalmodbus(port, station, plan, mode):
             elif op == "write_many":
                 instrument.write_registers(step["address"], step["values"])
                 values = []
+            elif op == "echo":
+                # minimalmodbus has no call for 08: its generic command, sub-function 0000h.
+                sent = b"\x00\x00" + step["value"].to_bytes(2, "big")
+                back = instrument._perform_command(8, sent)
+                values = [int.from_bytes(back[2:4], "big")] if back[:2] == b"\x00\x00" else []
             elif op == "read_coils":
                 values = instrument.read_bits(step["address"], step["count"], functioncode=1)
             elif op == "write_coil":

@@ -10,8 +10,8 @@
 //!   command FA01 and command word FA00 to run at 60 Hz, and get exception 03 for a read of
 //!   two words and 02 for a communication number that does not exist (manual 5.1, 5.3).
 //! - DV1, in Modbus RTU and Modbus ASCII: reads of one register and of a block of eight,
-//!   writes of one and of several registers, and exception 02 for an address with no
-//!   register (manual 5.8.1).
+//!   writes of one and of several registers, exception 02 for an address with no register
+//!   and function 08's echo (manual 5.8.1).
 //!
 //! Needs `pip install -r tests/python/requirements.txt` (.ci/run does it). Without the
 //! packages the test says SKIPPED, except under CI, where it fails.
@@ -295,6 +295,8 @@ fn dv1_plan() -> serde_json::Value {
         { "op": "read", "address": register("dc_bus_voltage"), "count": 8 },
         // No register at 2000h: exception 02, illegal data address.
         { "op": "read", "address": 0x2000, "count": 1 },
+        // Function 08, sub-function 0000h: the query comes back (l. 351-356).
+        { "op": "echo", "value": 0x1234 },
     ])
 }
 
@@ -334,6 +336,11 @@ fn check_dv1(client: &str, framing: &str) {
         answers[6]["exception"], 2,
         "{client} {framing}: {}",
         answers[6]
+    );
+    assert_eq!(
+        ok(7),
+        &[serde_json::json!(0x1234)],
+        "{client} {framing}: 08 echoes"
     );
 }
 

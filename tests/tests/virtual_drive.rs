@@ -593,6 +593,26 @@ mod dv1_drive {
     use dv1::registers::*;
 
     #[test]
+    fn function_08_echoes_the_query_in_both_framings() {
+        // Diagnostics, sub-function 0000h: the reply repeats the request (l. 351-356).
+        for protocol in [&dv1::protocols::MODBUS, &dv1::protocols::MODBUS_ASCII] {
+            let sim = Simulator::new(&dv1::DRIVE);
+            let mut master = sim.master(protocol);
+            assert_eq!(master.echo(0x1234).unwrap(), 0x1234);
+            assert_eq!(master.echo(0xFFFF).unwrap(), 0xFFFF);
+        }
+        // The VF-AS1 answers 03 and 06 only: no 08 is sent.
+        let sim = Simulator::new(&vf_as1::DRIVE);
+        let mut master = sim.master(&vf_as1::protocols::MODBUS);
+        let error = master.echo(0x1234).unwrap_err();
+        assert!(
+            matches!(error.kind, TransactionErrorKind::Encode(_)),
+            "{error}"
+        );
+        assert_eq!(sim.lock().requests(), 0, "nothing was sent");
+    }
+
+    #[test]
     fn a_write_of_several_registers_puts_the_first_word_in_the_first_register() {
         // Function 10h, 07-03 = 0 and 07-04 = 1, then a read of both: Modbus sends the
         // first register's word first (a write once stored the whole data in 07-03).

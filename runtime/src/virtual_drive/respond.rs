@@ -147,6 +147,8 @@ impl VirtualDrive {
             CommandKind::Read => self.read(protocol, request),
             CommandKind::WriteRam | CommandKind::WritePersistent => self.write(protocol, request),
             CommandKind::Process => Ok((0, 0)),
+            // The query comes back unchanged.
+            CommandKind::Echo => Ok((request.data, 0)),
             CommandKind::ReadText => Err(Refusal::UnknownRegister),
         };
         match result {

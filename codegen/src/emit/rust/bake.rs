@@ -81,7 +81,8 @@ bake_unit_enum!(CommandKind {
     WritePersistent,
     ReadText,
     Process,
-    Block
+    Block,
+    Echo
 });
 bake_unit_enum!(Parity { None, Even, Odd });
 bake_unit_enum!(Role {
