@@ -1,75 +1,11 @@
 //! `vfd read`, `write`, `backup` and `restore` against `vfd sim` started as a child
 //! process: its first line of output is the pseudo-terminal to open.
 
+mod common;
+
+use common::{text, Sim};
 use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Output, Stdio};
-
-/// A `vfd sim` child, stopped (SIGTERM through `kill`) when dropped.
-struct Sim {
-    child: Child,
-    port: String,
-}
-
-impl Sim {
-    fn start(drive: &str, protocol: &str) -> Sim {
-        Sim::start_with(drive, protocol, &[])
-    }
-
-    fn start_with(drive: &str, protocol: &str, extra: &[&str]) -> Sim {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_vfd"))
-            .args(["sim", "--drive", drive, "--protocol", protocol])
-            .args(extra)
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("vfd sim starts");
-        let mut first = String::new();
-        BufReader::new(child.stdout.take().expect("piped"))
-            .read_line(&mut first)
-            .expect("the device path");
-        let port = first.trim().to_owned();
-        assert!(
-            port.starts_with("/dev/"),
-            "first line is the device: {port:?}"
-        );
-        Sim { child, port }
-    }
-
-    fn vfd(&self, drive: &str, protocol: &str, args: &[&str]) -> Output {
-        let (command, rest) = args.split_first().expect("a command");
-        Command::new(env!("CARGO_BIN_EXE_vfd"))
-            .arg(command)
-            .args([
-                "--drive",
-                drive,
-                "--protocol",
-                protocol,
-                "--port",
-                &self.port,
-            ])
-            .args(rest)
-            .output()
-            .expect("vfd runs")
-    }
-}
-
-impl Drop for Sim {
-    fn drop(&mut self) {
-        // SIGTERM, as a service manager would: the sim ends cleanly.
-        let _ = Command::new("kill")
-            .arg(self.child.id().to_string())
-            .status();
-        let _ = self.child.wait();
-    }
-}
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
-}
+use std::process::{Command, Output, Stdio};
 
 #[test]
 fn yd1000_read_write_and_refusals() {
