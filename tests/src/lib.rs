@@ -1,6 +1,7 @@
 //! Shared support for the workspace-level tests: expectation files for diagnostics, a
 //! scripted peer for exchanges, the faults and subjects the fault matrix and the soak share,
-//! and the module-graph check that keeps each crate free of import circles. The generated
+//! and the module-graph check that keeps each crate free of import circles, and the outcomes
+//! of exchanges tests assert on. The generated
 //! golden-frame tests call `vfd_runtime::testing` (the runtime's `testing` feature).
 
 #![warn(missing_docs)]
@@ -8,5 +9,6 @@
 pub mod expectations;
 pub mod fault_cases;
 pub mod module_graph;
+pub mod outcomes;
 pub mod random;
 pub mod scripted_peer;

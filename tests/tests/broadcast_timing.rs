@@ -14,6 +14,7 @@ use vfd_runtime::transaction::{BroadcastReply, Master};
 use vfd_runtime::transport::{memory_pair, Transport};
 use vfd_runtime::virtual_drive::{serve, Simulator};
 use vfd_runtime::{Broadcast, EncodeError, Request, TransactionErrorKind};
+use vfd_tests::outcomes::timed_out;
 
 fn group(text: &str) -> Broadcast {
     text.parse().expect("a group")
@@ -27,16 +28,6 @@ fn refused_broadcast<T: std::fmt::Debug>(result: Result<T, TransactionError>) ->
             ..
         }) => reason,
         other => panic!("expected a refused broadcast, got {other:?}"),
-    }
-}
-
-fn timed_out<T: std::fmt::Debug>(result: Result<T, TransactionError>) {
-    match result {
-        Err(TransactionError {
-            kind: TransactionErrorKind::Timeout { .. },
-            ..
-        }) => {}
-        other => panic!("expected silence, got {other:?}"),
     }
 }
 

@@ -7,27 +7,7 @@ use vfd_drives::{dv1, fc51, vf_as1, yd1000};
 use vfd_runtime::prelude::*;
 use vfd_runtime::virtual_drive::{Fault, Simulator};
 use vfd_runtime::{CommandKind, DriveProtocol, Request, Space, TransactionErrorKind};
-
-/// The manual's error code of a refused exchange.
-fn refused<T: std::fmt::Debug>(result: Result<T, TransactionError>) -> u16 {
-    match result {
-        Err(TransactionError {
-            kind: TransactionErrorKind::Rejected { code, .. },
-            ..
-        }) => code,
-        other => panic!("expected an error reply, got {other:?}"),
-    }
-}
-
-fn timed_out<T: std::fmt::Debug>(result: Result<T, TransactionError>) {
-    match result {
-        Err(TransactionError {
-            kind: TransactionErrorKind::Timeout { .. },
-            ..
-        }) => {}
-        other => panic!("expected silence, got {other:?}"),
-    }
-}
+use vfd_tests::outcomes::{refused, timed_out};
 
 const YD1000_PROTOCOLS: [&DriveProtocol<yd1000::Drive>; 2] =
     [&yd1000::protocols::ASCII, &yd1000::protocols::BINARY];
