@@ -224,7 +224,9 @@ impl Roles {
             Role::Process1 => Some(&mut self.process_1),
             Role::Process2 => Some(&mut self.process_2),
             Role::Decimals => Some(&mut self.decimals),
-            Role::Text | Role::Words | Role::ReadCount | Role::WriteStatus => None,
+            Role::Text | Role::Words | Role::ReadCount | Role::WriteStatus | Role::ReplyWait => {
+                None
+            }
         }
     }
 }

@@ -155,11 +155,15 @@ pub enum Role {
     /// A block-transfer reply's write status: bit `n` set means the word at position `n`
     /// of the request (0: the first) was not written.
     WriteStatus,
+    /// How long the drive waits before it replies, in tens of milliseconds, as the request
+    /// asks (the Eaton protocol's wait-time digit, 0-F): the master adds it to its reply
+    /// timeout ([`crate::transaction::Master::with_reply_wait`]), the virtual drive waits.
+    ReplyWait,
 }
 
 impl Role {
     /// Every role, in the order the description format documents them.
-    pub const ALL: [Role; 13] = [
+    pub const ALL: [Role; 14] = [
         Role::Address,
         Role::Command,
         Role::Register,
@@ -173,6 +177,7 @@ impl Role {
         Role::Words,
         Role::ReadCount,
         Role::WriteStatus,
+        Role::ReplyWait,
     ];
 
     /// The role's name as written in protocol description files.
@@ -191,6 +196,7 @@ impl Role {
             Role::Words => "words",
             Role::ReadCount => "read_count",
             Role::WriteStatus => "write_status",
+            Role::ReplyWait => "reply_wait",
         }
     }
 }
@@ -229,6 +235,25 @@ pub enum Format {
 }
 
 impl Format {
+    /// The largest number a field of this format and `width` (digits, for text formats)
+    /// carries.
+    pub fn max_value(self, width: u8) -> u32 {
+        let digits = |radix: u32| {
+            radix
+                .checked_pow(u32::from(width))
+                .map_or(u32::MAX, |n| n - 1)
+        };
+        match self {
+            Format::Decimal => digits(10),
+            Format::Hex => digits(16),
+            Format::Char | Format::U8 => 0xFF,
+            Format::U16Be | Format::U16Le => 0xFFFF,
+            Format::U32Be | Format::U32Le | Format::UintBe | Format::UintLe | Format::Bytes => {
+                u32::MAX
+            }
+        }
+    }
+
     /// Every format, in the order the description format documents them.
     pub const ALL: [Format; 11] = [
         Format::Decimal,

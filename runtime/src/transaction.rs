@@ -185,6 +185,9 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     /// ([`Master::with_reply_delay`], [`Master::read_reply_delay`]); `None`: the
     /// description's factory setting.
     reply_delay: Option<Duration>,
+    /// The wait the master asks the drive to make before each reply, in requests whose
+    /// layout carries one ([`Role::ReplyWait`], in tens of milliseconds).
+    reply_wait: u8,
     /// The stations the request under way is broadcast to (see [`Master::broadcast`]).
     broadcast_to: Option<crate::broadcast::Broadcast>,
     /// The port the master talks to, for drives with several: requests for a register
@@ -242,6 +245,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
             host_latency: crate::serial::HOST_LATENCY,
             late_reply_until: None,
             reply_delay: None,
+            reply_wait: 0,
             broadcast_to: None,
             port: None,
         }
@@ -322,7 +326,33 @@ impl<T: Transport, D: 'static> Master<T, D> {
             request_len,
             usize::from(self.protocol.max_frame_len),
         ) + self.reply_delay()
+            + self.reply_wait()
             + self.host_latency
+    }
+
+    /// Asks the drive to wait `wait` before each reply, in protocols whose requests carry
+    /// a wait ([`Role::ReplyWait`], in tens of milliseconds: the Eaton protocol's wait-time
+    /// digit, 0-150 ms; some RS-485 converters need the line turned round slowly). It is
+    /// rounded up to 10 ms and kept within what the field can carry; the reply timeout
+    /// grows by it. Protocols without such a field ignore it.
+    pub fn with_reply_wait(mut self, wait: Duration) -> Self {
+        let tens = wait.as_millis().div_ceil(10);
+        let most = self
+            .protocol
+            .commands
+            .iter()
+            .filter_map(|c| c.request.field(Role::ReplyWait))
+            .map(|field| field.format.max_value(field.width))
+            .max()
+            .unwrap_or(0);
+        self.reply_wait = tens.min(u128::from(most)).min(255) as u8;
+        self
+    }
+
+    /// The wait each reply is asked for ([`Master::with_reply_wait`]), where the protocol's
+    /// requests carry one.
+    pub fn reply_wait(&self) -> Duration {
+        Duration::from_millis(10 * u64::from(self.reply_wait))
     }
 
     /// States the drive's wait before every reply, where registers of the drive set one
@@ -951,6 +981,13 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 .request_values(request, self.address)
                 .map_err(cannot_send)?;
             values.data_size = (self.block_words * 2).min(u16::from(u8::MAX)) as u8;
+            crate::codec::encode(layout, &values, &mut self.request).map_err(cannot_send)?
+        } else if self.reply_wait > 0 && command.request.has(Role::ReplyWait) {
+            // The wait the master asks for, in the request's wait field.
+            let (layout, mut values) = protocol
+                .request_values(request, self.address)
+                .map_err(cannot_send)?;
+            values.set(layout, Role::ReplyWait, u32::from(self.reply_wait));
             crate::codec::encode(layout, &values, &mut self.request).map_err(cannot_send)?
         } else {
             protocol

@@ -13,7 +13,7 @@ use vfd_runtime::serial::SerialSettings;
 use vfd_runtime::transaction::{BroadcastReply, Master};
 use vfd_runtime::transport::{memory_pair, Transport};
 use vfd_runtime::virtual_drive::{serve, Simulator};
-use vfd_runtime::{Broadcast, EncodeError, Request, TransactionErrorKind};
+use vfd_runtime::{Broadcast, CommandKind, EncodeError, Request, TransactionErrorKind};
 use vfd_tests::outcomes::timed_out;
 
 fn group(text: &str) -> Broadcast {
@@ -502,4 +502,58 @@ fn the_vf_as1_is_silent_for_two_seconds_after_power_on() {
     timed_out(master.read::<FrequencyCommand2wire>());
     sim.advance(Duration::from_millis(100));
     assert_eq!(master.read::<FrequencyCommand2wire>().unwrap(), Hertz(0.0));
+}
+
+#[test]
+fn the_eaton_wait_digit_asks_the_drive_to_wait_and_the_master_allows_for_it() {
+    // *2) of the DV1 manual: the request's wait digit (0-F, x 10 ms) delays the reply.
+    let sim = Simulator::new(&dv1::DRIVE);
+    sim.lock().set_address(0);
+    let protocol = &dv1::protocols::EATON;
+    let (line, stop, server) = served(&sim, protocol.protocol());
+    let log: Log = Arc::new(Mutex::new(Vec::new()));
+    let logged = Logged {
+        inner: line,
+        log: log.clone(),
+    };
+    let plain = Master::new(
+        memory_pair().0,
+        protocol,
+        dv1::SERIAL.default,
+        dv1::SERIAL.timing,
+    );
+    let mut master = Master::new(logged, protocol, dv1::SERIAL.default, dv1::SERIAL.timing)
+        .with_address(Some(0))
+        .with_reply_wait(Duration::from_millis(45));
+    // Rounded up to 10 ms steps, and added to the reply timeout.
+    assert_eq!(master.reply_wait(), Duration::from_millis(50));
+    assert_eq!(
+        master.reply_timeout(13),
+        plain.reply_timeout(13) + Duration::from_millis(50)
+    );
+    // The page switch of the manual's 例三 step 1 (HFF, page 1), asking for 50 ms.
+    let started = Instant::now();
+    let outcome = master.transact(&Request::raw(CommandKind::WriteRam, 0x7F, 1));
+    let took = started.elapsed();
+    stop.store(true, Ordering::Relaxed);
+    server.join().unwrap();
+    let log = log.lock().unwrap();
+    let sent = &log.iter().find(|(sent, _)| *sent).expect("a request").1;
+    // 30h+30h+46h+46h+35h+30h+30h+30h+31h = 1E2h: sum "E2".
+    assert_eq!(sent.as_slice(), b"\x0500FF50001E2\r");
+    assert!(
+        outcome.is_ok()
+            || matches!(&outcome, Err(e) if matches!(e.kind, TransactionErrorKind::Rejected { .. })),
+        "the drive answers: {outcome:?}"
+    );
+    assert!(took >= Duration::from_millis(50), "answered after {took:?}");
+    // Asking for more than the digit carries is kept to F (150 ms).
+    let most = Master::new(
+        memory_pair().0,
+        protocol,
+        dv1::SERIAL.default,
+        dv1::SERIAL.timing,
+    )
+    .with_reply_wait(Duration::from_secs(1));
+    assert_eq!(most.reply_wait(), Duration::from_millis(150));
 }

@@ -434,7 +434,7 @@ impl VirtualDrive {
             bytes: Vec::new(),
             delayed: false,
             split: None,
-            wait: self.reply_delay(protocol),
+            wait: self.reply_delay(protocol) + requested_wait(protocol, request),
             request_len: request.len(),
         };
         match self.faults.pop_front() {
@@ -536,4 +536,20 @@ impl Simulator {
     pub fn power_cycle(&self) {
         self.lock().power_cycle();
     }
+}
+
+/// The wait before the reply a request asks for ([`crate::Role::ReplyWait`], in tens of
+/// milliseconds), where its layout carries one.
+fn requested_wait(protocol: &Protocol, request: &[u8]) -> Duration {
+    protocol
+        .decode_request_exact(request)
+        .ok()
+        .and_then(|decoded| {
+            decoded
+                .values
+                .get(&decoded.command.request, crate::Role::ReplyWait)
+        })
+        .map_or(Duration::ZERO, |tens| {
+            Duration::from_millis(10 * u64::from(tens))
+        })
 }

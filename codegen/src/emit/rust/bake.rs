@@ -98,7 +98,8 @@ bake_unit_enum!(Role {
     Decimals,
     Words,
     ReadCount,
-    WriteStatus
+    WriteStatus,
+    ReplyWait
 });
 bake_unit_enum!(Format {
     Decimal,

@@ -1,0 +1,6 @@
+//! The reply decoders of the `modbus-ascii` protocol file, as `vfd_drives::dv1::protocols::MODBUS_ASCII` uses it.
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    vfd_fuzz::replies(vfd_drives::dv1::protocols::MODBUS_ASCII.protocol(), data);
+});

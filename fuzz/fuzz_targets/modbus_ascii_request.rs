@@ -1,0 +1,6 @@
+//! The request decoders of the `modbus-ascii` protocol file, as `vfd_drives::dv1::protocols::MODBUS_ASCII` uses it.
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    vfd_fuzz::requests(vfd_drives::dv1::protocols::MODBUS_ASCII.protocol(), data);
+});
