@@ -101,6 +101,10 @@ pub struct PercentOf {
     pub register: Text,
     /// The percentage one raw step stands for (0.01).
     pub step: f64,
+    /// Conversions (ids of the drive's `conversions`) a receiving drive turns the raw
+    /// percentage into its register's value with, the first that applies; empty: the plain
+    /// proportion ([`PercentOf::from_raw`]).
+    pub received_by: List<Text>,
 }
 
 impl PercentOf {
@@ -180,12 +184,19 @@ impl CommandSpec {
         self
     }
 
-    /// Its data is a percentage of the register with code `register`, `step` % per raw step.
-    pub const fn with_percent_of(mut self, register: &'static str, step: f64) -> CommandSpec {
+    /// Its data is a percentage of the register with code `register`, `step` % per raw step;
+    /// a receiving drive applies the first of the conversions `received_by` that holds.
+    pub const fn with_percent_of(
+        mut self,
+        register: &'static str,
+        step: f64,
+        received_by: &'static [Text],
+    ) -> CommandSpec {
         // As in `with_data_types`: nothing to drop in generated code.
         core::mem::forget(self.percent_of.replace(PercentOf {
             register: Cow::Borrowed(register),
             step,
+            received_by: Cow::Borrowed(received_by),
         }));
         self
     }

@@ -64,6 +64,7 @@ mod percentages {
         let percent = PercentOf {
             register: "FH".into(),
             step: 0.01,
+            received_by: Default::default(),
         };
         // Master FH 100 Hz, 50 Hz -> 5000 (50 %).
         assert_eq!(percent.to_raw(50.0, 100.0), Some(5000));
@@ -271,6 +272,29 @@ mod s_command {
             ),
         );
         assert!(matches!(error, EncodeError::NotPercentOf { .. }), "{error}");
+    }
+
+    #[test]
+    fn with_frequency_points_the_virtual_drive_converts_through_them() {
+        // F810 = 1 (6.1): the received percentage maps through (F811 %, F812 Hz) -
+        // (F813 %, F814 Hz); points (0 %, 0 Hz) - (100 %, 60 Hz): 50 % -> 30 Hz, where the
+        // plain ratio of FH 80 Hz would give 40 Hz.
+        let sim = Simulator::new(&vf_as1::DRIVE);
+        assert!(sim.lock().set_raw("F810", 1));
+        assert!(sim.lock().set_raw("F814", 6000));
+        let outcome = sim
+            .lock()
+            .respond(&vf_as1::protocols::BINARY, &hex("2F 53 FA 01 13 88 18"));
+        assert!(
+            matches!(outcome, vfd_runtime::virtual_drive::Outcome::Silent(_)),
+            "{outcome:?}"
+        );
+        assert_eq!(sim.lock().raw("FA01"), Some(3000));
+        // F810 = 0: the plain ratio again.
+        assert!(sim.lock().set_raw("F810", 0));
+        sim.lock()
+            .respond(&vf_as1::protocols::BINARY, &hex("2F 53 FA 01 13 88 18"));
+        assert_eq!(sim.lock().raw("FA01"), Some(4000));
     }
 
     #[test]

@@ -570,10 +570,13 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
                 extra: c.extra,
                 lowercase_means_sender_tripped: c.lowercase_means_sender_tripped,
                 registers: c.registers.to_vec(),
-                percent_of: c
-                    .percent_of
-                    .as_ref()
-                    .map(|p| (p.register.to_string(), p.step)),
+                percent_of: c.percent_of.as_ref().map(|p| {
+                    (
+                        p.register.to_string(),
+                        p.step,
+                        p.received_by.iter().map(|id| id.to_string()).collect(),
+                    )
+                }),
             })
             .collect(),
         error_reply: runtime.error_reply.as_ref().map(|l| l.name.to_string()),

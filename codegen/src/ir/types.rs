@@ -451,9 +451,10 @@ pub struct CommandIr {
     /// The registers it may address (numbers before the address map; empty: any).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub registers: Vec<u16>,
-    /// Its data is a percentage of this register (code), this many % per raw step.
+    /// Its data is a percentage of this register (code), this many % per raw step; a
+    /// receiving drive applies the first of these conversions that holds.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub percent_of: Option<(String, f64)>,
+    pub percent_of: Option<(String, f64, Vec<String>)>,
 }
 
 /// The manual's error codes.

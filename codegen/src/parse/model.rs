@@ -683,6 +683,12 @@ pub struct CommandRegistersModel {
     pub percent_of: Option<String>,
     /// With `percent_of`: the percentage one raw step stands for (default 0.01).
     pub step: Option<f64>,
+    /// With `percent_of`: the conversions (ids under `conversions:`) a receiving drive
+    /// turns the raw percentage into its register's value with, the first whose `when`
+    /// holds (VF-AS1: frequency points when F810 is not 0, else the plain ratio). Left out:
+    /// the plain proportion of the 100 % register.
+    #[serde(default)]
+    pub received_by: Vec<String>,
 }
 
 /// A drive's block transfer: which registers the words of a block-transfer request are

@@ -282,9 +282,25 @@ pub(super) fn apply_command_registers(
             ));
             continue;
         }
+        for (position, id) in entry.received_by.iter().enumerate() {
+            if !input.drive.conversions.iter().any(|c| &c.id == id) {
+                out.push(error(
+                    &format!("received_by[{position}]"),
+                    format!("no conversion has the id `{id}`"),
+                    "name conversions of this drive file (`conversions[].id`)",
+                ));
+            }
+        }
         command.spec.percent_of = Some(vfd_runtime::protocol::PercentOf {
             register: Cow::Owned(reference.code.clone()),
             step,
+            received_by: Cow::Owned(
+                entry
+                    .received_by
+                    .iter()
+                    .map(|id| Cow::Owned(id.clone()))
+                    .collect(),
+            ),
         });
     }
 }

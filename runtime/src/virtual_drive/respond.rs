@@ -195,15 +195,19 @@ impl VirtualDrive {
         if info.access == crate::kinds::Access::ReadOnly || info.data_type == DataType::Text {
             return Err(Refusal::ReadOnly);
         }
-        // The plain proportion, `value = percent x reference / 100`, truncated to the
-        // register's step. Hook: a receiver that converts through other parameters instead
-        // (frequency points chosen by parameters) needs vocabulary of its own; it would
-        // replace this line.
-        let value = self
-            .value_of(&percent_of.register)
-            .map_or(0.0, |reference| {
-                percent_of.from_raw(request.data, reference)
-            });
+        // The first of the description's conversions that holds (frequency points chosen
+        // by parameters), else the plain proportion `value = percent x reference / 100`;
+        // truncated to the register's step.
+        let converted = percent_of
+            .received_by
+            .iter()
+            .find_map(|id| self.convert(id, &[f64::from(request.data)]));
+        let value = converted.unwrap_or_else(|| {
+            self.value_of(&percent_of.register)
+                .map_or(0.0, |reference| {
+                    percent_of.from_raw(request.data, reference)
+                })
+        });
         let raw = (value / info.scale + 1e-9)
             .floor()
             .clamp(0.0, f64::from(u32::MAX)) as u32;

@@ -689,7 +689,7 @@ fn command_notes(drive: &DriveIr, command: &CommandIr) -> String {
         let names: Vec<String> = command.registers.iter().map(|r| label(*r)).collect();
         notes.push(format!("addresses only {}", names.join(", ")));
     }
-    if let Some((register, step)) = &command.percent_of {
+    if let Some((register, step, _)) = &command.percent_of {
         notes.push(format!(
             "data in {step} % of {register}, not in the register's unit"
         ));

@@ -204,9 +204,11 @@ fn command_tokens(command: &CommandIr, file: &Ident) -> TokenStream {
         let registers = command.registers.iter().map(|r| int_literal(*r));
         tokens.extend(quote!(.with_registers(&[#(#registers),*])));
     }
-    if let Some((register, step)) = &command.percent_of {
+    if let Some((register, step, received_by)) = &command.percent_of {
         let step = Literal::f64_unsuffixed(*step);
-        tokens.extend(quote!(.with_percent_of(#register, #step)));
+        tokens.extend(
+            quote!(.with_percent_of(#register, #step, &[#(Cow::Borrowed(#received_by)),*])),
+        );
     }
     tokens
 }
