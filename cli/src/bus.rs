@@ -469,7 +469,7 @@ impl Session {
                     && info.array_len == 0
                     && matches!(info.data_type, DataType::Word | DataType::DoubleWord);
                 let wire = blockable
-                    .then(|| command.address_map.to_wire(info.address))
+                    .then(|| self.protocol.to_wire(command, info.address))
                     .flatten();
                 (i, wire)
             })

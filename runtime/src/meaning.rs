@@ -131,7 +131,7 @@ pub fn decode_meaning(
                 code: command.reply.has(Role::Command).then_some(code),
                 kind: Some(command.kind),
                 space: Some(command.space),
-                register: wire_register.and_then(|wire| command.address_map.from_wire(wire)),
+                register: wire_register.and_then(|wire| protocol.from_wire(command, wire)),
                 wire_register,
                 index,
                 data: command.reply.has(Role::Data).then_some(data),

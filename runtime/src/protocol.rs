@@ -394,6 +394,52 @@ pub struct Protocol {
     /// `None`: the drive takes no broadcasts over this protocol (its address field's
     /// broadcast encodings, if any, are not used).
     pub broadcast: Option<BroadcastRule>,
+    /// Registers with their own numbers on the wire in this protocol, by direction (the
+    /// Eaton command codes of the DV1's 10xxh registers); the others go through their
+    /// command's address map ([`Protocol::to_wire`]).
+    pub wire_numbers: List<WireNumber>,
+}
+
+/// A register's own numbers on the wire in one protocol, for reading and for writing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct WireNumber {
+    /// The register's number in the drive description.
+    pub register: u16,
+    /// Its number in read requests; `None`: it cannot be read over this protocol.
+    pub read: Option<u16>,
+    /// Its number in write requests; `None`: it cannot be written over this protocol.
+    pub write: Option<u16>,
+}
+
+impl Protocol {
+    /// The number `command` carries on the wire for register `number`: the register's own
+    /// number in this protocol ([`Protocol::wire_numbers`]) for the command's direction,
+    /// else the command's address map.
+    pub fn to_wire(&self, command: &CommandSpec, number: u16) -> Option<u16> {
+        match self.wire_numbers.iter().find(|w| w.register == number) {
+            Some(own) if command.kind.is_write() => own.write,
+            Some(own) => own.read,
+            None => command.address_map.to_wire(number),
+        }
+    }
+
+    /// The register a number on the wire stands for in a request of `command`: the
+    /// register whose own number it is for that direction, else the command's address map
+    /// undone.
+    pub fn from_wire(&self, command: &CommandSpec, wire: u16) -> Option<u16> {
+        let own = self.wire_numbers.iter().find(|w| {
+            if command.kind.is_write() {
+                w.write == Some(wire)
+            } else {
+                w.read == Some(wire)
+            }
+        });
+        match own {
+            Some(own) => Some(own.register),
+            None => command.address_map.from_wire(wire),
+        }
+    }
 }
 
 /// One selector of a block transfer: a register whose value chooses the register one word
@@ -756,7 +802,7 @@ impl Protocol {
         let wire = if request.wire_register {
             Some(request.register)
         } else {
-            command.address_map.to_wire(request.register)
+            self.to_wire(command, request.register)
         };
         let wire = wire.ok_or(EncodeError::RegisterOutOfRange {
             protocol: self.id.clone(),
@@ -909,7 +955,7 @@ impl Protocol {
                             address: station.filter(|_| broadcast.is_none()).map(|a| a as u8),
                             broadcast,
                             wire_register: wire,
-                            register: wire.and_then(|w| command.address_map.from_wire(w)),
+                            register: wire.and_then(|w| self.from_wire(command, w)),
                             index: values.get(layout, Role::Index).map(|i| i as u16),
                             data: values.get(layout, Role::Data).unwrap_or(0),
                             process: process_of(layout, &values),

@@ -999,7 +999,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
             wire_register: if request.wire_register {
                 Some(request.register)
             } else {
-                command.address_map.to_wire(request.register)
+                protocol.to_wire(command, request.register)
             },
             index: request.index,
             data: request.kind.reports_data().then(|| {

@@ -91,6 +91,27 @@ impl Kind {
 /// The outcome a master without retries owes its caller when `fault` hits the reply to a
 /// request of one frame: the typed error the fault explains, or the value where the master
 /// reads through the fault.
+/// What a write owes under `fault` over `protocol`: as [`expected`], except that a
+/// corrupted checksum cannot touch a write reply without one (the Eaton ACK), so the write
+/// succeeds.
+pub fn expected_for_write(fault: &Fault, protocol: &vfd_runtime::Protocol) -> Kind {
+    let unsummed = protocol
+        .commands
+        .iter()
+        .filter(|c| c.kind.is_write())
+        .any(|c| {
+            !c.reply
+                .parts
+                .iter()
+                .any(|p| matches!(p, vfd_runtime::Part::Checksum(_)))
+        });
+    match fault {
+        Fault::CorruptChecksum if unsummed => Kind::Value,
+        _ => expected(fault),
+    }
+}
+
+/// What an exchange owes under `fault` ([`Kind::Value`]: the value despite it).
 pub fn expected(fault: &Fault) -> Kind {
     match fault {
         Fault::DropReply | Fault::Delay | Fault::Noise => Kind::Timeout,

@@ -563,14 +563,42 @@ mod vf_as1_drive {
     }
 }
 
-// Modbus only: the description gives 1001h-1008h by their Modbus addresses, and the Eaton
-// command codes (HFA, HED, H6F, H74) cannot be derived from them yet (dv1.NEEDS.md item 19).
-const DV1_PROTOCOLS: [&DriveProtocol<dv1::Drive>; 1] = [&dv1::protocols::MODBUS];
+// Every DV1 protocol: the 10xxh registers carry their Eaton command codes
+// (`wire_numbers`: HED writes 1002h, H6F reads 1003h, ...).
+const DV1_PROTOCOLS: [&DriveProtocol<dv1::Drive>; 3] = [
+    &dv1::protocols::MODBUS,
+    &dv1::protocols::MODBUS_ASCII,
+    &dv1::protocols::EATON,
+];
 
 mod dv1_drive {
     use super::*;
     use dv1::bits::RunCommand as Word;
     use dv1::registers::*;
+
+    #[test]
+    fn eaton_requests_carry_the_registers_own_command_codes() {
+        let protocol = dv1::protocols::EATON.protocol();
+        let mut out = [0u8; 32];
+        // 1002h is written as HED: 30h+30h+45h+44h+30h+31h+37h+37h+30h = 1E8h.
+        let write = FrequencyCommandRam::write_ram(Hertz(60.0)).unwrap();
+        let len = protocol.encode_request(&write, Some(0), &mut out).unwrap();
+        assert_eq!(&out[..len], b"\x0500ED01770E8\r");
+        // 1003h is read as H6F: 30h+30h+36h+46h+30h = 10Ch.
+        let len = protocol
+            .encode_request(&OutputFrequency::read(), Some(0), &mut out)
+            .unwrap();
+        assert_eq!(&out[..len], b"\x05006F00C\r");
+        // The monitor block 1014h-1020h is Modbus only: refused before anything is sent.
+        let sim = Simulator::new(&dv1::DRIVE);
+        let mut master = sim.master(&dv1::protocols::EATON);
+        let error = master.read::<DcBusVoltage>().unwrap_err();
+        assert!(
+            matches!(error.kind, TransactionErrorKind::Encode(_)),
+            "{error}"
+        );
+        assert_eq!(sim.lock().requests(), 0, "nothing was sent");
+    }
 
     #[test]
     fn function_08_echoes_the_query_in_both_framings() {

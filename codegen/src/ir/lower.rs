@@ -605,6 +605,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
             .map_or_else(String::new, |b| b.note.trim().to_owned()),
         timing: runtime.timing.clone(),
         broadcast: runtime.broadcast.clone(),
+        wire_numbers: runtime.wire_numbers.to_vec(),
         error_table: if let Some(table) = own_table {
             ErrorTableIr::Protocol(ErrorCodesIr {
                 source: table.source.clone(),

@@ -403,6 +403,9 @@ pub struct ProtocolIr {
     pub timing: vfd_runtime::serial::LinkTiming,
     /// The drive's broadcast rule, when it takes broadcasts over this protocol.
     pub broadcast: Option<vfd_runtime::broadcast::BroadcastRule>,
+    /// Registers with their own numbers on the wire in this protocol.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub wire_numbers: Vec<vfd_runtime::protocol::WireNumber>,
     /// The table its error replies are named from.
     pub error_table: ErrorTableIr,
 }

@@ -1002,6 +1002,12 @@ pub struct RegisterModel {
     /// the virtual drive stays silent.
     #[serde(default)]
     pub no_reply: bool,
+    /// Its own numbers on the wire in some of the drive's protocols (by protocol id), for
+    /// reading and for writing, where its command's address map does not give them (the
+    /// DV1's 1002h is read as Eaton code 6Dh and written as EDh); a direction left out
+    /// cannot be used over that protocol.
+    #[serde(default)]
+    pub wire_numbers: BTreeMap<String, WireNumberModel>,
     /// The live register (code or id) whose value this register holds from the moment of
     /// the last trip (`FD00` for FE00): the virtual drive copies it when it trips.
     pub held_at_trip_of: Option<String>,
@@ -1129,6 +1135,16 @@ pub struct ExampleModel {
     /// register's unit (a code for code tables), as `default` is written.
     #[serde(default)]
     pub settings: BTreeMap<String, f64>,
+}
+
+/// A register's own numbers on the wire in one protocol (`registers[].wire_numbers`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct WireNumberModel {
+    /// Its number in read requests.
+    pub read: Option<u32>,
+    /// Its number in write requests.
+    pub write: Option<u32>,
 }
 
 /// A request the drive does not answer, as the manual prints it.

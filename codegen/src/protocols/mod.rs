@@ -129,6 +129,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     let frame_gap_chars = link::frame_gap_chars(input, out);
     let timing = link::timing(input, out);
     let broadcast = link::broadcast(input, &commands, out);
+    let wire_numbers = wire_numbers(input, out);
     if out.items.len() > before {
         return None;
     }
@@ -155,7 +156,47 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         broadcast,
         error_codes: Cow::Owned(error_codes::error_table(input)),
         block,
+        wire_numbers: Cow::Owned(wire_numbers),
     })
+}
+
+/// The registers' own numbers on the wire in this protocol (`registers[].wire_numbers`),
+/// each fitting 16 bits; registers may name only the drive's protocols.
+fn wire_numbers(
+    input: &Input<'_>,
+    out: &mut Diagnostics,
+) -> Vec<vfd_runtime::protocol::WireNumber> {
+    let mut numbers = Vec::new();
+    for (index, register) in input.drive.registers.iter().enumerate() {
+        let Some(own) = register.wire_numbers.get(&input.reference.id) else {
+            continue;
+        };
+        let mut fit = |key: &str, value: Option<u32>| match value {
+            Some(value) if value > u32::from(u16::MAX) => {
+                out.push(
+                    input
+                        .drive_source
+                        .error(
+                            &format!(
+                                "registers[{index}].wire_numbers.{}.{key}",
+                                input.reference.id
+                            ),
+                            format!("{value:#X} does not fit the 16 bits of a register number"),
+                        )
+                        .hint("give the number as the protocol carries it, 0x0000-0xFFFF"),
+                );
+                None
+            }
+            other => other.map(|v| v as u16),
+        };
+        let (read, write) = (fit("read", own.read), fit("write", own.write));
+        numbers.push(vfd_runtime::protocol::WireNumber {
+            register: register.address as u16,
+            read,
+            write,
+        });
+    }
+    numbers
 }
 
 /// The most registers one read carries: the protocol file's `max_words_per_read`, lowered

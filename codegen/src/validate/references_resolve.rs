@@ -1,5 +1,5 @@
-//! Check: bit-field words, code tables, value examples and the error table name things
-//! that exist.
+//! Check: bit-field words, code tables, value examples, the error table and registers' own
+//! wire numbers name things that exist.
 
 use crate::diagnostics::Diagnostics;
 use crate::validate::ranges;
@@ -24,6 +24,25 @@ pub fn references_resolve(drive: &Context, out: &mut Diagnostics) {
                         ids.join(", ")
                     )),
             );
+        }
+    }
+    let ids: Vec<&str> = model.protocols.iter().map(|p| p.id.as_str()).collect();
+    for (index, register) in model.registers.iter().enumerate() {
+        for id in register.wire_numbers.keys() {
+            if !ids.contains(&id.as_str()) {
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("registers[{index}].wire_numbers.{id}"),
+                            format!("protocol `{id}` is not one of the drive's protocols"),
+                        )
+                        .hint(format!(
+                            "name an id under `protocols:` ({})",
+                            ids.join(", ")
+                        )),
+                );
+            }
         }
     }
     for (index, register) in model.registers.iter().enumerate() {

@@ -333,9 +333,8 @@ impl VirtualDrive {
         while word < words {
             let at =
                 u16::try_from(usize::from(wire) + word).map_err(|_| Refusal::UnknownRegister)?;
-            let info = command
-                .address_map
-                .from_wire(at)
+            let info = protocol
+                .from_wire(command, at)
                 .and_then(|number| self.drive.register_at(command.space, number))
                 .filter(|info| info.data_type != DataType::Text)
                 .ok_or(Refusal::UnknownRegister)?;

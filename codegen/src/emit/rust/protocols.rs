@@ -249,6 +249,17 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
     let gap = Literal::f32_unsuffixed(protocol.frame_gap_chars);
     let max_words = int_literal(protocol.max_words_per_read);
     let timing = link_timing_tokens(&protocol.timing);
+    let number = |n: Option<u16>| match n {
+        Some(n) => {
+            let n = int_literal(n);
+            quote!(Some(#n))
+        }
+        None => quote!(None),
+    };
+    let wire_numbers = protocol.wire_numbers.iter().map(|w| {
+        let (register, read, write) = (int_literal(w.register), number(w.read), number(w.write));
+        quote!(::vfd_runtime::protocol::WireNumber { register: #register, read: #read, write: #write })
+    });
     let broadcast = match &protocol.broadcast {
         Some(rule) => {
             let codes = rule.commands.iter().map(|c| int_literal(*c));
@@ -317,6 +328,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             block: #block,
             timing: #timing,
             broadcast: #broadcast,
+            wire_numbers: Cow::Borrowed(&[#(#wire_numbers),*]),
         };
     }
 }
