@@ -424,6 +424,18 @@ fn hex_pairs_to_bytes(
     Ok(frame)
 }
 
+/// Whether the bytes before a hex-pairs frame's closing literal are fewer than its parts
+/// need: decoding them alone, without the closing bytes, runs out.
+fn short(layout: &FrameLayout, bytes: &[u8; MAX_HEX_FRAME], frame: &HexFrame) -> bool {
+    let Some(tail) = frame.tail_at else {
+        return false;
+    };
+    matches!(
+        decode_binary(layout, &bytes[..tail]),
+        Ok(Progress::Incomplete { .. })
+    )
+}
+
 /// Where a [`Encoding::HexPairs`] frame's parts lie, in bytes before hex digits.
 struct HexFrame {
     /// Bytes recovered.
@@ -798,6 +810,17 @@ fn decode_hex_pairs(layout: &FrameLayout, wire: &[u8]) -> Result<Progress, Decod
             len: frame.wire_offset(len),
         }),
         Ok(incomplete) => Ok(incomplete),
+        // The closing literal came before the parts were complete: the frame is short,
+        // whatever the parts made of the closing bytes.
+        Err(_)
+            if frame.tail_at.is_some_and(|tail| frame.len > tail)
+                && short(layout, &bytes, &frame) =>
+        {
+            Err(DecodeError::Truncated {
+                layout: layout.name.clone(),
+                len: frame.wire_offset(frame.len),
+            })
+        }
         Err(error) => Err(error.at_offset(|offset| frame.wire_offset(offset))),
     }
 }
@@ -1803,6 +1826,9 @@ mod tests {
             (error.kind(), error.offset()),
             (crate::DecodeErrorKind::UnexpectedByte, 3)
         );
+        // CR LF before the parts are complete: a short frame, not a wrong LRC.
+        let error = decode(&layout, b":010600C31388\r\n").unwrap_err();
+        assert_eq!(error.kind(), crate::DecodeErrorKind::Truncated, "{error}");
         // A wrong LRC is reported at its digits: byte 6 of the bytes, character 13.
         let error = decode(&layout, b":010600C313889C\r\n").unwrap_err();
         assert_eq!(
