@@ -329,12 +329,23 @@ pub enum EncodeError {
         max: u16,
     },
     /// The register number does not fit the protocol's wire numbering.
-    #[error("protocol {protocol}: register {register} has no wire address (its address map leaves 0..=65535)")]
+    #[error("protocol {protocol}: register {register:04X}h has no wire address (its address map leaves 0000h-FFFFh)")]
     RegisterOutOfRange {
         /// Protocol id.
         protocol: Text,
         /// Register number.
         register: u16,
+    },
+    /// The drive file gives the register its own numbers in this protocol, but none for
+    /// this direction (`registers[].wire_numbers`): it cannot be read (or written) over it.
+    #[error("register {register:04X}h cannot be {} over protocol {protocol}: the drive's description gives it no number there for that (wire_numbers); use another of the drive's protocols", if *writing { "written" } else { "read" })]
+    NotInProtocol {
+        /// Protocol id.
+        protocol: Text,
+        /// Register number.
+        register: u16,
+        /// A write was asked for (else a read).
+        writing: bool,
     },
     /// The protocol needs a station address and none was given.
     #[error("protocol {protocol} needs a station address")]

@@ -804,9 +804,22 @@ impl Protocol {
         } else {
             self.to_wire(command, request.register)
         };
-        let wire = wire.ok_or(EncodeError::RegisterOutOfRange {
-            protocol: self.id.clone(),
-            register: request.register,
+        let own = self
+            .wire_numbers
+            .iter()
+            .any(|w| w.register == request.register);
+        let wire = wire.ok_or_else(|| match own {
+            // The drive file gives the register its own numbers here, but none for this
+            // direction (a Modbus-only monitor over the Eaton protocol).
+            true if !request.wire_register => EncodeError::NotInProtocol {
+                protocol: self.id.clone(),
+                register: request.register,
+                writing: command.kind.is_write(),
+            },
+            _ => EncodeError::RegisterOutOfRange {
+                protocol: self.id.clone(),
+                register: request.register,
+            },
         })?;
         if !request.wire_register && !command.serves_register(request.register) {
             return Err(EncodeError::RegisterNotServed {

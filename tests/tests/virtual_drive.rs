@@ -594,7 +594,14 @@ mod dv1_drive {
         let mut master = sim.master(&dv1::protocols::EATON);
         let error = master.read::<DcBusVoltage>().unwrap_err();
         assert!(
-            matches!(error.kind, TransactionErrorKind::Encode(_)),
+            matches!(
+                error.kind,
+                TransactionErrorKind::Encode(vfd_runtime::EncodeError::NotInProtocol {
+                    register: 0x1019,
+                    writing: false,
+                    ..
+                })
+            ),
             "{error}"
         );
         assert_eq!(sim.lock().requests(), 0, "nothing was sent");
