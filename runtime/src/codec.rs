@@ -363,12 +363,7 @@ fn encode_hex_pairs(
 const HEX_DIGITS: &[u8; 16] = b"0123456789ABCDEF";
 
 fn hex_value(digit: u8) -> Option<u8> {
-    match digit {
-        b'0'..=b'9' => Some(digit - b'0'),
-        b'A'..=b'F' => Some(digit - b'A' + 10),
-        b'a'..=b'f' => Some(digit - b'a' + 10),
-        _ => None,
-    }
+    char::from(digit).to_digit(16).map(|value| value as u8)
 }
 
 /// The bytes a [`Encoding::HexPairs`] frame carries, from its wire form: the verbatim head,

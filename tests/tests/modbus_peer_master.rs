@@ -311,6 +311,13 @@ fn check_dv1(client: &str, framing: &str) {
             dv1::protocols::MODBUS.protocol(),
         ),
     };
+    // Distinct values in the monitor block, so the block read shows each in its place.
+    let block = [
+        "H1019", "H101A", "H101B", "H101C", "H101D", "H101E", "H101F", "H1020",
+    ];
+    for (value, code) in (101u32..).zip(block) {
+        assert!(sim.lock().set_raw(code, value), "{code}");
+    }
     let Some(answers) = run_framed(client, sim, protocol, framing, dv1_plan()) else {
         return;
     };
@@ -331,7 +338,11 @@ fn check_dv1(client: &str, framing: &str) {
         &[0, 1, 0, 1].map(serde_json::Value::from),
         "{client} {framing}"
     );
-    assert_eq!(ok(5).len(), 8, "{client} {framing}");
+    assert_eq!(
+        ok(5),
+        &(101..=108).map(serde_json::Value::from).collect::<Vec<_>>(),
+        "{client} {framing}: 1019h-1020h in one read"
+    );
     assert_eq!(
         answers[6]["exception"], 2,
         "{client} {framing}: {}",
