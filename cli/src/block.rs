@@ -105,7 +105,17 @@ pub fn block(args: &BlockArgs<'_>) -> Result<(), Failure> {
         let info = target.and_then(|r| drive.register_at(Space::Parameter, r));
         let raw = match info {
             Some(info) => values::parse(info, text).map_err(Failure::new)?,
-            None => parse_word(text)?,
+            None => parse_word(text).map_err(|failure| {
+                let selector = spec
+                    .write
+                    .get(position)
+                    .and_then(|s| drive.register_at(Space::Parameter, s.register))
+                    .map_or_else(|| "its selector".to_owned(), |s| s.code.to_string());
+                failure.hint(format!(
+                    "write word {} goes to no register ({selector} selects none here), so only a raw word (C400h, 0xC400, decimal) is taken; select a register with {selector} (it takes effect at the drive's reset) or give --set {selector}=N for a drive set so",
+                    position + 1
+                ))
+            })?,
         };
         words.push(
             u16::try_from(raw)
