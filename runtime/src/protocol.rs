@@ -89,6 +89,155 @@ pub struct CommandSpec {
     /// The data is a percentage of another register's value rather than a value in the
     /// addressed register's own unit.
     pub percent_of: Option<PercentOf>,
+    /// What the master sends after this command's reply (`None`: nothing): an
+    /// acknowledgement when the reply was sound, a request to send it again when it was not
+    /// (the Eaton protocol's C and F after a read's E).
+    pub follow_up: Option<FollowUp>,
+}
+
+/// The master's answer to a reply (`follow_up:` of a protocol file's command): `ok` after a
+/// sound reply (the drive does nothing more), `again` after a garbled one (the drive sends
+/// the same reply again). Neither is answered by a new frame of its own.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct FollowUp {
+    /// Sent after a sound reply.
+    pub ok: FrameLayout,
+    /// Sent after a garbled reply, to have it sent again.
+    pub again: FrameLayout,
+}
+
+impl FollowUp {
+    /// The layout for a sound (`true`) or a garbled (`false`) reply.
+    pub fn layout(&self, sound: bool) -> &FrameLayout {
+        if sound {
+            &self.ok
+        } else {
+            &self.again
+        }
+    }
+
+    /// Encodes the follow-up for station `address` into `out`; returns its length. A field
+    /// of role `command` carries the one code its layout allows (the NAK character).
+    pub fn encode(
+        &self,
+        sound: bool,
+        address: Option<u8>,
+        out: &mut [u8],
+    ) -> Result<usize, EncodeError> {
+        let layout = self.layout(sound);
+        let mut values = FrameValues::default();
+        let roles = Roles {
+            address: address.map(u32::from),
+            command: layout.allowed_commands().first().copied(),
+            ..Roles::default()
+        };
+        values.fill(layout, &roles);
+        codec::encode(layout, &values, out)
+    }
+
+    /// Whether `bytes` begin with this follow-up: `true` for the acknowledgement, `false`
+    /// for the request to send again, with the station it names and its length.
+    pub fn recognise(&self, bytes: &[u8]) -> Option<(bool, Option<u8>, usize)> {
+        [true, false].into_iter().find_map(|sound| {
+            let layout = self.layout(sound);
+            match codec::decode(layout, bytes) {
+                Ok(DecodeStatus::Complete { values, len }) => Some((
+                    sound,
+                    values
+                        .get(layout, Role::Address)
+                        .and_then(|a| u8::try_from(a).ok()),
+                    len,
+                )),
+                _ => None,
+            }
+        })
+    }
+}
+
+/// Parameters reached through pages (`pages:` of a drive's protocol entry): a request
+/// carries a parameter's offset within its page, and the page is chosen beforehand by
+/// writing its number to a page register, which the drive keeps until it is changed or the
+/// drive is reset. The DV1's Eaton protocol: P mode pages 0-4 of 100 parameters each, group
+/// mode pages 100 + group.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct Paging {
+    /// The page register's number in read requests (`None`: it cannot be read back).
+    pub select_read: Option<u16>,
+    /// The page register's number in write requests.
+    pub select_write: u16,
+    /// The ranges of register numbers laid out on pages.
+    pub ranges: List<PageRange>,
+    /// Registers whose write makes the drive forget its page (a reset): the master selects
+    /// the page again before the next paged access.
+    pub forgotten_after: List<u16>,
+    /// The page a drive is on after power-on or a reset (the virtual drive's start).
+    pub initial: u16,
+}
+
+/// Register numbers `first..=last`, laid out `size` to a page from page `first_page` on:
+/// register `first + k` is at offset `k % size` of page `first_page + k / size`.
+#[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct PageRange {
+    /// Lowest register number of the range.
+    pub first: u16,
+    /// Highest register number of the range.
+    pub last: u16,
+    /// Registers per page.
+    pub size: u16,
+    /// The page of `first`.
+    pub first_page: u16,
+    /// Pages the range skips: no register of the range lies on them (the DV1 has no pages
+    /// for parameter groups 09, 12 and 14).
+    pub missing: List<u16>,
+}
+
+impl PageRange {
+    fn locate(&self, number: u16) -> Option<(u16, u16)> {
+        if number < self.first || number > self.last || self.size == 0 {
+            return None;
+        }
+        let k = number - self.first;
+        let page = self.first_page.checked_add(k / self.size)?;
+        (!self.missing.contains(&page)).then_some((page, k % self.size))
+    }
+
+    fn register(&self, page: u16, offset: u16) -> Option<u16> {
+        if offset >= self.size || page < self.first_page || self.missing.contains(&page) {
+            return None;
+        }
+        let k = u32::from(page - self.first_page) * u32::from(self.size) + u32::from(offset);
+        let number = u32::from(self.first) + k;
+        (number <= u32::from(self.last)).then_some(number as u16)
+    }
+}
+
+impl Paging {
+    /// The page and the offset within it of register `number`; `None`: it is not paged.
+    pub fn locate(&self, number: u16) -> Option<(u16, u16)> {
+        self.ranges.iter().find_map(|range| range.locate(number))
+    }
+
+    /// The register at `offset` of `page`, if one lies there.
+    pub fn register(&self, page: u16, offset: u16) -> Option<u16> {
+        self.ranges
+            .iter()
+            .find_map(|range| range.register(page, offset))
+    }
+
+    /// Whether `page` exists (some range lays registers on it).
+    pub fn has_page(&self, page: u16) -> bool {
+        self.ranges
+            .iter()
+            .any(|range| range.size > 0 && range.register(page, 0).is_some())
+    }
+
+    /// The most registers one page holds: the offsets a request can carry are below it.
+    pub fn page_size(&self) -> u16 {
+        self.ranges.iter().map(|r| r.size).max().unwrap_or(0)
+    }
 }
 
 /// A command's data as a percentage of another register's value (the Toshiba S command
@@ -153,7 +302,16 @@ impl CommandSpec {
             lowercase_means_sender_tripped: false,
             registers: Cow::Borrowed(&[]),
             percent_of: None,
+            follow_up: None,
         }
+    }
+
+    /// The master answers its replies with `ok` (sound) or `again` (garbled): see
+    /// [`CommandSpec::follow_up`].
+    pub const fn with_follow_up(mut self, ok: FrameLayout, again: FrameLayout) -> CommandSpec {
+        // As in `with_data_types`: nothing to drop in generated code.
+        core::mem::forget(self.follow_up.replace(FollowUp { ok, again }));
+        self
     }
 
     /// Never answered (see [`CommandSpec::no_reply`]).
@@ -398,6 +556,10 @@ pub struct Protocol {
     /// Eaton command codes of the DV1's 10xxh registers); the others go through their
     /// command's address map ([`Protocol::to_wire`]).
     pub wire_numbers: List<WireNumber>,
+    /// Parameters reached through pages on this protocol (`None`: no pages): a request
+    /// carries a paged register's offset in its page, after the page is selected
+    /// ([`Protocol::to_wire`], [`crate::transaction::Master::transact`]).
+    pub paging: Option<Paging>,
 }
 
 /// A register's own numbers on the wire in one protocol, for reading and for writing.
@@ -416,17 +578,32 @@ impl Protocol {
     /// The number `command` carries on the wire for register `number`: the register's own
     /// number in this protocol ([`Protocol::wire_numbers`]) for the command's direction,
     /// else the command's address map.
+    /// A paged register ([`Protocol::paging`]) carries its offset in its page through the
+    /// address map: the frame is right only once its page is selected.
     pub fn to_wire(&self, command: &CommandSpec, number: u16) -> Option<u16> {
         match self.wire_numbers.iter().find(|w| w.register == number) {
             Some(own) if command.kind.is_write() => own.write,
             Some(own) => own.read,
-            None => command.address_map.to_wire(number),
+            None => command
+                .address_map
+                .to_wire(self.page_of(number).map_or(number, |(_, offset)| offset)),
         }
+    }
+
+    /// The page and offset of register `number` on this protocol, if it is paged (a
+    /// register with its own wire numbers never is).
+    pub fn page_of(&self, number: u16) -> Option<(u16, u16)> {
+        let paging = self.paging.as_ref()?;
+        if self.wire_numbers.iter().any(|w| w.register == number) {
+            return None;
+        }
+        paging.locate(number)
     }
 
     /// The register a number on the wire stands for in a request of `command`: the
     /// register whose own number it is for that direction, else the command's address map
-    /// undone.
+    /// undone (`None` on a protocol with pages, whose other numbers are page offsets:
+    /// see [`Protocol::paging`]).
     pub fn from_wire(&self, command: &CommandSpec, wire: u16) -> Option<u16> {
         let own = self.wire_numbers.iter().find(|w| {
             if command.kind.is_write() {
@@ -437,6 +614,9 @@ impl Protocol {
         });
         match own {
             Some(own) => Some(own.register),
+            // On a protocol with pages, any other number is an offset in a page (or the
+            // page register): the frame alone does not say which register it is.
+            None if self.paging.is_some() => None,
             None => command.address_map.from_wire(wire),
         }
     }

@@ -193,6 +193,10 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     /// The port the master talks to, for drives with several: requests for a register
     /// that exists once per port go to this port's copy.
     port: Option<crate::drive::Port>,
+    /// The page each station is known to be on, on a protocol with pages
+    /// ([`Protocol::paging`]): set when a page switch is acknowledged, dropped after any
+    /// failed exchange with the station, a write that resets it, or a broadcast.
+    pages: Vec<(u8, u16)>,
 }
 
 impl<T: Transport> Master<T, AnyDrive> {
@@ -248,6 +252,42 @@ impl<T: Transport, D: 'static> Master<T, D> {
             reply_wait: 0,
             broadcast_to: None,
             port: None,
+            pages: Vec::new(),
+        }
+    }
+
+    /// The transport it talks through.
+    pub fn transport(&self) -> &T {
+        &self.transport
+    }
+
+    /// The transport it talks through, to inspect or adjust between exchanges.
+    pub fn transport_mut(&mut self) -> &mut T {
+        &mut self.transport
+    }
+
+    /// The page the master knows station `address` to be on (`None`: unknown, so the next
+    /// paged access selects its page first). See [`Protocol::paging`].
+    pub fn known_page(&self, address: Option<u8>) -> Option<u16> {
+        let station = address.unwrap_or(0);
+        self.pages
+            .iter()
+            .find(|(s, _)| *s == station)
+            .map(|(_, page)| *page)
+    }
+
+    /// Forgets the pages of every station: call it after reconnecting to a line whose
+    /// drives may have been reset or switched by another master (a new master starts
+    /// knowing none).
+    pub fn forget_pages(&mut self) {
+        self.pages.clear();
+    }
+
+    fn remember_page(&mut self, page: Option<u16>) {
+        let station = self.address.unwrap_or(0);
+        self.pages.retain(|(s, _)| *s != station);
+        if let Some(page) = page {
+            self.pages.push((station, page));
         }
     }
 
@@ -850,22 +890,78 @@ impl<T: Transport, D: 'static> Master<T, D> {
         };
         let protocol = self.protocol;
         let main = self.main_request(request);
+        let page = self.page_step(request);
         for step in protocol.pre_steps.iter() {
             if let Some(step) = step_request(step, request) {
                 self.check_encodes(&step, &step)?;
             }
         }
+        if let Some((step, _)) = &page {
+            self.check_encodes(step, request)?;
+        }
         // Errors of the main request name the caller's request, not the adjusted one.
         self.check_encodes(&main, request)?;
-        for step in protocol.pre_steps.iter() {
+        let outcome = self.run_steps(request, &main, page);
+        if self.broadcast_to.is_some() {
+            // Which drives took a broadcast page switch is not known.
+            self.pages.clear();
+        } else if outcome.is_err() || self.resets_page(request) {
+            // A drive that refused, was not heard or was reset may be on any page now.
+            self.remember_page(None);
+        }
+        outcome
+    }
+
+    /// The exchanges of [`Master::transact`] once every frame is known to encode: the
+    /// protocol's steps, the page switch, then the request itself.
+    fn run_steps(
+        &mut self,
+        request: &Request,
+        main: &Request,
+        page: Option<(Request, u16)>,
+    ) -> Result<Answer, TransactionError> {
+        for step in self.protocol.pre_steps.iter() {
             if let Some(step) = step_request(step, request) {
                 self.exchange(&step)?;
             }
         }
-        self.exchange(&main).map_err(|error| TransactionError {
+        if let Some((step, number)) = page {
+            self.exchange(&step)?;
+            self.remember_page(Some(number));
+        }
+        self.exchange(main).map_err(|error| TransactionError {
             request: Some(*request),
             ..error
         })
+    }
+
+    /// The page switch `request` needs first, with the page it selects: `None` when the
+    /// register is not paged on this protocol, or its station is known to be on its page.
+    fn page_step(&self, request: &Request) -> Option<(Request, u16)> {
+        let paging = self.protocol.paging.as_ref()?;
+        if request.wire_register || request.space != Space::Parameter {
+            return None;
+        }
+        let (page, _) = self.protocol.page_of(request.register)?;
+        if self.broadcast_to.is_none() && self.known_page(self.address) == Some(page) {
+            return None;
+        }
+        let step = Request {
+            wire_register: true,
+            ..Request::raw(CommandKind::WriteRam, paging.select_write, u32::from(page))
+        };
+        Some((step, page))
+    }
+
+    /// Whether `request` resets the drive's page ([`crate::protocol::Paging::forgotten_after`]).
+    fn resets_page(&self, request: &Request) -> bool {
+        request.kind.is_write()
+            && !request.wire_register
+            && self
+                .protocol
+                .paging
+                .as_ref()
+                .is_some_and(|p| p.forgotten_after.contains(&request.register))
     }
 
     /// `request` as sent once the protocol's steps have selected what it leaves out.
@@ -918,12 +1014,71 @@ impl<T: Transport, D: 'static> Master<T, D> {
         } else {
             0
         };
+        let follow_up = self
+            .protocol
+            .command_for_request(request)
+            .ok()
+            .and_then(|command| command.follow_up.as_ref());
+        let mut ask_again = false;
         loop {
-            match self.exchange_once(request) {
-                Err(error) if retries > 0 && error.kind.worth_repeating() => retries -= 1,
+            match self.exchange_once(request, ask_again) {
+                Err(error) if retries > 0 && error.kind.worth_repeating() => {
+                    retries -= 1;
+                    // A garbled reply to a command with a follow-up is asked for again
+                    // (the drive repeats it); anything else is sent again.
+                    ask_again = follow_up.is_some() && error.kind.garbled_reply();
+                }
+                Ok(answer) => {
+                    if let Some(follow_up) = follow_up {
+                        self.send_follow_up(follow_up, true)
+                            .map_err(|kind| TransactionError::new(Some(request), kind))?;
+                    }
+                    return Ok(answer);
+                }
                 outcome => return outcome,
             }
         }
+    }
+
+    /// Sends the master's answer to a reply ([`crate::protocol::FollowUp`]): nothing comes
+    /// back, so it is done once the frame is on the line and the gap kept.
+    fn send_follow_up(
+        &mut self,
+        follow_up: &crate::protocol::FollowUp,
+        sound: bool,
+    ) -> Result<(), TransactionErrorKind> {
+        let len = follow_up
+            .encode(sound, self.address, &mut self.request)
+            .map_err(TransactionErrorKind::Encode)?;
+        self.keep_frame_gap();
+        let sent = Instant::now();
+        self.transport
+            .send(&self.request[..len])
+            .map_err(TransactionErrorKind::Io)?;
+        self.wait_on_line(sent, len);
+        Ok(())
+    }
+
+    /// Sleeps until the frame gap since the last activity on the line has passed.
+    fn keep_frame_gap(&self) {
+        if let Some(last) = self.last_activity {
+            let gap = self.frame_gap();
+            let since = last.elapsed();
+            if since < gap {
+                std::thread::sleep(gap - since);
+            }
+        }
+    }
+
+    /// Waits until a frame of `len` bytes sent at `sent` is on the line and the frame gap
+    /// after it has passed.
+    fn wait_on_line(&mut self, sent: Instant, len: usize) {
+        let done = sent + self.settings.wire_time(len) + self.frame_gap();
+        let now = Instant::now();
+        if now < done {
+            std::thread::sleep(done - now);
+        }
+        self.last_activity = Some(Instant::now());
     }
 
     /// Drops what arrived before the request: what the transport can clear, then whatever
@@ -954,14 +1109,23 @@ impl<T: Transport, D: 'static> Master<T, D> {
         Ok(())
     }
 
-    /// One request frame, one reply frame.
-    fn exchange_once(&mut self, request: &Request) -> Result<Answer, TransactionError> {
+    /// One request frame, one reply frame. `ask_again`: in place of the request, the
+    /// command's follow-up asking for the last reply again.
+    fn exchange_once(
+        &mut self,
+        request: &Request,
+        ask_again: bool,
+    ) -> Result<Answer, TransactionError> {
         let protocol = self.protocol;
         let fail = |kind| TransactionError::new(Some(request), kind);
         let io = |error| fail(TransactionErrorKind::Io(error));
         let cannot_send = |error| fail(TransactionErrorKind::Encode(error));
         let command = protocol.command_for_request(request).map_err(cannot_send)?;
-        let len = if let Some((words, read_count)) = self.block_transfer {
+        let len = if let (true, Some(follow_up)) = (ask_again, &command.follow_up) {
+            follow_up
+                .encode(false, self.address, &mut self.request)
+                .map_err(cannot_send)?
+        } else if let Some((words, read_count)) = self.block_transfer {
             // A block transfer: the words to write and the count of words asked back.
             let (layout, mut values) = protocol
                 .request_values(request, self.address)
@@ -1018,24 +1182,13 @@ impl<T: Transport, D: 'static> Master<T, D> {
                     .then_some(request.data_type.size())
             },
         };
-        if let Some(last) = self.last_activity {
-            let gap = self.frame_gap();
-            let since = last.elapsed();
-            if since < gap {
-                std::thread::sleep(gap - since);
-            }
-        }
+        self.keep_frame_gap();
         self.discard_stale_input().map_err(io)?;
         let sent = Instant::now();
         self.transport.send(&self.request[..len]).map_err(io)?;
         if unanswered(command, request) {
             // Nothing comes back: done once the frame is on the line and the gap kept.
-            let done = sent + self.settings.wire_time(len) + self.frame_gap();
-            let now = Instant::now();
-            if now < done {
-                std::thread::sleep(done - now);
-            }
-            self.last_activity = Some(Instant::now());
+            self.wait_on_line(sent, len);
             self.reply_len = 0;
             return Ok(Answer {
                 data: None,
@@ -1503,6 +1656,16 @@ pub enum TransactionErrorKind {
 }
 
 impl TransactionErrorKind {
+    /// Whether something came back that was not a sound frame: a reply that does not
+    /// decode, or bytes that never made one before the timeout.
+    pub fn garbled_reply(&self) -> bool {
+        match self {
+            TransactionErrorKind::Decode(_) => true,
+            TransactionErrorKind::Timeout { received_len, .. } => *received_len > 0,
+            _ => false,
+        }
+    }
+
     /// Whether sending the request again may succeed: no reply in time, a garbled reply or
     /// a reply to something else. A refusal by the drive, a request that cannot be built
     /// and a failing transport would fail again.

@@ -101,7 +101,7 @@ fn run_line(subject: Subject, seed: u64, stop: &AtomicBool) -> Tally {
     let own = sim.lock().address();
     let (low, high) = subject.protocol.address_range;
     let other = if own < high { own + 1 } else { low.max(1) };
-    let (line, handle) = CountingLine::new(line);
+    let (line, handle) = CountingLine::new(line, subject.protocol);
     let mut master = Master::for_protocol(line, subject.protocol, serial.default, serial.timing)
         .with_address(Some(own))
         .with_retries(RETRIES);

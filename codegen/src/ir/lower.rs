@@ -499,7 +499,11 @@ fn protocol_files(protocols: &[LoweredProtocol]) -> Vec<ProtocolFileIr> {
         let used = runtime
             .commands
             .iter()
-            .flat_map(|c| [&c.request, &c.reply])
+            .flat_map(|c| {
+                [&c.request, &c.reply]
+                    .into_iter()
+                    .chain(c.follow_up.iter().flat_map(|f| [&f.ok, &f.again]))
+            })
             .chain(runtime.error_reply.iter());
         for layout in used {
             if !layouts.iter().any(|l| l.name == layout.name) {
@@ -577,6 +581,10 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
                         p.received_by.iter().map(|id| id.to_string()).collect(),
                     )
                 }),
+                follow_up: c
+                    .follow_up
+                    .as_ref()
+                    .map(|f| (f.ok.name.to_string(), f.again.name.to_string())),
             })
             .collect(),
         error_reply: runtime.error_reply.as_ref().map(|l| l.name.to_string()),
@@ -606,6 +614,18 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         timing: runtime.timing.clone(),
         broadcast: runtime.broadcast.clone(),
         wire_numbers: runtime.wire_numbers.to_vec(),
+        paging: runtime.paging.clone(),
+        pages_doc: model
+            .protocols
+            .iter()
+            .find(|p| p.id == protocol.id)
+            .and_then(|p| p.pages.as_ref())
+            .map(|pages| PagesDocIr {
+                source: pages.source.clone(),
+                range_names: pages.ranges.iter().map(|r| r.name.clone()).collect(),
+                assumed: pages.assumed.clone(),
+                note: pages.note.trim().to_owned(),
+            }),
         error_table: if let Some(table) = own_table {
             ErrorTableIr::Protocol(ErrorCodesIr {
                 source: table.source.clone(),

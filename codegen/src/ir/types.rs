@@ -406,6 +406,13 @@ pub struct ProtocolIr {
     /// Registers with their own numbers on the wire in this protocol.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub wire_numbers: Vec<vfd_runtime::protocol::WireNumber>,
+    /// Parameters reached through pages on this protocol.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paging: Option<vfd_runtime::protocol::Paging>,
+    /// What the description says of its pages for people: the manual section, the name of
+    /// each range, what is assumed and the note.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pages_doc: Option<PagesDocIr>,
     /// The table its error replies are named from.
     pub error_table: ErrorTableIr,
 }
@@ -458,6 +465,25 @@ pub struct CommandIr {
     /// receiving drive applies the first of these conversions that holds.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub percent_of: Option<(String, f64, Vec<String>)>,
+    /// The master's follow-up to its replies: the layouts (by name) sent after a sound and
+    /// after a garbled reply.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub follow_up: Option<(String, String)>,
+}
+
+/// The people's side of a protocol's pages (`protocols[].pages`).
+#[derive(Debug, Clone, Serialize)]
+pub struct PagesDocIr {
+    /// Manual section.
+    pub source: String,
+    /// Each range's name, in the order of the ranges.
+    pub range_names: Vec<String>,
+    /// Keys the description assumes (`initial`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub assumed: Vec<String>,
+    /// Note.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub note: String,
 }
 
 /// The manual's error codes.

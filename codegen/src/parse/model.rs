@@ -668,6 +668,55 @@ pub struct ProtocolRef {
     /// part's `broadcast:` encodings in the protocol file) and which station answers. Left
     /// out: the drive takes no broadcasts over this protocol.
     pub broadcast: Option<BroadcastRuleModel>,
+    /// Parameters this protocol reaches through pages: a request carries a parameter's
+    /// offset in its page, after the page register has been set (DV1 Eaton protocol: HFF).
+    pub pages: Option<PagesModel>,
+}
+
+/// A protocol's parameter pages (`protocols[].pages`): which register numbers lie on which
+/// page, and the register that switches pages.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PagesModel {
+    /// The manual section describing the pages.
+    pub source: String,
+    /// The page register's numbers on the wire: `{ read: 0x7F, write: 0xFF }` (`read` may
+    /// be left out when it cannot be read back).
+    pub select: WireNumberModel,
+    /// The ranges of register numbers laid out on pages.
+    pub ranges: Vec<PageRangeModel>,
+    /// Codes or ids of registers whose write resets the drive's page (an inverter reset):
+    /// the master selects the page again before the next paged access.
+    #[serde(default)]
+    pub forgotten_after: Vec<String>,
+    /// The page a drive is on after power-on or a reset (what the virtual drive starts on);
+    /// default 0.
+    #[serde(default)]
+    pub initial: u16,
+    /// What the manual does not say and the description assumes (`[initial]`).
+    #[serde(default)]
+    pub assumed: Vec<String>,
+    /// Notes for people; nothing is generated from them.
+    #[serde(default)]
+    pub note: String,
+}
+
+/// Register numbers `registers[0]..=registers[1]`, laid out `size` to a page from
+/// `first_page` on (`protocols[].pages.ranges[]`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PageRangeModel {
+    /// What the range is (`P mode`, `group mode`).
+    pub name: String,
+    /// The lowest and the highest register number of the range.
+    pub registers: [u32; 2],
+    /// Registers per page.
+    pub size: u16,
+    /// The page of the range's first register.
+    pub first_page: u16,
+    /// Pages the range skips (no register lies on them).
+    #[serde(default)]
+    pub missing_pages: Vec<u16>,
 }
 
 /// What one command of a protocol may address on this drive, and what its data means.
@@ -1727,10 +1776,24 @@ pub struct CommandModel {
     /// allows several (a Modbus exception to function 0x03 carries 0x83); left out: the one
     /// code the error layout allows.
     pub error_code: Option<CodeModel>,
+    /// What the master sends after this command's reply: `{ ok: LAYOUT, again: LAYOUT }`,
+    /// the acknowledgement of a sound reply and the request to send a garbled one again
+    /// (Eaton: C and F after a read's E). Neither is answered by a frame of its own.
+    pub follow_up: Option<FollowUpModel>,
     /// Notes for people reading the protocol file; nothing is generated from them.
     #[serde(default)]
     #[allow(dead_code)]
     pub description: String,
+}
+
+/// The master's answer to a command's reply (`commands[].follow_up`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FollowUpModel {
+    /// The layout sent after a sound reply (the drive does nothing more).
+    pub ok: String,
+    /// The layout sent after a garbled reply: the drive sends the same reply again.
+    pub again: String,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]

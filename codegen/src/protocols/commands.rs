@@ -111,7 +111,27 @@ fn lower_command(
             == Some(crate::parse::model::LowercaseMeans::SenderTripped),
         registers: Cow::Borrowed(&[]),
         percent_of: None,
+        follow_up: follow_up(command, layouts, &path, out)?,
     })
+}
+
+/// The command's `follow_up` layouts (`Some(None)`: it has none; `None`: a layout is
+/// missing, reported).
+fn follow_up(
+    command: &CommandModel,
+    layouts: &Layouts<'_>,
+    path: &str,
+    out: &mut Diagnostics,
+) -> Option<Option<vfd_runtime::protocol::FollowUp>> {
+    let Some(model) = &command.follow_up else {
+        return Some(None);
+    };
+    let ok = layouts.find(&model.ok, &format!("{path}.follow_up.ok"), out);
+    let again = layouts.find(&model.again, &format!("{path}.follow_up.again"), out);
+    Some(Some(vfd_runtime::protocol::FollowUp {
+        ok: ok?,
+        again: again?,
+    }))
 }
 
 /// The word `reply:` takes for a command that is never answered.

@@ -193,7 +193,8 @@ fn reply_delay(input: &Input<'_>, out: &mut Diagnostics) -> Option<ReplyDelay> {
     })
 }
 
-fn find_register<'a>(input: &'a Input<'_>, name: &str) -> Option<&'a RegisterModel> {
+/// The register with this code or id in the drive file.
+pub(super) fn find_register<'a>(input: &'a Input<'_>, name: &str) -> Option<&'a RegisterModel> {
     input
         .drive
         .registers

@@ -14,6 +14,7 @@ mod commands;
 mod error_codes;
 mod layouts;
 mod link;
+mod pages;
 mod parts;
 mod pre_steps;
 mod text;
@@ -130,6 +131,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     let timing = link::timing(input, out);
     let broadcast = link::broadcast(input, &commands, out);
     let wire_numbers = wire_numbers(input, out);
+    let paging = pages::paging(input, &commands, out);
     if out.items.len() > before {
         return None;
     }
@@ -157,6 +159,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         error_codes: Cow::Owned(error_codes::error_table(input)),
         block,
         wire_numbers: Cow::Owned(wire_numbers),
+        paging,
     })
 }
 

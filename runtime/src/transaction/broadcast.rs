@@ -68,6 +68,15 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 "it needs a step first (index or RAM/EEPROM selection), which cannot be broadcast",
             ));
         }
+        if !request.wire_register
+            && request.space == crate::kinds::Space::Parameter
+            && protocol.page_of(request.register).is_some()
+        {
+            // Which page each drive is on is not known, and a switch cannot be confirmed.
+            return Err(refuse(
+                "the register lies on a page, whose switch cannot be broadcast",
+            ));
+        }
         let rule = protocol
             .broadcast
             .as_ref()
@@ -92,19 +101,13 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 let own = self.address;
                 self.address = Some(station);
                 self.broadcast_to = Some(to);
-                let outcome = self.exchange_once(request);
+                let outcome = self.exchange_once(request, false);
                 self.broadcast_to = None;
                 self.address = own;
                 outcome.map(Some)
             }
             BroadcastReply::None => {
-                if let Some(last) = self.last_activity {
-                    let gap = self.frame_gap();
-                    let since = last.elapsed();
-                    if since < gap {
-                        std::thread::sleep(gap - since);
-                    }
-                }
+                self.keep_frame_gap();
                 let io =
                     |error| TransactionError::new(Some(request), TransactionErrorKind::Io(error));
                 self.discard_stale_input().map_err(io)?;

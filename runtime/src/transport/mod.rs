@@ -10,12 +10,14 @@ use std::time::{Duration, Instant};
 mod memory;
 #[cfg(all(unix, feature = "pty"))]
 mod pty;
+mod recording;
 #[cfg(feature = "serial")]
 mod serial_port;
 
 pub use memory::{memory_pair, MemoryTransport};
 #[cfg(all(unix, feature = "pty"))]
 pub use pty::{PseudoTerminal, PtyTransport};
+pub use recording::{Direction, Recording};
 #[cfg(feature = "serial")]
 pub use serial_port::SerialTransport;
 

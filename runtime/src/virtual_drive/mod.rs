@@ -21,6 +21,7 @@ mod block;
 mod faults;
 mod link;
 mod motor;
+mod pages;
 mod respond;
 mod serve;
 mod storage;
@@ -71,6 +72,11 @@ pub struct VirtualDrive {
     /// copies of the behaviour's registers act. `None`: the registers as the behaviour
     /// names them.
     port: Option<&'static str>,
+    /// The page it is on, on a protocol with pages (`None`: the protocol's initial page).
+    page: Option<u16>,
+    /// The command code and bytes of the last reply, while its master's follow-up is
+    /// awaited ([`crate::protocol::FollowUp`]).
+    awaiting_follow_up: Option<(u32, Vec<u8>)>,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -113,6 +119,8 @@ impl VirtualDrive {
             sender_tripped: false,
             garbage: false,
             port: None,
+            page: None,
+            awaiting_follow_up: None,
         };
         virtual_drive.refresh();
         virtual_drive
@@ -199,6 +207,8 @@ impl VirtualDrive {
         self.motor = Motor::default();
         self.selected_index = 0;
         self.persistent_writes = false;
+        self.page = None;
+        self.awaiting_follow_up = None;
         self.refresh();
     }
 
@@ -302,6 +312,30 @@ impl VirtualDrive {
 
     /// Answers one whole request frame (no bytes before or after it).
     pub fn respond(&mut self, protocol: &Protocol, frame: &[u8]) -> Outcome {
+        if let Some((len, again)) = self.take_follow_up(protocol, frame) {
+            if len == frame.len() {
+                return match again {
+                    Some(reply) => Outcome::Reply(reply),
+                    None => Outcome::Silent("the master's follow-up to a reply"),
+                };
+            }
+        }
+        let outcome = self.respond_to_request(protocol, frame);
+        let code = protocol
+            .decode_request_exact(frame)
+            .ok()
+            .map(|r| r.command.code);
+        if let Some(code) = code {
+            let reply = match &outcome {
+                Outcome::Reply(bytes) => Some(bytes.as_slice()),
+                Outcome::Silent(_) => None,
+            };
+            self.note_reply(protocol, code, reply);
+        }
+        outcome
+    }
+
+    fn respond_to_request(&mut self, protocol: &Protocol, frame: &[u8]) -> Outcome {
         match protocol.decode_request_exact(frame) {
             Ok(_) if self.starting_up() => {
                 self.requests += 1;
@@ -329,6 +363,19 @@ impl VirtualDrive {
             .and_then(|c| c.request.start_bytes())
             .unwrap_or(&[]);
         loop {
+            if let Some((len, again)) = self.take_follow_up(protocol, input) {
+                drop(input.drain(..len));
+                if let Some(reply) = again {
+                    // Asking for the reply again is a request of its own.
+                    self.requests += 1;
+                    if !self.noise {
+                        if let Some(transmission) = self.commit_faults(protocol, &[], reply) {
+                            sent.push(transmission);
+                        }
+                    }
+                }
+                continue;
+            }
             if !start.is_empty() {
                 match find(input, start) {
                     Some(offset) => {
@@ -387,6 +434,11 @@ impl VirtualDrive {
                         }
                         (_, outcome) => outcome,
                     };
+                    let reply = match &outcome {
+                        Outcome::Reply(bytes) => Some(bytes.as_slice()),
+                        Outcome::Silent(_) => None,
+                    };
+                    self.note_reply(protocol, frame.command.code, reply);
                     (outcome, frame.len)
                 }
                 Ok(Found::Incomplete) => break,

@@ -112,6 +112,18 @@ impl VirtualDrive {
         if let (Some(process), Some(behaviour)) = (request.process, self.behaviour()) {
             self.process_words(behaviour, process);
         }
+        let paged;
+        let request = match self.unpage(protocol, request) {
+            super::pages::Paged::Plain => request,
+            super::pages::Paged::Register(register) => {
+                paged = DecodedRequest {
+                    register: Some(register),
+                    ..*request
+                };
+                &paged
+            }
+            super::pages::Paged::Done(outcome) => return outcome,
+        };
         if request.command.no_reply {
             self.unanswered(protocol, request);
             return Outcome::Silent("the command is never answered");
@@ -377,7 +389,7 @@ impl VirtualDrive {
         self.reply_with(protocol, request, 0, block.len() as u8, block)
     }
 
-    fn reply(
+    pub(super) fn reply(
         &self,
         protocol: &Protocol,
         request: &DecodedRequest<'_>,

@@ -747,6 +747,67 @@ fn block_lines(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
     lines
 }
 
+/// One paragraph on a protocol's pages: the ranges, the page register, what resets it.
+fn pages_rule(
+    drive: &DriveIr,
+    paging: &vfd_runtime::protocol::Paging,
+    doc: &crate::ir::PagesDocIr,
+) -> String {
+    let ranges: Vec<String> = paging
+        .ranges
+        .iter()
+        .zip(&doc.range_names)
+        .map(|(range, name)| {
+            let last_page = range.first_page + (range.last - range.first) / range.size;
+            let missing = if range.missing.is_empty() {
+                String::new()
+            } else {
+                let pages: Vec<String> = range.missing.iter().map(|p| p.to_string()).collect();
+                format!(" (no page {})", pages.join(", "))
+            };
+            format!(
+                "{name}: registers {:04X}h-{:04X}h, {} to a page, pages {}-{last_page}{missing}",
+                range.first, range.last, range.size, range.first_page
+            )
+        })
+        .collect();
+    let select = match paging.select_read {
+        Some(read) => format!("read {read:02X}h, write {:02X}h", paging.select_write),
+        None => format!("write {:02X}h", paging.select_write),
+    };
+    let forgotten: Vec<String> = paging
+        .forgotten_after
+        .iter()
+        .map(|number| {
+            drive
+                .register_at(Space::Parameter, *number)
+                .map_or_else(|| format!("{number:04X}h"), |r| r.code.clone())
+        })
+        .collect();
+    let mut text = format!(
+        "Parameter pages (manual section {}): {}. A request carries a paged register's offset in its page; the master first writes the page to the page register ({select}), only when the station is not known to be on that page, and forgets the page after any error",
+        doc.source,
+        ranges.join("; ")
+    );
+    if !forgotten.is_empty() {
+        text.push_str(&format!(" and after writing {}", forgotten.join(", ")));
+    }
+    text.push_str(&format!(
+        ". A drive starts on page {}{}.",
+        paging.initial,
+        if doc.assumed.iter().any(|a| a == "initial") {
+            " (an assumption: the manual does not say)"
+        } else {
+            ""
+        }
+    ));
+    if !doc.note.is_empty() {
+        text.push(' ');
+        text.push_str(&doc.note);
+    }
+    text
+}
+
 fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolView<'a> {
     let file = drive.protocol_files.iter().find(|f| f.id == protocol.uses);
     let layout = |name: &str| file.and_then(|f| f.layouts.iter().find(|l| l.name == name));
@@ -891,6 +952,9 @@ fn link_rules(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
             ms(delay.default),
             if names.len() > 1 { ", the longer of them" } else { "" }
         ));
+    }
+    if let (Some(paging), Some(doc)) = (&protocol.paging, &protocol.pages_doc) {
+        rules.push(pages_rule(drive, paging, doc));
     }
     if let Some(rule) = &protocol.broadcast {
         let codes: Vec<String> = rule

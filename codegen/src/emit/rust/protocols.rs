@@ -204,6 +204,10 @@ fn command_tokens(command: &CommandIr, file: &Ident) -> TokenStream {
         let registers = command.registers.iter().map(|r| int_literal(*r));
         tokens.extend(quote!(.with_registers(&[#(#registers),*])));
     }
+    if let Some((ok, again)) = &command.follow_up {
+        let (ok, again) = (ident(&const_name(ok)), ident(&const_name(again)));
+        tokens.extend(quote!(.with_follow_up(#file::#ok, #file::#again)));
+    }
     if let Some((register, step, received_by)) = &command.percent_of {
         let step = Literal::f64_unsuffixed(*step);
         tokens.extend(
@@ -274,6 +278,35 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
         }
         None => quote!(None),
     };
+    let paging = match &protocol.paging {
+        Some(paging) => {
+            let read = number(paging.select_read);
+            let write = int_literal(paging.select_write);
+            let ranges = paging.ranges.iter().map(|r| {
+                let (first, last, size, first_page) = (
+                    int_literal(r.first),
+                    int_literal(r.last),
+                    int_literal(r.size),
+                    int_literal(r.first_page),
+                );
+                let missing = r.missing.iter().map(|p| int_literal(*p));
+                quote!(::vfd_runtime::protocol::PageRange {
+                    first: #first, last: #last, size: #size, first_page: #first_page,
+                    missing: Cow::Borrowed(&[#(#missing),*]),
+                })
+            });
+            let forgotten = paging.forgotten_after.iter().map(|n| int_literal(*n));
+            let initial = int_literal(paging.initial);
+            quote!(Some(::vfd_runtime::protocol::Paging {
+                select_read: #read,
+                select_write: #write,
+                ranges: Cow::Borrowed(&[#(#ranges),*]),
+                forgotten_after: Cow::Borrowed(&[#(#forgotten),*]),
+                initial: #initial,
+            }))
+        }
+        None => quote!(None),
+    };
     let block = match &protocol.block {
         Some(block) => {
             let block = block.bake();
@@ -329,6 +362,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             timing: #timing,
             broadcast: #broadcast,
             wire_numbers: Cow::Borrowed(&[#(#wire_numbers),*]),
+            paging: #paging,
         };
     }
 }
