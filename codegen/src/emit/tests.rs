@@ -3,7 +3,10 @@
 //! compile in any crate that depends on `vfd-runtime` with that feature.
 
 use crate::emit::rust::bake::{int_literal, Bake};
-use crate::ir::{DriveIr, ExampleIr, FrameIr, PrintedRejection, RegisterIr, ValueKind};
+use crate::ir::{
+    DriveIr, ExampleIr, FrameIr, PrintedRejection, RegisterIr, SequenceCallIr, SequenceIr,
+    SequenceResultIr, ValueKind,
+};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 use vfd_runtime::meaning::Direction;
@@ -17,6 +20,9 @@ pub fn golden_tests(drive: &DriveIr, drive_path: &str) -> TokenStream {
     let mut tests = Vec::new();
     for example in &drive.examples {
         tests.push(example_test(drive, &root, example));
+    }
+    for sequence in &drive.sequences {
+        tests.push(sequence_test(drive, &root, sequence));
     }
     for bitfield in &drive.bitfields {
         let ty = Ident::new(&bitfield.type_name, Span::call_site());
@@ -338,6 +344,100 @@ fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> Token
         #[test]
         fn #name() {
             #(#body)*
+        }
+    }
+}
+
+/// A sequence's test: the master makes the one call against the manual's drive frames,
+/// and sends exactly the manual's frames of its own.
+fn sequence_test(drive: &DriveIr, root: &syn::Path, sequence: &SequenceIr) -> TokenStream {
+    let name = format_ident!("sequence_{}", sequence.id);
+    let protocol_name = drive
+        .protocols
+        .iter()
+        .find(|p| p.id == sequence.protocol)
+        .map(|p| Ident::new(&p.const_name, Span::call_site()))
+        .unwrap_or_else(|| Ident::new("UNKNOWN_PROTOCOL", Span::call_site()));
+    let Some(register) = drive.register(&sequence.register) else {
+        return TokenStream::new();
+    };
+    let ty = Ident::new(&register.type_name, Span::call_site());
+    let value_ty = value_type_at(&register.value, root);
+    let steps = sequence.steps.iter().map(|step| {
+        let master = step.from == crate::parse::model::Sender::Master;
+        let bytes = bytes_tokens(&step.bytes);
+        quote!((#master, #bytes))
+    });
+    let address = match sequence.address {
+        Some(address) => {
+            let address = int_literal(address);
+            quote!(Some(#address))
+        }
+        None => quote!(None),
+    };
+    let call = match (sequence.call, &sequence.result) {
+        (SequenceCallIr::Read, SequenceResultIr::Value(value)) => {
+            let construct = construct_value(&register.value, *value, &value_ty);
+            quote! {
+                let read = master.read::<R>().expect("the manual's sequence reads");
+                assert_eq!(read.into_value(), #construct, "the value read");
+            }
+        }
+        (SequenceCallIr::Write(value), SequenceResultIr::Written) => {
+            let construct = construct_value(&register.value, value, &value_ty);
+            quote! {
+                master.write_ram::<R>(#construct).expect("the manual's sequence writes");
+            }
+        }
+        (call, result) => {
+            let request = match call {
+                SequenceCallIr::Read => quote!(::vfd_runtime::Request::read::<R>()),
+                SequenceCallIr::Write(value) => {
+                    let construct = construct_value(&register.value, value, &value_ty);
+                    quote!(::vfd_runtime::Request::write_ram::<R>(#construct).expect("in range"))
+                }
+                SequenceCallIr::WriteRaw(raw) => {
+                    let raw = int_literal(raw);
+                    quote!(::vfd_runtime::Request::for_register(CommandKind::WriteRam, R::INFO, #raw))
+                }
+            };
+            let check = match result {
+                SequenceResultIr::Error(code, _) => {
+                    let code = int_literal(*code);
+                    quote! {
+                        let error = outcome.expect_err("the drive refuses");
+                        ::vfd_runtime::testing::refused_with(&error, #code);
+                    }
+                }
+                SequenceResultIr::Value(_) | SequenceResultIr::Written => {
+                    quote!(outcome.expect("the manual's sequence succeeds");)
+                }
+            };
+            quote! {
+                let outcome = master.transact(&#request);
+                #check
+            }
+        }
+    };
+    let doc = format!(
+        " {} ({}); manual section {}.",
+        sequence.description, sequence.description_zh, sequence.source
+    );
+    quote! {
+        #[doc = #doc]
+        #[test]
+        fn #name() {
+            type R = #root::registers::#ty;
+            let script = ::vfd_runtime::testing::Script::new(&[#(#steps),*]);
+            let mut master = ::vfd_runtime::transaction::Master::new(
+                script,
+                &#root::protocols::#protocol_name,
+                #root::DRIVE.serial.default,
+                #root::DRIVE.serial.timing,
+            )
+            .with_address(#address);
+            #call
+            master.transport().assert_followed();
         }
     }
 }

@@ -222,6 +222,7 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             })
             .collect(),
         examples: lower_examples(drive, &registers),
+        sequences: lower_sequences(drive, &registers),
         warnings: model.warnings.clone(),
         registers,
         behaviour: None,
@@ -652,6 +653,68 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
             ))
         },
     }
+}
+
+/// The sequences, as the checks left them valid (one call, one result, frames that parse).
+fn lower_sequences(drive: &Context, registers: &[RegisterIr]) -> Vec<SequenceIr> {
+    drive
+        .model
+        .sequences
+        .iter()
+        .filter_map(|sequence| {
+            let call = &sequence.call;
+            let name = call.read.as_ref().or(call.write.as_ref())?;
+            let register = registers
+                .iter()
+                .find(|r| r.code == *name || r.id == *name)?;
+            let call_ir = match (&call.read, call.value, call.raw) {
+                (Some(_), _, _) => SequenceCallIr::Read,
+                (None, Some(value), _) => SequenceCallIr::Write(value),
+                (None, None, Some(raw)) => SequenceCallIr::WriteRaw(raw),
+                _ => return None,
+            };
+            let protocol = drive.protocols.iter().find(|p| p.id == sequence.protocol)?;
+            let result = &sequence.result;
+            let result = match (&result.error, result.value) {
+                (Some(id), _) => {
+                    let code = protocol
+                        .runtime
+                        .error_codes
+                        .iter()
+                        .find(|c| c.id == id.as_str())?;
+                    SequenceResultIr::Error(code.code, id.clone())
+                }
+                (None, Some(value)) => SequenceResultIr::Value(value),
+                (None, None) => SequenceResultIr::Written,
+            };
+            let steps = sequence
+                .steps
+                .iter()
+                .map(|step| {
+                    crate::frames::frame_bytes(&step.ascii, &step.hex)
+                        .ok()
+                        .map(|bytes| SequenceStepIr {
+                            from: step.from,
+                            bytes,
+                            shown: step.shown,
+                            note: step.note.clone(),
+                        })
+                })
+                .collect::<Option<Vec<_>>>()?;
+            Some(SequenceIr {
+                id: sequence.id.clone(),
+                protocol: sequence.protocol.clone(),
+                source: sequence.source.clone(),
+                description: sequence.description.trim().to_owned(),
+                description_zh: sequence.description_zh.clone(),
+                address: sequence.address,
+                register: register.id.clone(),
+                call: call_ir,
+                result,
+                steps,
+            })
+        })
+        .collect()
 }
 
 fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {

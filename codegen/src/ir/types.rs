@@ -63,6 +63,9 @@ pub struct DriveIr {
     pub manual_errata: Vec<ManualErratumIr>,
     /// Example exchanges, each frame decoded.
     pub examples: Vec<ExampleIr>,
+    /// Multi-step examples: one call and every frame on the line.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sequences: Vec<SequenceIr>,
     /// Safety warnings for the drive as a whole.
     pub warnings: Vec<WarningIr>,
     /// The behaviour model for the virtual drive, when the description declares one.
@@ -907,6 +910,69 @@ pub struct ExampleIr {
     /// The drive settings the frames assume: (register code, value in its unit).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub settings: Vec<(String, f64)>,
+}
+
+/// A multi-step example: one call of the master and every frame it puts on the line.
+#[derive(Debug, Clone, Serialize)]
+pub struct SequenceIr {
+    /// Identifier.
+    pub id: String,
+    /// Id of the protocol (within the drive).
+    pub protocol: String,
+    /// Manual section.
+    pub source: String,
+    /// The manual's words.
+    pub description: String,
+    /// The manual's Chinese words.
+    pub description_zh: String,
+    /// The station addressed.
+    pub address: Option<u8>,
+    /// Id of the register the call reads or writes.
+    pub register: String,
+    /// What the call does.
+    pub call: SequenceCallIr,
+    /// What it returns.
+    pub result: SequenceResultIr,
+    /// The frames, in order.
+    pub steps: Vec<SequenceStepIr>,
+}
+
+/// The call of a sequence.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SequenceCallIr {
+    /// A typed read.
+    Read,
+    /// A typed write of this value (RAM).
+    Write(f64),
+    /// A write of this raw word, sent as given.
+    WriteRaw(u32),
+}
+
+/// The result of a sequence's call.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SequenceResultIr {
+    /// This value read.
+    Value(f64),
+    /// The write succeeded.
+    Written,
+    /// The drive refused with this code (its id).
+    Error(u16, String),
+}
+
+/// One frame of a sequence.
+#[derive(Debug, Clone, Serialize)]
+pub struct SequenceStepIr {
+    /// Who sends it.
+    pub from: crate::parse::model::Sender,
+    /// The bytes.
+    pub bytes: Vec<u8>,
+    /// How the manual shows it.
+    pub shown: crate::parse::model::Shown,
+    /// What it is, for people.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub note: String,
 }
 
 /// One frame of an example.

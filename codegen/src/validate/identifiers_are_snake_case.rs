@@ -70,6 +70,13 @@ pub fn identifiers_are_snake_case(drive: &Context, out: &mut Diagnostics) {
             .enumerate()
             .map(|(i, e)| (format!("examples[{i}].id"), e.id.as_str())),
     );
+    ids.extend(
+        model
+            .sequences
+            .iter()
+            .enumerate()
+            .map(|(i, q)| (format!("sequences[{i}].id"), q.id.as_str())),
+    );
     for (path, id) in ids {
         // The drive id may be kebab case too (`vf-as1`): its module is `vf_as1`, its files
         // keep the id.
@@ -127,9 +134,12 @@ pub fn identifiers_are_snake_case(drive: &Context, out: &mut Diagnostics) {
 }
 
 /// Whether the identifier at `path` becomes a type or variant name (bit fields become
-/// methods, examples test functions, the drive id the module).
+/// methods, examples and sequences test functions, the drive id the module).
 fn becomes_type_name(path: &str) -> bool {
-    !(path == "drive.id" || path.starts_with("examples[") || path.contains(".fields["))
+    !(path == "drive.id"
+        || path.starts_with("examples[")
+        || path.starts_with("sequences[")
+        || path.contains(".fields["))
 }
 
 #[cfg(test)]

@@ -24,6 +24,7 @@ mod relations_resolve;
 mod replies_answer_requests;
 mod rust_names_are_unique;
 mod scales_are_positive;
+mod sequences_resolve;
 mod serial_settings_are_consistent;
 mod units_are_known;
 mod value_examples_match;
@@ -50,7 +51,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 20] = [
+    let checks: [fn(&Context, &mut Diagnostics); 21] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -71,6 +72,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         reference_scaling_resolves::reference_scaling_resolves,
         behaviour_resolves::behaviour_resolves,
         relations_resolve::relations_resolve,
+        sequences_resolve::sequences_resolve,
     ];
     for check in checks {
         check(drive, out);

@@ -28,6 +28,8 @@ pub(super) struct DriveView<'a> {
     reference_scaling: Option<ScalingView<'a>>,
     value_examples: Vec<ValueExampleView<'a>>,
     examples: Vec<ExampleView<'a>>,
+    /// The multi-step examples, each with its frames shown.
+    sequences: Vec<SequenceView<'a>>,
     /// The drive's warnings, then each register's, as sentences.
     warning_lines: Vec<WarningView>,
     /// The serial ports, when the drive has several.
@@ -275,6 +277,66 @@ struct PrintedView<'a> {
     #[serde(flatten)]
     printed: &'a PrintedIr,
     shown: String,
+}
+
+#[derive(Serialize)]
+struct SequenceView<'a> {
+    #[serde(flatten)]
+    sequence: &'a crate::ir::SequenceIr,
+    register_code: String,
+    call_display: String,
+    result_display: String,
+    steps: Vec<SequenceStepView<'a>>,
+}
+
+#[derive(Serialize)]
+struct SequenceStepView<'a> {
+    number: usize,
+    from: &'static str,
+    shown: String,
+    how: &'static str,
+    note: &'a str,
+}
+
+fn sequence_view<'a>(drive: &'a DriveIr, sequence: &'a crate::ir::SequenceIr) -> SequenceView<'a> {
+    use crate::ir::{SequenceCallIr, SequenceResultIr};
+    use crate::parse::model::{Sender, Shown};
+    let register = drive.register(&sequence.register);
+    let code = register.map_or_else(|| sequence.register.clone(), |r| r.code.clone());
+    let value = |v: f64| register.map_or_else(|| v.to_string(), |r| value_text(r, v));
+    SequenceView {
+        sequence,
+        call_display: match sequence.call {
+            SequenceCallIr::Read => format!("read {code}"),
+            SequenceCallIr::Write(v) => format!("write {} to {code}", value(v)),
+            SequenceCallIr::WriteRaw(raw) => format!("write the raw word {raw:04X}h to {code}"),
+        },
+        result_display: match &sequence.result {
+            SequenceResultIr::Value(v) => value(*v),
+            SequenceResultIr::Written => "written".to_owned(),
+            SequenceResultIr::Error(code, id) => format!("refused with {code:02X}h `{id}`"),
+        },
+        register_code: code,
+        steps: sequence
+            .steps
+            .iter()
+            .enumerate()
+            .map(|(index, step)| SequenceStepView {
+                number: index + 1,
+                from: match step.from {
+                    Sender::Master => "master",
+                    Sender::Drive => "drive",
+                },
+                shown: shown(&step.bytes),
+                how: match step.shown {
+                    Shown::Printed => "printed",
+                    Shown::Elided => "elided (略)",
+                    Shown::Derived => "not printed",
+                },
+                note: &step.note,
+            })
+            .collect(),
+    }
 }
 
 /// `` `bytes` `` for a table cell: text with `<CR>`, or hex pairs.
@@ -580,6 +642,11 @@ impl<'a> DriveView<'a> {
                         .collect::<Vec<_>>()
                         .join("; "),
                 })
+                .collect(),
+            sequences: drive
+                .sequences
+                .iter()
+                .map(|sequence| sequence_view(drive, sequence))
                 .collect(),
             examples: drive
                 .examples

@@ -1,0 +1,170 @@
+//! Check: every multi-step example (`sequences[]`) names a protocol, a register and an
+//! error code the drive has, makes one call, and each of its frames is one the protocol
+//! can carry in that direction (a request or a follow-up from the master, a reply from the
+//! drive), starting with the master's.
+
+use crate::diagnostics::Diagnostics;
+use crate::frames::frame_bytes;
+use crate::parse::model::{Sender, SequenceModel};
+use crate::validate::{ranges, Context};
+use vfd_runtime::Protocol;
+
+/// Every sequence resolves and its frames decode.
+pub fn sequences_resolve(drive: &Context, out: &mut Diagnostics) {
+    for (index, sequence) in drive.model.sequences.iter().enumerate() {
+        let base = format!("sequences[{index}]");
+        let mut error = |key: &str, message: String, hint: &str| {
+            out.push(
+                drive
+                    .source
+                    .error(&format!("{base}{key}"), message)
+                    .hint(hint.to_owned()),
+            );
+        };
+        let Some(protocol) = drive.protocols.iter().find(|p| p.id == sequence.protocol) else {
+            if !drive
+                .model
+                .protocols
+                .iter()
+                .any(|p| p.id == sequence.protocol)
+            {
+                error(
+                    ".protocol",
+                    format!("unknown protocol `{}`", sequence.protocol),
+                    "use one of the drive's protocol ids",
+                );
+            }
+            continue;
+        };
+        check_call(drive, sequence, &mut error);
+        check_result(sequence, &protocol.runtime, &mut error);
+        if sequence
+            .steps
+            .first()
+            .is_some_and(|s| s.from != Sender::Master)
+        {
+            error(
+                ".steps[0].from",
+                "the first frame is the drive's".into(),
+                "a sequence starts with the master's frame",
+            );
+        }
+        if sequence.steps.is_empty() {
+            error(
+                ".steps",
+                "a sequence without frames".into(),
+                "list every frame on the line, in order",
+            );
+        }
+        for (at, step) in sequence.steps.iter().enumerate() {
+            let key = format!(".steps[{at}]");
+            let bytes = match frame_bytes(&step.ascii, &step.hex) {
+                Ok(bytes) => bytes,
+                Err(message) => {
+                    error(&key, message, "give the frame as `ascii:` or `hex:`");
+                    continue;
+                }
+            };
+            if let Err(message) = carried(&protocol.runtime, step.from, &bytes) {
+                error(
+                    &key,
+                    message,
+                    "a master sends requests and follow-ups, a drive replies",
+                );
+            }
+        }
+    }
+}
+
+/// Whether `bytes` is a frame `from` sends in `protocol`; the decoder's reason if not.
+fn carried(protocol: &Protocol, from: Sender, bytes: &[u8]) -> Result<(), String> {
+    match from {
+        Sender::Master => {
+            let follow_up = protocol
+                .commands
+                .iter()
+                .filter_map(|c| c.follow_up.as_ref())
+                .any(|f| matches!(f.recognise(bytes), Some((_, _, len)) if len == bytes.len()));
+            if follow_up {
+                return Ok(());
+            }
+            protocol
+                .decode_request_exact(bytes)
+                .map(|_| ())
+                .map_err(|e| format!("the master's frame is not a request or follow-up: {e}"))
+        }
+        Sender::Drive => protocol
+            .decode_reply_exact(None, bytes)
+            .map(|_| ())
+            .map_err(|e| format!("the drive's frame is not a reply: {e}")),
+    }
+}
+
+/// One call: a read, or a write of one value or raw word, of a described register.
+fn check_call(
+    drive: &Context,
+    sequence: &SequenceModel,
+    error: &mut impl FnMut(&str, String, &str),
+) {
+    let call = &sequence.call;
+    let registers = ranges::RegisterIndex::new(&drive.model);
+    let (key, name) = match (&call.read, &call.write) {
+        (Some(name), None) => ("read", name),
+        (None, Some(name)) => ("write", name),
+        _ => {
+            return error(
+                ".call",
+                "a call reads or writes one register".into(),
+                "call: { read: 02-15 } or { write: 02-15, value: 50.0 }",
+            )
+        }
+    };
+    if registers.find(name).is_none() {
+        error(
+            &format!(".call.{key}"),
+            format!("no register `{name}`"),
+            "name a described register by its code or id",
+        );
+    }
+    let written = call.value.is_some() as u8 + call.raw.is_some() as u8;
+    match key {
+        "write" if written != 1 => error(
+            ".call",
+            "a write gives one `value` or one `raw` word".into(),
+            "value: in the register's unit (range checked); raw: the word as sent",
+        ),
+        "read" if written != 0 => error(
+            ".call",
+            "a read gives no value".into(),
+            "leave `value` and `raw` out of a read",
+        ),
+        _ => {}
+    }
+}
+
+/// One result, and an error code the protocol's replies carry.
+fn check_result(
+    sequence: &SequenceModel,
+    protocol: &Protocol,
+    error: &mut impl FnMut(&str, String, &str),
+) {
+    let result = &sequence.result;
+    let given = result.value.is_some() as u8 + result.written as u8 + result.error.is_some() as u8;
+    if given != 1 {
+        error(
+            ".result",
+            "a result is one `value`, `written: true` or one `error`".into(),
+            "result: { value: 60.0 }",
+        );
+    }
+    if let Some(id) = &result.error {
+        if !protocol.error_codes.iter().any(|c| c.id == id.as_str()) {
+            let known: Vec<&str> = protocol.error_codes.iter().map(|c| c.id.as_ref()).collect();
+            error(
+                ".result.error",
+                format!("no error code `{id}` in protocol `{}`", sequence.protocol),
+                &format!("one of: {}", known.join(", ")),
+            );
+        }
+    }
+}
