@@ -192,10 +192,37 @@ pub fn frame_text(
     }
 }
 
+/// The master's follow-up to a reply at the start of `bytes` (`true`: acknowledged), with
+/// the station it names and its length.
+fn follow_up_at(protocol: &Protocol, bytes: &[u8]) -> Option<(bool, Option<u8>, usize)> {
+    protocol
+        .commands
+        .iter()
+        .filter_map(|c| c.follow_up.as_ref())
+        .find_map(|f| f.recognise(bytes))
+}
+
 impl<T: Transport> Transport for Logged<T> {
     fn send(&mut self, bytes: &[u8]) -> std::io::Result<()> {
         if self.verbose {
-            let request = std::mem::take(&mut self.received);
+            let mut request = std::mem::take(&mut self.received);
+            // The master's follow-ups to earlier replies (C, F) come before its request.
+            while let Some((sound, address, len)) = follow_up_at(self.protocol, &request) {
+                let _ = writeln!(
+                    std::io::stderr(),
+                    "{:>8.3}s {:<7} {}  {}{}",
+                    self.start.elapsed().as_secs_f64(),
+                    "follow",
+                    vfd_runtime::error::hex(&request[..len]),
+                    if sound {
+                        "the master acknowledges the reply"
+                    } else {
+                        "the master asks for the reply again"
+                    },
+                    address.map_or_else(String::new, |a| format!(", station {a}")),
+                );
+                request.drain(..len);
+            }
             if !request.is_empty() {
                 self.log(Direction::Request, &request);
             }

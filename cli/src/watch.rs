@@ -44,11 +44,16 @@ pub fn print_value(info: &'static RegisterInfo, value: &Value) {
         (None, Some(raw)) => values::short(info, raw),
         (None, None) => "(no data)".to_owned(),
     };
+    // The Chinese name in brackets, where the manual gives one.
+    let zh = if info.name_zh.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", info.name_zh)
+    };
     say!(
-        "{:<7} {} ({}) = {shown}{}",
+        "{:<7} {}{zh} = {shown}{}",
         info.code,
         info.name,
-        info.name_zh,
         if value.tripped {
             "  [drive tripped]"
         } else {
