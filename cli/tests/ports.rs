@@ -155,3 +155,15 @@ fn dv1_shows_and_takes_99999_by_number_or_name() {
     let beyond = sim.vfd("dv1", "modbus", &["write", "07-09", "1000"]);
     assert!(!beyond.status.success(), "{}", text(&beyond));
 }
+
+#[test]
+fn dv1_frequencies_over_eaton_take_their_scale_from_the_unit_digit() {
+    // 00-08 chooses two or one decimals for 1002h; it has no Eaton code, so the command
+    // line reads 1002h itself and takes the scale from the reply's unit digit.
+    let sim = Sim::spawn(&["--drive", "dv1", "--protocol", "eaton"]);
+    let write = sim.vfd("dv1", "eaton", &["write", "H6D-HED", "50"]);
+    assert!(write.status.success(), "{}", text(&write));
+    let read = sim.vfd("dv1", "eaton", &["read", "H6D-HED"]);
+    assert!(read.status.success(), "{}", text(&read));
+    assert!(text(&read).contains("50.00 Hz"), "{}", text(&read));
+}

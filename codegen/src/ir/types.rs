@@ -73,6 +73,26 @@ pub struct DriveIr {
     /// The manual's formulas between registers.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub conversions: Vec<ConversionIr>,
+    /// The register choosing where parameter writes go, when the drive has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub persistence: Option<PersistenceIr>,
+}
+
+/// The register choosing where parameter writes over the link go (`persistence:`).
+#[derive(Debug, Clone, Serialize)]
+pub struct PersistenceIr {
+    /// Code of the selector register.
+    pub selector: String,
+    /// The value for RAM-only writes.
+    pub ram: u32,
+    /// The value for RAM + EEPROM writes.
+    pub persistent: u32,
+    /// The governed register numbers (first, last); empty: every parameter.
+    pub registers: Vec<(u16, u16)>,
+    /// Manual section.
+    pub source: String,
+    /// Remarks.
+    pub note: String,
 }
 
 /// The drive's serial ports, resolved to register codes.
@@ -112,6 +132,10 @@ pub struct ScaleByIr {
     pub register: String,
     /// One choice per selector value.
     pub choices: Vec<ScaleChoiceIr>,
+    /// The scale and range for every selector value `choices` does not list (its `value`
+    /// is unused: 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub otherwise: Option<ScaleChoiceIr>,
 }
 
 /// The scale and range a register has for one selector value.
@@ -406,6 +430,9 @@ pub struct ProtocolIr {
     /// Registers with their own numbers on the wire in this protocol.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub wire_numbers: Vec<vfd_runtime::protocol::WireNumber>,
+    /// The drive's persistence selector, as the runtime protocol carries it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub persistence: Option<vfd_runtime::PersistenceSelector>,
     /// The table its error replies are named from.
     pub error_table: ErrorTableIr,
 }

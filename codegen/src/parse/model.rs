@@ -66,6 +66,42 @@ pub struct DriveFile {
     /// poles), each becoming a typed function tested with the manual's numbers.
     #[serde(default)]
     pub conversions: Vec<ConversionModel>,
+    /// Where parameter writes over the link go, when a register of the drive chooses it
+    /// (DV1 07-11: 0 RAM and EEPROM, 1 RAM only): the master sets that register so that a
+    /// RAM write stays out of the EEPROM and a persistent write reaches it.
+    pub persistence: Option<PersistenceModel>,
+}
+
+/// A register of the drive that chooses where parameter writes over the link go
+/// (`persistence:`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PersistenceModel {
+    /// Code or id of the selector register.
+    pub selector: String,
+    /// The selector's value with which parameter writes go to RAM only.
+    pub ram: u32,
+    /// The selector's value with which parameter writes go to RAM and EEPROM.
+    pub persistent: u32,
+    /// The register numbers (before any address map) whose writes the selector governs;
+    /// left out: every parameter. RAM-only registers are never governed.
+    #[serde(default)]
+    pub registers: Vec<AddressSpanModel>,
+    /// Where the manual says it.
+    pub source: String,
+    /// Remarks.
+    #[serde(default)]
+    pub note: String,
+}
+
+/// Register numbers `from` through `to`.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AddressSpanModel {
+    /// The first register number.
+    pub from: u16,
+    /// The last register number.
+    pub to: u16,
 }
 
 /// The drive's serial ports (`ports:`).
@@ -115,6 +151,19 @@ pub struct ScaleByModel {
     pub register: String,
     /// One entry per value of that register.
     pub values: Vec<ScaleChoiceModel>,
+    /// The scale (and range) for every value `values` does not list (DV1: 00-08 = 0 gives
+    /// two decimals, any other value one).
+    pub otherwise: Option<ScaleOtherwiseModel>,
+}
+
+/// The scale (and range) a register has for the selector values a `scale_by` does not list.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ScaleOtherwiseModel {
+    /// Engineering value of one raw step with these values.
+    pub scale: f64,
+    /// The range with these values, in engineering units (left out: the register's).
+    pub range: Option<RangeModel>,
 }
 
 /// The scale (and range) a register has for one value of its selector.
@@ -515,6 +564,9 @@ pub enum InferredFact {
     RamOnly,
     /// `writable_while_running`.
     WritableWhileRunning,
+    /// The address: derived by a rule of the manual, not printed for this register (DV1
+    /// 00-08 at 2718h by the group-mode rule 10000 + group number).
+    Address,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
