@@ -561,7 +561,9 @@ impl<T: Transport, D: 'static> Master<T, D> {
     }
 
     /// Writes `value` to register `R` in RAM only. Returns the value the drive reports
-    /// written (its echo), or `None` when the protocol's reply carries no data.
+    /// written (its echo), or `None` when the protocol's reply carries no data. On a drive
+    /// whose own register chooses where parameter writes go (DV1 07-11), the master sets it
+    /// to RAM only first (see [`Master::persistence_selector`]).
     pub fn write_ram<R: Writable<Drive = D>>(
         &mut self,
         value: R::Value,
@@ -582,7 +584,9 @@ impl<T: Transport, D: 'static> Master<T, D> {
     }
 
     /// Writes `value` to register `R` in RAM and EEPROM (persistent; EEPROM wears out).
-    /// Returns the value the drive reports written, if its reply carries one.
+    /// Returns the value the drive reports written, if its reply carries one. On a drive
+    /// whose own register chooses where parameter writes go (DV1 07-11), the master sets it
+    /// to RAM and EEPROM around the write and back (see [`Master::persistence_selector`]).
     pub fn write_persistent<R: Persistable<Drive = D>>(
         &mut self,
         value: R::Value,

@@ -323,3 +323,33 @@ fn a_unit_digit_no_scale_of_the_register_has_is_a_typed_error() {
     let requests = peer.join().unwrap();
     assert_eq!(requests[0], b"\x05006F00C\r");
 }
+
+#[test]
+fn the_frames_of_a_persistent_write_with_07_11_at_1() {
+    // Derived frames (the manual prints none): read 07-11 (0022h) = 1, write 0, write 07-08
+    // (0034h) = 7, write 1 back. CRC-16/MODBUS, low byte first.
+    let frames = [
+        "01 03 00 22 00 01 24 00",
+        "01 06 00 22 00 00 29 C0",
+        "01 06 00 34 00 07 89 C6",
+        "01 06 00 22 00 01 E8 00",
+    ];
+    let hex = |text: &str| {
+        text.split(' ')
+            .map(|byte| u8::from_str_radix(byte, 16).unwrap())
+            .collect::<Vec<u8>>()
+    };
+    let protocol = &dv1::protocols::MODBUS;
+    let (near, far) = memory_pair();
+    // Replies: 07-11 = 1, then each write echoed.
+    let mut replies = vec![hex("01 03 02 00 01 79 84")];
+    replies.extend(frames[1..].iter().map(|frame| hex(frame)));
+    let peer = answer(far, protocol.protocol(), replies);
+    let mut master =
+        Master::new(near, protocol, dv1::SERIAL.default, dv1::SERIAL.timing).with_address(Some(1));
+    master.write_persistent::<AllowedErrorCount>(7).unwrap();
+    assert_eq!(master.persistence_selector(), Some(1));
+    let sent = peer.join().unwrap();
+    let expected: Vec<Vec<u8>> = frames.iter().map(|frame| hex(frame)).collect();
+    assert_eq!(sent, expected);
+}
