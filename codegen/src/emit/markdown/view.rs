@@ -837,9 +837,10 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
                     .collect();
                 format!(
                     "Parameter writes{} go where {} says ({}: RAM only, {}: RAM and EEPROM; {}): \
-                     the master sets it to {} before a RAM write, and around a persistent write to {} \
-                     and back, so that the EEPROM's copy of {} ends as it was (drives/README.md, \
-                     \"Persistence chosen by a register\").",
+                     the master sets it to {} before a RAM write (stored in the EEPROM too when {} \
+                     was in force), and around a persistent write to {} and back, so that the \
+                     EEPROM's copy of {} ends as it was (drives/README.md, \"Persistence chosen \
+                     by a register\").",
                     if spans.is_empty() {
                         String::new()
                     } else {
@@ -850,6 +851,7 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
                     p.persistent,
                     p.source,
                     p.ram,
+                    p.persistent,
                     p.persistent,
                     p.selector,
                 )
