@@ -170,6 +170,7 @@ pub fn block(args: &BlockArgs<'_>) -> Result<(), Failure> {
                     raw: Some(u32::from(*word)),
                     text: None,
                     tripped: outcome.tripped,
+                    decimals: None,
                 },
             ),
             None => say!("read {}  (no selection) = {word:04X}h", position + 1),

@@ -165,6 +165,9 @@ pub struct Value {
     pub text: Option<String>,
     /// The reply said the drive is tripped.
     pub tripped: bool,
+    /// The decimal places the reply stated (the Eaton unit digit), checked against the
+    /// register's scales by the master.
+    pub decimals: Option<u8>,
 }
 
 /// A master talking to one drive.
@@ -235,7 +238,8 @@ impl Session {
     }
 
     /// `info` with the scale its selector register chooses now (`scale_by`), reading the
-    /// selector first; `info` itself when its scale is fixed.
+    /// selector first (or, when the selector cannot be read, the register itself, if its
+    /// reply states its decimals); `info` itself when its scale is fixed.
     pub fn scaled(
         &mut self,
         info: &'static RegisterInfo,
@@ -246,12 +250,28 @@ impl Session {
         let Some(selector) = self.drive.register(scale_by.register) else {
             return Ok(info);
         };
-        let value = self.read(selector).map_err(|failure| {
-            failure.hint(format!(
-                "the scale of {} depends on {}, which could not be read",
-                info.code, selector.code
-            ))
-        })?;
+        let value = match self.read(selector) {
+            Ok(value) => value,
+            Err(failure) => {
+                // The selector may not be reachable over this protocol (DV1 00-08 has no
+                // Eaton code): a read of the register itself whose reply states its
+                // decimals (the Eaton unit digit) gives the scale instead.
+                if info.access != vfd_runtime::kinds::Access::WriteOnly {
+                    if let Some(chosen) = self
+                        .read(info)
+                        .ok()
+                        .and_then(|own| own.decimals)
+                        .and_then(|decimals| info.scaled_for_decimals(decimals))
+                    {
+                        return Ok(chosen);
+                    }
+                }
+                return Err(failure.hint(format!(
+                    "the scale of {} depends on {}, which could not be read",
+                    info.code, selector.code
+                )));
+            }
+        };
         match value.raw.and_then(|raw| scale_by.choice(raw)) {
             Some(chosen) => Ok(chosen),
             None => Err(Failure::new(format!(
@@ -338,6 +358,7 @@ impl Session {
                 raw: None,
                 text: Some(text),
                 tripped: answer.tripped,
+                decimals: None,
             });
         }
         let raw = answer.data.ok_or_else(|| {
@@ -350,6 +371,7 @@ impl Session {
             raw: Some(raw),
             text: None,
             tripped: answer.tripped,
+            decimals: answer.decimals,
         })
     }
 
@@ -528,6 +550,7 @@ impl Session {
                         raw: Some(raw),
                         text: None,
                         tripped: answer.tripped,
+                        decimals: None,
                     }
                 })
                 .collect(),

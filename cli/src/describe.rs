@@ -296,13 +296,19 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
         say!("  at trip     live, but keeps its value while the drive is tripped");
     }
     if let Some(scale_by) = r.scale_by {
-        for choice in scale_by.choices {
-            let c = choice.info;
+        let listed = scale_by
+            .choices
+            .iter()
+            .map(|choice| (format!("= {}", choice.value), choice.info));
+        let other = scale_by
+            .otherwise
+            .map(|info| ("any other value".to_owned(), info));
+        for (selector, c) in listed.chain(other) {
             let end = |raw: i64| format!("{:.*}", usize::from(c.decimals()), raw as f64 * c.scale);
             say!(
-                "  scale       {} = {}: steps of {} {} ({}..{})",
+                "  scale       {} {}: steps of {} {} ({}..{})",
                 scale_by.register,
-                choice.value,
+                selector,
                 c.scale,
                 c.unit_symbol(),
                 end(c.raw_min),

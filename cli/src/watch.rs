@@ -19,8 +19,12 @@ pub fn read(line: &LineArgs, command: Option<&str>, names: &[String]) -> Result<
     for info in registers {
         let value = session.read(info)?;
         tripped |= value.tripped;
-        // A register whose scale another register chooses is shown in that scale.
-        let shown = session.scaled(info)?;
+        // A register whose scale another register chooses is shown in that scale: the one
+        // the reply's decimals give (the Eaton unit digit), else the selector's.
+        let shown = match value.decimals.and_then(|d| info.scaled_for_decimals(d)) {
+            Some(chosen) => chosen,
+            None => session.scaled(info)?,
+        };
         print_value(shown, &value);
     }
     if tripped {

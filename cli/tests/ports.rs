@@ -155,3 +155,33 @@ fn dv1_shows_and_takes_99999_by_number_or_name() {
     let beyond = sim.vfd("dv1", "modbus", &["write", "07-09", "1000"]);
     assert!(!beyond.status.success(), "{}", text(&beyond));
 }
+
+#[test]
+fn dv1_frequencies_over_eaton_take_their_scale_from_the_unit_digit() {
+    // 00-08 chooses two or one decimals for 1002h; it has no Eaton code, so the command
+    // line reads 1002h itself and takes the scale from the reply's unit digit.
+    let sim = Sim::spawn(&["--drive", "dv1", "--protocol", "eaton"]);
+    let write = sim.vfd("dv1", "eaton", &["write", "H6D-HED", "50"]);
+    assert!(write.status.success(), "{}", text(&write));
+    let read = sim.vfd("dv1", "eaton", &["read", "H6D-HED"]);
+    assert!(read.status.success(), "{}", text(&read));
+    assert!(text(&read).contains("50.00 Hz"), "{}", text(&read));
+}
+
+#[test]
+fn dv1_writes_with_persist_over_the_07_11_selector() {
+    // The DV1's protocols have one plain write; 07-11 chooses RAM or RAM + EEPROM, and the
+    // command line's master sets it (drives/README.md, "Persistence chosen by a register").
+    let sim = Sim::spawn(&["--drive", "dv1", "--protocol", "modbus"]);
+    let write = sim.vfd("dv1", "modbus", &["write", "--persist", "07-08", "5"]);
+    assert!(write.status.success(), "{}", text(&write));
+    assert!(text(&write).contains("RAM and EEPROM"), "{}", text(&write));
+    let ram = sim.vfd("dv1", "modbus", &["write", "07-08", "6"]);
+    assert!(ram.status.success(), "{}", text(&ram));
+    let selector = sim.vfd("dv1", "modbus", &["read", "07-11"]);
+    assert!(
+        text(&selector).contains("ram_only") || text(&selector).contains("RAM only"),
+        "{}",
+        text(&selector)
+    );
+}

@@ -457,6 +457,17 @@ pub enum ValueError {
         /// The selector's value.
         value: u32,
     },
+    /// A read reply states the decimal places of its value (the Eaton unit digit), and no
+    /// scale the description gives the register has that many.
+    #[error("{register}: the reply gives the value {received} decimal place(s), the description {expected}", register = register.label())]
+    WrongDecimals {
+        /// The register.
+        register: &'static RegisterInfo,
+        /// The decimal places of the register's own scale.
+        expected: u8,
+        /// The decimal places the reply states.
+        received: u8,
+    },
 }
 
 #[cfg(test)]

@@ -99,6 +99,9 @@ pub struct ScaleBy {
     pub register: &'static str,
     /// One choice per selector value.
     pub choices: &'static [ScaleChoice],
+    /// The register as it is for every selector value `choices` does not list (`None`:
+    /// such values choose no scale).
+    pub otherwise: Option<&'static RegisterInfo>,
 }
 
 /// The register as it is for one selector value: the same register with that choice's
@@ -113,12 +116,21 @@ pub struct ScaleChoice {
 
 impl ScaleBy {
     /// The register as it is when the selector holds `selector`, if the description gives
-    /// that value.
+    /// that value (or a choice for every other value).
     pub fn choice(&self, selector: u32) -> Option<&'static RegisterInfo> {
         self.choices
             .iter()
             .find(|choice| choice.value == selector)
             .map(|choice| choice.info)
+            .or(self.otherwise)
+    }
+
+    /// Every scale the selector can choose: the listed choices', then the other values'.
+    pub fn scales(&self) -> impl Iterator<Item = &'static RegisterInfo> + '_ {
+        self.choices
+            .iter()
+            .map(|choice| choice.info)
+            .chain(self.otherwise)
     }
 }
 
@@ -351,6 +363,18 @@ impl RegisterInfo {
     /// Decimal places implied by the scale (0.01 -> 2).
     pub fn decimals(&self) -> u8 {
         decimals_of(self.scale)
+    }
+
+    /// The register as it is when a reply says its value has `decimals` decimal places
+    /// (the Eaton unit digit): itself when its own scale has them, else the `scale_by`
+    /// choice that has them; `None` when no scale of the register has that many (a master
+    /// refuses such a reply with `ValueError::WrongDecimals`).
+    pub fn scaled_for_decimals(&'static self, decimals: u8) -> Option<&'static RegisterInfo> {
+        if self.decimals() == decimals {
+            return Some(self);
+        }
+        self.scale_by
+            .and_then(|scale_by| scale_by.scales().find(|info| info.decimals() == decimals))
     }
 
     /// The register as it is when its scale selector holds `selector` (itself when its

@@ -83,7 +83,7 @@ pub use layout::{
 };
 pub use protocol::{
     AddressMap, BlockChoice, BlockMode, BlockSelection, BlockSelector, BlockSpec, CommandSpec,
-    DriveProtocol, PreStep, Protocol, Reply,
+    DriveProtocol, PersistenceSelector, PreStep, Protocol, Reply,
 };
 pub use register::{DriveRequest, Persistable, Register, RegisterValue, Request, Writable};
 pub use transaction::{

@@ -28,6 +28,7 @@ use std::time::{Duration, Instant};
 
 mod broadcast;
 pub use broadcast::BroadcastReply;
+mod persistence;
 
 /// Largest frame the master buffers; longer noise is dropped from the front.
 pub const MAX_FRAME: usize = 256;
@@ -50,6 +51,11 @@ pub struct Answer {
     pub block: Option<(usize, usize)>,
     /// The write status a block transfer's reply carries ([`Role::WriteStatus`]).
     pub write_status: Option<u32>,
+    /// The decimal places the reply states for its value ([`Role::Decimals`], the Eaton
+    /// unit digit); `None` when it states none. A read of a described register is checked
+    /// against it (see [`crate::info::RegisterInfo::scaled_for_decimals`]): a reply whose
+    /// decimals no scale of the register has fails with [`ValueError::WrongDecimals`].
+    pub decimals: Option<u8>,
 }
 
 /// What a block transfer ([`Master::block_transfer`]) returned.
@@ -188,6 +194,9 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     /// The wait the master asks the drive to make before each reply, in requests whose
     /// layout carries one ([`Role::ReplyWait`], in tens of milliseconds).
     reply_wait: u8,
+    /// What the master knows about the drive's persistence selector, if it has one
+    /// ([`crate::protocol::PersistenceSelector`]).
+    selector: persistence::SelectorState,
     /// The stations the request under way is broadcast to (see [`Master::broadcast`]).
     broadcast_to: Option<crate::broadcast::Broadcast>,
     /// The port the master talks to, for drives with several: requests for a register
@@ -250,6 +259,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
             late_reply_until: None,
             reply_delay: None,
             reply_wait: 0,
+            selector: persistence::SelectorState::default(),
             broadcast_to: None,
             port: None,
             pages: Vec::new(),
@@ -312,6 +322,8 @@ impl<T: Transport, D: 'static> Master<T, D> {
     /// Toshiba-style protocols accept when one drive is on the line).
     pub fn with_address(mut self, address: Option<u8>) -> Self {
         self.address = address;
+        // Another station's persistence selector is not known.
+        self.selector.value = None;
         self
     }
 
@@ -569,8 +581,14 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 },
             )
         })?;
+        // A reply stating its decimals (checked against the register's scales) picks the
+        // scale of a register whose scale another register chooses.
+        let info = match answer.decimals {
+            Some(decimals) => for_decimals(R::INFO, decimals)?,
+            None => R::INFO,
+        };
         Ok(Reading {
-            value: R::Value::from_raw(data, R::INFO)?,
+            value: R::Value::from_raw(data, info)?,
             tripped: answer.tripped,
         })
     }
@@ -583,7 +601,9 @@ impl<T: Transport, D: 'static> Master<T, D> {
     }
 
     /// Writes `value` to register `R` in RAM only. Returns the value the drive reports
-    /// written (its echo), or `None` when the protocol's reply carries no data.
+    /// written (its echo), or `None` when the protocol's reply carries no data. On a drive
+    /// whose own register chooses where parameter writes go (DV1 07-11), the master sets it
+    /// to RAM only first (see [`Master::persistence_selector`]).
     pub fn write_ram<R: Writable<Drive = D>>(
         &mut self,
         value: R::Value,
@@ -604,7 +624,9 @@ impl<T: Transport, D: 'static> Master<T, D> {
     }
 
     /// Writes `value` to register `R` in RAM and EEPROM (persistent; EEPROM wears out).
-    /// Returns the value the drive reports written, if its reply carries one.
+    /// Returns the value the drive reports written, if its reply carries one. On a drive
+    /// whose own register chooses where parameter writes go (DV1 07-11), the master sets it
+    /// to RAM and EEPROM around the write and back (see [`Master::persistence_selector`]).
     pub fn write_persistent<R: Persistable<Drive = D>>(
         &mut self,
         value: R::Value,
@@ -877,9 +899,15 @@ impl<T: Transport, D: 'static> Master<T, D> {
     }
 
     /// Runs one request, with any steps the protocol needs first (selecting an array
-    /// index, choosing RAM or EEPROM). Every frame is built and checked before the first
-    /// is sent: when the protocol cannot carry any of them, nothing goes on the line.
+    /// index, choosing RAM or EEPROM, setting the drive's persistence selector around a
+    /// write it governs: see [`Master::persistence_selector`]). Every frame is built and
+    /// checked before the first is sent: when the protocol cannot carry any of them,
+    /// nothing goes on the line.
     pub fn transact(&mut self, request: &Request) -> Result<Answer, TransactionError> {
+        if let Some(selector) = self.governing_selector(request) {
+            // A write whose storage a register of the drive chooses: see `persistence`.
+            return self.transact_governed(request, selector);
+        }
         let on_port;
         let request = match self.port {
             Some(port) => {
@@ -1197,6 +1225,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 text: None,
                 block: None,
                 write_status: None,
+                decimals: None,
             });
         }
         let timeout = self.reply_timeout(len);
@@ -1487,6 +1516,21 @@ fn engineering(raw: u32, info: &crate::info::RegisterInfo) -> f64 {
     f64::from(raw) * info.scale
 }
 
+/// `info` as a reply stating `decimals` decimal places has it (see
+/// [`crate::info::RegisterInfo::scaled_for_decimals`]); a typed error naming the register,
+/// the decimals of its own scale and those received when none of its scales has them.
+fn for_decimals(
+    info: &'static crate::info::RegisterInfo,
+    decimals: u8,
+) -> Result<&'static crate::info::RegisterInfo, ValueError> {
+    info.scaled_for_decimals(decimals)
+        .ok_or(ValueError::WrongDecimals {
+            register: info,
+            expected: info.decimals(),
+            received: decimals,
+        })
+}
+
 /// The exchange `step` needs before `request`, if it needs one.
 fn step_request(step: &PreStep, request: &Request) -> Option<Request> {
     match *step {
@@ -1586,6 +1630,15 @@ fn check_reply(
                     },
                 ));
             }
+            // The decimals the reply states must be those of a scale the register has.
+            let decimals = values
+                .get(&command.reply, Role::Decimals)
+                .map(|d| u8::try_from(d).unwrap_or(u8::MAX));
+            if let (Some(decimals), Some(info), None) = (decimals, request.info, block) {
+                for_decimals(info, decimals).map_err(|error| {
+                    TransactionError::new(Some(request), TransactionErrorKind::Value(error))
+                })?;
+            }
             Ok(Answer {
                 data: (command.reply.has(Role::Data) && block.is_none()).then_some(data),
                 tripped,
@@ -1593,6 +1646,7 @@ fn check_reply(
                 text,
                 block,
                 write_status: values.get(&command.reply, Role::WriteStatus),
+                decimals,
             })
         }
     }

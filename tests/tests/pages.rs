@@ -75,7 +75,12 @@ fn reading_p195_is_the_manuals_example_three_with_the_masters_acknowledgement() 
 #[test]
 fn writing_50_hz_to_p195_is_example_four() {
     let (sim, mut master) = eaton();
-    master.write_ram::<Parameter0215>(Hertz(50.0)).unwrap();
+    // 07-11 at its factory setting 0: a write over the link goes to RAM and EEPROM, which
+    // is what 例四 does; told so, the master sends the write alone.
+    master.assume_persistence_selector(0);
+    master
+        .write_persistent::<Parameter0215>(Hertz(50.0))
+        .unwrap();
     assert_eq!(
         take_log(&mut master),
         vec![
@@ -87,6 +92,29 @@ fn writing_50_hz_to_p195_is_example_four() {
         ]
     );
     assert_eq!(sim.lock().raw("02-15"), Some(0x1388));
+}
+
+#[test]
+fn a_ram_write_sets_07_11_on_page_0_then_writes_on_page_1() {
+    let (sim, mut master) = eaton();
+    master.write_ram::<Parameter0215>(Hertz(50.0)).unwrap();
+    assert_eq!(
+        take_log(&mut master),
+        vec![
+            // 07-11 (P.34) is offset 34 = 22h of page 0: written 1 (RAM only) with HA2.
+            sent("\x0500FF00000DC\r"),
+            received("\x0600\r"),
+            sent("\x0500A200001C4\r"),
+            received("\x0600\r"),
+            // Then P.195 on page 1, as in 例四.
+            sent("\x0500FF00001DD\r"),
+            received("\x0600\r"),
+            sent("\x0500DF01388EE\r"),
+            received("\x0600\r"),
+        ]
+    );
+    assert_eq!(sim.lock().raw("07-11"), Some(1));
+    assert_eq!(master.known_page(Some(0)), Some(1));
 }
 
 #[test]
@@ -118,8 +146,9 @@ fn after_a_refusal_the_page_is_switched_again() {
     master.read::<Parameter0215>().unwrap();
     take_log(&mut master);
     // 例五: 500 (HC350) is out of range; sent raw, as the typed API refuses it first.
+    master.assume_persistence_selector(0);
     let request = Request::for_register(
-        vfd_runtime::CommandKind::WriteRam,
+        vfd_runtime::CommandKind::WritePersistent,
         <Parameter0215 as vfd_runtime::register::Register>::INFO,
         0xC350,
     );

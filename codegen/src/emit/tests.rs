@@ -385,8 +385,14 @@ fn sequence_test(drive: &DriveIr, root: &syn::Path, sequence: &SequenceIr) -> To
         }
         (SequenceCallIr::Write(value), SequenceResultIr::Written) => {
             let construct = construct_value(&register.value, value, &value_ty);
-            quote! {
-                master.write_ram::<R>(#construct).expect("the manual's sequence writes");
+            if sequence.persistent {
+                quote! {
+                    master.write_persistent::<R>(#construct).expect("the manual's sequence writes");
+                }
+            } else {
+                quote! {
+                    master.write_ram::<R>(#construct).expect("the manual's sequence writes");
+                }
             }
         }
         (call, result) => {
@@ -394,11 +400,20 @@ fn sequence_test(drive: &DriveIr, root: &syn::Path, sequence: &SequenceIr) -> To
                 SequenceCallIr::Read => quote!(::vfd_runtime::Request::read::<R>()),
                 SequenceCallIr::Write(value) => {
                     let construct = construct_value(&register.value, value, &value_ty);
-                    quote!(::vfd_runtime::Request::write_ram::<R>(#construct).expect("in range"))
+                    if sequence.persistent {
+                        quote!(::vfd_runtime::Request::write_persistent::<R>(#construct).expect("in range"))
+                    } else {
+                        quote!(::vfd_runtime::Request::write_ram::<R>(#construct).expect("in range"))
+                    }
                 }
                 SequenceCallIr::WriteRaw(raw) => {
                     let raw = int_literal(raw);
-                    quote!(::vfd_runtime::Request::for_register(CommandKind::WriteRam, R::INFO, #raw))
+                    let kind = if sequence.persistent {
+                        quote!(CommandKind::WritePersistent)
+                    } else {
+                        quote!(CommandKind::WriteRam)
+                    };
+                    quote!(::vfd_runtime::Request::for_register(#kind, R::INFO, #raw))
                 }
             };
             let check = match result {
@@ -419,6 +434,13 @@ fn sequence_test(drive: &DriveIr, root: &syn::Path, sequence: &SequenceIr) -> To
             }
         }
     };
+    let given = match sequence.selector_given {
+        Some(value) => {
+            let value = int_literal(value);
+            quote!(master.assume_persistence_selector(#value);)
+        }
+        None => quote!(),
+    };
     let doc = format!(
         " {} ({}); manual section {}.",
         sequence.description, sequence.description_zh, sequence.source
@@ -436,6 +458,7 @@ fn sequence_test(drive: &DriveIr, root: &syn::Path, sequence: &SequenceIr) -> To
                 #root::DRIVE.serial.timing,
             )
             .with_address(#address);
+            #given
             #call
             master.transport().assert_followed();
         }

@@ -105,6 +105,7 @@ pub fn inferred_text(facts: &[InferredFact]) -> String {
             InferredFact::DataType => "data type",
             InferredFact::RamOnly => "RAM only",
             InferredFact::WritableWhileRunning => "writable while running",
+            InferredFact::Address => "address",
         })
         .collect::<Vec<_>>()
         .join(", ")

@@ -228,6 +228,18 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
         behaviour: None,
         ports: lower_ports(model, &index),
         conversions: lower_conversions(model, &index),
+        persistence: model.persistence.as_ref().map(|p| super::PersistenceIr {
+            selector: code_of(&index, &p.selector),
+            ram: p.ram,
+            persistent: p.persistent,
+            registers: p
+                .registers
+                .iter()
+                .map(|span| (span.from, span.to))
+                .collect(),
+            source: p.source.clone(),
+            note: p.note.trim().to_owned(),
+        }),
     };
     ir.behaviour = model
         .behaviour
@@ -306,29 +318,37 @@ fn lower_register(
             .as_ref()
             .map(|name| code_of(index, name)),
         live_except_while_tripped: register.live_except_while_tripped,
-        scale_by: register.scale_by.as_ref().map(|scale_by| ScaleByIr {
-            register: code_of(index, &scale_by.register),
-            choices: scale_by
-                .values
-                .iter()
-                .map(|choice| {
-                    // The register as it is with this choice: its scale, and its range
-                    // where the choice gives one.
+        scale_by: register.scale_by.as_ref().map(|scale_by| {
+            // The register as it is with one choice: its scale, and its range where the
+            // choice gives one.
+            let chosen =
+                |value: u32, scale: f64, range: Option<&crate::parse::model::RangeModel>| {
                     let mut chosen = register.clone();
-                    chosen.scale = Some(choice.scale);
-                    if let Some(range) = &choice.range {
+                    chosen.scale = Some(scale);
+                    if let Some(range) = range {
                         chosen.range = Some(range.clone());
                     }
                     chosen.scale_by = None;
                     let (raw_min, raw_max) = index.raw_range(&chosen);
                     ScaleChoiceIr {
-                        value: choice.value,
-                        scale: choice.scale,
+                        value,
+                        scale,
                         raw_min,
                         raw_max,
                     }
-                })
-                .collect(),
+                };
+            ScaleByIr {
+                register: code_of(index, &scale_by.register),
+                choices: scale_by
+                    .values
+                    .iter()
+                    .map(|choice| chosen(choice.value, choice.scale, choice.range.as_ref()))
+                    .collect(),
+                otherwise: scale_by
+                    .otherwise
+                    .as_ref()
+                    .map(|other| chosen(0, other.scale, other.range.as_ref())),
+            }
         }),
         per_port: per_port(model, index, register),
         special_values: register
@@ -627,6 +647,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
                 assumed: pages.assumed.clone(),
                 note: pages.note.trim().to_owned(),
             }),
+        persistence: runtime.persistence.clone(),
         error_table: if let Some(table) = own_table {
             ErrorTableIr::Protocol(ErrorCodesIr {
                 source: table.source.clone(),
@@ -710,6 +731,8 @@ fn lower_sequences(drive: &Context, registers: &[RegisterIr]) -> Vec<SequenceIr>
                 address: sequence.address,
                 register: register.id.clone(),
                 call: call_ir,
+                persistent: call.persistent,
+                selector_given: sequence.given.values().next().copied(),
                 result,
                 steps,
             })

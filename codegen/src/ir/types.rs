@@ -76,6 +76,26 @@ pub struct DriveIr {
     /// The manual's formulas between registers.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub conversions: Vec<ConversionIr>,
+    /// The register choosing where parameter writes go, when the drive has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub persistence: Option<PersistenceIr>,
+}
+
+/// The register choosing where parameter writes over the link go (`persistence:`).
+#[derive(Debug, Clone, Serialize)]
+pub struct PersistenceIr {
+    /// Code of the selector register.
+    pub selector: String,
+    /// The value for RAM-only writes.
+    pub ram: u32,
+    /// The value for RAM + EEPROM writes.
+    pub persistent: u32,
+    /// The governed register numbers (first, last); empty: every parameter.
+    pub registers: Vec<(u16, u16)>,
+    /// Manual section.
+    pub source: String,
+    /// Remarks.
+    pub note: String,
 }
 
 /// The drive's serial ports, resolved to register codes.
@@ -115,6 +135,10 @@ pub struct ScaleByIr {
     pub register: String,
     /// One choice per selector value.
     pub choices: Vec<ScaleChoiceIr>,
+    /// The scale and range for every selector value `choices` does not list (its `value`
+    /// is unused: 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub otherwise: Option<ScaleChoiceIr>,
 }
 
 /// The scale and range a register has for one selector value.
@@ -416,6 +440,9 @@ pub struct ProtocolIr {
     /// each range, what is assumed and the note.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pages_doc: Option<PagesDocIr>,
+    /// The drive's persistence selector, as the runtime protocol carries it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub persistence: Option<vfd_runtime::PersistenceSelector>,
     /// The table its error replies are named from.
     pub error_table: ErrorTableIr,
 }
@@ -931,6 +958,11 @@ pub struct SequenceIr {
     pub register: String,
     /// What the call does.
     pub call: SequenceCallIr,
+    /// The write goes to RAM and EEPROM.
+    pub persistent: bool,
+    /// The persistence selector's value the master is told first.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub selector_given: Option<u32>,
     /// What it returns.
     pub result: SequenceResultIr,
     /// The frames, in order.

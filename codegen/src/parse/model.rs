@@ -71,6 +71,42 @@ pub struct DriveFile {
     /// poles), each becoming a typed function tested with the manual's numbers.
     #[serde(default)]
     pub conversions: Vec<ConversionModel>,
+    /// Where parameter writes over the link go, when a register of the drive chooses it
+    /// (DV1 07-11: 0 RAM and EEPROM, 1 RAM only): the master sets that register so that a
+    /// RAM write stays out of the EEPROM and a persistent write reaches it.
+    pub persistence: Option<PersistenceModel>,
+}
+
+/// A register of the drive that chooses where parameter writes over the link go
+/// (`persistence:`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PersistenceModel {
+    /// Code or id of the selector register.
+    pub selector: String,
+    /// The selector's value with which parameter writes go to RAM only.
+    pub ram: u32,
+    /// The selector's value with which parameter writes go to RAM and EEPROM.
+    pub persistent: u32,
+    /// The register numbers (before any address map) whose writes the selector governs;
+    /// left out: every parameter. RAM-only registers are never governed.
+    #[serde(default)]
+    pub registers: Vec<AddressSpanModel>,
+    /// Where the manual says it.
+    pub source: String,
+    /// Remarks.
+    #[serde(default)]
+    pub note: String,
+}
+
+/// Register numbers `from` through `to`.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AddressSpanModel {
+    /// The first register number.
+    pub from: u16,
+    /// The last register number.
+    pub to: u16,
 }
 
 /// The drive's serial ports (`ports:`).
@@ -120,6 +156,19 @@ pub struct ScaleByModel {
     pub register: String,
     /// One entry per value of that register.
     pub values: Vec<ScaleChoiceModel>,
+    /// The scale (and range) for every value `values` does not list (DV1: 00-08 = 0 gives
+    /// two decimals, any other value one).
+    pub otherwise: Option<ScaleOtherwiseModel>,
+}
+
+/// The scale (and range) a register has for the selector values a `scale_by` does not list.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ScaleOtherwiseModel {
+    /// Engineering value of one raw step with these values.
+    pub scale: f64,
+    /// The range with these values, in engineering units (left out: the register's).
+    pub range: Option<RangeModel>,
 }
 
 /// The scale (and range) a register has for one value of its selector.
@@ -520,6 +569,9 @@ pub enum InferredFact {
     RamOnly,
     /// `writable_while_running`.
     WritableWhileRunning,
+    /// The address: derived by a rule of the manual, not printed for this register (DV1
+    /// 00-08 at 2718h by the group-mode rule 10000 + group number).
+    Address,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
@@ -1265,6 +1317,11 @@ pub struct SequenceModel {
     /// The one call: `{ read: 02-15 }`, `{ write: 02-15, value: 50.0 }` (through the typed
     /// API, range checked) or `{ write: 02-15, raw: 0xC350 }` (sent as given).
     pub call: SequenceCallModel,
+    /// What the master is told before the call, by register code or id: the raw value of
+    /// the drive's persistence selector (`{ 07-11: 0 }`: the factory setting, so a
+    /// persistent write goes out alone).
+    #[serde(default)]
+    pub given: BTreeMap<String, u32>,
     /// What the call returns: `{ value: 60.0 }`, `{ written: true }` or `{ error: ID }` (an
     /// error code's id, the drive's or the protocol's).
     pub result: SequenceResultModel,
@@ -1284,6 +1341,9 @@ pub struct SequenceCallModel {
     pub value: Option<f64>,
     /// The raw word written, without a range check (to show a refusal).
     pub raw: Option<u32>,
+    /// The write goes to RAM and EEPROM (`write_persistent`); default false (RAM).
+    #[serde(default)]
+    pub persistent: bool,
 }
 
 /// What a sequence's call returns.

@@ -160,6 +160,31 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         block,
         wire_numbers: Cow::Owned(wire_numbers),
         paging,
+        persistence: persistence(input.drive),
+    })
+}
+
+/// The drive's persistence selector (`persistence:`), the same in each of its protocols;
+/// `None` when it has none or its register is not found (which the checks report once).
+fn persistence(drive: &crate::parse::model::DriveFile) -> Option<vfd_runtime::PersistenceSelector> {
+    let model = drive.persistence.as_ref()?;
+    let register = drive
+        .registers
+        .iter()
+        .find(|r| r.code == model.selector || r.id == model.selector)?;
+    Some(vfd_runtime::PersistenceSelector {
+        register: u16::try_from(register.address).ok()?,
+        space: register.space.unwrap_or(vfd_runtime::Space::Parameter),
+        data_type: register.data_type.unwrap_or(vfd_runtime::DataType::Word),
+        ram: model.ram,
+        persistent: model.persistent,
+        registers: Cow::Owned(
+            model
+                .registers
+                .iter()
+                .map(|span| (span.from, span.to))
+                .collect(),
+        ),
     })
 }
 

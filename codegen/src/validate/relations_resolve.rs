@@ -35,6 +35,7 @@ pub fn relations_resolve(drive: &Context, out: &mut Diagnostics) {
         );
     };
     ports(drive, &index, out, &unknown);
+    persistence(drive, &index, out, &unknown);
     for (i, register) in drive.model.registers.iter().enumerate() {
         if let Some(live) = &register.held_at_trip_of {
             let path = format!("registers[{i}].held_at_trip_of");
@@ -88,6 +89,19 @@ pub fn relations_resolve(drive: &Context, out: &mut Diagnostics) {
                                 format!("scale {} is not a positive number", choice.scale),
                             )
                             .hint("the engineering value of one raw step, e.g. 0.01"),
+                    );
+                }
+            }
+            if let Some(other) = &scale_by.otherwise {
+                if !(other.scale.is_finite() && other.scale > 0.0) {
+                    out.push(
+                        drive
+                            .source
+                            .error(
+                                &format!("{path}.otherwise.scale"),
+                                format!("scale {} is not a positive number", other.scale),
+                            )
+                            .hint("the engineering value of one raw step, e.g. 0.1"),
                     );
                 }
             }
@@ -273,6 +287,78 @@ fn ports(
 }
 
 /// `lower_snake_case`: a lower-case letter, then lower-case letters, digits and `_`.
+/// The persistence selector (`persistence:`) is a writable register, its two values differ
+/// and lie in its range, and its register spans run upwards.
+fn persistence(
+    drive: &Context,
+    index: &RegisterIndex<'_>,
+    out: &mut Diagnostics,
+    unknown: &dyn Fn(&mut Diagnostics, &str, &str),
+) {
+    let Some(persistence) = &drive.model.persistence else {
+        return;
+    };
+    let error = |out: &mut Diagnostics, path: &str, message: String, hint: &str| {
+        out.push(drive.source.error(path, message).hint(hint));
+    };
+    match index.find(&persistence.selector) {
+        None => unknown(out, "persistence.selector", &persistence.selector),
+        Some(register) => {
+            if register.access == Some(vfd_runtime::Access::ReadOnly) {
+                error(
+                    out,
+                    "persistence.selector",
+                    format!(
+                        "`{}` is read-only, so the master cannot set it",
+                        register.code
+                    ),
+                    "name the register whose value chooses where parameter writes go",
+                );
+            }
+            if register.range.is_some() {
+                let (low, high) = index.raw_range(register);
+                for (key, value) in [
+                    ("ram", persistence.ram),
+                    ("persistent", persistence.persistent),
+                ] {
+                    if !(low..=high).contains(&i64::from(value)) {
+                        error(
+                            out,
+                            &format!("persistence.{key}"),
+                            format!(
+                                "{value} is outside `{}`'s raw range {low} to {high}",
+                                register.code
+                            ),
+                            "give the selector's values as the manual lists them",
+                        );
+                    }
+                }
+            }
+        }
+    }
+    if persistence.ram == persistence.persistent {
+        error(
+            out,
+            "persistence.persistent",
+            format!("`ram` and `persistent` are both {}", persistence.ram),
+            "give the selector value for RAM-only writes and the one for RAM + EEPROM writes",
+        );
+    }
+    for (i, span) in persistence.registers.iter().enumerate() {
+        if span.from > span.to {
+            error(
+                out,
+                &format!("persistence.registers[{i}].to"),
+                format!(
+                    "the span ends at {:04X}h, before its start {:04X}h",
+                    span.to, span.from
+                ),
+                "give the first register number in `from` and the last in `to`",
+            );
+        }
+    }
+}
+
 fn is_snake_case(name: &str) -> bool {
     name.starts_with(|c: char| c.is_ascii_lowercase())
         && name

@@ -37,6 +37,23 @@ pub fn sequences_resolve(drive: &Context, out: &mut Diagnostics) {
             continue;
         };
         check_call(drive, sequence, &mut error);
+        for name in sequence.given.keys() {
+            let selector = drive
+                .model
+                .persistence
+                .as_ref()
+                .map(|p| p.selector.as_str());
+            let is_selector = ranges::RegisterIndex::new(&drive.model)
+                .find(name)
+                .is_some_and(|r| selector.is_some_and(|s| s == r.code || s == r.id));
+            if !is_selector {
+                error(
+                    &format!(".given.{name}"),
+                    format!("`{name}` is not the drive's persistence selector"),
+                    "a master can be told only the persistence selector's value",
+                );
+            }
+        }
         check_result(sequence, &protocol.runtime, &mut error);
         if sequence
             .steps
@@ -133,10 +150,10 @@ fn check_call(
             "a write gives one `value` or one `raw` word".into(),
             "value: in the register's unit (range checked); raw: the word as sent",
         ),
-        "read" if written != 0 => error(
+        "read" if written != 0 || call.persistent => error(
             ".call",
-            "a read gives no value".into(),
-            "leave `value` and `raw` out of a read",
+            "a read gives no value and is not persistent".into(),
+            "leave `value`, `raw` and `persistent` out of a read",
         ),
         _ => {}
     }

@@ -85,8 +85,15 @@ pub(crate) fn given_scale(
                 .zip(selector)
                 .is_some_and(|(a, b)| a.id == b.id)
         })
-        .and_then(|(_, value)| scale_by.values.iter().find(|c| c.value == *value))
-        .map_or_else(|| ranges::scale_of(register), |choice| choice.scale)
+        .and_then(|(_, value)| {
+            scale_by
+                .values
+                .iter()
+                .find(|c| c.value == *value)
+                .map(|choice| choice.scale)
+                .or(scale_by.otherwise.as_ref().map(|other| other.scale))
+        })
+        .unwrap_or_else(|| ranges::scale_of(register))
 }
 
 #[cfg(test)]

@@ -218,6 +218,14 @@ impl VirtualDrive {
         Some(self.storage.get(info, 0))
     }
 
+    /// The raw value in EEPROM of the register with this code or id (element 0 of arrays):
+    /// what RAM holds after a power cycle. Writes go there when they are persistent (a
+    /// persistent command, or the drive's persistence selector choosing RAM and EEPROM).
+    pub fn eeprom_raw(&self, name: &str) -> Option<u32> {
+        let info = self.drive.register(name)?;
+        Some(self.storage.get_eeprom(info, 0))
+    }
+
     /// The raw value the drive acts on: for parameters that take effect after a reset, the
     /// value at the last reset.
     pub fn raw_in_effect(&self, name: &str) -> Option<u32> {

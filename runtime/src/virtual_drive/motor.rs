@@ -237,8 +237,10 @@ impl VirtualDrive {
         let monitor = |drive: &mut VirtualDrive, id: &str, value: f64| {
             if let Some(info) = drive.drive.register(id) {
                 // Registers live except while tripped keep their value during a trip.
+                // A monitor whose scale another register chooses shows the value in it.
                 if !(tripped && info.live_except_while_tripped) {
-                    drive.storage.set(info, 0, raw_of(info, value), false);
+                    let raw = raw_of(drive.scaled(info), value);
+                    drive.storage.set(info, 0, raw, false);
                 }
             }
         };

@@ -64,17 +64,6 @@ pub(super) fn reply_code(command: &CommandSpec, data_type: DataType) -> u32 {
     }
 }
 
-/// The decimal places a step of `scale` has (0.01 -> 2), for a reply that states them.
-fn decimal_places(scale: f64) -> u32 {
-    let mut places = 0;
-    let mut step = scale;
-    while places < 6 && (step - step.round()).abs() > 1e-9 {
-        step *= 10.0;
-        places += 1;
-    }
-    places
-}
-
 /// The code of an error reply to `command`: the code the protocol file gives it, else the
 /// one code the error layout allows, else the request's own code.
 fn error_code_for(layout: &FrameLayout, command: Option<&CommandSpec>) -> u32 {
@@ -429,10 +418,11 @@ impl VirtualDrive {
             register: request.wire_register.map(u32::from),
             index: request.index.map(u32::from),
             data: Some(data),
+            // The decimals of the scale in force (a scale selector's choice, if any).
             decimals: self
                 .target_of(request)
                 .ok()
-                .map(|info| decimal_places(info.scale)),
+                .map(|info| u32::from(self.scaled(info).decimals())),
             ..self.process_roles(layout)
         };
         values.fill(layout, &roles);
@@ -621,9 +611,26 @@ impl VirtualDrive {
         for (info, raw) in &words {
             self.check_write(info, *raw, persistent)?;
         }
+        // A drive whose persistence selector governs parameter writes stores them where
+        // the selector's value before this request says (the selector's own write too).
+        let selected = protocol.persistence.as_ref().and_then(|selector| {
+            let value = self
+                .drive
+                .register_at(selector.space, selector.register)
+                .map(|info| self.storage.get(info, 0))?;
+            Some((selector, value == selector.persistent))
+        });
         let command = self.behaviour().map(|b| self.served(b.command.register));
         for (info, raw) in words {
             let index = if info.array_len == 0 { 0 } else { index };
+            let persistent = match selected {
+                Some((selector, to_eeprom))
+                    if selector.governs(info.space, info.address, info.ram_only) =>
+                {
+                    to_eeprom
+                }
+                _ => persistent,
+            };
             self.storage
                 .set(info, index, raw, persistent && !info.ram_only);
             if command == Some(info.id) {

@@ -44,6 +44,11 @@ impl Storage {
         self.ram.get(&key(info, index)).copied().unwrap_or(0)
     }
 
+    /// The value in EEPROM (what RAM holds after a power cycle).
+    pub(crate) fn get_eeprom(&self, info: &RegisterInfo, index: u16) -> u32 {
+        self.eeprom.get(&key(info, index)).copied().unwrap_or(0)
+    }
+
     /// The value the drive acts on: for `after_reset` parameters the value at the last
     /// reset, otherwise the value in RAM.
     pub(crate) fn in_effect(&self, info: &RegisterInfo, index: u16) -> u32 {

@@ -957,6 +957,33 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
                     space.as_str()
                 ),
             })
+            .chain(drive.persistence.as_ref().map(|p| {
+                let spans: Vec<String> = p
+                    .registers
+                    .iter()
+                    .map(|(from, to)| format!("{from:04X}h-{to:04X}h"))
+                    .collect();
+                format!(
+                    "Parameter writes{} go where {} says ({}: RAM only, {}: RAM and EEPROM; {}): \
+                     the master sets it to {} before a RAM write (stored in the EEPROM too when {} \
+                     was in force), and around a persistent write to {} and back, so that the \
+                     EEPROM's copy of {} ends as it was (drives/README.md, \"Persistence chosen \
+                     by a register\").",
+                    if spans.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" (registers {})", spans.join(", "))
+                    },
+                    p.selector,
+                    p.ram,
+                    p.persistent,
+                    p.source,
+                    p.ram,
+                    p.persistent,
+                    p.persistent,
+                    p.selector,
+                )
+            }))
             .collect(),
         block: block_lines(drive, protocol),
         layouts: names

@@ -307,6 +307,26 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
         }
         None => quote!(None),
     };
+    let persistence = match &protocol.persistence {
+        Some(selector) => {
+            let (space, data_type) = (selector.space.bake(), selector.data_type.bake());
+            let register = int_literal(selector.register);
+            let (ram, persistent) = (int_literal(selector.ram), int_literal(selector.persistent));
+            let spans = selector.registers.iter().map(|&(from, to)| {
+                let (from, to) = (int_literal(from), int_literal(to));
+                quote!((#from, #to))
+            });
+            quote!(Some(::vfd_runtime::PersistenceSelector {
+                register: #register,
+                space: ::vfd_runtime::#space,
+                data_type: ::vfd_runtime::#data_type,
+                ram: #ram,
+                persistent: #persistent,
+                registers: Cow::Borrowed(&[#(#spans),*]),
+            }))
+        }
+        None => quote!(None),
+    };
     let block = match &protocol.block {
         Some(block) => {
             let block = block.bake();
@@ -363,6 +383,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             broadcast: #broadcast,
             wire_numbers: Cow::Borrowed(&[#(#wire_numbers),*]),
             paging: #paging,
+            persistence: #persistence,
         };
     }
 }

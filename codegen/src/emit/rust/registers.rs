@@ -87,33 +87,31 @@ pub(crate) fn relation_lines(register: &RegisterIr) -> Vec<String> {
         lines.push("Shows the live value, except while the drive is tripped: then it keeps the value it had.".to_owned());
     }
     if let Some(scale_by) = &register.scale_by {
-        let choices: Vec<String> = scale_by
+        let unit = register.unit.symbol();
+        let unit = if unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
+        let describe = |selector: String, c: &crate::ir::ScaleChoiceIr| {
+            let decimals = usize::from(vfd_runtime::units::decimals_of(c.scale));
+            let end = |raw: i64| format!("{:.*}", decimals, raw as f64 * c.scale);
+            format!(
+                "{} {selector}: steps of {}{unit} ({}-{}{unit})",
+                scale_by.register,
+                c.scale,
+                end(c.raw_min),
+                end(c.raw_max),
+            )
+        };
+        let mut choices: Vec<String> = scale_by
             .choices
             .iter()
-            .map(|c| {
-                let unit = register.unit.symbol();
-                let decimals = usize::from(vfd_runtime::units::decimals_of(c.scale));
-                let end = |raw: i64| format!("{:.*}", decimals, raw as f64 * c.scale);
-                format!(
-                    "{} = {}: steps of {}{} ({}-{}{})",
-                    scale_by.register,
-                    c.value,
-                    c.scale,
-                    if unit.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" {unit}")
-                    },
-                    end(c.raw_min),
-                    end(c.raw_max),
-                    if unit.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" {unit}")
-                    },
-                )
-            })
+            .map(|c| describe(format!("= {}", c.value), c))
             .collect();
+        if let Some(other) = &scale_by.otherwise {
+            choices.push(describe("any other value".to_owned(), other));
+        }
         lines.push(format!(
             "Its scale is chosen by {}: {}.",
             scale_by.register,
@@ -275,7 +273,7 @@ fn scale_by_item(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
     };
     let name = scale_by_const(register);
     let selector = str_literal(&scale_by.register);
-    let choices = scale_by.choices.iter().map(|choice| {
+    let info_of = |choice: &crate::ir::ScaleChoiceIr| {
         let mut chosen = register.clone();
         chosen.scale = choice.scale;
         chosen.scale_by = None;
@@ -288,10 +286,20 @@ fn scale_by_item(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
             raw: choice.raw_max,
             register: register.max.as_ref().and_then(|b| b.register.clone()),
         });
-        let info = info_chain(drive, &chosen);
+        info_chain(drive, &chosen)
+    };
+    let choices = scale_by.choices.iter().map(|choice| {
+        let info = info_of(choice);
         let value = int_literal(choice.value);
         quote!(::vfd_runtime::ScaleChoice { value: #value, info: &#info })
     });
+    let otherwise = match &scale_by.otherwise {
+        Some(choice) => {
+            let info = info_of(choice);
+            quote!(Some(&#info))
+        }
+        None => quote!(None),
+    };
     let doc = doc_text(format!(
         "The scale of {} as register {} chooses it.",
         register.code, scale_by.register
@@ -301,6 +309,7 @@ fn scale_by_item(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
         const #name: ::vfd_runtime::ScaleBy = ::vfd_runtime::ScaleBy {
             register: #selector,
             choices: &[#(#choices),*],
+            otherwise: #otherwise,
         };
     }
 }
