@@ -8,8 +8,9 @@ use vfd_runtime::transport::Transport;
 use vfd_runtime::Protocol;
 
 /// Starts a thread that, for each entry of `replies`, waits for one complete request on
-/// `transport`, records it, and sends the entry's bytes (nothing for an empty entry).
-/// The handle returns the requests received, as raw bytes.
+/// `transport`, records it, and sends the entry's bytes (nothing for an empty entry); then
+/// it listens until the line has been quiet for 200 ms. The handle returns the requests
+/// received, as raw bytes.
 pub fn answer<T: Transport + Send + 'static>(
     mut transport: T,
     protocol: &'static Protocol,
@@ -27,8 +28,10 @@ pub fn answer<T: Transport + Send + 'static>(
                     return received;
                 }
                 buffer.extend_from_slice(&chunk[..got]);
-                if let Ok(Found::Frame { frame, .. }) = protocol.decode_request(&buffer) {
-                    received.push(buffer[..frame.len].to_vec());
+                // Bytes before the request (a master's follow-up to the last reply) are
+                // skipped.
+                if let Ok(Found::Frame { frame, skipped }) = protocol.decode_request(&buffer) {
+                    received.push(buffer[skipped..skipped + frame.len].to_vec());
                     break;
                 }
             }
@@ -36,6 +39,14 @@ pub fn answer<T: Transport + Send + 'static>(
                 let _ = transport.send(&reply);
             }
         }
+        // Stay on the line until it is quiet, so the master's follow-up to the last reply
+        // (an Eaton C) finds a listener.
+        let mut chunk = [0u8; 64];
+        while transport
+            .receive(&mut chunk, Instant::now() + Duration::from_millis(200))
+            .unwrap_or(0)
+            > 0
+        {}
         received
     })
 }

@@ -23,10 +23,16 @@ const PROTOCOLS: [&DriveProtocol<dv1::Drive>; 3] = [
     &dv1::protocols::EATON,
 ];
 
-/// 07-08 (P.52, 0034h): a parameter every protocol reaches (on the Eaton protocol its code
-/// is its offset on page 0, the page the virtual drive starts on), factory setting 1.
+/// 07-08 (P.52, 0034h): a parameter every protocol reaches (on the Eaton protocol at offset
+/// 52 of page 0, as 07-11 at offset 34), factory setting 1.
 const PARAMETER: &str = "07-08";
 const SELECTOR: &str = "07-11";
+
+/// The page switches a new master makes before its first access to page 0 (07-08 and 07-11
+/// share it): one on a protocol with pages.
+fn switches(protocol: &DriveProtocol<dv1::Drive>) -> u64 {
+    u64::from(protocol.paging.is_some())
+}
 
 /// (RAM, EEPROM) of the register `name` in the virtual drive.
 fn stored(sim: &Simulator, name: &str) -> (u32, u32) {
@@ -47,12 +53,12 @@ fn a_ram_write_sets_07_11_to_1_first_and_leaves_the_parameters_eeprom_copy() {
         assert_eq!(stored(&sim, PARAMETER), (5, 1), "{}: RAM only", protocol.id);
         // Two frames: 07-11 = 1, then the value. Writing 1 while 0 was in force stored it
         // in the EEPROM too (the documented price of a RAM-only write).
-        assert_eq!(sim.requests(), 2, "{}", protocol.id);
+        assert_eq!(sim.requests(), 2 + switches(protocol), "{}", protocol.id);
         assert_eq!(stored(&sim, SELECTOR), (1, 1));
         assert_eq!(master.persistence_selector(), Some(1));
         // Known now: the next RAM write is one frame.
         master.write_ram::<AllowedErrorCount>(6).unwrap();
-        assert_eq!(sim.requests(), 3);
+        assert_eq!(sim.requests(), 3 + switches(protocol));
         assert_eq!(stored(&sim, PARAMETER), (6, 1));
         // RAM-only registers are not governed: the run command and the RAM frequency go
         // as they are.
@@ -60,7 +66,7 @@ fn a_ram_write_sets_07_11_to_1_first_and_leaves_the_parameters_eeprom_copy() {
             .write_ram::<FrequencyCommandRam>(Hertz(10.0))
             .unwrap();
         master.write_ram::<RunCommand>(Word::new()).unwrap();
-        assert_eq!(sim.requests(), 5);
+        assert_eq!(sim.requests(), 5 + switches(protocol));
         // A power cycle brings back what the EEPROM holds.
         sim.power_cycle();
         sim.advance(Duration::from_secs(2));
@@ -87,18 +93,23 @@ fn a_persistent_write_reaches_the_eeprom_and_leaves_07_11_as_it_was() {
         // in force), the value (RAM and EEPROM), then 1 (stored as 1, what the EEPROM held).
         let mut master = sim.master(protocol);
         master.write_persistent::<AllowedErrorCount>(7).unwrap();
-        assert_eq!(sim.requests() - before, 4, "{}", protocol.id);
+        assert_eq!(
+            sim.requests() - before,
+            4 + switches(protocol),
+            "{}",
+            protocol.id
+        );
         assert_eq!(stored(&sim, PARAMETER), (7, 7), "{}", protocol.id);
         assert_eq!(stored(&sim, SELECTOR), (1, 1), "{}", protocol.id);
         assert_eq!(master.persistence_selector(), Some(1));
         // Known to hold 1: no read the second time.
         master.write_persistent::<AllowedErrorCount>(8).unwrap();
-        assert_eq!(sim.requests() - before, 7);
+        assert_eq!(sim.requests() - before, 7 + switches(protocol));
         assert_eq!(stored(&sim, PARAMETER), (8, 8));
         assert_eq!(stored(&sim, SELECTOR), (1, 1));
         // And a RAM write after it is one frame again, leaving the EEPROM at 8.
         master.write_ram::<AllowedErrorCount>(2).unwrap();
-        assert_eq!(sim.requests() - before, 8);
+        assert_eq!(sim.requests() - before, 8 + switches(protocol));
         assert_eq!(stored(&sim, PARAMETER), (2, 8));
         sim.power_cycle();
         sim.advance(Duration::from_secs(2));
@@ -113,14 +124,14 @@ fn with_the_factory_setting_a_persistent_write_is_the_write_alone() {
         let mut master = sim.master(protocol);
         master.write_persistent::<AllowedErrorCount>(9).unwrap();
         // The read of 07-11 (0), then the value: 07-11 stays 0 in RAM and EEPROM.
-        assert_eq!(sim.requests(), 2, "{}", protocol.id);
+        assert_eq!(sim.requests(), 2 + switches(protocol), "{}", protocol.id);
         assert_eq!(stored(&sim, PARAMETER), (9, 9));
         assert_eq!(stored(&sim, SELECTOR), (0, 0));
         assert_eq!(master.persistence_selector(), Some(0));
         // 0 remembered: read again before the next persistent write (a power cycle may
         // have brought back a 1 from the EEPROM).
         master.write_persistent::<AllowedErrorCount>(4).unwrap();
-        assert_eq!(sim.requests(), 4);
+        assert_eq!(sim.requests(), 4 + switches(protocol));
         assert_eq!(stored(&sim, PARAMETER), (4, 4));
     }
 }
@@ -190,18 +201,18 @@ fn the_eeprom_frequency_register_keeps_its_own_storage() {
 }
 
 #[test]
-fn a_parameter_the_protocol_cannot_carry_sends_nothing() {
-    // 02-15 (P.195, 00C3h) has no code on the Eaton protocol without its page: the write
-    // is refused before 07-11 is touched.
+fn a_value_refused_before_sending_touches_nothing() {
+    // 500 Hz is outside 02-15's 0-400 Hz: refused before 07-11 or the page is touched.
     let sim = Simulator::new(&dv1::DRIVE);
     let mut master = sim.master(&dv1::protocols::EATON);
-    let error = master.write_ram::<Parameter0215>(Hertz(50.0)).unwrap_err();
+    let error = master.write_ram::<Parameter0215>(Hertz(500.0)).unwrap_err();
     assert!(
-        matches!(error.kind, TransactionErrorKind::Encode(_)),
+        matches!(error.kind, TransactionErrorKind::Value(_)),
         "{error}"
     );
     assert_eq!(sim.requests(), 0);
     assert_eq!(stored(&sim, SELECTOR), (0, 0));
+    assert_eq!(master.persistence_selector(), None);
 }
 
 /// Runs the drive at `hertz` with 00-08 = `selector`, the frequency written in
