@@ -515,7 +515,17 @@ impl<'a> Report<'a> {
                 "register",
                 format!("{} {register} (not described)", space.as_str()),
             ),
-            (None, None, Some(wire)) => self.add("register", format!("wire number {wire:04X}h")),
+            (None, None, Some(wire)) => {
+                // Layouts without a command field: the command of the frame's kind.
+                let command = command.or_else(|| {
+                    let mut of_kind = protocol
+                        .commands
+                        .iter()
+                        .filter(|c| Some(c.kind) == meaning.kind);
+                    of_kind.next().filter(|_| of_kind.next().is_none())
+                });
+                self.add("register", paged_text(drive, protocol, command, wire))
+            }
             _ => {}
         }
         if let Some(index) = meaning.index {
@@ -759,4 +769,49 @@ fn value_shown(field: &vfd_runtime::FieldSpec, value: u32) -> String {
         Ok(len) if field.format.is_digits() => escaped(&out[..len]),
         _ => format!("{value:02X}h"),
     }
+}
+
+/// A wire number no register owns: on a protocol with pages, the offset it is and the
+/// registers it is on each page (the frame alone does not say which page is selected);
+/// the page register itself; else just the number.
+fn paged_text(
+    drive: &'static vfd_runtime::DriveInfo,
+    protocol: &Protocol,
+    command: Option<&vfd_runtime::protocol::CommandSpec>,
+    wire: u16,
+) -> String {
+    let plain = format!("wire number {wire:04X}h");
+    let (Some(paging), Some(command)) = (&protocol.paging, command) else {
+        return plain;
+    };
+    let select = if command.kind.is_write() {
+        Some(paging.select_write)
+    } else {
+        paging.select_read
+    };
+    if select == Some(wire) {
+        return format!("{plain}: the page register (selects the page of later requests)");
+    }
+    let Some(offset) = command.address_map.from_wire(wire) else {
+        return plain;
+    };
+    let on_pages: Vec<String> = paging
+        .ranges
+        .iter()
+        .flat_map(|range| {
+            let last = range.first_page + (range.last - range.first) / range.size.max(1);
+            range.first_page..=last
+        })
+        .filter_map(|page| {
+            let number = paging.register(page, offset)?;
+            let info = drive.register_at(Space::Parameter, number)?;
+            Some(format!("page {page}: {}", info.label()))
+        })
+        .collect();
+    let described = if on_pages.is_empty() {
+        "no described register lies there on any page".to_owned()
+    } else {
+        on_pages.join("; ")
+    };
+    format!("{plain}: offset {offset} ({offset:02X}h) of the page selected before ({described})")
 }

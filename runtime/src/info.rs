@@ -340,7 +340,11 @@ impl RegisterInfo {
     /// The code is left out when it only repeats the address (`FA01`).
     pub fn label(&self) -> String {
         let number = manual_number(self.space, self.address, self.code);
-        let names = format!("({} / {})", self.name, self.name_zh);
+        let names = if self.name_zh.is_empty() {
+            format!("({})", self.name)
+        } else {
+            format!("({} / {})", self.name, self.name_zh)
+        };
         if self.space == Space::Coil {
             return format!("{number} {} {names}", self.code);
         }
