@@ -17,6 +17,7 @@ mod link;
 mod parts;
 mod pre_steps;
 mod text;
+mod variants;
 
 use crate::diagnostics::Diagnostics;
 use crate::load::LoadedDrive;
@@ -134,7 +135,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         return None;
     }
     let meta = &file.protocol;
-    Some(Protocol {
+    let mut protocol = Protocol {
         id: Cow::Owned(input.reference.id.clone()),
         name: Cow::Owned(meta.name.clone()),
         commands: Cow::Owned(commands.into_iter().map(|c| c.spec).collect()),
@@ -157,7 +158,10 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         error_codes: Cow::Owned(error_codes::error_table(input)),
         block,
         wire_numbers: Cow::Owned(wire_numbers),
-    })
+        variants: None,
+    };
+    protocol.variants = variants::lower_variants(input, &protocol, out);
+    (out.items.len() == before).then_some(protocol)
 }
 
 /// The registers' own numbers on the wire in this protocol (`registers[].wire_numbers`),
