@@ -358,3 +358,72 @@ fn mismatch_error(input: &Input<'_>, id: &str, out: &mut Diagnostics) -> Option<
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_support::{
+        drive_with, lower_both, lowered, parts, problems_of, protocol_with,
+    };
+
+    const VARIANTS: &str = "error_reply: error_reply\nvariants:\n  - { id: cr, name: CR }\n  - { id: cr_lf, name: CR LF, literals: { cr: { literal_hex: \"0D 0A\" } } }\n  - { id: bang, name: Bang, literals: { start: { literal: \"!\" } } }\n";
+
+    fn with_variants() -> String {
+        protocol_with(&[("error_reply: error_reply\n", VARIANTS)])
+    }
+
+    #[test]
+    fn every_variant_gets_the_bytes_of_every_literal_some_variant_varies() {
+        let protocol = lowered(&with_variants());
+        let variants = protocol.variants.as_ref().expect("variants");
+        let shown: Vec<(&str, Vec<(&str, &[u8])>)> = variants
+            .choices
+            .iter()
+            .map(|choice| {
+                let literals = choice
+                    .literals
+                    .iter()
+                    .map(|l| (l.part.as_ref(), l.bytes.as_ref()))
+                    .collect();
+                (choice.id.as_ref(), literals)
+            })
+            .collect();
+        assert_eq!(
+            shown,
+            [
+                ("cr", vec![("cr", &b"\r"[..]), ("start", b"(")]),
+                ("cr_lf", vec![("cr", &b"\r\n"[..]), ("start", b"(")]),
+                ("bang", vec![("cr", &b"\r"[..]), ("start", b"!")]),
+            ]
+        );
+        // Without a drive rule nothing selects a variant, and no error answers a mismatch.
+        assert_eq!(variants.selected_by, None);
+        assert_eq!(variants.mismatch_error, None);
+        // The layouts in a variant carry its bytes; the protocol's own stay as written.
+        let cr_lf = protocol.in_variant(1).unwrap();
+        assert_eq!(
+            parts(&cr_lf, "read_request").last(),
+            Some(&vfd_runtime::Part::Literal {
+                name: "cr".into(),
+                bytes: b"\r\n".to_vec().into(),
+                optional: false,
+            })
+        );
+        assert_eq!(cr_lf.variant_id(), Some("cr_lf"));
+        let bang = protocol.in_variant(2).unwrap();
+        assert!(matches!(&parts(&bang, "error_reply")[0],
+            vfd_runtime::Part::Literal { bytes, .. } if bytes.as_ref() == b"!"));
+        assert!(matches!(&parts(&protocol, "reply")[0],
+            vfd_runtime::Part::Literal { bytes, .. } if bytes.as_ref() == b"("));
+    }
+
+    #[test]
+    fn the_selecting_register_must_be_described() {
+        let drive = drive_with("    variant: { register: F999, mismatch_error: data_error }\n");
+        let problems = problems_of(lower_both(&drive, &with_variants()));
+        assert_eq!(problems.len(), 1, "{problems:?}");
+        assert!(
+            problems[0].ends_with("protocols[0].variant.register: no register `F999`"),
+            "{problems:?}"
+        );
+    }
+}
