@@ -367,6 +367,9 @@ mod tests {
 
     const VARIANTS: &str = "error_reply: error_reply\nvariants:\n  - { id: cr, name: CR }\n  - { id: cr_lf, name: CR LF, literals: { cr: { literal_hex: \"0D 0A\" } } }\n  - { id: bang, name: Bang, literals: { start: { literal: \"!\" } } }\n";
 
+    /// A variant as compared: its id, and each varied literal's part name and bytes.
+    type Shown<'a> = (&'a str, Vec<(&'a str, &'a [u8])>);
+
     fn with_variants() -> String {
         protocol_with(&[("error_reply: error_reply\n", VARIANTS)])
     }
@@ -375,7 +378,7 @@ mod tests {
     fn every_variant_gets_the_bytes_of_every_literal_some_variant_varies() {
         let protocol = lowered(&with_variants());
         let variants = protocol.variants.as_ref().expect("variants");
-        let shown: Vec<(&str, Vec<(&str, &[u8])>)> = variants
+        let shown: Vec<Shown> = variants
             .choices
             .iter()
             .map(|choice| {
