@@ -64,6 +64,11 @@ pub struct LineArgs {
     /// them): registers that exist once per port are read and written on this port's copy.
     #[arg(long, value_name = "PORT")]
     pub port_kind: Option<String>,
+    /// The protocol's variant the drive is set to, for protocols with several (`vfd info
+    /// DRIVE` lists them; Eaton: `cr` or `cr_lf`, the terminator 07-06 selects); default:
+    /// the protocol's first.
+    #[arg(long, value_name = "VARIANT")]
+    pub variant: Option<String>,
 }
 
 /// A byte line to a drive: a serial port, or a terminal device (pseudo-terminals), traced
@@ -212,6 +217,7 @@ impl Session {
     pub fn open(args: &LineArgs) -> Result<Session, Failure> {
         let drive = lookup::drive(&args.drive)?;
         let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
+        let protocol = lookup::variant(protocol, args.variant.as_deref())?;
         let settings = line_settings(drive, args.baud, args.parity);
         let line = open_line(&args.port, &settings)?;
         let mut timing = drive.serial.timing;

@@ -369,7 +369,9 @@ fn fits_of(
     let mut errors = Vec::new();
     for &direction in directions {
         for &drive in drives {
-            for &protocol in drive.protocols {
+            // Every variant (the Eaton terminator CR or CR LF): a frame fits the one it is in.
+            let protocols = drive.protocols.iter().flat_map(|p| p.all_variants());
+            for protocol in protocols {
                 if args
                     .protocol
                     .as_deref()
@@ -597,11 +599,12 @@ impl<'a> Report<'a> {
             say!("text:     {}", escaped(self.bytes));
         }
         say!(
-            "decoded:  {} {} of {} ({}), {}",
+            "decoded:  {} {} of {} ({}{}), {}",
             fit.protocol.id,
             fit.direction.as_str(),
             fit.drive.id,
             fit.protocol.name,
+            other_variant(fit.protocol).map_or_else(String::new, |id| format!(", variant {id}")),
             self.checksum()
         );
         for (name, value) in &self.fields {
@@ -639,7 +642,7 @@ impl<'a> Report<'a> {
                     .collect()
             })
         });
-        serde_json::json!({
+        let mut json = serde_json::json!({
             "valid": true,
             "frame": vfd_runtime::error::hex(self.bytes),
             "drive": fit.drive.id,
@@ -665,8 +668,21 @@ impl<'a> Report<'a> {
             "fields": fields,
             "parts": self.parts.iter().map(|(n, v)| serde_json::json!({"name": n, "value": v})).collect::<Vec<_>>(),
             "notes": self.notes,
-        })
+        });
+        if let (Some(id), Some(object)) = (other_variant(fit.protocol), json.as_object_mut()) {
+            object.insert("variant".to_owned(), serde_json::json!(id));
+        }
+        json
     }
+}
+
+/// The protocol's variant when it is not the first (the layouts as the file writes them).
+fn other_variant(protocol: &Protocol) -> Option<&str> {
+    protocol
+        .variants
+        .as_ref()
+        .filter(|variants| variants.current != 0)
+        .and_then(|_| protocol.variant_id())
 }
 
 /// Every part of the frame's layout with its value, as the protocol file names it.

@@ -49,6 +49,20 @@ pub fn protocol(drive: &DriveInfo, id: Option<&str>) -> Result<&'static Protocol
     }
 }
 
+/// `protocol` in its variant `id` (`None`: as it is).
+pub fn variant(
+    protocol: &'static Protocol,
+    id: Option<&str>,
+) -> Result<&'static Protocol, Failure> {
+    let Some(id) = id else {
+        return Ok(protocol);
+    };
+    protocol.variant_or_error(id).map_err(|error| {
+        Failure::new(error.to_string())
+            .hint("name one of the protocol's variants, or leave --variant out")
+    })
+}
+
 /// Every register `name` may mean, best match first: an exact code or id, then the code,
 /// id, address or name without regard to case, then names containing it.
 pub fn registers(drive: &DriveInfo, name: &str) -> Vec<&'static RegisterInfo> {

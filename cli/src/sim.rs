@@ -43,6 +43,11 @@ pub struct SimArgs {
     /// frequency command act (default: the registers as the behaviour model names them).
     #[arg(long, value_name = "PORT")]
     pub port_kind: Option<String>,
+    /// The protocol's variant the drive is set to, for protocols with several (Eaton:
+    /// `cr_lf`): the register that selects it is set so (07-06 = 2), as if on the panel
+    /// before power-on. Default: the drive's factory setting.
+    #[arg(long, value_name = "VARIANT")]
+    pub variant: Option<String>,
 }
 
 /// Faults the virtual drive can commit.
@@ -97,6 +102,16 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
     if let Some(port) = lookup::port(drive, args.port_kind.as_deref())? {
         sim.lock().set_port(port.id);
     }
+    let protocol = lookup::variant(protocol, args.variant.as_deref())?;
+    if let Some(id) = args.variant.as_deref() {
+        if !sim.lock().select_variant(protocol) {
+            return Err(Failure::new(format!(
+                "no register of drive {} selects variant `{id}` of protocol {}",
+                drive.id, protocol.id
+            ))
+            .hint("the drive's protocol entry names the selecting register with `variant:`"));
+        }
+    }
     for fault in &args.fault {
         sim.inject((*fault).into());
     }
@@ -112,8 +127,14 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::new(format!("cannot use the pseudo-terminal: {e}")))?;
     say!("{path}");
     eprintln!(
-        "vfd sim: virtual {} ({}) speaking {} as station {address} on {path}, {} baud; Ctrl-C stops",
-        drive.id, drive.model, protocol.id, settings.baud
+        "vfd sim: virtual {} ({}) speaking {}{} as station {address} on {path}, {} baud; Ctrl-C stops",
+        drive.id,
+        drive.model,
+        protocol.id,
+        args.variant
+            .as_deref()
+            .map_or_else(String::new, |id| format!(" ({id})")),
+        settings.baud
     );
     let mut logged = Logged {
         inner: transport,

@@ -659,3 +659,33 @@ fn write_broadcast_reaches_a_group_and_waits_for_the_station_named() {
         text(&refused)
     );
 }
+
+#[test]
+fn dv1_eaton_in_cr_lf_as_07_06_selects() {
+    // `vfd sim --variant cr_lf` sets 07-06 = 2: every frame ends in CR LF.
+    let sim = Sim::start_with("dv1", "eaton", &["--address", "0", "--variant", "cr_lf"]);
+    let eaton = |args: &[&str]| {
+        let mut all = vec![args[0], "--address", "0"];
+        all.extend_from_slice(&args[1..]);
+        sim.vfd("dv1", "eaton", &all)
+    };
+    let write = eaton(&["write", "1002", "50Hz", "--variant", "cr_lf"]);
+    assert!(write.status.success(), "{}", text(&write));
+    let read = eaton(&["read", "1002", "--variant", "cr_lf"]);
+    assert!(read.status.success(), "{}", text(&read));
+    assert!(text(&read).contains("50.00 Hz"), "{}", text(&read));
+    let setting = eaton(&["read", "07-06", "--variant", "cr_lf"]);
+    assert!(text(&setting).contains("CR and LF"), "{}", text(&setting));
+    // A master left in CR gets H03 (protocol error) back.
+    let plain = eaton(&["read", "1002"]);
+    assert!(!plain.status.success());
+    assert!(text(&plain).contains("Protocol error"), "{}", text(&plain));
+    // An unknown variant is refused before anything is sent.
+    let unknown = eaton(&["read", "1002", "--variant", "lf"]);
+    assert!(!unknown.status.success());
+    assert!(
+        text(&unknown).contains("its variants: cr, cr_lf"),
+        "{}",
+        text(&unknown)
+    );
+}

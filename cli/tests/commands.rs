@@ -348,3 +348,21 @@ fn demo_runs_to_completion_piped() {
     let default = vfd(&["demo", "--seconds", "1"]);
     assert!(default.status.success(), "{}", stderr(&default));
 }
+
+#[test]
+fn decode_finds_the_protocol_variant_a_frame_is_in() {
+    // 例一 with CR LF (the DV1 set to 07-06 = 2): the Eaton protocol's variant cr_lf.
+    let text = stdout(&vfd(&["decode", "\\x0500FA00002D9\\r\\n"]));
+    assert!(
+        text.contains("eaton request of dv1 (Eaton computer-link protocol (ASCII), variant cr_lf), checksum ok"),
+        "{text}"
+    );
+    let json = stdout(&vfd(&["decode", "--json", "\\x0600\\r\\n"]));
+    assert!(json.contains("\"variant\": \"cr_lf\""), "{json}");
+    // As printed, with CR only: the protocol as written, no variant named.
+    let text = stdout(&vfd(&["decode", "\\x0500FA00002D9\\r"]));
+    assert!(
+        text.contains("(Eaton computer-link protocol (ASCII)), checksum ok"),
+        "{text}"
+    );
+}

@@ -363,6 +363,16 @@ pub enum EncodeError {
         /// Why.
         reason: &'static str,
     },
+    /// The protocol has no variant of that name (see [`crate::protocol::Protocol::variant`]).
+    #[error("protocol {protocol} has no variant `{variant}`{known}", known = if known.is_empty() { String::from(" (it has none)") } else { format!("; its variants: {known}") })]
+    NoSuchVariant {
+        /// Protocol id.
+        protocol: Text,
+        /// The variant asked for.
+        variant: String,
+        /// The protocol's variants, comma-separated (empty: it has none).
+        known: String,
+    },
     /// The protocol has no address field, but an address was given.
     #[error("protocol {protocol}: station address {address} is outside {min}..={max}")]
     AddressOutOfRange {

@@ -9,6 +9,8 @@
 //! * [`layout`] describes a frame as a list of parts (literals, fields, checksums);
 //! * [`codec`] encodes and decodes any such layout without heap allocation;
 //! * [`protocol`] ties layouts to commands (read, RAM write, persistent write) and error replies;
+//!   [`variant`] holds a protocol's variants (another terminator) and the register that
+//!   selects one;
 //!   [`broadcast`] says which stations a broadcast or group request reaches and who answers;
 //! * [`register`] holds the traits that make register access typed (each register gets
 //!   `R::read()`, `R::write_ram(value)`, ... from them) and the protocol-independent
@@ -21,8 +23,9 @@
 //! `use vfd_runtime::prelude::*` brings the register traits and the common types into scope.
 //!
 //! Modules only use modules below them (a test in the workspace keeps it so): `layout`,
-//! `kinds`, `serial` and `scaling` use nothing; `info` the first two; then `error`, `codec`,
-//! `register`, `units`, `protocol`, `drive`, `transport`, `transaction` and `prelude`.
+//! `kinds`, `serial` and `scaling` use nothing; `info` the first two; `variant` only
+//! `layout`; then `error`, `codec`, `register`, `units`, `protocol`, `drive`, `transport`,
+//! `transaction` and `prelude`.
 //! Types are re-exported where they used to live (`protocol::DataType`,
 //! `protocol::Request`, `register::RegisterInfo`, `units::Unit`) and at the crate root.
 //!
@@ -66,6 +69,7 @@ pub mod testing;
 pub mod transaction;
 pub mod transport;
 pub mod units;
+pub mod variant;
 pub mod virtual_drive;
 
 pub use broadcast::{Broadcast, BroadcastAnswer, BroadcastRule, StationGroup};

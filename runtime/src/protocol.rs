@@ -11,6 +11,7 @@ use crate::layout::{Counts, Format, FrameLayout, List, Part, Role, SizedBy, Text
 use crate::register::DriveRequest;
 pub use crate::register::Request;
 use crate::serial::LinkTiming;
+pub use crate::variant::{Variant, VariantLiteral, VariantSelector, VariantValue, Variants};
 use std::borrow::Cow;
 use std::fmt;
 use std::marker::PhantomData;
@@ -483,6 +484,12 @@ impl<D: 'static> DriveProtocol<D> {
         self.protocol
     }
 
+    /// The same protocol in its variant `id` (see [`Protocol::variant`]); `None`: no such
+    /// variant.
+    pub fn variant(&self, id: &str) -> Option<DriveProtocol<D>> {
+        self.protocol.variant(id).map(DriveProtocol::new)
+    }
+
     /// Encodes a request for one of the drive's registers; see [`Protocol::encode_request`].
     pub fn encode_request(
         &self,
@@ -564,6 +571,10 @@ pub struct Protocol {
     /// `persistence:`, the same in every protocol of the drive); `None`: the command's kind
     /// says it (or a [`PreStep::Persistence`] does).
     pub persistence: Option<PersistenceSelector>,
+    /// The protocol's variants (other bytes for some literal parts, such as the
+    /// terminator) and which one this protocol is in; `None`: it has none. See
+    /// [`Protocol::variant`].
+    pub variants: Option<Variants>,
 }
 
 /// A register of the drive whose value chooses where parameter writes over the link go
@@ -693,6 +704,134 @@ impl Protocol {
             None if self.paging.is_some() => None,
             None => command.address_map.from_wire(wire),
         }
+    }
+}
+
+/// Variants built from generated protocols, kept for the life of the process like the
+/// statics they come from: (the protocol built from, variant index, the variant).
+type Derived = Vec<(&'static Protocol, usize, &'static Protocol)>;
+static DERIVED: std::sync::Mutex<Derived> = std::sync::Mutex::new(Vec::new());
+
+impl Protocol {
+    /// The id of the variant this protocol is in (`None`: the protocol has no variants).
+    pub fn variant_id(&self) -> Option<&str> {
+        self.variants.as_ref()?.current().map(|v| v.id.as_ref())
+    }
+
+    /// This protocol in the variant at `index` of [`Protocol::variants`] (its own when it
+    /// is already in it): every literal part the variant lists gets the variant's bytes,
+    /// in every command's layouts (its follow-ups included) and in the error reply.
+    /// `None`: no such variant.
+    pub fn in_variant(&self, index: usize) -> Option<Protocol> {
+        let variants = self.variants.as_ref()?;
+        let variant = variants.choices.get(index)?;
+        let commands = self
+            .commands
+            .iter()
+            .map(|command| CommandSpec {
+                request: variant.apply(&command.request),
+                reply: variant.apply(&command.reply),
+                follow_up: command.follow_up.as_ref().map(|f| FollowUp {
+                    ok: variant.apply(&f.ok),
+                    again: variant.apply(&f.again),
+                }),
+                ..command.clone()
+            })
+            .collect();
+        Some(Protocol {
+            commands: Cow::Owned(commands),
+            error_reply: self.error_reply.as_ref().map(|l| variant.apply(l)),
+            variants: Some(Variants {
+                current: u8::try_from(index).ok()?,
+                ..variants.clone()
+            }),
+            ..self.clone()
+        })
+    }
+
+    /// This protocol in its variant `id` (`cr_lf`), for a master or tool told which one
+    /// the drive is set to; `None`: no such variant. The variant of a generated protocol
+    /// is built once, on first use, and kept for the life of the process, like the static
+    /// it comes from.
+    pub fn variant(&'static self, id: &str) -> Option<&'static Protocol> {
+        let index = self.variants.as_ref()?.index_of(id)?;
+        Some(self.variant_at(index))
+    }
+
+    /// [`Protocol::variant`], or the typed reason there is none (naming the variants
+    /// there are).
+    pub fn variant_or_error(&'static self, id: &str) -> Result<&'static Protocol, EncodeError> {
+        self.variant(id).ok_or_else(|| EncodeError::NoSuchVariant {
+            protocol: self.id.clone(),
+            variant: id.to_owned(),
+            known: self
+                .variants
+                .iter()
+                .flat_map(|v| v.choices.iter().map(|c| c.id.as_ref()))
+                .collect::<Vec<_>>()
+                .join(", "),
+        })
+    }
+
+    /// Every variant of this protocol, in the protocol file's order, this one among them;
+    /// only this one when it has no variants.
+    pub fn all_variants(&'static self) -> Vec<&'static Protocol> {
+        match &self.variants {
+            Some(variants) => (0..variants.choices.len())
+                .map(|index| self.variant_at(index))
+                .collect(),
+            None => vec![self],
+        }
+    }
+
+    /// The variant the value `value_of(register)` of the drive's selector register selects
+    /// (`None` from `value_of`: its default); this protocol when there is no selector or
+    /// the value selects none.
+    pub fn variant_selected(
+        &'static self,
+        value_of: impl Fn(u16) -> Option<u32>,
+    ) -> &'static Protocol {
+        let Some(variants) = &self.variants else {
+            return self;
+        };
+        let Some(selector) = &variants.selected_by else {
+            return self;
+        };
+        match value_of(selector.register).and_then(|value| variants.selected_by_value(value)) {
+            Some(index) => self.variant_at(index),
+            None => self,
+        }
+    }
+
+    /// The variant at `index` (an index of [`Variants::choices`] that exists; this
+    /// protocol otherwise).
+    fn variant_at(&'static self, index: usize) -> &'static Protocol {
+        let same = |a: &Protocol, b: &Protocol| std::ptr::eq(a, b);
+        let mut derived = DERIVED
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        // A variant built here is taken back to the protocol it was built from, so that
+        // every variant of a generated protocol is built from it, once.
+        let origin = derived
+            .iter()
+            .find(|(_, _, built)| same(built, self))
+            .map_or(self, |(origin, _, _)| *origin);
+        let current = origin.variants.as_ref().map(|v| usize::from(v.current));
+        if current == Some(index) {
+            return origin;
+        }
+        if let Some((_, _, built)) = derived
+            .iter()
+            .find(|(from, at, _)| same(from, origin) && *at == index)
+        {
+            return built;
+        }
+        let Some(protocol) = origin.in_variant(index) else {
+            return origin;
+        };
+        let built: &'static Protocol = Box::leak(Box::new(protocol));
+        derived.push((origin, index, built));
+        built
     }
 }
 

@@ -301,6 +301,19 @@ impl<T: Transport, D: 'static> Master<T, D> {
         }
     }
 
+    /// Talks in the protocol's variant `id` (`cr_lf`: every frame ends in CR LF), the one
+    /// the drive is set to ([`Protocol::variant`]): requests are sent in it and replies
+    /// are expected in it. An unknown variant is refused, naming the protocol's variants.
+    pub fn with_variant(mut self, id: &str) -> Result<Self, EncodeError> {
+        self.protocol = self.protocol.variant_or_error(id)?;
+        Ok(self)
+    }
+
+    /// The id of the protocol variant the master talks in (`None`: the protocol has none).
+    pub fn variant(&self) -> Option<&'static str> {
+        self.protocol.variant_id()
+    }
+
     /// Talks to the drive's port `port` (of a drive with several serial ports): a request
     /// for a register that exists once per port goes to this port's copy, as the
     /// description's `ports.registers` pairs them (one port's command word becomes the

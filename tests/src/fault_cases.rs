@@ -140,9 +140,26 @@ pub struct Subject {
 }
 
 impl Subject {
-    /// `drive protocol`, e.g. for a table.
+    /// `drive protocol`, e.g. for a table; `drive protocol (variant)` for a protocol in
+    /// another variant than its first.
     pub fn name(&self) -> String {
-        format!("{} {}", self.drive.id, self.protocol.id)
+        match &self.protocol.variants {
+            Some(variants) if variants.current != 0 => format!(
+                "{} {} ({})",
+                self.drive.id,
+                self.protocol.id,
+                self.protocol.variant_id().unwrap_or_default()
+            ),
+            _ => format!("{} {}", self.drive.id, self.protocol.id),
+        }
+    }
+
+    /// A virtual drive in its factory state, set to speak the subject's protocol variant
+    /// (its selecting register set so; unchanged for a protocol without variants).
+    pub fn simulator(&self) -> Simulator {
+        let sim = Simulator::new(self.drive);
+        sim.lock().select_variant(self.protocol);
+        sim
     }
 
     /// The `n`th raw value (from 0) the tests write: inside the register's range, never
@@ -241,7 +258,8 @@ pub fn subjects() -> (Vec<Subject>, Vec<String>) {
     let mut subjects = Vec::new();
     let mut left_out = Vec::new();
     for drive in vfd_drives::ALL_DRIVES {
-        for protocol in drive.protocols {
+        // Every variant of a protocol is a subject (the DV1's Eaton protocol in CR LF too).
+        for protocol in drive.protocols.iter().flat_map(|p| p.all_variants()) {
             // A protocol described without a read (the DV1's Eaton reads are not yet in its
             // protocol file) has nothing to read back: it is not a subject.
             if !protocol

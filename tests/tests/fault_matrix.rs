@@ -311,7 +311,7 @@ enum Medium {
 
 /// Runs one cell on `medium`.
 fn cell(medium: Medium, subject: Subject, fault: Fault) -> (Runs, Vec<String>) {
-    let sim = Simulator::new(subject.drive);
+    let sim = subject.simulator();
     match medium {
         Medium::InProcess => {
             let (runs, failures, _) = run_cell(&sim, sim.link(subject.protocol), subject, &fault);

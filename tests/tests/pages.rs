@@ -249,3 +249,23 @@ fn pages_locate_registers_in_both_numberings() {
     assert_eq!(paging.register(102, 15), Some(10215));
     assert_eq!(paging.register(5, 0), None);
 }
+
+#[test]
+fn in_cr_lf_the_whole_exchange_ends_its_frames_in_cr_lf_the_follow_up_too() {
+    let (sim, master) = eaton();
+    let cr_lf = dv1::protocols::EATON.variant("cr_lf").unwrap();
+    assert!(sim.lock().select_variant(cr_lf.protocol()));
+    let mut master = master.with_variant("cr_lf").unwrap();
+    let value = master.read::<Parameter0215>().unwrap();
+    assert_eq!(value.into_value(), Hertz(60.0));
+    assert_eq!(
+        take_log(&mut master),
+        vec![
+            sent("\x0500FF00001DD\r\n"),
+            received("\x0600\r\n"),
+            sent("\x05005F00B\r\n"),
+            received("\x020017702\x0361\r\n"),
+            sent("\x0600\r\n"),
+        ]
+    );
+}

@@ -17,7 +17,7 @@ use std::sync::{mpsc, Arc};
 use std::thread;
 use std::time::{Duration, Instant};
 use vfd_runtime::transaction::Master;
-use vfd_runtime::virtual_drive::{Fault, Simulator};
+use vfd_runtime::virtual_drive::Fault;
 use vfd_runtime::{CommandKind, Request};
 use vfd_tests::fault_cases::{
     expected_for_write, faults, subjects, CountingLine, Kind, Served, Subject,
@@ -89,7 +89,7 @@ fn rss_kib() -> Option<u64> {
 /// Runs exchanges on one line until `stop`, checking each.
 fn run_line(subject: Subject, seed: u64, stop: &AtomicBool) -> Tally {
     let mut tally = Tally::default();
-    let sim = Simulator::new(subject.drive);
+    let sim = subject.simulator();
     let (line, served) = match Served::start(&sim, subject.protocol) {
         Ok(started) => started,
         Err(error) => {

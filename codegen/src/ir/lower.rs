@@ -673,6 +673,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
                 },
             ))
         },
+        variants: runtime.variants.clone(),
     }
 }
 

@@ -445,6 +445,9 @@ pub struct ProtocolIr {
     pub persistence: Option<vfd_runtime::PersistenceSelector>,
     /// The table its error replies are named from.
     pub error_table: ErrorTableIr,
+    /// The protocol's variants, the register selecting one and the mismatch error.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub variants: Option<vfd_runtime::variant::Variants>,
 }
 
 /// Where a protocol's error replies take their meaning from.

@@ -728,6 +728,11 @@ pub struct ProtocolRef {
     /// Parameters this protocol reaches through pages: a request carries a parameter's
     /// offset in its page, after the page register has been set (DV1 Eaton protocol: HFF).
     pub pages: Option<PagesModel>,
+    /// Which of the protocol file's `variants` the drive speaks: the register that selects
+    /// it (its code table's value ids are variant ids) and the error the drive answers a
+    /// frame in another variant's form with (`{ register: 07-06, mismatch_error:
+    /// protocol_error }`). Left out: the drive speaks the first variant.
+    pub variant: Option<VariantRuleModel>,
 }
 
 /// A protocol's parameter pages (`protocols[].pages`): which register numbers lie on which
@@ -774,6 +779,20 @@ pub struct PageRangeModel {
     /// Pages the range skips (no register lies on them).
     #[serde(default)]
     pub missing_pages: Vec<u16>,
+}
+
+/// How a drive selects the variant of a protocol it speaks (`protocols[].variant`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VariantRuleModel {
+    /// The register (code or id) whose value selects the variant: a parameter with a
+    /// `code_table` whose values' ids are the protocol file's variant ids (DV1 07-06:
+    /// `1: cr`, `2: cr_lf`). Every variant must be selected by some value.
+    pub register: String,
+    /// The id of the error code (in the table naming this protocol's error replies) the
+    /// drive answers a frame in another variant's form with (DV1: `protocol_error`, H03);
+    /// left out: the drive does not answer such a frame.
+    pub mismatch_error: Option<String>,
 }
 
 /// What one command of a protocol may address on this drive, and what its data means.
@@ -1507,6 +1526,39 @@ pub struct ProtocolFile {
     /// (Modbus exception codes): used for a drive whose own `error_codes` do not apply to
     /// this protocol.
     pub error_codes: Option<ProtocolErrorCodesModel>,
+    /// Variants of the protocol: other bytes for some literal parts (a terminator that is
+    /// CR or CR LF as a drive setting chooses). The first is the protocol as its `parts`
+    /// are written; a drive's `protocols[].variant` says which register selects one.
+    #[serde(default)]
+    pub variants: Vec<VariantModel>,
+}
+
+/// A variant of a protocol (`variants[]`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VariantModel {
+    /// Lower snake case identifier (`cr_lf`): the value id that selects it in a drive's
+    /// code table, and the name masters and tools are told (`--variant cr_lf`).
+    pub id: String,
+    /// The variant's name in English.
+    pub name: String,
+    /// The variant's name as the manual prints it in Chinese.
+    #[serde(default)]
+    pub name_zh: String,
+    /// Shared literal parts (keys under `parts:`) with other bytes in this variant, each
+    /// `{ literal: ... }` or `{ literal_hex: ... }`; none in the first variant.
+    #[serde(default)]
+    pub literals: BTreeMap<String, VariantLiteralModel>,
+}
+
+/// The bytes of a literal part in a variant: exactly one of the keys.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VariantLiteralModel {
+    /// The bytes, as text.
+    pub literal: Option<String>,
+    /// The bytes, as hex pairs.
+    pub literal_hex: Option<String>,
 }
 
 /// A protocol's own error codes.

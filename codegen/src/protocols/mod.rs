@@ -18,6 +18,7 @@ mod pages;
 mod parts;
 mod pre_steps;
 mod text;
+mod variants;
 
 use crate::diagnostics::Diagnostics;
 use crate::load::LoadedDrive;
@@ -136,7 +137,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         return None;
     }
     let meta = &file.protocol;
-    Some(Protocol {
+    let mut protocol = Protocol {
         id: Cow::Owned(input.reference.id.clone()),
         name: Cow::Owned(meta.name.clone()),
         commands: Cow::Owned(commands.into_iter().map(|c| c.spec).collect()),
@@ -161,7 +162,10 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         wire_numbers: Cow::Owned(wire_numbers),
         paging,
         persistence: persistence(input.drive),
-    })
+        variants: None,
+    };
+    protocol.variants = variants::lower_variants(input, &protocol, out);
+    (out.items.len() == before).then_some(protocol)
 }
 
 /// The drive's persistence selector (`persistence:`), the same in each of its protocols;

@@ -42,9 +42,10 @@ impl Transport for SimLink {
         self.input.extend_from_slice(bytes);
         let transmissions = {
             let mut drive = self.simulator.lock();
-            // Each send is one burst after a silence (the master keeps the frame gap).
+            // Each send is one burst after a silence (the master keeps the frame gap), and
+            // the line is silent after it while the master waits for the reply.
             drive.line_silent();
-            drive.receive(self.protocol, &mut self.input)
+            drive.receive_before_silence(self.protocol, &mut self.input)
         };
         // The master sends whole frames: what is left cannot become one.
         self.input.clear();

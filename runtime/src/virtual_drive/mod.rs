@@ -34,9 +34,10 @@ pub use serve::serve;
 use crate::drive::DriveInfo;
 use crate::error::DecodeErrorKind;
 use crate::info::RegisterInfo;
-use crate::protocol::{DriveProtocol, Found, Protocol};
+use crate::protocol::{DecodedRequest, DriveProtocol, Found, Protocol};
 use crate::transaction::Master;
 use motor::Motor;
+use std::borrow::Cow;
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::Duration;
@@ -244,6 +245,32 @@ impl VirtualDrive {
         true
     }
 
+    /// Sets the register that selects `variant`'s variant of its protocol (the one it is
+    /// in, [`Protocol::variant`]) to the value that selects it, in RAM and EEPROM and in
+    /// effect at once, as if set on the panel before power-on. Returns false, changing
+    /// nothing, when no register of the drive selects it.
+    pub fn select_variant(&mut self, variant: &Protocol) -> bool {
+        let Some(variants) = &variant.variants else {
+            return false;
+        };
+        let (Some(selector), Some(value)) = (
+            &variants.selected_by,
+            variants.value_selecting(usize::from(variants.current)),
+        ) else {
+            return false;
+        };
+        let Some(info) = self
+            .drive
+            .register_at(crate::kinds::Space::Parameter, selector.register)
+        else {
+            return false;
+        };
+        self.storage.set(info, 0, value, true);
+        self.storage.take_effect(std::slice::from_ref(&info));
+        self.refresh();
+        true
+    }
+
     /// The output, signed (negative in reverse), in the frequency command's units.
     pub fn output(&self) -> f64 {
         self.motor.output
@@ -318,9 +345,12 @@ impl VirtualDrive {
             .unwrap_or(Duration::ZERO)
     }
 
-    /// Answers one whole request frame (no bytes before or after it).
+    /// Answers one whole request frame (no bytes before or after it). Over a protocol with
+    /// variants, the frame is read in the variant the drive's selector register selects;
+    /// a frame in another variant's form gets the description's mismatch error.
     pub fn respond(&mut self, protocol: &Protocol, frame: &[u8]) -> Outcome {
-        if let Some((len, again)) = self.take_follow_up(protocol, frame) {
+        let own = self.in_force(protocol).own;
+        if let Some((len, again)) = self.take_follow_up(own.as_ref(), frame) {
             if len == frame.len() {
                 return match again {
                     Some(reply) => Outcome::Reply(reply),
@@ -329,10 +359,7 @@ impl VirtualDrive {
             }
         }
         let outcome = self.respond_to_request(protocol, frame);
-        let code = protocol
-            .decode_request_exact(frame)
-            .ok()
-            .map(|r| r.command.code);
+        let code = own.decode_request_exact(frame).ok().map(|r| r.command.code);
         if let Some(code) = code {
             let reply = match &outcome {
                 Outcome::Reply(bytes) => Some(bytes.as_slice()),
@@ -344,6 +371,8 @@ impl VirtualDrive {
     }
 
     fn respond_to_request(&mut self, protocol: &Protocol, frame: &[u8]) -> Outcome {
+        let variants = self.in_force(protocol);
+        let protocol = variants.own.as_ref();
         match protocol.decode_request_exact(frame) {
             Ok(_) if self.starting_up() => {
                 self.requests += 1;
@@ -353,18 +382,115 @@ impl VirtualDrive {
                 self.requests += 1;
                 self.answer(protocol, &request)
             }
-            Err(error) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
-                self.refuse(protocol, None, Refusal::BadChecksum)
+            Err(error) => {
+                let other = variants
+                    .others
+                    .iter()
+                    .find_map(|other| other.decode_request_exact(frame).ok());
+                match other {
+                    Some(request) => {
+                        self.requests += 1;
+                        self.answer_mismatch(protocol, &request, variants.mismatch)
+                    }
+                    None if error.kind() == DecodeErrorKind::ChecksumMismatch => {
+                        self.refuse(protocol, None, Refusal::BadChecksum)
+                    }
+                    None => Outcome::Silent("not a request frame"),
+                }
             }
-            Err(_) => Outcome::Silent("not a request frame"),
+        }
+    }
+
+    /// The variant of `protocol` in force (the one its selector register's value at the
+    /// last reset selects, else `protocol` as it is) and its other variants.
+    fn in_force<'p>(&self, protocol: &'p Protocol) -> InForce<'p> {
+        let Some(variants) = &protocol.variants else {
+            return InForce {
+                own: Cow::Borrowed(protocol),
+                others: Vec::new(),
+                mismatch: None,
+            };
+        };
+        let current = usize::from(variants.current);
+        let selected = variants
+            .selected_by
+            .as_ref()
+            .and_then(|selector| {
+                self.drive
+                    .register_at(crate::kinds::Space::Parameter, selector.register)
+            })
+            .and_then(|info| variants.selected_by_value(self.storage.in_effect(info, 0)))
+            .unwrap_or(current);
+        let own = match protocol.in_variant(selected) {
+            Some(own) if selected != current => Cow::Owned(own),
+            _ => Cow::Borrowed(protocol),
+        };
+        let others = (0..variants.choices.len())
+            .filter(|index| *index != selected)
+            .filter_map(|index| protocol.in_variant(index))
+            .collect();
+        InForce {
+            own,
+            others,
+            mismatch: variants.mismatch_error,
+        }
+    }
+
+    /// Answers a request that came in another variant's form than the one in force: the
+    /// error reply with `code`, in the variant in force, when the request is for this
+    /// station; silence otherwise, or when the description names no code.
+    fn answer_mismatch(
+        &self,
+        protocol: &Protocol,
+        request: &DecodedRequest<'_>,
+        code: Option<u16>,
+    ) -> Outcome {
+        if self.starting_up() {
+            return Outcome::Silent("starting up after power-on");
+        }
+        if request.broadcast.is_some() || request.address.is_some_and(|a| a != self.address) {
+            return Outcome::Silent("another station's request");
+        }
+        match code {
+            Some(code) => self.error_reply(protocol, Some(request), code),
+            None => Outcome::Silent("the frame is in another variant of the protocol"),
         }
     }
 
     /// Takes the request frames out of `input` (bytes received so far; noise before a
     /// start sequence is skipped, an unfinished frame is left in it) and returns what the
-    /// drive sends in answer, faults applied.
+    /// drive sends in answer, faults applied. Over a protocol with variants, frames are
+    /// read in the variant in force (see [`VirtualDrive::respond`]); a frame that another
+    /// variant's form would continue (a CR that an LF may follow) waits for the next byte
+    /// or for the line's silence ([`VirtualDrive::receive_before_silence`]).
     pub fn receive(&mut self, protocol: &Protocol, input: &mut Vec<u8>) -> Vec<Transmission> {
+        self.take_frames(protocol, input, false)
+    }
+
+    /// [`VirtualDrive::receive`] for bytes the line's silence follows (a master's whole
+    /// burst): a frame that another variant's form could still have continued is taken
+    /// as it stands, and a frame that never completed in the variant in force but is whole
+    /// in another's gets the mismatch error.
+    pub fn receive_before_silence(
+        &mut self,
+        protocol: &Protocol,
+        input: &mut Vec<u8>,
+    ) -> Vec<Transmission> {
+        self.take_frames(protocol, input, true)
+    }
+
+    fn take_frames(
+        &mut self,
+        protocol: &Protocol,
+        input: &mut Vec<u8>,
+        settled: bool,
+    ) -> Vec<Transmission> {
         let mut sent = Vec::new();
+        if input.is_empty() {
+            return sent;
+        }
+        let variants = self.in_force(protocol);
+        let protocol = variants.own.as_ref();
         let start = protocol
             .commands
             .first()
@@ -401,8 +527,21 @@ impl VirtualDrive {
             if input.is_empty() {
                 break;
             }
-            let (outcome, used) = match protocol.decode_request(input) {
-                Ok(Found::Frame { frame, .. }) => {
+            let decoded = match variants.read(input, settled) {
+                Read::Own(decoded) => Ok(decoded),
+                Read::Wait => break,
+                Read::Other(frame) => Err(frame),
+            };
+            let (outcome, used) = match decoded {
+                Err(frame) => {
+                    // Another variant's frame: the mismatch error, in the variant in force.
+                    self.requests += 1;
+                    (
+                        self.answer_mismatch(protocol, &frame, variants.mismatch),
+                        frame.len,
+                    )
+                }
+                Ok(Ok(Found::Frame { frame, .. })) => {
                     self.requests += 1;
                     let mut pending = self.faults.front().cloned();
                     let rejected = std::mem::take(&mut self.garbage)
@@ -449,12 +588,12 @@ impl VirtualDrive {
                     self.note_reply(protocol, frame.command.code, reply);
                     (outcome, frame.len)
                 }
-                Ok(Found::Incomplete) => break,
-                Err(error) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
+                Ok(Ok(Found::Incomplete)) => break,
+                Ok(Err(error)) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
                     let outcome = self.refuse(protocol, None, Refusal::BadChecksum);
                     (outcome, input.len().min(start.len().max(1)))
                 }
-                Err(_) => (
+                Ok(Err(_)) => (
                     Outcome::Silent("framing error"),
                     if start.is_empty() { input.len() } else { 1 },
                 ),
@@ -510,6 +649,69 @@ impl VirtualDrive {
         }
         transmission.bytes.extend(bytes);
         Some(transmission)
+    }
+}
+
+/// A protocol in the variant a drive has in force, and its other variants.
+struct InForce<'p> {
+    /// The variant in force.
+    own: Cow<'p, Protocol>,
+    /// The others.
+    others: Vec<Protocol>,
+    /// The error code a frame in another variant's form gets.
+    mismatch: Option<u16>,
+}
+
+/// What the bytes at the start of the input are, read in the variant in force.
+enum Read<'a> {
+    /// As the variant in force reads them (a frame, an unfinished one, or an error).
+    Own(Result<Found<DecodedRequest<'a>>, crate::error::DecodeError>),
+    /// A whole frame of another variant.
+    Other(DecodedRequest<'a>),
+    /// A frame in force that another variant's form would continue: the next byte (or
+    /// the line's silence) decides.
+    Wait,
+}
+
+impl InForce<'_> {
+    /// Reads the frame at the start of `input`. A frame whole in the variant in force is
+    /// its frame unless another variant's frame goes on past it (then that frame is the
+    /// one received), or, before the line's silence (`settled`), may still go on. A frame
+    /// the variant in force cannot read, or that never completed in it by the silence, is
+    /// another variant's when one reads it whole.
+    fn read<'a>(&'a self, input: &[u8], settled: bool) -> Read<'a> {
+        let own = self.own.decode_request(input);
+        if self.others.is_empty() {
+            return Read::Own(own);
+        }
+        let whole_other = || {
+            self.others
+                .iter()
+                .find_map(|other| match other.decode_request(input) {
+                    Ok(Found::Frame { frame, .. }) => Some(frame),
+                    _ => None,
+                })
+        };
+        match &own {
+            Ok(Found::Frame { frame, .. }) => {
+                let len = frame.len;
+                for other in &self.others {
+                    match other.decode_request(input) {
+                        Ok(Found::Frame { frame, .. }) if frame.len > len => {
+                            return Read::Other(frame)
+                        }
+                        Ok(Found::Incomplete) if !settled => return Read::Wait,
+                        _ => {}
+                    }
+                }
+                Read::Own(own)
+            }
+            Ok(Found::Incomplete) if !settled => Read::Own(own),
+            _ => match whole_other() {
+                Some(frame) => Read::Other(frame),
+                None => Read::Own(own),
+            },
+        }
     }
 }
 

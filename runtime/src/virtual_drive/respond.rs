@@ -267,7 +267,22 @@ impl VirtualDrive {
         let refusals = self
             .behaviour()
             .map_or(&Refusals::SILENT, |b| b.refusals(&protocol.id));
-        let (Some(code), Some(layout)) = (refusal.code(refusals), &protocol.error_reply) else {
+        match refusal.code(refusals) {
+            Some(code) => self.error_reply(protocol, request, code),
+            None => Outcome::Silent("the manual gives no error reply for this"),
+        }
+    }
+
+    /// The protocol's error reply carrying the error code `code`, answering `request` (its
+    /// station, register and optional parts) or, for a frame that could not be read, with
+    /// the protocol's default optional parts.
+    pub(crate) fn error_reply(
+        &self,
+        protocol: &Protocol,
+        request: Option<&DecodedRequest<'_>>,
+        code: u16,
+    ) -> Outcome {
+        let Some(layout) = &protocol.error_reply else {
             return Outcome::Silent("the manual gives no error reply for this");
         };
         let command = error_code_for(layout, request.map(|r| r.command));

@@ -34,6 +34,9 @@ pub fn serve<T: Transport>(
         .max(protocol.timing.frame_gap_min);
     // A silence this long inside a frame drops it (where the drive states such a limit).
     let inner_gap = char_time.mul_f32(protocol.timing.max_inner_gap_chars);
+    // After this much silence a frame that another variant of the protocol could still
+    // have continued (a CR that an LF may follow) is taken as it stands.
+    let settle = char_time * 2;
     let mut input = Vec::new();
     let mut buf = [0u8; 256];
     let mut clock = Instant::now();
@@ -43,11 +46,17 @@ pub fn serve<T: Transport>(
         let now = Instant::now();
         simulator.advance(now - clock);
         clock = now;
+        let mut transmissions = Vec::new();
         if got > 0 {
             input.extend_from_slice(&buf[..got]);
             last_byte = now;
         } else {
             let quiet = now - last_byte;
+            if quiet >= settle {
+                transmissions = simulator
+                    .lock()
+                    .receive_before_silence(protocol, &mut input);
+            }
             let dropped_by_gap = !gap.is_zero() && quiet >= gap;
             let dropped_inside = !inner_gap.is_zero() && quiet >= inner_gap;
             let abandoned = !timing.frame_abandon.is_zero() && quiet >= timing.frame_abandon;
@@ -59,7 +68,7 @@ pub fn serve<T: Transport>(
         if simulator.has_fault(&Fault::Noise) {
             transport.send(&NOISE)?;
         }
-        let transmissions = simulator.lock().receive(protocol, &mut input);
+        transmissions.extend(simulator.lock().receive(protocol, &mut input));
         for transmission in transmissions {
             // The reply starts after the request's last byte and the frame gap, and the
             // wait the drive's reply-delay registers set.

@@ -1067,5 +1067,75 @@ fn link_rules(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
             codes.join(", ")
         ));
     }
+    if let Some(variants) = &protocol.variants {
+        rules.push(variants_rule(drive, protocol, variants));
+    }
     rules
+}
+
+/// One sentence on a protocol's variants: each with its bytes, the register selecting one
+/// and the error a frame in another variant's form gets.
+fn variants_rule(
+    drive: &DriveIr,
+    protocol: &ProtocolIr,
+    variants: &vfd_runtime::variant::Variants,
+) -> String {
+    let hex = |bytes: &[u8]| {
+        bytes
+            .iter()
+            .map(|b| format!("{b:02X}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let choices: Vec<String> = variants
+        .choices
+        .iter()
+        .map(|choice| {
+            let zh = if choice.name_zh.is_empty() {
+                String::new()
+            } else {
+                format!(", {}", choice.name_zh)
+            };
+            let literals: Vec<String> = choice
+                .literals
+                .iter()
+                .map(|l| format!("`{}` = {}", l.part, hex(&l.bytes)))
+                .collect();
+            format!(
+                "`{}` ({}{zh}: {})",
+                choice.id,
+                choice.name,
+                literals.join(", ")
+            )
+        })
+        .collect();
+    let mut sentence = format!(
+        "Variants: {}; the first is the layouts as shown, a master is told another with `{}.variant(\"ID\")` / `Master::with_variant` (`vfd --variant ID`)",
+        choices.join(", "),
+        protocol.const_name
+    );
+    if let Some(selector) = &variants.selected_by {
+        let register = drive
+            .register_at(Space::Parameter, selector.register)
+            .map_or_else(|| format!("{:04X}h", selector.register), |r| r.code.clone());
+        let values: Vec<String> = selector
+            .values
+            .iter()
+            .filter_map(|v| {
+                let id = variants.choices.get(usize::from(v.variant))?.id.as_ref();
+                Some(format!("{} selects `{id}`", v.value))
+            })
+            .collect();
+        sentence.push_str(&format!(
+            "; the drive speaks the one {register} selects ({})",
+            values.join(", ")
+        ));
+    }
+    if let Some(code) = variants.mismatch_error {
+        sentence.push_str(&format!(
+            ", and answers a frame in another variant's form with error code {code:02X}h"
+        ));
+    }
+    sentence.push('.');
+    sentence
 }

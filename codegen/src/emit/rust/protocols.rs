@@ -334,6 +334,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
         }
         None => quote!(None),
     };
+    let variants = variants_tokens(protocol.variants.as_ref());
     let doc = doc_text(format!(
         "{}, from the protocol file `{}`; manual section {}.",
         protocol.name, protocol.uses, protocol.source
@@ -384,8 +385,65 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             wire_numbers: Cow::Borrowed(&[#(#wire_numbers),*]),
             paging: #paging,
             persistence: #persistence,
+            variants: #variants,
         };
     }
+}
+
+/// A protocol's `variants` literal (`None` when it has none).
+fn variants_tokens(variants: Option<&vfd_runtime::variant::Variants>) -> TokenStream {
+    let Some(variants) = variants else {
+        return quote!(None);
+    };
+    let current = int_literal(variants.current);
+    let choices = variants.choices.iter().map(|choice| {
+        let (id, name, name_zh) = (
+            choice.id.as_ref(),
+            choice.name.as_ref(),
+            choice.name_zh.as_ref(),
+        );
+        let literals = choice.literals.iter().map(|literal| {
+            let part = literal.part.as_ref();
+            let bytes = Literal::byte_string(&literal.bytes);
+            quote!(::vfd_runtime::variant::VariantLiteral {
+                part: Cow::Borrowed(#part),
+                bytes: Cow::Borrowed(#bytes),
+            })
+        });
+        quote!(::vfd_runtime::variant::Variant {
+            id: Cow::Borrowed(#id),
+            name: Cow::Borrowed(#name),
+            name_zh: Cow::Borrowed(#name_zh),
+            literals: Cow::Borrowed(&[#(#literals),*]),
+        })
+    });
+    let selected_by = match &variants.selected_by {
+        Some(selector) => {
+            let register = int_literal(selector.register);
+            let values = selector.values.iter().map(|v| {
+                let (value, variant) = (int_literal(v.value), int_literal(v.variant));
+                quote!(::vfd_runtime::variant::VariantValue { value: #value, variant: #variant })
+            });
+            quote!(Some(::vfd_runtime::variant::VariantSelector {
+                register: #register,
+                values: Cow::Borrowed(&[#(#values),*]),
+            }))
+        }
+        None => quote!(None),
+    };
+    let mismatch = match variants.mismatch_error {
+        Some(code) => {
+            let code = int_literal(code);
+            quote!(Some(#code))
+        }
+        None => quote!(None),
+    };
+    quote!(Some(::vfd_runtime::variant::Variants {
+        current: #current,
+        choices: Cow::Borrowed(&[#(#choices),*]),
+        selected_by: #selected_by,
+        mismatch_error: #mismatch,
+    }))
 }
 
 /// A `LinkTiming` literal (`LinkTiming::NONE` when the drive states no rule).
