@@ -58,6 +58,16 @@ pub enum Amount {
     Register(&'static str),
 }
 
+/// A value written to a register (by id) that makes the drive act: the DV1 resets when
+/// 9696h is written to 1101h.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WrittenValue {
+    /// Id of the register written.
+    pub register: &'static str,
+    /// The raw value that acts.
+    pub value: u32,
+}
+
 /// How the command word drives the simulated motor.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CommandBehaviour {
@@ -65,12 +75,18 @@ pub struct CommandBehaviour {
     pub register: &'static str,
     /// Bits that must all act for the word to act at all (YD1000 bit 15, FC "data valid").
     pub require: &'static [Bit],
-    /// Run (1) or stop (0).
+    /// Run (1) or stop (0); with `run_reverse`, the forward run bit.
     pub run: Bit,
+    /// A second run bit that runs the motor in reverse (the DV1's STR beside STF): the
+    /// motor runs while either acts, in reverse when only this one does, and stops while
+    /// both act.
+    pub run_reverse: Option<Bit>,
     /// Reverse direction.
     pub reverse: Option<Bit>,
     /// Fault reset, on the rising edge.
     pub reset: Option<Bit>,
+    /// Fault reset by a value written to a register of its own (not a command-word bit).
+    pub reset_by_write: Option<WrittenValue>,
     /// Coast stop: the output drops to zero at once.
     pub coast: Option<Bit>,
 }
@@ -115,6 +131,8 @@ pub struct StatusBehaviour {
     pub running: &'static [Bit],
     /// Set while the direction is reverse.
     pub reverse: &'static [Bit],
+    /// Set while the motor runs in the forward direction.
+    pub forward: &'static [Bit],
     /// Set while running with the output at the frequency command.
     pub at_reference: &'static [Bit],
     /// Set while tripped.
@@ -231,8 +249,10 @@ mod tests {
                 register: "c",
                 require: &[],
                 run: Bit::high(1),
+                run_reverse: None,
                 reverse: None,
                 reset: None,
+                reset_by_write: None,
                 coast: None,
             },
             frequency: FrequencyBehaviour {
@@ -248,6 +268,7 @@ mod tests {
             status: StatusBehaviour {
                 registers: &[],
                 running: &[],
+                forward: &[],
                 reverse: &[],
                 at_reference: &[],
                 tripped: &[],

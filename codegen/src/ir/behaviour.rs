@@ -42,8 +42,14 @@ pub(crate) fn lower(
         command_register: id_of(&model.command.register),
         command_require: command_list(&model.command.require),
         run: command_bit(&model.command.run),
+        run_reverse: model.command.run_reverse.as_ref().map(command_bit),
         reverse: model.command.reverse.as_ref().map(command_bit),
         reset: model.command.reset.as_ref().map(command_bit),
+        reset_by_write: model
+            .command
+            .reset_by_write
+            .as_ref()
+            .map(|w| (id_of(&w.register), w.value)),
         coast: model.command.coast.as_ref().map(command_bit),
         frequency_command: id_of(&model.frequency.command),
         frequency_require: command_list(&model.frequency.require),
@@ -60,6 +66,7 @@ pub(crate) fn lower(
         status: StatusBitsIr {
             running: status_list(&status.running),
             reverse: status_list(&status.reverse),
+            forward: status_list(&status.forward),
             at_reference: status_list(&status.at_reference),
             tripped: status_list(&status.tripped),
             enabled: status_list(&status.enabled),

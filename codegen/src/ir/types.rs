@@ -203,10 +203,16 @@ pub struct BehaviourIr {
     pub command_require: Vec<BitRefIr>,
     /// Run bit.
     pub run: BitRefIr,
+    /// Reverse-run bit, beside the (forward) run bit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub run_reverse: Option<BitRefIr>,
     /// Reverse bit.
     pub reverse: Option<BitRefIr>,
     /// Fault-reset bit.
     pub reset: Option<BitRefIr>,
+    /// Fault reset by a value written to a register: its id and the raw value.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reset_by_write: Option<(String, u32)>,
     /// Coast-stop bit.
     pub coast: Option<BitRefIr>,
     /// Id of the frequency-command register.
@@ -246,6 +252,9 @@ pub struct StatusBitsIr {
     pub running: Vec<BitRefIr>,
     /// Set while reverse.
     pub reverse: Vec<BitRefIr>,
+    /// Set while running forward.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub forward: Vec<BitRefIr>,
     /// Set while running at the reference.
     pub at_reference: Vec<BitRefIr>,
     /// Set while tripped.
@@ -709,6 +718,10 @@ pub struct RegisterIr {
     /// Code of the live register whose value this one holds from the last trip.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub held_at_trip_of: Option<String>,
+    /// Code of the other register at its address, when two share it (one read-only, one
+    /// write-only: read as one, written as the other).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shares_address_with: Option<String>,
     /// Shows the live value, but keeps its value while the drive is tripped.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub live_except_while_tripped: bool,

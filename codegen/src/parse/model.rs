@@ -296,14 +296,31 @@ pub struct CommandBehaviourModel {
     /// Bits that must all act for the word to act at all.
     #[serde(default)]
     pub require: Vec<BitRefModel>,
-    /// The run/stop bit.
+    /// The run/stop bit (with `run_reverse`: the forward-run bit).
     pub run: BitRefModel,
+    /// A second run bit that runs the motor in reverse (STR beside STF): the motor runs
+    /// while either run bit acts, in reverse when only this one does, and stops while
+    /// both act.
+    pub run_reverse: Option<BitRefModel>,
     /// The reverse bit.
     pub reverse: Option<BitRefModel>,
     /// The fault-reset bit (acts on its rising edge).
     pub reset: Option<BitRefModel>,
+    /// A fault reset by a value written to a register of its own, not by a command-word
+    /// bit: `{ register: inverter_reset, value: 0x9696 }`.
+    pub reset_by_write: Option<WrittenValueModel>,
     /// The coast-stop bit.
     pub coast: Option<BitRefModel>,
+}
+
+/// A raw value written to a register that makes the drive act.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct WrittenValueModel {
+    /// Code or id of the register written (writable, not the command word).
+    pub register: String,
+    /// The raw value that acts (`0x9696`).
+    pub value: u32,
 }
 
 /// A number, or the id or code of a register whose value gives it.
@@ -356,6 +373,9 @@ pub struct StatusBehaviourModel {
     /// Set while the direction is reverse.
     #[serde(default)]
     pub reverse: Vec<BitRefModel>,
+    /// Set while the motor runs in the forward direction.
+    #[serde(default)]
+    pub forward: Vec<BitRefModel>,
     /// Set while running at the frequency command.
     #[serde(default)]
     pub at_reference: Vec<BitRefModel>,

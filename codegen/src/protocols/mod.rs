@@ -161,7 +161,8 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
 }
 
 /// The registers' own numbers on the wire in this protocol (`registers[].wire_numbers`),
-/// each fitting 16 bits; registers may name only the drive's protocols.
+/// each fitting 16 bits; registers may name only the drive's protocols. Two registers at
+/// one address (one read-only, one write-only) make one entry.
 fn wire_numbers(
     input: &Input<'_>,
     out: &mut Diagnostics,
@@ -190,11 +191,23 @@ fn wire_numbers(
             other => other.map(|v| v as u16),
         };
         let (read, write) = (fit("read", own.read), fit("write", own.write));
-        numbers.push(vfd_runtime::protocol::WireNumber {
-            register: register.address as u16,
-            read,
-            write,
-        });
+        let address = register.address as u16;
+        // Two registers sharing an address (one read, the other written) give one entry:
+        // each its own direction.
+        match numbers
+            .iter_mut()
+            .find(|n: &&mut vfd_runtime::protocol::WireNumber| n.register == address)
+        {
+            Some(shared) => {
+                shared.read = shared.read.or(read);
+                shared.write = shared.write.or(write);
+            }
+            None => numbers.push(vfd_runtime::protocol::WireNumber {
+                register: address,
+                read,
+                write,
+            }),
+        }
     }
     numbers
 }

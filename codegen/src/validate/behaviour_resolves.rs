@@ -29,6 +29,42 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
     for (path, name) in registers_named(behaviour) {
         register(path, name);
     }
+    if let Some(reset) = &behaviour.command.reset_by_write {
+        if let Some(target) = index.find(&reset.register) {
+            let path = "behaviour.command.reset_by_write";
+            if target.access == Some(vfd_runtime::Access::ReadOnly) {
+                problem(
+                    format!("{path}.register"),
+                    format!(
+                        "register `{}` is read-only: no value can be written to it",
+                        reset.register
+                    ),
+                    "name the register the manual writes the reset value to",
+                );
+            } else if let Some(table) = target
+                .code_table
+                .as_deref()
+                .and_then(|id| model.codes.iter().find(|t| t.id == id))
+            {
+                if !table.values.iter().any(|v| v.value == reset.value) {
+                    problem(
+                        format!("{path}.value"),
+                        format!(
+                            "{:#06X} is not a value of `{}`'s code table `{}`",
+                            reset.value, reset.register, table.id
+                        ),
+                        "give the raw value the manual writes to reset, one of the register's codes",
+                    );
+                }
+            } else if reset.value > 0xFFFF {
+                problem(
+                    format!("{path}.value"),
+                    format!("{:#X} does not fit a 16-bit word", reset.value),
+                    "give the raw value the manual writes to reset, 0x0000-0xFFFF",
+                );
+            }
+        }
+    }
     let bitfield_of = |name: &str| {
         index
             .find(name)
@@ -143,6 +179,12 @@ fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
             named.push((format!("behaviour.{key}[{i}]"), name));
         }
     }
+    if let Some(reset) = &b.command.reset_by_write {
+        named.push((
+            "behaviour.command.reset_by_write.register".to_owned(),
+            reset.register.as_str(),
+        ));
+    }
     if let Some(p) = &b.process {
         for (key, name) in [
             ("control", &p.control),
@@ -161,6 +203,7 @@ fn command_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
     let c = &b.command;
     let mut bits = vec![("behaviour.command.run".to_owned(), &c.run)];
     for (key, bit) in [
+        ("run_reverse", &c.run_reverse),
         ("reverse", &c.reverse),
         ("reset", &c.reset),
         ("coast", &c.coast),
@@ -183,9 +226,10 @@ fn command_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
 /// The status word's bits, with their paths.
 fn status_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
     let s = &b.status;
-    let lists: [(&str, &Vec<BitRefModel>); 6] = [
+    let lists: [(&str, &Vec<BitRefModel>); 7] = [
         ("running", &s.running),
         ("reverse", &s.reverse),
+        ("forward", &s.forward),
         ("at_reference", &s.at_reference),
         ("tripped", &s.tripped),
         ("enabled", &s.enabled),
@@ -252,6 +296,57 @@ behaviour:
             only(&found).message,
             "register `FH` is not a bit-field word"
         );
+    }
+
+    #[test]
+    fn checks_the_reverse_run_bit_the_forward_bits_and_the_reset_write() {
+        let found = check_yaml(
+            check,
+            &with_behaviour((
+                "run: run }",
+                "run: run, run_reverse: run, reset_by_write: { register: F601, value: 1 } }",
+            )),
+        );
+        assert!(found.is_empty(), "{found:#?}");
+        let found = check_yaml(
+            check,
+            &with_behaviour(("run: run }", "run: run, run_reverse: backwards }")),
+        );
+        let problem = only(&found);
+        assert_eq!(problem.path, "behaviour.command.run_reverse");
+        assert_eq!(
+            problem.message,
+            "bit `backwards` is not a field of `command_word`"
+        );
+        let found = check_yaml(
+            check,
+            &with_behaviour(("running: [run]", "running: [run], forward: [ahead]")),
+        );
+        assert_eq!(only(&found).path, "behaviour.status.forward[0]");
+        // The reset value must be one of the register's codes.
+        let found = check_yaml(
+            check,
+            &with_behaviour((
+                "run: run }",
+                "run: run, reset_by_write: { register: F601, value: 0x9696 } }",
+            )),
+        );
+        let problem = only(&found);
+        assert_eq!(problem.path, "behaviour.command.reset_by_write.value");
+        assert_eq!(
+            problem.message,
+            "0x9696 is not a value of `F601`'s code table `parity`"
+        );
+        let found = check_yaml(
+            check,
+            &with_behaviour((
+                "run: run }",
+                "run: run, reset_by_write: { register: RST, value: 1 } }",
+            )),
+        );
+        let problem = only(&found);
+        assert_eq!(problem.path, "behaviour.command.reset_by_write.register");
+        assert_eq!(problem.message, "register `RST` is not defined");
     }
 
     #[test]

@@ -106,8 +106,13 @@ impl VirtualDrive {
         if edge(command.reset) {
             self.reset();
         }
-        self.motor.run = command.run.is_active(word) && self.motor.trip.is_none();
-        self.motor.reverse = command.reverse.is_some_and(|bit| bit.is_active(word));
+        // With a reverse-run bit beside the run bit: either runs, the reverse one alone
+        // in reverse, both together stop.
+        let forward = command.run.is_active(word);
+        let backward = command.run_reverse.is_some_and(|bit| bit.is_active(word));
+        self.motor.run = forward != backward && self.motor.trip.is_none();
+        self.motor.reverse =
+            command.reverse.is_some_and(|bit| bit.is_active(word)) || (backward && !forward);
         self.motor.coast = command.coast.is_some_and(|bit| bit.is_active(word));
         if self.motor.coast {
             self.motor.output = 0.0;
@@ -169,6 +174,22 @@ impl VirtualDrive {
             output + change.copysign(goal - output)
         };
         self.refresh();
+    }
+
+    /// A raw value was written to the register `info`: a command word acts, and a value
+    /// the behaviour model names resets the drive.
+    pub(crate) fn value_written(&mut self, info: &RegisterInfo, raw: u32) {
+        let Some(behaviour) = self.behaviour() else {
+            return;
+        };
+        if self.served(behaviour.command.register) == info.id {
+            self.command_written(raw);
+        }
+        if let Some(reset) = behaviour.command.reset_by_write {
+            if self.served(reset.register) == info.id && raw == reset.value {
+                self.reset();
+            }
+        }
     }
 
     /// Trips the drive with `code`: the output drops to zero, the code goes into the trip
@@ -293,10 +314,9 @@ impl VirtualDrive {
         };
         set(status.always, true);
         set(status.running, running);
-        set(
-            status.reverse,
-            running && output < 0.0 || self.motor.reverse,
-        );
+        let reverse = running && output < 0.0 || self.motor.reverse;
+        set(status.reverse, reverse);
+        set(status.forward, running && !reverse);
         let reached = running && (output.abs() - target).abs() < 1e-6 && target > 0.0;
         set(status.at_reference, reached);
         set(status.tripped, self.motor.trip.is_some());

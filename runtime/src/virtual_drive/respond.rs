@@ -212,9 +212,7 @@ impl VirtualDrive {
             .floor()
             .clamp(0.0, f64::from(u32::MAX)) as u32;
         self.storage.set(info, 0, raw, false);
-        if self.behaviour().map(|b| b.command.register) == Some(info.id) {
-            self.command_written(raw);
-        }
+        self.value_written(info, raw);
         self.refresh();
         Ok(())
     }
@@ -335,7 +333,7 @@ impl VirtualDrive {
                 u16::try_from(usize::from(wire) + word).map_err(|_| Refusal::UnknownRegister)?;
             let info = protocol
                 .from_wire(command, at)
-                .and_then(|number| self.drive.register_at(command.space, number))
+                .and_then(|number| self.drive.register_for(command.space, number, false))
                 .filter(|info| info.data_type != DataType::Text)
                 .ok_or(Refusal::UnknownRegister)?;
             let width = usize::from(info.data_type.size().clamp(2, 4));
@@ -471,11 +469,16 @@ impl VirtualDrive {
         self.command_written(control);
     }
 
-    /// The register a request names, in the command's space.
+    /// The register a request names, in the command's space (of two sharing the number,
+    /// the one the request's direction reaches).
     fn target_of(&self, request: &DecodedRequest<'_>) -> Result<&'static RegisterInfo, Refusal> {
         let number = request.register.ok_or(Refusal::UnknownRegister)?;
         self.drive
-            .register_at(request.command.space, number)
+            .register_for(
+                request.command.space,
+                number,
+                request.command.kind.is_write(),
+            )
             .ok_or(Refusal::UnknownRegister)
     }
 
@@ -496,6 +499,7 @@ impl VirtualDrive {
         &self,
         first: &'static RegisterInfo,
         size: u8,
+        writing: bool,
     ) -> Result<Vec<&'static RegisterInfo>, Refusal> {
         let own = first.data_type.size().max(1);
         if size <= own {
@@ -509,7 +513,7 @@ impl VirtualDrive {
                 address = address.checked_add(16).ok_or(Refusal::UnknownRegister)?;
                 covered.push(
                     self.drive
-                        .register_at(Space::Coil, address)
+                        .register_for(Space::Coil, address, writing)
                         .ok_or(Refusal::UnknownRegister)?,
                 );
             }
@@ -524,7 +528,7 @@ impl VirtualDrive {
             address = address.checked_add(1).ok_or(Refusal::UnknownRegister)?;
             let next = self
                 .drive
-                .register_at(first.space, address)
+                .register_for(first.space, address, writing)
                 .ok_or(Refusal::UnknownRegister)?;
             if next.data_type.size() != 2 {
                 return Err(Refusal::OutOfRange);
@@ -542,7 +546,7 @@ impl VirtualDrive {
         let first = self.target_of(request)?;
         let index = self.index_of(first, request)?;
         let size = request.values.data_size;
-        let registers = self.covered(first, size)?;
+        let registers = self.covered(first, size, false)?;
         if registers.len() == 1 {
             return Ok((
                 self.storage.get(first, index),
@@ -588,7 +592,7 @@ impl VirtualDrive {
         }
         let first = self.target_of(request)?;
         let index = self.index_of(first, request)?;
-        let registers = self.covered(first, request.values.data_size)?;
+        let registers = self.covered(first, request.values.data_size, true)?;
         let words: Vec<(&'static RegisterInfo, u32)> = if registers.len() == 1 {
             vec![(first, request.data)]
         } else {
@@ -609,14 +613,11 @@ impl VirtualDrive {
         for (info, raw) in &words {
             self.check_write(info, *raw, persistent)?;
         }
-        let command = self.behaviour().map(|b| self.served(b.command.register));
         for (info, raw) in words {
             let index = if info.array_len == 0 { 0 } else { index };
             self.storage
                 .set(info, index, raw, persistent && !info.ram_only);
-            if command == Some(info.id) {
-                self.command_written(raw);
-            }
+            self.value_written(info, raw);
         }
         self.refresh();
         Ok((request.data, 0))

@@ -64,11 +64,19 @@ pub(super) fn behaviour_static(drive: &DriveIr) -> (TokenStream, TokenStream) {
 fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
     let source = &b.source;
     let (register, require, run) = (&b.command_register, bits(&b.command_require), bit(&b.run));
-    let (reverse, reset, coast) = (
+    let (run_reverse, reverse, reset, coast) = (
+        optional_bit(b.run_reverse.as_ref()),
         optional_bit(b.reverse.as_ref()),
         optional_bit(b.reset.as_ref()),
         optional_bit(b.coast.as_ref()),
     );
+    let reset_by_write = match &b.reset_by_write {
+        Some((register, value)) => {
+            let value = int_literal(*value);
+            quote!(Some(WrittenValue { register: #register, value: #value }))
+        }
+        None => quote!(None),
+    };
     let (command, frequency_require) = (&b.frequency_command, bits(&b.frequency_require));
     let (acceleration, deceleration, span) = (
         amount(&b.acceleration),
@@ -86,9 +94,10 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
     };
     let status_registers = ids(&b.status_registers);
     let s = &b.status;
-    let (running, reverse_bits, at_reference, tripped, enabled, always) = (
+    let (running, reverse_bits, forward_bits, at_reference, tripped, enabled, always) = (
         bits(&s.running),
         bits(&s.reverse),
+        bits(&s.forward),
         bits(&s.at_reference),
         bits(&s.tripped),
         bits(&s.enabled),
@@ -133,8 +142,10 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     register: #register,
                     require: #require,
                     run: #run,
+                    run_reverse: #run_reverse,
                     reverse: #reverse,
                     reset: #reset,
+                    reset_by_write: #reset_by_write,
                     coast: #coast,
                 },
                 frequency: FrequencyBehaviour {
@@ -151,6 +162,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     registers: #status_registers,
                     running: #running,
                     reverse: #reverse_bits,
+                    forward: #forward_bits,
                     at_reference: #at_reference,
                     tripped: #tripped,
                     enabled: #enabled,
