@@ -243,13 +243,15 @@ fn tour(
         read(session, behaviour, &shown)?;
     }
 
-    let history: Vec<&'static RegisterInfo> = behaviour
+    let mut history: Vec<&'static RegisterInfo> = behaviour
         .trip
         .history
         .iter()
-        .filter_map(|id| drive.register(id))
+        .filter_map(|slot| drive.register(slot.register))
         .filter(|r| session.can_read(r))
         .collect();
+    // Slots that are fields of one register read it once.
+    history.dedup_by_key(|r| r.id);
     if !history.is_empty() {
         let codes: Vec<&str> = history.iter().map(|r| r.code).collect();
         step(&format!(

@@ -143,13 +143,50 @@ pub struct StatusBehaviour {
     pub always: &'static [Bit],
 }
 
+/// One place of a trip history: a whole register, or a field of a bit-field register (the
+/// DV1 keeps two fault codes per word, one per byte).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TripSlot {
+    /// Id of the register.
+    pub register: &'static str,
+    /// The bits of the register the slot holds (`u32::MAX`: all of them).
+    pub mask: u32,
+}
+
+impl TripSlot {
+    /// A slot that is a whole register.
+    pub const fn whole(register: &'static str) -> TripSlot {
+        TripSlot {
+            register,
+            mask: u32::MAX,
+        }
+    }
+
+    /// The slot's value in the register's `word`.
+    pub const fn get(self, word: u32) -> u32 {
+        (word & self.mask) >> self.mask.trailing_zeros()
+    }
+
+    /// `word` with the slot set to `value` (cut to the slot's width).
+    pub const fn put(self, word: u32, value: u32) -> u32 {
+        let shifted = match value.checked_shl(self.mask.trailing_zeros()) {
+            Some(shifted) => shifted,
+            None => 0,
+        };
+        (word & !self.mask) | (shifted & self.mask)
+    }
+}
+
 /// Where a trip is recorded.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TripBehaviour {
     /// Ids of the registers showing the present trip code (0 after a reset).
     pub code: &'static [&'static str],
-    /// Ids of the trip-history registers, newest first.
-    pub history: &'static [&'static str],
+    /// The trip history, newest first: a trip shifts every slot one place older.
+    pub history: &'static [TripSlot],
+    /// A value written to a register that clears the trip history (the DV1's 1102h =
+    /// A5A5h).
+    pub clear_by_write: Option<WrittenValue>,
 }
 
 /// Which registers the process words of a process exchange carry.
@@ -242,6 +279,19 @@ mod tests {
     }
 
     #[test]
+    fn trip_slots_are_whole_words_or_fields() {
+        let whole = TripSlot::whole("a");
+        assert_eq!(whole.get(0x1234), 0x1234);
+        assert_eq!(whole.put(0x1234, 0x21), 0x21);
+        let high = TripSlot {
+            register: "a",
+            mask: 0xFF00,
+        };
+        assert_eq!(high.get(0x2107), 0x21);
+        assert_eq!(high.put(0x2107, 0x1FF), 0xFF07, "cut to the slot's width");
+    }
+
+    #[test]
     fn unknown_protocols_are_silent() {
         let behaviour = Behaviour {
             source: "",
@@ -278,6 +328,7 @@ mod tests {
             trip: TripBehaviour {
                 code: &[],
                 history: &[],
+                clear_by_write: None,
             },
             process: None,
             refusals: &[Refusals {

@@ -73,7 +73,17 @@ pub(crate) fn lower(
             always: status_list(&status.always),
         },
         trip_code: ids(&model.trip.code),
-        trip_history: ids(&model.trip.history),
+        trip_history: model
+            .trip
+            .history
+            .iter()
+            .map(|name| trip_slot(index, ir, name))
+            .collect(),
+        trip_clear_by_write: model
+            .trip
+            .clear_by_write
+            .as_ref()
+            .map(|w| (id_of(&w.register), w.value)),
         process: model.process.as_ref().map(|p| {
             [
                 id_of(&p.control),
@@ -95,6 +105,34 @@ pub(crate) fn lower(
             })
             .collect(),
     }
+}
+
+/// A trip-history entry: a register, or `register.field` (validation has checked it).
+fn trip_slot(index: &RegisterIndex<'_>, ir: &DriveIr, name: &str) -> TripSlotIr {
+    if let Some(register) = index.find(name) {
+        return TripSlotIr::Register(register.id.clone());
+    }
+    let Some((register, field)) = split_field(index, name) else {
+        return TripSlotIr::Register(name.to_owned());
+    };
+    let mask = bitfield_of(ir, &register)
+        .and_then(|b| b.fields.iter().find(|f| f.id == field))
+        .map_or(0, |f| ((1u32 << f.width) - 1) << f.lsb);
+    TripSlotIr::Field {
+        register,
+        field: field.to_owned(),
+        mask,
+    }
+}
+
+/// `register.field` as the register's id and the field's id, when the part before the
+/// last `.` names a register.
+pub(crate) fn split_field<'n>(
+    index: &RegisterIndex<'_>,
+    name: &'n str,
+) -> Option<(String, &'n str)> {
+    let (register, field) = name.rsplit_once('.')?;
+    Some((index.find(register)?.id.clone(), field))
 }
 
 /// The bit field of the register with this id.

@@ -237,12 +237,33 @@ pub struct BehaviourIr {
     pub status: StatusBitsIr,
     /// Registers showing the present trip code.
     pub trip_code: Vec<String>,
-    /// Trip-history registers, newest first.
-    pub trip_history: Vec<String>,
+    /// Trip-history slots, newest first.
+    pub trip_history: Vec<TripSlotIr>,
+    /// A value written to a register (id, raw value) that clears the trip history.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trip_clear_by_write: Option<(String, u32)>,
     /// Process words: control, reference, status, output register ids.
     pub process: Option<[String; 4]>,
     /// Error codes per protocol id.
     pub refusals: Vec<RefusalsIr>,
+}
+
+/// One place of a trip history: a whole register (by id), or a field of a bit-field
+/// register.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum TripSlotIr {
+    /// The whole register, by id.
+    Register(String),
+    /// A field of a bit-field register.
+    Field {
+        /// Register id.
+        register: String,
+        /// Field id.
+        field: String,
+        /// The field's bits in the word.
+        mask: u32,
+    },
 }
 
 /// The status bits of a behaviour model.

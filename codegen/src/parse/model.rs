@@ -397,9 +397,13 @@ pub struct TripBehaviourModel {
     /// Ids of the registers showing the present trip code (0 after a reset).
     #[serde(default)]
     pub code: Vec<String>,
-    /// Ids of the trip-history registers, newest first.
+    /// The trip history, newest first: registers (codes or ids), or fields of bit-field
+    /// registers as `register.field` (`fault_codes_1_2.latest`).
     #[serde(default)]
     pub history: Vec<String>,
+    /// A value written to a register that clears the trip history:
+    /// `{ register: parameter_clear_1102, value: 0xA5A5 }`.
+    pub clear_by_write: Option<WrittenValueModel>,
 }
 
 /// Which registers the process words carry.

@@ -29,39 +29,89 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
     for (path, name) in registers_named(behaviour) {
         register(path, name);
     }
-    if let Some(reset) = &behaviour.command.reset_by_write {
-        if let Some(target) = index.find(&reset.register) {
-            let path = "behaviour.command.reset_by_write";
-            if target.access == Some(vfd_runtime::Access::ReadOnly) {
-                problem(
-                    format!("{path}.register"),
-                    format!(
-                        "register `{}` is read-only: no value can be written to it",
-                        reset.register
-                    ),
-                    "name the register the manual writes the reset value to",
-                );
-            } else if let Some(table) = target
-                .code_table
-                .as_deref()
-                .and_then(|id| model.codes.iter().find(|t| t.id == id))
-            {
-                if !table.values.iter().any(|v| v.value == reset.value) {
-                    problem(
-                        format!("{path}.value"),
-                        format!(
-                            "{:#06X} is not a value of `{}`'s code table `{}`",
-                            reset.value, reset.register, table.id
-                        ),
-                        "give the raw value the manual writes to reset, one of the register's codes",
-                    );
-                }
-            } else if reset.value > 0xFFFF {
+    let written = [
+        (
+            "behaviour.command.reset_by_write",
+            &behaviour.command.reset_by_write,
+            "reset",
+        ),
+        (
+            "behaviour.trip.clear_by_write",
+            &behaviour.trip.clear_by_write,
+            "clear the trip history",
+        ),
+    ];
+    for (path, value, what) in written {
+        let Some(value) = value else { continue };
+        let Some(target) = index.find(&value.register) else {
+            continue;
+        };
+        if target.access == Some(vfd_runtime::Access::ReadOnly) {
+            problem(
+                format!("{path}.register"),
+                format!(
+                    "register `{}` is read-only: no value can be written to it",
+                    value.register
+                ),
+                &format!("name the register the manual writes the value to {what}"),
+            );
+        } else if let Some(table) = target
+            .code_table
+            .as_deref()
+            .and_then(|id| model.codes.iter().find(|t| t.id == id))
+        {
+            if !table.values.iter().any(|v| v.value == value.value) {
                 problem(
                     format!("{path}.value"),
-                    format!("{:#X} does not fit a 16-bit word", reset.value),
-                    "give the raw value the manual writes to reset, 0x0000-0xFFFF",
+                    format!(
+                        "{:#06X} is not a value of `{}`'s code table `{}`",
+                        value.value, value.register, table.id
+                    ),
+                    &format!(
+                        "give the raw value the manual writes to {what}, one of the register's codes"
+                    ),
                 );
+            }
+        } else if value.value > 0xFFFF {
+            problem(
+                format!("{path}.value"),
+                format!("{:#X} does not fit a 16-bit word", value.value),
+                &format!("give the raw value the manual writes to {what}, 0x0000-0xFFFF"),
+            );
+        }
+    }
+    for (i, name) in behaviour.trip.history.iter().enumerate() {
+        if index.find(name).is_some() {
+            continue;
+        }
+        let path = format!("behaviour.trip.history[{i}]");
+        let field = name
+            .rsplit_once('.')
+            .and_then(|(register, field)| index.find(register).map(|r| (r, field)));
+        match field {
+            None => problem(
+                path,
+                format!("register `{name}` is not defined"),
+                "name a register by its code or id, or a field of a bit-field register as `register.field`",
+            ),
+            Some((register, field)) => {
+                let bitfield = register
+                    .bitfield
+                    .as_deref()
+                    .and_then(|id| model.bitfields.iter().find(|b| b.id == id));
+                match bitfield {
+                    None => problem(
+                        path,
+                        format!("register `{}` is not a bit-field word, so `{name}` names no field", register.id),
+                        "name the whole register, or a field of a register with `bitfield:`",
+                    ),
+                    Some(b) if !b.fields.iter().any(|f| f.id.as_deref() == Some(field)) => problem(
+                        path,
+                        format!("`{field}` is not a field of `{}`", b.id),
+                        "name a field by its id in the register's bit field",
+                    ),
+                    Some(_) => {}
+                }
             }
         }
     }
@@ -163,12 +213,11 @@ fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
             named.push((format!("behaviour.frequency.{key}"), name));
         }
     }
-    let lists: [(&str, &[String]); 6] = [
+    let lists: [(&str, &[String]); 5] = [
         ("frequency.output", &b.frequency.output),
         ("frequency.reference", &b.frequency.reference),
         ("status.registers", &b.status.registers),
         ("trip.code", &b.trip.code),
-        ("trip.history", &b.trip.history),
         (
             "current.registers",
             b.current.as_ref().map_or(&[][..], |c| &c.registers),
@@ -179,11 +228,16 @@ fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
             named.push((format!("behaviour.{key}[{i}]"), name));
         }
     }
-    if let Some(reset) = &b.command.reset_by_write {
-        named.push((
-            "behaviour.command.reset_by_write.register".to_owned(),
-            reset.register.as_str(),
-        ));
+    for (key, written) in [
+        ("command.reset_by_write", &b.command.reset_by_write),
+        ("trip.clear_by_write", &b.trip.clear_by_write),
+    ] {
+        if let Some(written) = written {
+            named.push((
+                format!("behaviour.{key}.register"),
+                written.register.as_str(),
+            ));
+        }
     }
     if let Some(p) = &b.process {
         for (key, name) in [
@@ -347,6 +401,31 @@ behaviour:
         let problem = only(&found);
         assert_eq!(problem.path, "behaviour.command.reset_by_write.register");
         assert_eq!(problem.message, "register `RST` is not defined");
+    }
+
+    #[test]
+    fn a_trip_history_names_registers_or_their_bit_fields() {
+        let history = "trip: { history: [FA00.run, FA00.command_enabled, Acc] }\n  refusals:";
+        let found = check_yaml(check, &with_behaviour(("refusals:", history)));
+        assert!(found.is_empty(), "{found:#?}");
+        let history = "trip: { history: [FA00.stop, Acc.low, ACC2], clear_by_write: { register: FA00, value: 0x10000 } }\n  refusals:";
+        let found = check_yaml(check, &with_behaviour(("refusals:", history)));
+        let messages: Vec<(&str, &str)> = found
+            .iter()
+            .map(|d| (d.path.as_str(), d.message.as_str()))
+            .collect();
+        assert_eq!(
+            messages,
+            [
+                ("behaviour.trip.clear_by_write.value", "0x10000 does not fit a 16-bit word"),
+                ("behaviour.trip.history[0]", "`stop` is not a field of `command_word`"),
+                (
+                    "behaviour.trip.history[1]",
+                    "register `acceleration_time` is not a bit-field word, so `Acc.low` names no field"
+                ),
+                ("behaviour.trip.history[2]", "register `ACC2` is not defined"),
+            ]
+        );
     }
 
     #[test]

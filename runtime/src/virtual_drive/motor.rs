@@ -3,7 +3,7 @@
 //! command on the simulated clock; monitors and status bits follow.
 
 use super::VirtualDrive;
-use crate::behaviour::{Amount, Behaviour, Bit};
+use crate::behaviour::{Amount, Behaviour, Bit, TripSlot};
 use crate::info::RegisterInfo;
 use std::time::Duration;
 
@@ -190,6 +190,13 @@ impl VirtualDrive {
                 self.reset();
             }
         }
+        if let Some(clear) = behaviour.trip.clear_by_write {
+            if clear.register == info.id && raw == clear.value {
+                for slot in self.history_slots(behaviour) {
+                    self.set_slot(slot, 0);
+                }
+            }
+        }
     }
 
     /// Trips the drive with `code`: the output drops to zero, the code goes into the trip
@@ -200,21 +207,32 @@ impl VirtualDrive {
         self.motor.run = false;
         self.motor.output = 0.0;
         if let Some(behaviour) = self.behaviour() {
-            let history: Vec<&RegisterInfo> = behaviour
-                .trip
-                .history
-                .iter()
-                .filter_map(|id| self.drive.register(id))
-                .collect();
+            let history = self.history_slots(behaviour);
             for pair in (1..history.len()).rev() {
-                let older = self.storage.get(history[pair - 1], 0);
-                self.storage.set(history[pair], 0, older, false);
+                let (from, older) = history[pair - 1];
+                let value = older.get(self.storage.get(from, 0));
+                self.set_slot(history[pair], value);
             }
-            if let Some(newest) = history.first() {
-                self.storage.set(newest, 0, u32::from(code), false);
+            if let Some(&newest) = history.first() {
+                self.set_slot(newest, u32::from(code));
             }
         }
         self.refresh();
+    }
+
+    /// The trip history's slots with their registers, newest first.
+    fn history_slots(&self, behaviour: &Behaviour) -> Vec<(&'static RegisterInfo, TripSlot)> {
+        behaviour
+            .trip
+            .history
+            .iter()
+            .filter_map(|slot| self.drive.register(slot.register).map(|info| (info, *slot)))
+            .collect()
+    }
+
+    fn set_slot(&mut self, (info, slot): (&'static RegisterInfo, TripSlot), value: u32) {
+        let word = self.storage.get(info, 0);
+        self.storage.set(info, 0, slot.put(word, value), false);
     }
 
     /// Copies each live register into the register holding its value at a trip

@@ -2,7 +2,7 @@
 //! `vfd_runtime::behaviour::Behaviour`, for the virtual drive.
 
 use super::*;
-use crate::ir::{AmountIr, BehaviourIr, BitRefIr};
+use crate::ir::{AmountIr, BehaviourIr, BitRefIr, TripSlotIr};
 
 fn bit(bit: &BitRefIr) -> TokenStream {
     let mask = int_literal(bit.mask);
@@ -38,6 +38,16 @@ fn amount(amount: &AmountIr) -> TokenStream {
     }
 }
 
+fn written_value(value: Option<&(String, u32)>) -> TokenStream {
+    match value {
+        Some((register, value)) => {
+            let value = int_literal(*value);
+            quote!(Some(WrittenValue { register: #register, value: #value }))
+        }
+        None => quote!(None),
+    }
+}
+
 fn ids(ids: &[String]) -> TokenStream {
     quote!(&[#(#ids),*])
 }
@@ -70,13 +80,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
         optional_bit(b.reset.as_ref()),
         optional_bit(b.coast.as_ref()),
     );
-    let reset_by_write = match &b.reset_by_write {
-        Some((register, value)) => {
-            let value = int_literal(*value);
-            quote!(Some(WrittenValue { register: #register, value: #value }))
-        }
-        None => quote!(None),
-    };
+    let reset_by_write = written_value(b.reset_by_write.as_ref());
     let (command, frequency_require) = (&b.frequency_command, bits(&b.frequency_require));
     let (acceleration, deceleration, span) = (
         amount(&b.acceleration),
@@ -103,7 +107,16 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
         bits(&s.enabled),
         bits(&s.always),
     );
-    let (trip_code, trip_history) = (ids(&b.trip_code), ids(&b.trip_history));
+    let trip_code = ids(&b.trip_code);
+    let slots = b.trip_history.iter().map(|slot| match slot {
+        TripSlotIr::Register(id) => quote!(TripSlot::whole(#id)),
+        TripSlotIr::Field { register, mask, .. } => {
+            let mask = int_literal(*mask);
+            quote!(TripSlot { register: #register, mask: #mask })
+        }
+    });
+    let trip_history = quote!(&[#(#slots),*]);
+    let trip_clear = written_value(b.trip_clear_by_write.as_ref());
     let process = match &b.process {
         Some([control, reference, status, output]) => quote!(Some(ProcessBehaviour {
             control: #control, reference: #reference, status: #status, output: #output
@@ -168,7 +181,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     enabled: #enabled,
                     always: #always,
                 },
-                trip: TripBehaviour { code: #trip_code, history: #trip_history },
+                trip: TripBehaviour { code: #trip_code, history: #trip_history, clear_by_write: #trip_clear },
                 process: #process,
                 refusals: &[#(#refusals),*],
             }
