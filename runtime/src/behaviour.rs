@@ -68,6 +68,16 @@ pub struct WrittenValue {
     pub value: u32,
 }
 
+/// A register whose value must be one of `values` for the drive to take commands over the
+/// link (the DV1's operation mode 1000h = 0, communication mode).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ModeRequirement {
+    /// Id of the mode register.
+    pub register: &'static str,
+    /// The raw values in which commands are taken.
+    pub values: &'static [u32],
+}
+
 /// How the command word drives the simulated motor.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CommandBehaviour {
@@ -89,6 +99,9 @@ pub struct CommandBehaviour {
     pub reset_by_write: Option<WrittenValue>,
     /// Coast stop: the output drops to zero at once.
     pub coast: Option<Bit>,
+    /// The mode in which the command word and the frequency command are taken: writes to
+    /// either in another mode are refused ([`Refusals::wrong_mode`]).
+    pub require_mode: Option<ModeRequirement>,
 }
 
 /// How the output frequency follows the frequency command.
@@ -218,6 +231,9 @@ pub struct Refusals {
     pub while_running: Option<u16>,
     /// A frame whose checksum does not match.
     pub bad_checksum: Option<u16>,
+    /// A write to the command word or the frequency command outside the mode the model
+    /// requires ([`CommandBehaviour::require_mode`]).
+    pub wrong_mode: Option<u16>,
 }
 
 impl Refusals {
@@ -229,6 +245,7 @@ impl Refusals {
         out_of_range: None,
         while_running: None,
         bad_checksum: None,
+        wrong_mode: None,
     };
 }
 
@@ -304,6 +321,7 @@ mod tests {
                 reset: None,
                 reset_by_write: None,
                 coast: None,
+                require_mode: None,
             },
             frequency: FrequencyBehaviour {
                 command: "f",

@@ -834,6 +834,33 @@ mod dv1_drive {
     }
 
     #[test]
+    fn commands_are_taken_in_communication_mode_only() {
+        use dv1::codes::OperationMode as Mode;
+        // H0A (模式异常) over Eaton, 03 (refused in the current mode) over Modbus.
+        for (protocol, code) in DV1_PROTOCOLS.into_iter().zip([3, 3, 0x0A]) {
+            let sim = Simulator::new(&dv1::DRIVE);
+            let mut master = sim.master(protocol);
+            master.write_ram::<OperationMode>(Mode::External).unwrap();
+            let run = master.write_ram::<RunCommand>(Word::new().with_forward(true));
+            assert_eq!(refused(run), code, "{}", protocol.id);
+            let frequency = master.write_ram::<FrequencyCommandRam>(Hertz(30.0));
+            assert_eq!(refused(frequency), code, "{}", protocol.id);
+            assert!(!sim.lock().is_running());
+            // 例一: back to communication mode (0), and the drive takes both.
+            master
+                .write_ram::<OperationMode>(Mode::Communication)
+                .unwrap();
+            master
+                .write_ram::<FrequencyCommandRam>(Hertz(30.0))
+                .unwrap();
+            master
+                .write_ram::<RunCommand>(Word::new().with_forward(true))
+                .unwrap();
+            assert!(master.read::<InverterStatus>().unwrap().running());
+        }
+    }
+
+    #[test]
     fn status_and_run_command_frames_over_modbus_rtu_and_eaton() {
         use vfd_runtime::virtual_drive::Outcome;
         let sim = Simulator::new(&dv1::DRIVE);

@@ -51,6 +51,11 @@ pub(crate) fn lower(
             .as_ref()
             .map(|w| (id_of(&w.register), w.value)),
         coast: model.command.coast.as_ref().map(command_bit),
+        require_mode: model
+            .command
+            .require_mode
+            .as_ref()
+            .map(|m| (id_of(&m.register), m.values.clone())),
         frequency_command: id_of(&model.frequency.command),
         frequency_require: command_list(&model.frequency.require),
         acceleration: amount(&model.frequency.acceleration),
@@ -102,6 +107,7 @@ pub(crate) fn lower(
                 out_of_range: r.out_of_range,
                 while_running: r.while_running,
                 bad_checksum: r.bad_checksum,
+                wrong_mode: r.wrong_mode,
             })
             .collect(),
     }

@@ -215,6 +215,9 @@ pub struct BehaviourIr {
     pub reset_by_write: Option<(String, u32)>,
     /// Coast-stop bit.
     pub coast: Option<BitRefIr>,
+    /// The mode register (id) and the raw values in which commands are taken.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub require_mode: Option<(String, Vec<u32>)>,
     /// Id of the frequency-command register.
     pub frequency_command: String,
     /// Command-word bits that make the frequency command effective.
@@ -299,6 +302,9 @@ pub struct RefusalsIr {
     pub out_of_range: Option<u16>,
     /// Write that cannot be made while running.
     pub while_running: Option<u16>,
+    /// Write outside the required mode.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wrong_mode: Option<u16>,
     /// Bad checksum.
     pub bad_checksum: Option<u16>,
 }

@@ -311,6 +311,20 @@ pub struct CommandBehaviourModel {
     pub reset_by_write: Option<WrittenValueModel>,
     /// The coast-stop bit.
     pub coast: Option<BitRefModel>,
+    /// The mode in which the command word and the frequency command are taken:
+    /// `{ register: operation_mode, values: [0] }`. A write to either in another mode is
+    /// refused as `wrong_mode`.
+    pub require_mode: Option<ModeRequirementModel>,
+}
+
+/// A register whose value must be one of `values` for commands to be taken.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ModeRequirementModel {
+    /// Code or id of the mode register.
+    pub register: String,
+    /// The raw values in which commands are taken (one of its codes, if it has a table).
+    pub values: Vec<u32>,
 }
 
 /// A raw value written to a register that makes the drive act.
@@ -434,6 +448,9 @@ pub struct RefusalsModel {
     pub while_running: Option<u16>,
     /// A frame whose checksum does not match.
     pub bad_checksum: Option<u16>,
+    /// A write to the command word or the frequency command outside the mode
+    /// `command.require_mode` names.
+    pub wrong_mode: Option<u16>,
 }
 
 /// A safety warning: what can go wrong, and where the manual says so.

@@ -80,6 +80,34 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
             );
         }
     }
+    if let Some(mode) = &behaviour.command.require_mode {
+        let path = "behaviour.command.require_mode.values";
+        if mode.values.is_empty() {
+            problem(
+                path.to_owned(),
+                "no value is given: the drive would take no command in any mode".to_owned(),
+                "list the raw values of the mode register in which the drive takes commands",
+            );
+        }
+        let table = index
+            .find(&mode.register)
+            .and_then(|r| r.code_table.as_deref())
+            .and_then(|id| model.codes.iter().find(|t| t.id == id));
+        if let Some(table) = table {
+            for (i, value) in mode.values.iter().enumerate() {
+                if !table.values.iter().any(|v| v.value == *value) {
+                    problem(
+                        format!("{path}[{i}]"),
+                        format!(
+                            "{value:#06X} is not a value of `{}`'s code table `{}`",
+                            mode.register, table.id
+                        ),
+                        "give a mode as the register's code table lists it",
+                    );
+                }
+            }
+        }
+    }
     for (i, name) in behaviour.trip.history.iter().enumerate() {
         if index.find(name).is_some() {
             continue;
@@ -180,7 +208,7 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
                 problem(
                     "behaviour.refusals".to_owned(),
                     format!("protocol `{}` has no refusals: the virtual drive would not answer a refused request over it", protocol.id),
-                    "give its error codes (unknown_register, read_only, out_of_range, while_running, bad_checksum) as the manual lists them, or `{}` where it gives none",
+                    "give its error codes (unknown_register, read_only, out_of_range, while_running, bad_checksum, wrong_mode) as the manual lists them, or `{}` where it gives none",
                 );
             }
         }
@@ -227,6 +255,12 @@ fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
         for (i, name) in list.iter().enumerate() {
             named.push((format!("behaviour.{key}[{i}]"), name));
         }
+    }
+    if let Some(mode) = &b.command.require_mode {
+        named.push((
+            "behaviour.command.require_mode.register".to_owned(),
+            mode.register.as_str(),
+        ));
     }
     for (key, written) in [
         ("command.reset_by_write", &b.command.reset_by_write),

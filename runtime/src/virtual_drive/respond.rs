@@ -25,6 +25,9 @@ pub enum Refusal {
     WhileRunning,
     /// A frame whose checksum does not match.
     BadChecksum,
+    /// A write to the command word or the frequency command while the mode register is
+    /// outside the mode the behaviour model requires.
+    WrongMode,
 }
 
 impl Refusal {
@@ -36,6 +39,7 @@ impl Refusal {
             Refusal::OutOfRange => refusals.out_of_range,
             Refusal::WhileRunning => refusals.while_running,
             Refusal::BadChecksum => refusals.bad_checksum,
+            Refusal::WrongMode => refusals.wrong_mode,
         }
     }
 }
@@ -635,6 +639,9 @@ impl VirtualDrive {
         {
             return Err(Refusal::ReadOnly);
         }
+        if !self.in_required_mode(info) {
+            return Err(Refusal::WrongMode);
+        }
         if !info.writable_while_running && self.is_running() {
             return Err(Refusal::WhileRunning);
         }
@@ -663,6 +670,29 @@ impl VirtualDrive {
             return Err(Refusal::OutOfRange);
         }
         Ok(())
+    }
+}
+
+impl VirtualDrive {
+    /// Whether a write to `info` may be taken in the present mode: always, unless it is the
+    /// command word or the frequency command and the mode register the behaviour model
+    /// names holds none of the values it requires.
+    fn in_required_mode(&self, info: &RegisterInfo) -> bool {
+        let Some(behaviour) = self.behaviour() else {
+            return true;
+        };
+        let Some(mode) = behaviour.command.require_mode else {
+            return true;
+        };
+        let gated = [behaviour.command.register, behaviour.frequency.command]
+            .into_iter()
+            .any(|id| self.served(id) == info.id);
+        if !gated {
+            return true;
+        }
+        self.drive
+            .register(mode.register)
+            .is_none_or(|mode_info| mode.values.contains(&self.storage.get(mode_info, 0)))
     }
 }
 

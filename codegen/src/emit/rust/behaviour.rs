@@ -81,6 +81,13 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
         optional_bit(b.coast.as_ref()),
     );
     let reset_by_write = written_value(b.reset_by_write.as_ref());
+    let require_mode = match &b.require_mode {
+        Some((register, values)) => {
+            let values = values.iter().map(|v| int_literal(*v));
+            quote!(Some(ModeRequirement { register: #register, values: &[#(#values),*] }))
+        }
+        None => quote!(None),
+    };
     let (command, frequency_require) = (&b.frequency_command, bits(&b.frequency_require));
     let (acceleration, deceleration, span) = (
         amount(&b.acceleration),
@@ -125,12 +132,13 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
     };
     let refusals = b.refusals.iter().map(|r| {
         let protocol = &r.protocol;
-        let (unknown, read_only, out_of_range, while_running, bad_checksum) = (
+        let (unknown, read_only, out_of_range, while_running, bad_checksum, wrong_mode) = (
             code(r.unknown_register),
             code(r.read_only),
             code(r.out_of_range),
             code(r.while_running),
             code(r.bad_checksum),
+            code(r.wrong_mode),
         );
         quote!(Refusals {
             protocol: #protocol,
@@ -139,6 +147,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
             out_of_range: #out_of_range,
             while_running: #while_running,
             bad_checksum: #bad_checksum,
+            wrong_mode: #wrong_mode,
         })
     });
     let doc = doc_text(format!(
@@ -160,6 +169,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     reset: #reset,
                     reset_by_write: #reset_by_write,
                     coast: #coast,
+                    require_mode: #require_mode,
                 },
                 frequency: FrequencyBehaviour {
                     command: #command,
