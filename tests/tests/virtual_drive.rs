@@ -814,9 +814,9 @@ mod dv1_drive {
             );
             assert_eq!(sim.lock().raw("fault_codes_1_2"), Some(0x2425));
         }
-        // 1102h = A5A5h (as 00-02 = 1 / P.996 = 1) clears the error codes only; it has no
-        // Eaton code of its own (HFC, dv1.NEEDS.md item 4), so over Modbus.
-        for protocol in [&dv1::protocols::MODBUS, &dv1::protocols::MODBUS_ASCII] {
+        // 1102h = A5A5h (as 00-02 = 1 / P.996 = 1) clears the error codes only; over Eaton
+        // it is HFC, which 1102h-1106h share (the data picks the register).
+        for protocol in DV1_PROTOCOLS {
             let sim = Simulator::new(&dv1::DRIVE);
             let mut master = sim.master(protocol);
             sim.inject_trip(0x21);
@@ -831,6 +831,54 @@ mod dv1_drive {
             assert_eq!(master.read::<FaultCodes12>().unwrap().second(), 0);
             assert_eq!(master.read::<FrequencyCommandRam>().unwrap(), Hertz(12.5));
         }
+    }
+
+    #[test]
+    fn the_eaton_parameter_clear_hfc_is_one_code_whose_data_picks_the_register() {
+        use vfd_runtime::virtual_drive::Outcome;
+        let protocol = dv1::protocols::EATON.protocol();
+        let mut out = [0u8; 32];
+        // 1102h = A5A5h as HFC: 30h+30h+46h+43h+30h+41h+35h+41h+35h = 205h.
+        let clear =
+            ParameterClear1102::write_ram(dv1::codes::ParameterClear1102::ClearErrorCodes).unwrap();
+        let len = protocol.encode_request(&clear, Some(0), &mut out).unwrap();
+        assert_eq!(&out[..len], b"\x0500FC0A5A505\r".as_slice());
+        // 1104h = 5A5Ah as HFC too (same sum).
+        let like_p999 =
+            ParameterClear1104::write_ram(dv1::codes::ParameterClear1104::LikeP9991).unwrap();
+        let len = protocol
+            .encode_request(&like_p999, Some(0), &mut out)
+            .unwrap();
+        assert_eq!(&out[..len], b"\x0500FC05A5A05\r".as_slice());
+        // Decoded, the data names the register: A5A5h is 1102h, 9696h is 1106h
+        // (communication 999 1, sum 1F7h), not the reset (9696h at HFD, 1101h).
+        for (frame, register) in [
+            (&b"\x0500FC0A5A505\r"[..], 0x1102),
+            (&b"\x0500FC05A5A05\r"[..], 0x1104),
+            (&b"\x0500FC09696F7\r"[..], 0x1106),
+        ] {
+            let decoded = protocol.decode_request_exact(frame).unwrap();
+            assert_eq!(decoded.register, Some(register));
+        }
+        let sim = Simulator::new(&dv1::DRIVE);
+        sim.inject_trip(0x21);
+        let mut drive = sim.lock();
+        drive.set_address(0);
+        assert_eq!(
+            drive.respond(protocol, b"\x0500FC09696F7\r"),
+            Outcome::Reply(b"\x0600\r".to_vec())
+        );
+        assert_eq!(
+            drive.trip(),
+            Some(0x21),
+            "HFC 9696h clears parameters, it is no reset"
+        );
+        assert_eq!(drive.raw("fault_codes_1_2"), Some(0x21));
+        assert_eq!(
+            drive.respond(protocol, b"\x0500FC0A5A505\r"),
+            Outcome::Reply(b"\x0600\r".to_vec())
+        );
+        assert_eq!(drive.raw("fault_codes_1_2"), Some(0));
     }
 
     #[test]

@@ -336,7 +336,7 @@ impl VirtualDrive {
             let at =
                 u16::try_from(usize::from(wire) + word).map_err(|_| Refusal::UnknownRegister)?;
             let info = protocol
-                .from_wire(command, at)
+                .from_wire(command, at, None)
                 .and_then(|number| self.drive.register_for(command.space, number, false))
                 .filter(|info| info.data_type != DataType::Text)
                 .ok_or(Refusal::UnknownRegister)?;
