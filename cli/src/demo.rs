@@ -30,8 +30,10 @@ pub fn run(drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
         // drive with a model.
         None => {
             let full = |d: &&'static DriveInfo| {
-                d.behaviour
-                    .is_some_and(|b| !b.status.registers.is_empty() && b.command.reset.is_some())
+                d.behaviour.is_some_and(|b| {
+                    !b.status.registers.is_empty()
+                        && (b.command.reset.is_some() || b.command.reset_by_write.is_some())
+                })
             };
             let drives = vfd_drives::ALL_DRIVES.iter().copied();
             drives
@@ -241,13 +243,15 @@ fn tour(
         read(session, behaviour, &shown)?;
     }
 
-    let history: Vec<&'static RegisterInfo> = behaviour
+    let mut history: Vec<&'static RegisterInfo> = behaviour
         .trip
         .history
         .iter()
-        .filter_map(|id| drive.register(id))
+        .filter_map(|slot| drive.register(slot.register))
         .filter(|r| session.can_read(r))
         .collect();
+    // Slots that are fields of one register read it once.
+    history.dedup_by_key(|r| r.id);
     if !history.is_empty() {
         let codes: Vec<&str> = history.iter().map(|r| r.code).collect();
         step(&format!(
@@ -266,6 +270,27 @@ fn tour(
         ));
         write(session, command, reset_word)?;
         write(session, command, stop_word)?;
+        if !shown.is_empty() {
+            let codes: Vec<&str> = shown.iter().map(|r| r.code).collect();
+            step(&format!("vfd read {line} {}", codes.join(" ")));
+            read(session, behaviour, &shown)?;
+        }
+    }
+    if let Some(reset) = behaviour.command.reset_by_write {
+        let target = register(drive, reset.register)?;
+        // The value by its code's name where the register has a code table.
+        let value = target
+            .codes
+            .and_then(|codes| codes.find(reset.value as u16))
+            .map_or_else(
+                || format!("0x{:04X}", reset.value),
+                |code| code.id.to_owned(),
+            );
+        step(&format!(
+            "vfd write {line} {} {value}   # reset (never answered)",
+            target.code
+        ));
+        write(session, target, reset.value)?;
         if !shown.is_empty() {
             let codes: Vec<&str> = shown.iter().map(|r| r.code).collect();
             step(&format!("vfd read {line} {}", codes.join(" ")));

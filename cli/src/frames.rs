@@ -34,7 +34,7 @@ pub fn encode(
 ) -> Result<(), Failure> {
     let drive = lookup::drive(drive)?;
     let protocol = lookup::protocol(drive, Some(protocol))?;
-    let register = lookup::register(drive, register)?;
+    let register = lookup::register_for(drive, register, action != Action::Read)?;
     let code = command.map(crate::watch::command_code).transpose()?;
     // A command whose data is a percentage of another register takes the value as one.
     let percent_of = code
@@ -510,7 +510,10 @@ impl<'a> Report<'a> {
             self.add("error", text);
         }
         let space = meaning.space.unwrap_or(Space::Parameter);
-        let info = meaning.register.and_then(|r| drive.register_at(space, r));
+        let writing = meaning.kind.is_some_and(|k| k.is_write());
+        let info = meaning
+            .register
+            .and_then(|r| drive.register_for(space, r, writing));
         match (info, meaning.register, meaning.wire_register) {
             (Some(info), _, _) => self.add("register", info.label()),
             (None, Some(register), _) => self.add(
@@ -631,9 +634,10 @@ impl<'a> Report<'a> {
             .map(|(name, value)| (name.clone(), serde_json::Value::String(value.clone())))
             .collect();
         let space = meaning.space.unwrap_or(Space::Parameter);
-        let info = meaning
-            .register
-            .and_then(|r| fit.drive.register_at(space, r));
+        let info = meaning.register.and_then(|r| {
+            fit.drive
+                .register_for(space, r, meaning.kind.is_some_and(|k| k.is_write()))
+        });
         let bit_fields: Option<Vec<serde_json::Value>> = info.and_then(|i| i.bits).and_then(|bits| {
             meaning.data.map(|data| {
                 bits.fields

@@ -5,7 +5,7 @@
 
 use crate::Failure;
 use vfd_runtime::info::manual_number;
-use vfd_runtime::{DriveInfo, Port, Protocol, RegisterInfo};
+use vfd_runtime::{Access, DriveInfo, Port, Protocol, RegisterInfo};
 
 /// The described drive with this id (case-insensitive).
 pub fn drive(id: &str) -> Result<&'static DriveInfo, Failure> {
@@ -162,6 +162,30 @@ pub fn register(drive: &DriveInfo, name: &str) -> Result<&'static RegisterInfo, 
             .hint(format!("say which: {}", names.join(", "))))
         }
     }
+}
+
+/// The one register `name` means for a read (`writing` false) or a write: where it names
+/// two registers sharing an address (one read-only, one write-only: 1001h read as a
+/// status word, written as a run command), the one the direction reaches.
+pub fn register_for(
+    drive: &DriveInfo,
+    name: &str,
+    writing: bool,
+) -> Result<&'static RegisterInfo, Failure> {
+    let found = registers(drive, name);
+    if let [first, second] = found.as_slice() {
+        if first.address == second.address && first.space == second.space {
+            let blocked = if writing {
+                Access::ReadOnly
+            } else {
+                Access::WriteOnly
+            };
+            if let Some(one) = [first, second].into_iter().find(|r| r.access != blocked) {
+                return Ok(one);
+            }
+        }
+    }
+    register(drive, name)
 }
 
 /// `0xFA01`, `FA01h` or a decimal number, as a register address.

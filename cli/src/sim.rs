@@ -193,7 +193,7 @@ pub fn frame_text(
             }
             if let Some(r) = m.register {
                 let space = m.space.unwrap_or(vfd_runtime::Space::Parameter);
-                match drive.register_at(space, r) {
+                match drive.register_for(space, r, m.kind.is_some_and(|k| k.is_write())) {
                     Some(info) => parts.push(format!("{} {}", info.code, info.name)),
                     None => parts.push(format!("register {r:04X}h")),
                 }

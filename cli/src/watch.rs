@@ -33,11 +33,13 @@ pub fn read(line: &LineArgs, command: Option<&str>, names: &[String]) -> Result<
     Ok(())
 }
 
-/// The registers `names` name, in order.
+/// The registers `names` name for reading, in order.
 pub fn resolve(session: &Session, names: &[String]) -> Result<Vec<&'static RegisterInfo>, Failure> {
     names
         .iter()
-        .map(|name| lookup::register(session.drive, name).map(|info| session.on_port(info)))
+        .map(|name| {
+            lookup::register_for(session.drive, name, false).map(|info| session.on_port(info))
+        })
         .collect()
 }
 
@@ -102,7 +104,7 @@ pub fn write(
     persist: bool,
 ) -> Result<(), Failure> {
     let drive = lookup::drive(&line.drive)?;
-    let info = lookup::register(drive, name)?;
+    let info = lookup::register_for(drive, name, true)?;
     let info = match lookup::port(drive, line.port_kind.as_deref())? {
         Some(port) => port.register(info),
         None => info,
@@ -213,7 +215,7 @@ pub fn broadcast_write(
     reply_from: Option<u8>,
 ) -> Result<(), Failure> {
     let drive = lookup::drive(&line.drive)?;
-    let info = lookup::register(drive, name)?;
+    let info = lookup::register_for(drive, name, true)?;
     crate::bus::check_writable(info, persist)?;
     let to: vfd_runtime::Broadcast = stations
         .parse()

@@ -551,6 +551,36 @@ fn dv1_reset_returns_without_waiting_for_a_reply() {
 }
 
 #[test]
+fn dv1_1001h_is_written_as_the_run_command_and_read_as_the_status() {
+    for protocol in ["modbus", "eaton"] {
+        let sim = Sim::start("dv1", protocol);
+        let write = sim.vfd("dv1", protocol, &["write", "1001", "forward"]);
+        assert!(write.status.success(), "{protocol}: {}", text(&write));
+        assert!(text(&write).contains("HFA"), "{}", text(&write));
+        let read = sim.vfd("dv1", protocol, &["read", "1001"]);
+        assert!(read.status.success(), "{protocol}: {}", text(&read));
+        let shown = text(&read);
+        // The status word, bit by bit: b0 running and b1 forward set, b2 reverse clear.
+        assert!(shown.contains("H7A"), "{shown}");
+        for (bit, id, value) in [
+            ("bit 0", "running", 1),
+            ("bit 1", "forward", 1),
+            ("bit 2", "reverse", 0),
+        ] {
+            assert!(
+                shown.lines().any(|l| l.contains(bit)
+                    && l.contains(id)
+                    && l.contains(&format!(" {value}  "))),
+                "{protocol}: {id} = {value} in\n{shown}"
+            );
+        }
+        // The status word cannot be written, nor the run command read, by name.
+        let refused = sim.vfd("dv1", protocol, &["write", "H7A", "running"]);
+        assert!(!refused.status.success(), "{}", text(&refused));
+    }
+}
+
+#[test]
 fn vf_as1_block_transfer_over_the_sim() {
     let sim = Sim::start("vf-as1", "binary");
     // Factory selection: nothing selected, both words refused, five words of 0000h.

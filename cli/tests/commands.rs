@@ -316,8 +316,7 @@ fn completions_are_printed_for_bash() {
 #[test]
 fn demo_runs_to_completion_piped() {
     let started = std::time::Instant::now();
-    // The default drive (the first with a behaviour model) is now dv1, whose status word has
-    // no register (dv1.NEEDS.md item 19), so no TRIPPED line: fc51 shows the whole tour.
+    // fc51's tour, step by step; every other drive's is run below.
     let output = vfd(&["demo", "--drive", "fc51", "--seconds", "2"]);
     assert!(output.status.success(), "{}", stderr(&output));
     let text = stdout(&output);
@@ -345,6 +344,14 @@ fn demo_runs_to_completion_piped() {
         assert!(demo.status.success(), "{drive}: {}", stderr(&demo));
         assert!(stdout(&demo).contains("Done."), "{}", stdout(&demo));
     }
+    // The DV1's tour: its status word at 1001h shows the trip; the reset is a write of
+    // its own register (1101h = 9696h), never answered.
+    let dv1 = vfd(&["demo", "--drive", "dv1", "--seconds", "1"]);
+    let shown = stdout(&dv1);
+    assert!(
+        shown.contains("TRIPPED: H7A says so") && shown.contains("HFD reset   # reset"),
+        "{shown}"
+    );
     let default = vfd(&["demo", "--seconds", "1"]);
     assert!(default.status.success(), "{}", stderr(&default));
 }

@@ -146,17 +146,26 @@ pub(crate) fn frame_bytes(ascii: &Option<String>, hex: &Option<String>) -> Resul
     }
 }
 
-/// The described register a frame's data belongs to.
+/// The described register a frame's data belongs to: of two sharing the address (one
+/// read-only, one write-only), the one the frame's direction reaches.
 pub(crate) fn register_of<'d>(
     drive: &'d DriveFile,
     meaning: &FrameMeaning,
 ) -> Option<&'d RegisterModel> {
     let address = u32::from(meaning.register?);
     let space = meaning.space.unwrap_or(Space::Parameter);
+    let blocked = match meaning.kind {
+        Some(kind) if kind.is_write() => Some(vfd_runtime::Access::ReadOnly),
+        Some(_) => Some(vfd_runtime::Access::WriteOnly),
+        None => None,
+    };
+    let at = |r: &&RegisterModel| r.address == address && space_of(r) == space;
     drive
         .registers
         .iter()
-        .find(|r| r.address == address && space_of(r) == space)
+        .filter(at)
+        .find(|r| blocked.is_none() || r.access != blocked)
+        .or_else(|| drive.registers.iter().find(at))
 }
 
 /// A register's address space.

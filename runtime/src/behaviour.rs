@@ -58,6 +58,26 @@ pub enum Amount {
     Register(&'static str),
 }
 
+/// A value written to a register (by id) that makes the drive act: the DV1 resets when
+/// 9696h is written to 1101h.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WrittenValue {
+    /// Id of the register written.
+    pub register: &'static str,
+    /// The raw value that acts.
+    pub value: u32,
+}
+
+/// A register whose value must be one of `values` for the drive to take commands over the
+/// link (the DV1's operation mode 1000h = 0, communication mode).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ModeRequirement {
+    /// Id of the mode register.
+    pub register: &'static str,
+    /// The raw values in which commands are taken.
+    pub values: &'static [u32],
+}
+
 /// How the command word drives the simulated motor.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CommandBehaviour {
@@ -65,14 +85,23 @@ pub struct CommandBehaviour {
     pub register: &'static str,
     /// Bits that must all act for the word to act at all (YD1000 bit 15, FC "data valid").
     pub require: &'static [Bit],
-    /// Run (1) or stop (0).
+    /// Run (1) or stop (0); with `run_reverse`, the forward run bit.
     pub run: Bit,
+    /// A second run bit that runs the motor in reverse (the DV1's STR beside STF): the
+    /// motor runs while either acts, in reverse when only this one does, and stops while
+    /// both act.
+    pub run_reverse: Option<Bit>,
     /// Reverse direction.
     pub reverse: Option<Bit>,
     /// Fault reset, on the rising edge.
     pub reset: Option<Bit>,
+    /// Fault reset by a value written to a register of its own (not a command-word bit).
+    pub reset_by_write: Option<WrittenValue>,
     /// Coast stop: the output drops to zero at once.
     pub coast: Option<Bit>,
+    /// The mode in which the command word and the frequency command are taken: writes to
+    /// either in another mode are refused ([`Refusals::wrong_mode`]).
+    pub require_mode: Option<ModeRequirement>,
 }
 
 /// How the output frequency follows the frequency command.
@@ -115,6 +144,8 @@ pub struct StatusBehaviour {
     pub running: &'static [Bit],
     /// Set while the direction is reverse.
     pub reverse: &'static [Bit],
+    /// Set while the motor runs in the forward direction.
+    pub forward: &'static [Bit],
     /// Set while running with the output at the frequency command.
     pub at_reference: &'static [Bit],
     /// Set while tripped.
@@ -125,13 +156,50 @@ pub struct StatusBehaviour {
     pub always: &'static [Bit],
 }
 
+/// One place of a trip history: a whole register, or a field of a bit-field register (the
+/// DV1 keeps two fault codes per word, one per byte).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TripSlot {
+    /// Id of the register.
+    pub register: &'static str,
+    /// The bits of the register the slot holds (`u32::MAX`: all of them).
+    pub mask: u32,
+}
+
+impl TripSlot {
+    /// A slot that is a whole register.
+    pub const fn whole(register: &'static str) -> TripSlot {
+        TripSlot {
+            register,
+            mask: u32::MAX,
+        }
+    }
+
+    /// The slot's value in the register's `word`.
+    pub const fn get(self, word: u32) -> u32 {
+        (word & self.mask) >> self.mask.trailing_zeros()
+    }
+
+    /// `word` with the slot set to `value` (cut to the slot's width).
+    pub const fn put(self, word: u32, value: u32) -> u32 {
+        let shifted = match value.checked_shl(self.mask.trailing_zeros()) {
+            Some(shifted) => shifted,
+            None => 0,
+        };
+        (word & !self.mask) | (shifted & self.mask)
+    }
+}
+
 /// Where a trip is recorded.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TripBehaviour {
     /// Ids of the registers showing the present trip code (0 after a reset).
     pub code: &'static [&'static str],
-    /// Ids of the trip-history registers, newest first.
-    pub history: &'static [&'static str],
+    /// The trip history, newest first: a trip shifts every slot one place older.
+    pub history: &'static [TripSlot],
+    /// A value written to a register that clears the trip history (the DV1's 1102h =
+    /// A5A5h).
+    pub clear_by_write: Option<WrittenValue>,
 }
 
 /// Which registers the process words of a process exchange carry.
@@ -163,6 +231,9 @@ pub struct Refusals {
     pub while_running: Option<u16>,
     /// A frame whose checksum does not match.
     pub bad_checksum: Option<u16>,
+    /// A write to the command word or the frequency command outside the mode the model
+    /// requires ([`CommandBehaviour::require_mode`]).
+    pub wrong_mode: Option<u16>,
 }
 
 impl Refusals {
@@ -174,6 +245,7 @@ impl Refusals {
         out_of_range: None,
         while_running: None,
         bad_checksum: None,
+        wrong_mode: None,
     };
 }
 
@@ -224,6 +296,19 @@ mod tests {
     }
 
     #[test]
+    fn trip_slots_are_whole_words_or_fields() {
+        let whole = TripSlot::whole("a");
+        assert_eq!(whole.get(0x1234), 0x1234);
+        assert_eq!(whole.put(0x1234, 0x21), 0x21);
+        let high = TripSlot {
+            register: "a",
+            mask: 0xFF00,
+        };
+        assert_eq!(high.get(0x2107), 0x21);
+        assert_eq!(high.put(0x2107, 0x1FF), 0xFF07, "cut to the slot's width");
+    }
+
+    #[test]
     fn unknown_protocols_are_silent() {
         let behaviour = Behaviour {
             source: "",
@@ -231,9 +316,12 @@ mod tests {
                 register: "c",
                 require: &[],
                 run: Bit::high(1),
+                run_reverse: None,
                 reverse: None,
                 reset: None,
+                reset_by_write: None,
                 coast: None,
+                require_mode: None,
             },
             frequency: FrequencyBehaviour {
                 command: "f",
@@ -248,6 +336,7 @@ mod tests {
             status: StatusBehaviour {
                 registers: &[],
                 running: &[],
+                forward: &[],
                 reverse: &[],
                 at_reference: &[],
                 tripped: &[],
@@ -257,6 +346,7 @@ mod tests {
             trip: TripBehaviour {
                 code: &[],
                 history: &[],
+                clear_by_write: None,
             },
             process: None,
             refusals: &[Refusals {

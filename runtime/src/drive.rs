@@ -102,6 +102,38 @@ impl DriveInfo {
             .find(|r| r.space == space && r.address == address)
     }
 
+    /// The register at `address` in `space` that a read (`writing` false) or a write
+    /// reaches. Two registers share an address only when one is read-only and the other
+    /// write-only (1001h read as a status word, written as a run command): the one whose
+    /// access allows the direction; otherwise the register at the address, as
+    /// [`DriveInfo::register_at`] finds it.
+    pub fn register_for(
+        &self,
+        space: crate::kinds::Space,
+        address: u16,
+        writing: bool,
+    ) -> Option<&'static RegisterInfo> {
+        let blocked = if writing {
+            crate::kinds::Access::ReadOnly
+        } else {
+            crate::kinds::Access::WriteOnly
+        };
+        self.registers
+            .iter()
+            .copied()
+            .find(|r| r.space == space && r.address == address && r.access != blocked)
+            .or_else(|| self.register_at(space, address))
+    }
+
+    /// The other register at the address of `info`, when two share it (one read-only,
+    /// one write-only: see [`DriveInfo::register_for`]).
+    pub fn sharing_address(&self, info: &RegisterInfo) -> Option<&'static RegisterInfo> {
+        self.registers
+            .iter()
+            .copied()
+            .find(|r| r.space == info.space && r.address == info.address && r.id != info.id)
+    }
+
     /// The copy of `info` on the port `port` (its id), when `info` exists once per port;
     /// otherwise `info` itself.
     pub fn on_port(&self, info: &'static RegisterInfo, port: &str) -> &'static RegisterInfo {

@@ -131,7 +131,8 @@ pub fn decode_meaning(
                 code: command.reply.has(Role::Command).then_some(code),
                 kind: Some(command.kind),
                 space: Some(command.space),
-                register: wire_register.and_then(|wire| protocol.from_wire(command, wire)),
+                register: wire_register
+                    .and_then(|wire| protocol.from_wire(command, wire, Some(data))),
                 wire_register,
                 index,
                 data: command.reply.has(Role::Data).then_some(data),

@@ -648,7 +648,7 @@ impl PersistenceSelector {
 }
 
 /// A register's own numbers on the wire in one protocol, for reading and for writing.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct WireNumber {
     /// The register's number in the drive description.
@@ -657,6 +657,10 @@ pub struct WireNumber {
     pub read: Option<u16>,
     /// Its number in write requests; `None`: it cannot be written over this protocol.
     pub write: Option<u16>,
+    /// When several registers share its write number (the DV1's parameter clears 1102h-1106h
+    /// are all Eaton HFC), the data values that pick this one; empty otherwise.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "<[u32]>::is_empty"))]
+    pub data: List<u32>,
 }
 
 impl Protocol {
@@ -685,19 +689,26 @@ impl Protocol {
         paging.locate(number)
     }
 
-    /// The register a number on the wire stands for in a request of `command`: the
-    /// register whose own number it is for that direction, else the command's address map
-    /// undone (`None` on a protocol with pages, whose other numbers are page offsets:
-    /// see [`Protocol::paging`]).
-    pub fn from_wire(&self, command: &CommandSpec, wire: u16) -> Option<u16> {
-        let own = self.wire_numbers.iter().find(|w| {
+    /// The register a number on the wire stands for in a request of `command` carrying
+    /// `data`: the register whose own number it is for that direction (of several sharing
+    /// a write number, the one whose values include the data), else the command's address
+    /// map undone.
+    pub fn from_wire(&self, command: &CommandSpec, wire: u16, data: Option<u32>) -> Option<u16> {
+        let mut own = self.wire_numbers.iter().filter(|w| {
             if command.kind.is_write() {
                 w.write == Some(wire)
             } else {
                 w.read == Some(wire)
             }
         });
-        match own {
+        let first = own.next();
+        let picked = data.and_then(|data| {
+            first
+                .into_iter()
+                .chain(own)
+                .find(|w| w.data.contains(&data))
+        });
+        match picked.or(first) {
             Some(own) => Some(own.register),
             // On a protocol with pages, any other number is an offset in a page (or the
             // page register): the frame alone does not say which register it is.
@@ -1361,7 +1372,9 @@ impl Protocol {
                             address: station.filter(|_| broadcast.is_none()).map(|a| a as u8),
                             broadcast,
                             wire_register: wire,
-                            register: wire.and_then(|w| self.from_wire(command, w)),
+                            register: wire.and_then(|w| {
+                                self.from_wire(command, w, values.get(layout, Role::Data))
+                            }),
                             index: values.get(layout, Role::Index).map(|i| i as u16),
                             data: values.get(layout, Role::Data).unwrap_or(0),
                             process: process_of(layout, &values),

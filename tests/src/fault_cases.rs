@@ -195,7 +195,13 @@ fn behaviour_registers(drive: &DriveInfo) -> Vec<&'static str> {
     ids.extend(b.frequency.reference);
     ids.extend(b.status.registers);
     ids.extend(b.trip.code);
-    ids.extend(b.trip.history);
+    ids.extend(b.trip.history.iter().map(|slot| slot.register));
+    for written in [b.command.reset_by_write, b.trip.clear_by_write]
+        .into_iter()
+        .flatten()
+    {
+        ids.push(written.register);
+    }
     if let Some(current) = &b.current {
         ids.extend(current.registers);
     }

@@ -42,9 +42,20 @@ pub(crate) fn lower(
         command_register: id_of(&model.command.register),
         command_require: command_list(&model.command.require),
         run: command_bit(&model.command.run),
+        run_reverse: model.command.run_reverse.as_ref().map(command_bit),
         reverse: model.command.reverse.as_ref().map(command_bit),
         reset: model.command.reset.as_ref().map(command_bit),
+        reset_by_write: model
+            .command
+            .reset_by_write
+            .as_ref()
+            .map(|w| (id_of(&w.register), w.value)),
         coast: model.command.coast.as_ref().map(command_bit),
+        require_mode: model
+            .command
+            .require_mode
+            .as_ref()
+            .map(|m| (id_of(&m.register), m.values.clone())),
         frequency_command: id_of(&model.frequency.command),
         frequency_require: command_list(&model.frequency.require),
         acceleration: amount(&model.frequency.acceleration),
@@ -60,13 +71,24 @@ pub(crate) fn lower(
         status: StatusBitsIr {
             running: status_list(&status.running),
             reverse: status_list(&status.reverse),
+            forward: status_list(&status.forward),
             at_reference: status_list(&status.at_reference),
             tripped: status_list(&status.tripped),
             enabled: status_list(&status.enabled),
             always: status_list(&status.always),
         },
         trip_code: ids(&model.trip.code),
-        trip_history: ids(&model.trip.history),
+        trip_history: model
+            .trip
+            .history
+            .iter()
+            .map(|name| trip_slot(index, ir, name))
+            .collect(),
+        trip_clear_by_write: model
+            .trip
+            .clear_by_write
+            .as_ref()
+            .map(|w| (id_of(&w.register), w.value)),
         process: model.process.as_ref().map(|p| {
             [
                 id_of(&p.control),
@@ -85,9 +107,38 @@ pub(crate) fn lower(
                 out_of_range: r.out_of_range,
                 while_running: r.while_running,
                 bad_checksum: r.bad_checksum,
+                wrong_mode: r.wrong_mode,
             })
             .collect(),
     }
+}
+
+/// A trip-history entry: a register, or `register.field` (validation has checked it).
+fn trip_slot(index: &RegisterIndex<'_>, ir: &DriveIr, name: &str) -> TripSlotIr {
+    if let Some(register) = index.find(name) {
+        return TripSlotIr::Register(register.id.clone());
+    }
+    let Some((register, field)) = split_field(index, name) else {
+        return TripSlotIr::Register(name.to_owned());
+    };
+    let mask = bitfield_of(ir, &register)
+        .and_then(|b| b.fields.iter().find(|f| f.id == field))
+        .map_or(0, |f| ((1u32 << f.width) - 1) << f.lsb);
+    TripSlotIr::Field {
+        register,
+        field: field.to_owned(),
+        mask,
+    }
+}
+
+/// `register.field` as the register's id and the field's id, when the part before the
+/// last `.` names a register.
+pub(crate) fn split_field<'n>(
+    index: &RegisterIndex<'_>,
+    name: &'n str,
+) -> Option<(String, &'n str)> {
+    let (register, field) = name.rsplit_once('.')?;
+    Some((index.find(register)?.id.clone(), field))
 }
 
 /// The bit field of the register with this id.

@@ -317,6 +317,15 @@ fn lower_register(
             .held_at_trip_of
             .as_ref()
             .map(|name| code_of(index, name)),
+        shares_address_with: model
+            .registers
+            .iter()
+            .find(|other| {
+                other.address == register.address
+                    && other.space == register.space
+                    && other.id != register.id
+            })
+            .map(|other| other.code.clone()),
         live_except_while_tripped: register.live_except_while_tripped,
         scale_by: register.scale_by.as_ref().map(|scale_by| {
             // The register as it is with one choice: its scale, and its range where the

@@ -230,12 +230,21 @@ pub struct BehaviourIr {
     pub command_require: Vec<BitRefIr>,
     /// Run bit.
     pub run: BitRefIr,
+    /// Reverse-run bit, beside the (forward) run bit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub run_reverse: Option<BitRefIr>,
     /// Reverse bit.
     pub reverse: Option<BitRefIr>,
     /// Fault-reset bit.
     pub reset: Option<BitRefIr>,
+    /// Fault reset by a value written to a register: its id and the raw value.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reset_by_write: Option<(String, u32)>,
     /// Coast-stop bit.
     pub coast: Option<BitRefIr>,
+    /// The mode register (id) and the raw values in which commands are taken.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub require_mode: Option<(String, Vec<u32>)>,
     /// Id of the frequency-command register.
     pub frequency_command: String,
     /// Command-word bits that make the frequency command effective.
@@ -258,12 +267,33 @@ pub struct BehaviourIr {
     pub status: StatusBitsIr,
     /// Registers showing the present trip code.
     pub trip_code: Vec<String>,
-    /// Trip-history registers, newest first.
-    pub trip_history: Vec<String>,
+    /// Trip-history slots, newest first.
+    pub trip_history: Vec<TripSlotIr>,
+    /// A value written to a register (id, raw value) that clears the trip history.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub trip_clear_by_write: Option<(String, u32)>,
     /// Process words: control, reference, status, output register ids.
     pub process: Option<[String; 4]>,
     /// Error codes per protocol id.
     pub refusals: Vec<RefusalsIr>,
+}
+
+/// One place of a trip history: a whole register (by id), or a field of a bit-field
+/// register.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum TripSlotIr {
+    /// The whole register, by id.
+    Register(String),
+    /// A field of a bit-field register.
+    Field {
+        /// Register id.
+        register: String,
+        /// Field id.
+        field: String,
+        /// The field's bits in the word.
+        mask: u32,
+    },
 }
 
 /// The status bits of a behaviour model.
@@ -273,6 +303,9 @@ pub struct StatusBitsIr {
     pub running: Vec<BitRefIr>,
     /// Set while reverse.
     pub reverse: Vec<BitRefIr>,
+    /// Set while running forward.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub forward: Vec<BitRefIr>,
     /// Set while running at the reference.
     pub at_reference: Vec<BitRefIr>,
     /// Set while tripped.
@@ -296,6 +329,9 @@ pub struct RefusalsIr {
     pub out_of_range: Option<u16>,
     /// Write that cannot be made while running.
     pub while_running: Option<u16>,
+    /// Write outside the required mode.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub wrong_mode: Option<u16>,
     /// Bad checksum.
     pub bad_checksum: Option<u16>,
 }
@@ -768,6 +804,10 @@ pub struct RegisterIr {
     /// Code of the live register whose value this one holds from the last trip.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub held_at_trip_of: Option<String>,
+    /// Code of the other register at its address, when two share it (one read-only, one
+    /// write-only: read as one, written as the other).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shares_address_with: Option<String>,
     /// Shows the live value, but keeps its value while the drive is tripped.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub live_except_while_tripped: bool,

@@ -350,14 +350,45 @@ pub struct CommandBehaviourModel {
     /// Bits that must all act for the word to act at all.
     #[serde(default)]
     pub require: Vec<BitRefModel>,
-    /// The run/stop bit.
+    /// The run/stop bit (with `run_reverse`: the forward-run bit).
     pub run: BitRefModel,
+    /// A second run bit that runs the motor in reverse (STR beside STF): the motor runs
+    /// while either run bit acts, in reverse when only this one does, and stops while
+    /// both act.
+    pub run_reverse: Option<BitRefModel>,
     /// The reverse bit.
     pub reverse: Option<BitRefModel>,
     /// The fault-reset bit (acts on its rising edge).
     pub reset: Option<BitRefModel>,
+    /// A fault reset by a value written to a register of its own, not by a command-word
+    /// bit: `{ register: inverter_reset, value: 0x9696 }`.
+    pub reset_by_write: Option<WrittenValueModel>,
     /// The coast-stop bit.
     pub coast: Option<BitRefModel>,
+    /// The mode in which the command word and the frequency command are taken:
+    /// `{ register: operation_mode, values: [0] }`. A write to either in another mode is
+    /// refused as `wrong_mode`.
+    pub require_mode: Option<ModeRequirementModel>,
+}
+
+/// A register whose value must be one of `values` for commands to be taken.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ModeRequirementModel {
+    /// Code or id of the mode register.
+    pub register: String,
+    /// The raw values in which commands are taken (one of its codes, if it has a table).
+    pub values: Vec<u32>,
+}
+
+/// A raw value written to a register that makes the drive act.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct WrittenValueModel {
+    /// Code or id of the register written (writable, not the command word).
+    pub register: String,
+    /// The raw value that acts (`0x9696`).
+    pub value: u32,
 }
 
 /// A number, or the id or code of a register whose value gives it.
@@ -410,6 +441,9 @@ pub struct StatusBehaviourModel {
     /// Set while the direction is reverse.
     #[serde(default)]
     pub reverse: Vec<BitRefModel>,
+    /// Set while the motor runs in the forward direction.
+    #[serde(default)]
+    pub forward: Vec<BitRefModel>,
     /// Set while running at the frequency command.
     #[serde(default)]
     pub at_reference: Vec<BitRefModel>,
@@ -431,9 +465,13 @@ pub struct TripBehaviourModel {
     /// Ids of the registers showing the present trip code (0 after a reset).
     #[serde(default)]
     pub code: Vec<String>,
-    /// Ids of the trip-history registers, newest first.
+    /// The trip history, newest first: registers (codes or ids), or fields of bit-field
+    /// registers as `register.field` (`fault_codes_1_2.latest`).
     #[serde(default)]
     pub history: Vec<String>,
+    /// A value written to a register that clears the trip history:
+    /// `{ register: parameter_clear_1102, value: 0xA5A5 }`.
+    pub clear_by_write: Option<WrittenValueModel>,
 }
 
 /// Which registers the process words carry.
@@ -464,6 +502,9 @@ pub struct RefusalsModel {
     pub while_running: Option<u16>,
     /// A frame whose checksum does not match.
     pub bad_checksum: Option<u16>,
+    /// A write to the command word or the frequency command outside the mode
+    /// `command.require_mode` names.
+    pub wrong_mode: Option<u16>,
 }
 
 /// A safety warning: what can go wrong, and where the manual says so.

@@ -193,7 +193,8 @@ fn persistence(drive: &crate::parse::model::DriveFile) -> Option<vfd_runtime::Pe
 }
 
 /// The registers' own numbers on the wire in this protocol (`registers[].wire_numbers`),
-/// each fitting 16 bits; registers may name only the drive's protocols.
+/// each fitting 16 bits; registers may name only the drive's protocols. Two registers at
+/// one address (one read-only, one write-only) make one entry.
 fn wire_numbers(
     input: &Input<'_>,
     out: &mut Diagnostics,
@@ -222,13 +223,117 @@ fn wire_numbers(
             other => other.map(|v| v as u16),
         };
         let (read, write) = (fit("read", own.read), fit("write", own.write));
-        numbers.push(vfd_runtime::protocol::WireNumber {
-            register: register.address as u16,
-            read,
-            write,
-        });
+        let address = register.address as u16;
+        // Two registers sharing an address (one read, the other written) give one entry:
+        // each its own direction.
+        match numbers
+            .iter_mut()
+            .find(|n: &&mut vfd_runtime::protocol::WireNumber| n.register == address)
+        {
+            Some(shared) => {
+                shared.read = shared.read.or(read);
+                shared.write = shared.write.or(write);
+            }
+            None => numbers.push(vfd_runtime::protocol::WireNumber {
+                register: address,
+                read,
+                write,
+                data: Cow::Owned(Vec::new()),
+            }),
+        }
     }
+    shared_write_numbers(input, &mut numbers, out);
     numbers
+}
+
+/// Registers sharing one write number (the DV1's parameter clears 1102h-1106h are all
+/// Eaton HFC): the data picks the register, so each must have a code table and no value may
+/// be in two of them; each entry then lists its values. A read number cannot be shared (a
+/// read carries no data).
+fn shared_write_numbers(
+    input: &Input<'_>,
+    numbers: &mut [vfd_runtime::protocol::WireNumber],
+    out: &mut Diagnostics,
+) {
+    let protocol = &input.reference.id;
+    // The register an entry stands for in one direction (two registers may share an
+    // address, one read and one written).
+    let index_of = |address: u16, read: bool| {
+        input
+            .drive
+            .registers
+            .iter()
+            .position(|r| {
+                r.address == u32::from(address)
+                    && r.wire_numbers.get(protocol).is_some_and(|own| {
+                        if read {
+                            own.read.is_some()
+                        } else {
+                            own.write.is_some()
+                        }
+                    })
+            })
+            .unwrap_or(0)
+    };
+    for read in [true, false] {
+        let number_of = |w: &vfd_runtime::protocol::WireNumber| if read { w.read } else { w.write };
+        let mut seen: Vec<u16> = Vec::new();
+        for i in 0..numbers.len() {
+            let Some(wire) = number_of(&numbers[i]) else {
+                continue;
+            };
+            if seen.contains(&wire) {
+                continue;
+            }
+            seen.push(wire);
+            let sharing: Vec<usize> = (i..numbers.len())
+                .filter(|&j| number_of(&numbers[j]) == Some(wire))
+                .collect();
+            if sharing.len() < 2 {
+                continue;
+            }
+            let key = if read { "read" } else { "write" };
+            let mut taken: Vec<u32> = Vec::new();
+            for &j in &sharing {
+                let index = index_of(numbers[j].register, read);
+                let register = &input.drive.registers[index];
+                let path = format!("registers[{index}].wire_numbers.{protocol}.{key}");
+                if read {
+                    out.push(
+                        input
+                            .drive_source
+                            .error(&path, format!("read number {wire:04X}h is shared by {} registers: a read carries no data to tell them apart", sharing.len()))
+                            .hint("give each register its own read number; only write numbers may be shared, the data picking the register"),
+                    );
+                    break;
+                }
+                let table = register
+                    .code_table
+                    .as_deref()
+                    .and_then(|id| input.drive.codes.iter().find(|t| t.id == id));
+                let Some(table) = table else {
+                    out.push(
+                        input
+                            .drive_source
+                            .error(&path, format!("write number {wire:04X}h is shared with other registers, but `{}` has no code table: the data cannot tell which register is meant", register.id))
+                            .hint("give each register sharing a write number a code table of the values it takes (the data picks the register)"),
+                    );
+                    continue;
+                };
+                let values: Vec<u32> = table.values.iter().map(|v| v.value).collect();
+                if let Some(twice) = values.iter().find(|v| taken.contains(v)) {
+                    out.push(
+                        input
+                            .drive_source
+                            .error(&path, format!("value {twice:#06X} of `{}` is also a value of another register sharing write number {wire:04X}h: the data cannot tell them apart", register.id))
+                            .hint("registers sharing a write number must take different values"),
+                    );
+                }
+                taken.extend(&values);
+                numbers[j].data = Cow::Owned(values);
+            }
+        }
+    }
 }
 
 /// The most registers one read carries: the protocol file's `max_words_per_read`, lowered

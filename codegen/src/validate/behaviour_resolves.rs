@@ -29,6 +29,120 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
     for (path, name) in registers_named(behaviour) {
         register(path, name);
     }
+    let written = [
+        (
+            "behaviour.command.reset_by_write",
+            &behaviour.command.reset_by_write,
+            "reset",
+        ),
+        (
+            "behaviour.trip.clear_by_write",
+            &behaviour.trip.clear_by_write,
+            "clear the trip history",
+        ),
+    ];
+    for (path, value, what) in written {
+        let Some(value) = value else { continue };
+        let Some(target) = index.find(&value.register) else {
+            continue;
+        };
+        if target.access == Some(vfd_runtime::Access::ReadOnly) {
+            problem(
+                format!("{path}.register"),
+                format!(
+                    "register `{}` is read-only: no value can be written to it",
+                    value.register
+                ),
+                &format!("name the register the manual writes the value to {what}"),
+            );
+        } else if let Some(table) = target
+            .code_table
+            .as_deref()
+            .and_then(|id| model.codes.iter().find(|t| t.id == id))
+        {
+            if !table.values.iter().any(|v| v.value == value.value) {
+                problem(
+                    format!("{path}.value"),
+                    format!(
+                        "{:#06X} is not a value of `{}`'s code table `{}`",
+                        value.value, value.register, table.id
+                    ),
+                    &format!(
+                        "give the raw value the manual writes to {what}, one of the register's codes"
+                    ),
+                );
+            }
+        } else if value.value > 0xFFFF {
+            problem(
+                format!("{path}.value"),
+                format!("{:#X} does not fit a 16-bit word", value.value),
+                &format!("give the raw value the manual writes to {what}, 0x0000-0xFFFF"),
+            );
+        }
+    }
+    if let Some(mode) = &behaviour.command.require_mode {
+        let path = "behaviour.command.require_mode.values";
+        if mode.values.is_empty() {
+            problem(
+                path.to_owned(),
+                "no value is given: the drive would take no command in any mode".to_owned(),
+                "list the raw values of the mode register in which the drive takes commands",
+            );
+        }
+        let table = index
+            .find(&mode.register)
+            .and_then(|r| r.code_table.as_deref())
+            .and_then(|id| model.codes.iter().find(|t| t.id == id));
+        if let Some(table) = table {
+            for (i, value) in mode.values.iter().enumerate() {
+                if !table.values.iter().any(|v| v.value == *value) {
+                    problem(
+                        format!("{path}[{i}]"),
+                        format!(
+                            "{value:#06X} is not a value of `{}`'s code table `{}`",
+                            mode.register, table.id
+                        ),
+                        "give a mode as the register's code table lists it",
+                    );
+                }
+            }
+        }
+    }
+    for (i, name) in behaviour.trip.history.iter().enumerate() {
+        if index.find(name).is_some() {
+            continue;
+        }
+        let path = format!("behaviour.trip.history[{i}]");
+        let field = name
+            .rsplit_once('.')
+            .and_then(|(register, field)| index.find(register).map(|r| (r, field)));
+        match field {
+            None => problem(
+                path,
+                format!("register `{name}` is not defined"),
+                "name a register by its code or id, or a field of a bit-field register as `register.field`",
+            ),
+            Some((register, field)) => {
+                let bitfield = register
+                    .bitfield
+                    .as_deref()
+                    .and_then(|id| model.bitfields.iter().find(|b| b.id == id));
+                match bitfield {
+                    None => problem(
+                        path,
+                        format!("register `{}` is not a bit-field word, so `{name}` names no field", register.id),
+                        "name the whole register, or a field of a register with `bitfield:`",
+                    ),
+                    Some(b) if !b.fields.iter().any(|f| f.id.as_deref() == Some(field)) => problem(
+                        path,
+                        format!("`{field}` is not a field of `{}`", b.id),
+                        "name a field by its id in the register's bit field",
+                    ),
+                    Some(_) => {}
+                }
+            }
+        }
+    }
     let bitfield_of = |name: &str| {
         index
             .find(name)
@@ -94,7 +208,7 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
                 problem(
                     "behaviour.refusals".to_owned(),
                     format!("protocol `{}` has no refusals: the virtual drive would not answer a refused request over it", protocol.id),
-                    "give its error codes (unknown_register, read_only, out_of_range, while_running, bad_checksum) as the manual lists them, or `{}` where it gives none",
+                    "give its error codes (unknown_register, read_only, out_of_range, while_running, bad_checksum, wrong_mode) as the manual lists them, or `{}` where it gives none",
                 );
             }
         }
@@ -127,12 +241,11 @@ fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
             named.push((format!("behaviour.frequency.{key}"), name));
         }
     }
-    let lists: [(&str, &[String]); 6] = [
+    let lists: [(&str, &[String]); 5] = [
         ("frequency.output", &b.frequency.output),
         ("frequency.reference", &b.frequency.reference),
         ("status.registers", &b.status.registers),
         ("trip.code", &b.trip.code),
-        ("trip.history", &b.trip.history),
         (
             "current.registers",
             b.current.as_ref().map_or(&[][..], |c| &c.registers),
@@ -141,6 +254,23 @@ fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
     for (key, list) in lists {
         for (i, name) in list.iter().enumerate() {
             named.push((format!("behaviour.{key}[{i}]"), name));
+        }
+    }
+    if let Some(mode) = &b.command.require_mode {
+        named.push((
+            "behaviour.command.require_mode.register".to_owned(),
+            mode.register.as_str(),
+        ));
+    }
+    for (key, written) in [
+        ("command.reset_by_write", &b.command.reset_by_write),
+        ("trip.clear_by_write", &b.trip.clear_by_write),
+    ] {
+        if let Some(written) = written {
+            named.push((
+                format!("behaviour.{key}.register"),
+                written.register.as_str(),
+            ));
         }
     }
     if let Some(p) = &b.process {
@@ -161,6 +291,7 @@ fn command_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
     let c = &b.command;
     let mut bits = vec![("behaviour.command.run".to_owned(), &c.run)];
     for (key, bit) in [
+        ("run_reverse", &c.run_reverse),
         ("reverse", &c.reverse),
         ("reset", &c.reset),
         ("coast", &c.coast),
@@ -183,9 +314,10 @@ fn command_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
 /// The status word's bits, with their paths.
 fn status_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
     let s = &b.status;
-    let lists: [(&str, &Vec<BitRefModel>); 6] = [
+    let lists: [(&str, &Vec<BitRefModel>); 7] = [
         ("running", &s.running),
         ("reverse", &s.reverse),
+        ("forward", &s.forward),
         ("at_reference", &s.at_reference),
         ("tripped", &s.tripped),
         ("enabled", &s.enabled),
@@ -251,6 +383,82 @@ behaviour:
         assert_eq!(
             only(&found).message,
             "register `FH` is not a bit-field word"
+        );
+    }
+
+    #[test]
+    fn checks_the_reverse_run_bit_the_forward_bits_and_the_reset_write() {
+        let found = check_yaml(
+            check,
+            &with_behaviour((
+                "run: run }",
+                "run: run, run_reverse: run, reset_by_write: { register: F601, value: 1 } }",
+            )),
+        );
+        assert!(found.is_empty(), "{found:#?}");
+        let found = check_yaml(
+            check,
+            &with_behaviour(("run: run }", "run: run, run_reverse: backwards }")),
+        );
+        let problem = only(&found);
+        assert_eq!(problem.path, "behaviour.command.run_reverse");
+        assert_eq!(
+            problem.message,
+            "bit `backwards` is not a field of `command_word`"
+        );
+        let found = check_yaml(
+            check,
+            &with_behaviour(("running: [run]", "running: [run], forward: [ahead]")),
+        );
+        assert_eq!(only(&found).path, "behaviour.status.forward[0]");
+        // The reset value must be one of the register's codes.
+        let found = check_yaml(
+            check,
+            &with_behaviour((
+                "run: run }",
+                "run: run, reset_by_write: { register: F601, value: 0x9696 } }",
+            )),
+        );
+        let problem = only(&found);
+        assert_eq!(problem.path, "behaviour.command.reset_by_write.value");
+        assert_eq!(
+            problem.message,
+            "0x9696 is not a value of `F601`'s code table `parity`"
+        );
+        let found = check_yaml(
+            check,
+            &with_behaviour((
+                "run: run }",
+                "run: run, reset_by_write: { register: RST, value: 1 } }",
+            )),
+        );
+        let problem = only(&found);
+        assert_eq!(problem.path, "behaviour.command.reset_by_write.register");
+        assert_eq!(problem.message, "register `RST` is not defined");
+    }
+
+    #[test]
+    fn a_trip_history_names_registers_or_their_bit_fields() {
+        let history = "trip: { history: [FA00.run, FA00.command_enabled, Acc] }\n  refusals:";
+        let found = check_yaml(check, &with_behaviour(("refusals:", history)));
+        assert!(found.is_empty(), "{found:#?}");
+        let history = "trip: { history: [FA00.stop, Acc.low, ACC2], clear_by_write: { register: FA00, value: 0x10000 } }\n  refusals:";
+        let found = check_yaml(check, &with_behaviour(("refusals:", history)));
+        let messages: Vec<(&str, &str)> = found
+            .iter()
+            .map(|d| (d.path.as_str(), d.message.as_str()))
+            .collect();
+        assert_eq!(
+            messages,
+            [
+                ("behaviour.trip.clear_by_write.value", "0x10000 does not fit a 16-bit word"),
+                ("behaviour.trip.history[0]", "`stop` is not a field of `command_word`"),
+                (
+                    "behaviour.trip.history[1]",
+                    "register `acceleration_time` is not a bit-field word, so `Acc.low` names no field"
+                ),
+                ("behaviour.trip.history[2]", "register `ACC2` is not defined"),
+            ]
         );
     }
 

@@ -1,12 +1,15 @@
-//! Check: no two registers share an address.
+//! Check: no two registers share an address, except one read-only and one write-only
+//! register (one address read as one thing and written as another, the DV1's 1001h).
 
 use crate::diagnostics::Diagnostics;
 use crate::validate::Context;
 use std::collections::HashMap;
+use vfd_runtime::Access;
 
-/// No two registers share an address.
+/// No two registers share an address, unless one is `read-only` and the other
+/// `write-only`: a read then means the first, a write the second.
 pub fn register_addresses_are_unique(drive: &Context, out: &mut Diagnostics) {
-    let mut seen: HashMap<u32, usize> = HashMap::new();
+    let mut seen: HashMap<u32, Vec<usize>> = HashMap::new();
     for (index, register) in drive.model.registers.iter().enumerate() {
         let path = format!("registers[{index}].address");
         if register.address > 0xFFFF {
@@ -20,15 +23,25 @@ pub fn register_addresses_are_unique(drive: &Context, out: &mut Diagnostics) {
                     .hint("communication numbers run from 0x0000 to 0xFFFF"),
             );
         }
-        if let Some(first) = seen.insert(register.address, index) {
+        let earlier = seen.entry(register.address).or_default();
+        if let Some(&first) = earlier.first() {
             let other = &drive.model.registers[first];
-            out.push(
-                drive
-                    .source
-                    .error(&path, format!("duplicate register address {:04X}h: `{}` (registers[{first}]) already uses it", register.address, other.id))
-                    .hint("each communication number may be described once; check the manual's table for a typo"),
-            );
+            let access =
+                |r: &crate::parse::model::RegisterModel| r.access.unwrap_or(Access::ReadWrite);
+            let pair = [access(other), access(register)];
+            let by_direction = earlier.len() == 1
+                && (pair == [Access::ReadOnly, Access::WriteOnly]
+                    || pair == [Access::WriteOnly, Access::ReadOnly]);
+            if !by_direction {
+                out.push(
+                    drive
+                        .source
+                        .error(&path, format!("duplicate register address {:04X}h: `{}` (registers[{first}]) already uses it", register.address, other.id))
+                        .hint("each communication number may be described once; check the manual's table for a typo. Two registers may share an address only when one is `access: read-only` and the other `access: write-only` (read as one thing, written as another)"),
+                );
+            }
         }
+        earlier.push(index);
     }
 }
 
@@ -55,6 +68,38 @@ mod tests {
             "upper_limit_frequency",
         );
         assert_column(diagnostic, &yaml, "0x0011, id: upper");
+    }
+
+    #[test]
+    fn accepts_a_read_only_and_a_write_only_register_at_one_address() {
+        let yaml = valid_with(&[(
+            "bitfield: command_word, ram_only: true, source: \"7.1\" }",
+            "bitfield: command_word, access: write-only, ram_only: true, source: \"7.1\" }\n  - { address: 0xFA00, id: status, code: FA00R, name: Status, access: read-only, source: \"7.1\" }",
+        )]);
+        assert!(check_yaml(check, &yaml).is_empty());
+    }
+
+    #[test]
+    fn reports_a_shared_address_both_directions_can_reach() {
+        // A write-only and a read-write register: a write would mean either.
+        let yaml = valid_with(&[(
+            "bitfield: command_word, ram_only: true, source: \"7.1\" }",
+            "bitfield: command_word, access: write-only, ram_only: true, source: \"7.1\" }\n  - { address: 0xFA00, id: status, code: FA00R, name: Status, source: \"7.1\" }",
+        )]);
+        let found = check_yaml(check, &yaml);
+        let diagnostic = only(&found);
+        assert_eq!(diagnostic.path, "registers[5].address");
+        assert_eq!(
+            diagnostic.message,
+            "duplicate register address FA00h: `command` (registers[4]) already uses it"
+        );
+        // A third register at an address read one way and written the other.
+        let yaml = valid_with(&[(
+            "bitfield: command_word, ram_only: true, source: \"7.1\" }",
+            "bitfield: command_word, access: write-only, ram_only: true, source: \"7.1\" }\n  - { address: 0xFA00, id: status, code: FA00R, name: Status, access: read-only, source: \"7.1\" }\n  - { address: 0xFA00, id: other, code: FA00W, name: Other, access: write-only, source: \"7.1\" }",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_eq!(only(&found).path, "registers[6].address");
     }
 
     #[test]

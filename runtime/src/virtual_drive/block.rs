@@ -49,23 +49,20 @@ impl VirtualDrive {
             .iter()
             .map(|register| {
                 register
-                    .and_then(|register| self.drive.register_at(Space::Parameter, register))
+                    .and_then(|register| self.drive.register_for(Space::Parameter, register, false))
                     .map_or(0, |info| self.storage.get(info, 0) as u16)
             })
             .collect();
-        let command_word = self.behaviour().map(|b| b.command.register);
         let mut status = 0u32;
         for (position, (word, target)) in writes.iter().zip(&selection.write).enumerate() {
             let raw = u32::from(*word);
             let info = target
-                .and_then(|register| self.drive.register_at(Space::Parameter, register))
+                .and_then(|register| self.drive.register_for(Space::Parameter, register, true))
                 .filter(|info| self.check_write(info, raw, false).is_ok());
             match info {
                 Some(info) => {
                     self.storage.set(info, 0, raw, false);
-                    if command_word == Some(info.id) {
-                        self.command_written(raw);
-                    }
+                    self.value_written(info, raw);
                 }
                 None if position < 32 => status |= 1 << position,
                 None => {}

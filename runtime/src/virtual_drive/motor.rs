@@ -3,7 +3,7 @@
 //! command on the simulated clock; monitors and status bits follow.
 
 use super::VirtualDrive;
-use crate::behaviour::{Amount, Behaviour, Bit};
+use crate::behaviour::{Amount, Behaviour, Bit, TripSlot};
 use crate::info::RegisterInfo;
 use std::time::Duration;
 
@@ -106,8 +106,13 @@ impl VirtualDrive {
         if edge(command.reset) {
             self.reset();
         }
-        self.motor.run = command.run.is_active(word) && self.motor.trip.is_none();
-        self.motor.reverse = command.reverse.is_some_and(|bit| bit.is_active(word));
+        // With a reverse-run bit beside the run bit: either runs, the reverse one alone
+        // in reverse, both together stop.
+        let forward = command.run.is_active(word);
+        let backward = command.run_reverse.is_some_and(|bit| bit.is_active(word));
+        self.motor.run = forward != backward && self.motor.trip.is_none();
+        self.motor.reverse =
+            command.reverse.is_some_and(|bit| bit.is_active(word)) || (backward && !forward);
         self.motor.coast = command.coast.is_some_and(|bit| bit.is_active(word));
         if self.motor.coast {
             self.motor.output = 0.0;
@@ -171,6 +176,29 @@ impl VirtualDrive {
         self.refresh();
     }
 
+    /// A raw value was written to the register `info`: a command word acts, and a value
+    /// the behaviour model names resets the drive.
+    pub(crate) fn value_written(&mut self, info: &RegisterInfo, raw: u32) {
+        let Some(behaviour) = self.behaviour() else {
+            return;
+        };
+        if self.served(behaviour.command.register) == info.id {
+            self.command_written(raw);
+        }
+        if let Some(reset) = behaviour.command.reset_by_write {
+            if self.served(reset.register) == info.id && raw == reset.value {
+                self.reset();
+            }
+        }
+        if let Some(clear) = behaviour.trip.clear_by_write {
+            if clear.register == info.id && raw == clear.value {
+                for slot in self.history_slots(behaviour) {
+                    self.set_slot(slot, 0);
+                }
+            }
+        }
+    }
+
     /// Trips the drive with `code`: the output drops to zero, the code goes into the trip
     /// registers and the trip history.
     pub fn inject_trip(&mut self, code: u16) {
@@ -179,21 +207,32 @@ impl VirtualDrive {
         self.motor.run = false;
         self.motor.output = 0.0;
         if let Some(behaviour) = self.behaviour() {
-            let history: Vec<&RegisterInfo> = behaviour
-                .trip
-                .history
-                .iter()
-                .filter_map(|id| self.drive.register(id))
-                .collect();
+            let history = self.history_slots(behaviour);
             for pair in (1..history.len()).rev() {
-                let older = self.storage.get(history[pair - 1], 0);
-                self.storage.set(history[pair], 0, older, false);
+                let (from, older) = history[pair - 1];
+                let value = older.get(self.storage.get(from, 0));
+                self.set_slot(history[pair], value);
             }
-            if let Some(newest) = history.first() {
-                self.storage.set(newest, 0, u32::from(code), false);
+            if let Some(&newest) = history.first() {
+                self.set_slot(newest, u32::from(code));
             }
         }
         self.refresh();
+    }
+
+    /// The trip history's slots with their registers, newest first.
+    fn history_slots(&self, behaviour: &Behaviour) -> Vec<(&'static RegisterInfo, TripSlot)> {
+        behaviour
+            .trip
+            .history
+            .iter()
+            .filter_map(|slot| self.drive.register(slot.register).map(|info| (info, *slot)))
+            .collect()
+    }
+
+    fn set_slot(&mut self, (info, slot): (&'static RegisterInfo, TripSlot), value: u32) {
+        let word = self.storage.get(info, 0);
+        self.storage.set(info, 0, slot.put(word, value), false);
     }
 
     /// Copies each live register into the register holding its value at a trip
@@ -295,10 +334,9 @@ impl VirtualDrive {
         };
         set(status.always, true);
         set(status.running, running);
-        set(
-            status.reverse,
-            running && output < 0.0 || self.motor.reverse,
-        );
+        let reverse = running && output < 0.0 || self.motor.reverse;
+        set(status.reverse, reverse);
+        set(status.forward, running && !reverse);
         let reached = running && (output.abs() - target).abs() < 1e-6 && target > 0.0;
         set(status.at_reference, reached);
         set(status.tripped, self.motor.trip.is_some());

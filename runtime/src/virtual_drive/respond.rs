@@ -25,6 +25,9 @@ pub enum Refusal {
     WhileRunning,
     /// A frame whose checksum does not match.
     BadChecksum,
+    /// A write to the command word or the frequency command while the mode register is
+    /// outside the mode the behaviour model requires.
+    WrongMode,
 }
 
 impl Refusal {
@@ -36,6 +39,7 @@ impl Refusal {
             Refusal::OutOfRange => refusals.out_of_range,
             Refusal::WhileRunning => refusals.while_running,
             Refusal::BadChecksum => refusals.bad_checksum,
+            Refusal::WrongMode => refusals.wrong_mode,
         }
     }
 }
@@ -213,9 +217,7 @@ impl VirtualDrive {
             .floor()
             .clamp(0.0, f64::from(u32::MAX)) as u32;
         self.storage.set(info, 0, raw, false);
-        if self.behaviour().map(|b| b.command.register) == Some(info.id) {
-            self.command_written(raw);
-        }
+        self.value_written(info, raw);
         self.refresh();
         Ok(())
     }
@@ -350,8 +352,8 @@ impl VirtualDrive {
             let at =
                 u16::try_from(usize::from(wire) + word).map_err(|_| Refusal::UnknownRegister)?;
             let info = protocol
-                .from_wire(command, at)
-                .and_then(|number| self.drive.register_at(command.space, number))
+                .from_wire(command, at, None)
+                .and_then(|number| self.drive.register_for(command.space, number, false))
                 .filter(|info| info.data_type != DataType::Text)
                 .ok_or(Refusal::UnknownRegister)?;
             let width = usize::from(info.data_type.size().clamp(2, 4));
@@ -488,11 +490,16 @@ impl VirtualDrive {
         self.command_written(control);
     }
 
-    /// The register a request names, in the command's space.
+    /// The register a request names, in the command's space (of two sharing the number,
+    /// the one the request's direction reaches).
     fn target_of(&self, request: &DecodedRequest<'_>) -> Result<&'static RegisterInfo, Refusal> {
         let number = request.register.ok_or(Refusal::UnknownRegister)?;
         self.drive
-            .register_at(request.command.space, number)
+            .register_for(
+                request.command.space,
+                number,
+                request.command.kind.is_write(),
+            )
             .ok_or(Refusal::UnknownRegister)
     }
 
@@ -513,6 +520,7 @@ impl VirtualDrive {
         &self,
         first: &'static RegisterInfo,
         size: u8,
+        writing: bool,
     ) -> Result<Vec<&'static RegisterInfo>, Refusal> {
         let own = first.data_type.size().max(1);
         if size <= own {
@@ -526,7 +534,7 @@ impl VirtualDrive {
                 address = address.checked_add(16).ok_or(Refusal::UnknownRegister)?;
                 covered.push(
                     self.drive
-                        .register_at(Space::Coil, address)
+                        .register_for(Space::Coil, address, writing)
                         .ok_or(Refusal::UnknownRegister)?,
                 );
             }
@@ -541,7 +549,7 @@ impl VirtualDrive {
             address = address.checked_add(1).ok_or(Refusal::UnknownRegister)?;
             let next = self
                 .drive
-                .register_at(first.space, address)
+                .register_for(first.space, address, writing)
                 .ok_or(Refusal::UnknownRegister)?;
             if next.data_type.size() != 2 {
                 return Err(Refusal::OutOfRange);
@@ -559,7 +567,7 @@ impl VirtualDrive {
         let first = self.target_of(request)?;
         let index = self.index_of(first, request)?;
         let size = request.values.data_size;
-        let registers = self.covered(first, size)?;
+        let registers = self.covered(first, size, false)?;
         if registers.len() == 1 {
             return Ok((
                 self.storage.get(first, index),
@@ -605,7 +613,7 @@ impl VirtualDrive {
         }
         let first = self.target_of(request)?;
         let index = self.index_of(first, request)?;
-        let registers = self.covered(first, request.values.data_size)?;
+        let registers = self.covered(first, request.values.data_size, true)?;
         let words: Vec<(&'static RegisterInfo, u32)> = if registers.len() == 1 {
             vec![(first, request.data)]
         } else {
@@ -635,7 +643,6 @@ impl VirtualDrive {
                 .map(|info| self.storage.get(info, 0))?;
             Some((selector, value == selector.persistent))
         });
-        let command = self.behaviour().map(|b| self.served(b.command.register));
         for (info, raw) in words {
             let index = if info.array_len == 0 { 0 } else { index };
             let persistent = match selected {
@@ -648,9 +655,7 @@ impl VirtualDrive {
             };
             self.storage
                 .set(info, index, raw, persistent && !info.ram_only);
-            if command == Some(info.id) {
-                self.command_written(raw);
-            }
+            self.value_written(info, raw);
         }
         self.refresh();
         Ok((request.data, 0))
@@ -667,6 +672,9 @@ impl VirtualDrive {
             || (persistent && info.ram_only && info.space == Space::Parameter)
         {
             return Err(Refusal::ReadOnly);
+        }
+        if !self.in_required_mode(info) {
+            return Err(Refusal::WrongMode);
         }
         if !info.writable_while_running && self.is_running() {
             return Err(Refusal::WhileRunning);
@@ -696,6 +704,29 @@ impl VirtualDrive {
             return Err(Refusal::OutOfRange);
         }
         Ok(())
+    }
+}
+
+impl VirtualDrive {
+    /// Whether a write to `info` may be taken in the present mode: always, unless it is the
+    /// command word or the frequency command and the mode register the behaviour model
+    /// names holds none of the values it requires.
+    fn in_required_mode(&self, info: &RegisterInfo) -> bool {
+        let Some(behaviour) = self.behaviour() else {
+            return true;
+        };
+        let Some(mode) = behaviour.command.require_mode else {
+            return true;
+        };
+        let gated = [behaviour.command.register, behaviour.frequency.command]
+            .into_iter()
+            .any(|id| self.served(id) == info.id);
+        if !gated {
+            return true;
+        }
+        self.drive
+            .register(mode.register)
+            .is_none_or(|mode_info| mode.values.contains(&self.storage.get(mode_info, 0)))
     }
 }
 

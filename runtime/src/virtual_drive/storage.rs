@@ -5,11 +5,12 @@ use crate::info::RegisterInfo;
 use crate::kinds::{Space, TakesEffect};
 use std::collections::HashMap;
 
-/// A stored value's place: space, register number, array index.
-type Key = (Space, u16, u16);
+/// A stored value's place: space, register number, register id, array index. The id
+/// keeps apart two registers sharing a number (one read, the other written).
+type Key = (Space, u16, &'static str, u16);
 
 fn key(info: &RegisterInfo, index: u16) -> Key {
-    (info.space, info.address, index)
+    (info.space, info.address, info.id, index)
 }
 
 /// Raw values in RAM and EEPROM, initialised from the description's defaults.

@@ -2,7 +2,7 @@
 //! `vfd_runtime::behaviour::Behaviour`, for the virtual drive.
 
 use super::*;
-use crate::ir::{AmountIr, BehaviourIr, BitRefIr};
+use crate::ir::{AmountIr, BehaviourIr, BitRefIr, TripSlotIr};
 
 fn bit(bit: &BitRefIr) -> TokenStream {
     let mask = int_literal(bit.mask);
@@ -38,6 +38,16 @@ fn amount(amount: &AmountIr) -> TokenStream {
     }
 }
 
+fn written_value(value: Option<&(String, u32)>) -> TokenStream {
+    match value {
+        Some((register, value)) => {
+            let value = int_literal(*value);
+            quote!(Some(WrittenValue { register: #register, value: #value }))
+        }
+        None => quote!(None),
+    }
+}
+
 fn ids(ids: &[String]) -> TokenStream {
     quote!(&[#(#ids),*])
 }
@@ -64,11 +74,20 @@ pub(super) fn behaviour_static(drive: &DriveIr) -> (TokenStream, TokenStream) {
 fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
     let source = &b.source;
     let (register, require, run) = (&b.command_register, bits(&b.command_require), bit(&b.run));
-    let (reverse, reset, coast) = (
+    let (run_reverse, reverse, reset, coast) = (
+        optional_bit(b.run_reverse.as_ref()),
         optional_bit(b.reverse.as_ref()),
         optional_bit(b.reset.as_ref()),
         optional_bit(b.coast.as_ref()),
     );
+    let reset_by_write = written_value(b.reset_by_write.as_ref());
+    let require_mode = match &b.require_mode {
+        Some((register, values)) => {
+            let values = values.iter().map(|v| int_literal(*v));
+            quote!(Some(ModeRequirement { register: #register, values: &[#(#values),*] }))
+        }
+        None => quote!(None),
+    };
     let (command, frequency_require) = (&b.frequency_command, bits(&b.frequency_require));
     let (acceleration, deceleration, span) = (
         amount(&b.acceleration),
@@ -86,15 +105,25 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
     };
     let status_registers = ids(&b.status_registers);
     let s = &b.status;
-    let (running, reverse_bits, at_reference, tripped, enabled, always) = (
+    let (running, reverse_bits, forward_bits, at_reference, tripped, enabled, always) = (
         bits(&s.running),
         bits(&s.reverse),
+        bits(&s.forward),
         bits(&s.at_reference),
         bits(&s.tripped),
         bits(&s.enabled),
         bits(&s.always),
     );
-    let (trip_code, trip_history) = (ids(&b.trip_code), ids(&b.trip_history));
+    let trip_code = ids(&b.trip_code);
+    let slots = b.trip_history.iter().map(|slot| match slot {
+        TripSlotIr::Register(id) => quote!(TripSlot::whole(#id)),
+        TripSlotIr::Field { register, mask, .. } => {
+            let mask = int_literal(*mask);
+            quote!(TripSlot { register: #register, mask: #mask })
+        }
+    });
+    let trip_history = quote!(&[#(#slots),*]);
+    let trip_clear = written_value(b.trip_clear_by_write.as_ref());
     let process = match &b.process {
         Some([control, reference, status, output]) => quote!(Some(ProcessBehaviour {
             control: #control, reference: #reference, status: #status, output: #output
@@ -103,12 +132,13 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
     };
     let refusals = b.refusals.iter().map(|r| {
         let protocol = &r.protocol;
-        let (unknown, read_only, out_of_range, while_running, bad_checksum) = (
+        let (unknown, read_only, out_of_range, while_running, bad_checksum, wrong_mode) = (
             code(r.unknown_register),
             code(r.read_only),
             code(r.out_of_range),
             code(r.while_running),
             code(r.bad_checksum),
+            code(r.wrong_mode),
         );
         quote!(Refusals {
             protocol: #protocol,
@@ -117,6 +147,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
             out_of_range: #out_of_range,
             while_running: #while_running,
             bad_checksum: #bad_checksum,
+            wrong_mode: #wrong_mode,
         })
     });
     let doc = doc_text(format!(
@@ -133,9 +164,12 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     register: #register,
                     require: #require,
                     run: #run,
+                    run_reverse: #run_reverse,
                     reverse: #reverse,
                     reset: #reset,
+                    reset_by_write: #reset_by_write,
                     coast: #coast,
+                    require_mode: #require_mode,
                 },
                 frequency: FrequencyBehaviour {
                     command: #command,
@@ -151,12 +185,13 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     registers: #status_registers,
                     running: #running,
                     reverse: #reverse_bits,
+                    forward: #forward_bits,
                     at_reference: #at_reference,
                     tripped: #tripped,
                     enabled: #enabled,
                     always: #always,
                 },
-                trip: TripBehaviour { code: #trip_code, history: #trip_history },
+                trip: TripBehaviour { code: #trip_code, history: #trip_history, clear_by_write: #trip_clear },
                 process: #process,
                 refusals: &[#(#refusals),*],
             }

@@ -262,7 +262,8 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
     };
     let wire_numbers = protocol.wire_numbers.iter().map(|w| {
         let (register, read, write) = (int_literal(w.register), number(w.read), number(w.write));
-        quote!(::vfd_runtime::protocol::WireNumber { register: #register, read: #read, write: #write })
+        let data = w.data.iter().map(|v| int_literal(*v));
+        quote!(::vfd_runtime::protocol::WireNumber { register: #register, read: #read, write: #write, data: ::std::borrow::Cow::Borrowed(&[#(#data),*]) })
     });
     let broadcast = match &protocol.broadcast {
         Some(rule) => {

@@ -83,6 +83,17 @@ pub(crate) fn relation_lines(register: &RegisterIr) -> Vec<String> {
             "Holds the value {live} had at the moment of the last trip."
         ));
     }
+    if let Some(other) = &register.shares_address_with {
+        let (this, that) = if register.access == vfd_runtime::Access::WriteOnly {
+            ("written", "read")
+        } else {
+            ("read", "written")
+        };
+        lines.push(format!(
+            "Its address {:04X}h has two meanings: {this}, it is this register; {that}, it is {other}.",
+            register.address
+        ));
+    }
     if register.live_except_while_tripped {
         lines.push("Shows the live value, except while the drive is tripped: then it keeps the value it had.".to_owned());
     }
