@@ -157,7 +157,8 @@ pub fn markdown_page(drive: &DriveIr, names: &OutputNames) -> Result<String, Err
     emit::markdown::drive_page_with(drive, names).map_err(Error::Emit)
 }
 
-/// The files a drive's output depends on: the drive file and its protocol files.
+/// The files a drive's output depends on: the drive file, its protocol files and the
+/// files they are `based_on`.
 pub fn inputs_of(drive: &DriveIr, protocols_dir: Option<&Path>) -> Vec<PathBuf> {
     let path = PathBuf::from(&drive.file);
     let dir = protocols_dir
@@ -170,5 +171,11 @@ pub fn inputs_of(drive: &DriveIr, protocols_dir: Option<&Path>) -> Vec<PathBuf> 
             .iter()
             .map(|p| dir.join(format!("{}.yaml", p.uses))),
     );
+    for base in drive.protocol_files.iter().filter_map(|f| f.based_on.as_ref()) {
+        let path = dir.join(format!("{base}.yaml"));
+        if !inputs.contains(&path) {
+            inputs.push(path);
+        }
+    }
     inputs
 }

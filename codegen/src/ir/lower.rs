@@ -515,6 +515,7 @@ fn protocol_files(protocols: &[LoweredProtocol]) -> Vec<ProtocolFileIr> {
             description: meta.description.trim().to_owned(),
             text: meta.text,
             layouts,
+            based_on: protocol.file.based_on.as_ref().map(|b| b.protocol.clone()),
         });
     }
     files

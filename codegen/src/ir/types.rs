@@ -354,6 +354,10 @@ pub struct ProtocolFileIr {
     pub text: bool,
     /// Every layout a command or the error reply uses, by name, in the file's order.
     pub layouts: Vec<FrameLayout>,
+    /// The protocol file it is `based_on`, read with it (an input of the build, not part
+    /// of the snapshot: the layouts above are already merged).
+    #[serde(skip)]
+    pub based_on: Option<String>,
 }
 
 /// A protocol as one drive speaks it.

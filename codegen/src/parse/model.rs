@@ -1287,9 +1287,17 @@ pub struct ProtocolFile {
     /// Reusable frame parts by name; layouts list them.
     #[serde(default)]
     pub parts: BTreeMap<String, PartModel>,
+    /// Another protocol file whose parts, layouts, commands, error reply and error codes
+    /// this one takes, with the changes said here (Modbus ASCII: Modbus RTU's frames with
+    /// another start, checksum and end). What this file gives itself replaces the base's.
+    pub based_on: Option<BasedOnModel>,
     /// Frame layouts by name: the parts of a frame in order, each the name of a part or a part written in place.
+    /// Required unless the file is `based_on` another.
+    #[serde(default)]
     pub layouts: BTreeMap<String, Vec<PartRefModel>>,
-    /// The commands: which layouts a request and its reply use.
+    /// The commands: which layouts a request and its reply use. Required unless the file
+    /// is `based_on` another.
+    #[serde(default)]
     pub commands: Vec<CommandModel>,
     /// Name of the layout of an error reply.
     pub error_reply: Option<String>,
@@ -1297,6 +1305,26 @@ pub struct ProtocolFile {
     /// (Modbus exception codes): used for a drive whose own `error_codes` do not apply to
     /// this protocol.
     pub error_codes: Option<ProtocolErrorCodesModel>,
+}
+
+/// A protocol file built on another (`based_on:`): the base's layouts, each changed the
+/// same way.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BasedOnModel {
+    /// The base protocol file's id (its file name without `.yaml`), in the same folder. A
+    /// base may not itself be based on another.
+    pub protocol: String,
+    /// Parts put before the first part of every layout of the base (a start literal).
+    #[serde(default)]
+    pub prepend: Vec<String>,
+    /// Parts put after the last part of every layout of the base (an end literal).
+    #[serde(default)]
+    pub append: Vec<String>,
+    /// Parts of the base's layouts replaced, wherever a layout names them: base part name
+    /// -> the name of the part used instead (`{ crc: lrc }`).
+    #[serde(default)]
+    pub replace: BTreeMap<String, String>,
 }
 
 /// A protocol's own error codes.

@@ -3,12 +3,14 @@
 //! the value the generated code embeds and the example frames are decoded with. Problems in
 //! a protocol file are reported here, with the protocol file's positions.
 //!
-//! One module per thing lowered: [`layouts`] (layouts and their sizes), [`parts`] (one
+//! A file `based_on` another is merged with its base first ([`based_on`], called by the
+//! loader). One module per thing lowered: [`layouts`] (layouts and their sizes), [`parts`] (one
 //! function per kind of part), [`commands`] (commands, codes and address maps),
 //! [`pre_steps`], [`error_codes`] (which table names the error replies) and [`text`] (what
 //! `text: true` forbids). Every function reports into one
 //! [`Diagnostics`] and returns `None` when it cannot produce a value.
 
+pub(crate) mod based_on;
 mod block;
 mod commands;
 mod error_codes;
@@ -64,7 +66,14 @@ pub(crate) fn lower(drive: &LoadedDrive, out: &mut Diagnostics) -> Vec<LoweredPr
                 drive_source: &drive.source,
                 drive: &drive.model,
             };
-            let runtime = lower_protocol(&input, out)?;
+            let before = out.items.len();
+            let runtime = lower_protocol(&input, out);
+            if let Some(inherited) = &protocol.inherited {
+                for item in &mut out.items[before..] {
+                    inherited.relocate(&protocol.source, item);
+                }
+            }
+            let runtime = runtime?;
             Some(LoweredProtocol {
                 id: reference.id.clone(),
                 uses: reference.uses.clone(),
