@@ -11,7 +11,7 @@
 //! | # | Stage | Module | Input | Output |
 //! |---|---|---|---|---|
 //! | 1 | parse | `parse/` (`tree.rs`: the YAML read once into positioned nodes; `reader.rs`: nodes -> `model.rs` types, every problem collected) | file text | `SourceFile` + `parse::model::DriveFile` / `ProtocolFile` |
-//! | 2 | load | `load.rs` | a drive file path | `LoadedDrive`: the drive and the protocol files it names, parsed |
+//! | 2 | load | `load/` (`based_on.rs`: a protocol file merged with the file it is `based_on`) | a drive file path | `LoadedDrive`: the drive and the protocol files it names, parsed |
 //! | 3 | lower protocols | `protocols/` | `LoadedDrive` | `LoweredProtocol`s: each protocol file plus the drive's error table, address maps and pre-steps, as the runtime's own `vfd_runtime::Protocol` |
 //! | 4 | decode examples | `frames.rs` | the drive's examples + lowered protocols | every example frame decoded **once** into the runtime's `vfd_runtime::meaning::FrameMeaning` |
 //! | 5 | validate | `validate/` (one file per check) | `validate::Context` (stages 2-4) | problems, or nothing |

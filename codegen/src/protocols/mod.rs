@@ -3,14 +3,13 @@
 //! the value the generated code embeds and the example frames are decoded with. Problems in
 //! a protocol file are reported here, with the protocol file's positions.
 //!
-//! A file `based_on` another is merged with its base first ([`based_on`], called by the
-//! loader). One module per thing lowered: [`layouts`] (layouts and their sizes), [`parts`] (one
+//! A file `based_on` another comes merged with its base ([`crate::load::based_on`]). One
+//! module per thing lowered: [`layouts`] (layouts and their sizes), [`parts`] (one
 //! function per kind of part), [`commands`] (commands, codes and address maps),
 //! [`pre_steps`], [`error_codes`] (which table names the error replies) and [`text`] (what
 //! `text: true` forbids). Every function reports into one
 //! [`Diagnostics`] and returns `None` when it cannot produce a value.
 
-pub(crate) mod based_on;
 mod block;
 mod commands;
 mod error_codes;

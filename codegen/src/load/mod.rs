@@ -1,11 +1,14 @@
 //! Stage 2: reads a drive file and the protocol files it refers to, parsed into the
-//! format's types ([`crate::parse::model`]). Nothing is checked or lowered here.
+//! format's types ([`crate::parse::model`]), a protocol file `based_on` another merged with
+//! its base ([`based_on`]). Nothing else is checked, and nothing is lowered, here.
 
 use crate::diagnostics::Diagnostics;
 use crate::parse::model::{DriveFile, ProtocolFile};
 use crate::parse::SourceFile;
-use crate::protocols::based_on::{self, Inherited};
 use std::path::{Path, PathBuf};
+
+pub(crate) mod based_on;
+use based_on::Inherited;
 
 /// A protocol file as one drive refers to it, parsed but not yet lowered.
 #[derive(Debug, Clone)]

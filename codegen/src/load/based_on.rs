@@ -95,7 +95,7 @@ pub(crate) fn merge(
                 .hint(format!(
                     "a base lives in the same folder, {}; available: {}",
                     dir.display(),
-                    crate::load::available(dir)
+                    super::available(dir)
                 )),
         );
         return None;
@@ -160,7 +160,7 @@ pub(crate) fn merge(
                     .error(&path, format!("part `{name}` is not defined"))
                     .hint(format!(
                         "define it under this file's `parts:`; defined here and in `{base_id}`: {}",
-                        super::names_of(
+                        names_of(
                             file.parts
                                 .keys()
                                 .chain(base.parts.keys())
@@ -192,7 +192,7 @@ pub(crate) fn merge(
                     )
                     .hint(format!(
                         "parts the layouts of `{base_id}` name: {}",
-                        super::names_of(used.iter().copied())
+                        names_of(used.iter().copied())
                     )),
             );
         }
@@ -322,6 +322,11 @@ enum Target {
     Base(String),
     /// At this path of the derived file.
     Derived(String),
+}
+
+/// `a, b, c`: names for a hint.
+fn names_of<'a>(names: impl Iterator<Item = &'a String>) -> String {
+    names.map(String::as_str).collect::<Vec<_>>().join(", ")
 }
 
 /// Path steps written back as text (`.key[2]`), for appending to a prefix.
