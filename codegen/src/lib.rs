@@ -171,7 +171,11 @@ pub fn inputs_of(drive: &DriveIr, protocols_dir: Option<&Path>) -> Vec<PathBuf> 
             .iter()
             .map(|p| dir.join(format!("{}.yaml", p.uses))),
     );
-    for base in drive.protocol_files.iter().filter_map(|f| f.based_on.as_ref()) {
+    for base in drive
+        .protocol_files
+        .iter()
+        .filter_map(|f| f.based_on.as_ref())
+    {
         let path = dir.join(format!("{base}.yaml"));
         if !inputs.contains(&path) {
             inputs.push(path);

@@ -76,7 +76,10 @@ pub(crate) fn merge(
     if *base_id == file.protocol.id {
         out.push(
             source
-                .error("based_on.protocol", "a protocol file cannot be based on itself")
+                .error(
+                    "based_on.protocol",
+                    "a protocol file cannot be based on itself",
+                )
                 .hint("name the protocol file whose layouts this one changes"),
         );
         return None;
@@ -210,9 +213,9 @@ pub(crate) fn merge(
         error_codes: file.error_codes.is_none(),
     };
     for (name, part) in base.parts {
-        if !file.parts.contains_key(&name) {
-            inherited.parts.insert(name.clone());
-            file.parts.insert(name, part);
+        if let std::collections::btree_map::Entry::Vacant(slot) = file.parts.entry(name) {
+            inherited.parts.insert(slot.key().clone());
+            slot.insert(part);
         }
     }
     for (name, entries) in base.layouts {
@@ -282,9 +285,9 @@ impl Inherited {
             [Segment::Key("layouts"), Segment::Key(name), tail @ ..] => {
                 let length = *self.layouts.get(*name)?;
                 match tail {
-                    [Segment::Index(i), ..] if *i < self.prepend => Some(Target::Derived(
-                        format!("based_on.prepend[{i}]{}", rest(3)),
-                    )),
+                    [Segment::Index(i), ..] if *i < self.prepend => {
+                        Some(Target::Derived(format!("based_on.prepend[{i}]{}", rest(3))))
+                    }
                     [Segment::Index(i), ..] if *i >= self.prepend + length => {
                         Some(Target::Derived(format!(
                             "based_on.append[{}]{}",
