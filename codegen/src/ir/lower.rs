@@ -593,6 +593,8 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         default_process: protocol.file.protocol.default_process,
         frame_gap_chars: runtime.frame_gap_chars,
         max_words_per_read: runtime.max_words_per_read,
+        max_words_per_write: runtime.max_words_per_write,
+        partial_blocks: runtime.partial_blocks,
         block: runtime.block.clone(),
         block_source: block_model(model, &protocol.id).map_or_else(String::new, |b| {
             let modes: Vec<&str> = b.modes.iter().map(|m| m.source.as_str()).collect();

@@ -394,6 +394,10 @@ pub struct ProtocolIr {
     pub frame_gap_chars: f32,
     /// The most registers one read carries (1: one per read).
     pub max_words_per_read: u16,
+    /// The most registers one write carries (1: one per write).
+    pub max_words_per_write: u16,
+    /// A read or write of several registers skips the registers it cannot access.
+    pub partial_blocks: bool,
     /// What a block transfer writes and reads on this drive (`None`: no block transfer).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub block: Option<vfd_runtime::BlockSpec>,

@@ -635,6 +635,15 @@ pub struct ProtocolRef {
     /// file's `max_words_per_read` (`12`; `1`: one register per read); left out: the
     /// protocol file's.
     pub max_words_per_read: Option<u16>,
+    /// The most registers one write of several carries on this drive, where fewer than the
+    /// protocol file's `max_words_per_write` (DV1: `12`); left out: the protocol file's.
+    pub max_words_per_write: Option<u16>,
+    /// A read or write of several registers is carried out for the registers that can be,
+    /// and refused only when none can (DV1 l. 473: 若有 1 个及以上可以操作就不视为错误): a
+    /// register that does not exist reads as 0, one that does not exist or refuses its
+    /// value is left as it is. Left out (false): one such register refuses the request.
+    #[serde(default)]
+    pub partial_blocks: bool,
     /// The codes this protocol's error replies carry as the manual gives them for this
     /// drive (its own Modbus exception table, whose numbers mean something else than the
     /// drive's `error_codes`): they name this protocol's error replies in place of the
@@ -1377,6 +1386,10 @@ pub struct ProtocolMeta {
     /// protocol's read command counts its data (a length part with `counts: data_size`);
     /// left out: 1, one register per read.
     pub max_words_per_read: Option<u16>,
+    /// The most 16-bit registers one write request may carry (Modbus 10h: 123), when a
+    /// RAM write command's data field is sized by a length part; left out: 1, one register
+    /// (of its own width) per write.
+    pub max_words_per_write: Option<u16>,
 }
 
 /// The suffix of a struct name asking the reader for "a mapping with these keys, or a
