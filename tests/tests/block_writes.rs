@@ -23,7 +23,8 @@ fn master(sim: &Simulator, drive: &DriveInfo, protocol: &'static Protocol) -> Ma
     .with_address(Some(address))
 }
 
-/// Writable one-word parameters by wire address, without behaviour (no command word).
+/// Readable and writable one-word parameters by wire address, without behaviour (no command word) and
+/// in no forbidden combination.
 fn writable(protocol: &Protocol, drive: &DriveInfo) -> Vec<(u16, &'static RegisterInfo)> {
     let command = protocol.block_write_command(Space::Parameter).unwrap();
     let behaviour_registers: Vec<&str> = drive
@@ -39,9 +40,11 @@ fn writable(protocol: &Protocol, drive: &DriveInfo) -> Vec<(u16, &'static Regist
             r.space == Space::Parameter
                 && r.array_len == 0
                 && r.data_type == DataType::Word
-                && r.access != vfd_runtime::Access::ReadOnly
+                && r.access == vfd_runtime::Access::ReadWrite
                 && !r.no_reply
                 && !behaviour_registers.contains(&r.id)
+                // Values chosen one by one could make a combination the manual forbids.
+                && drive.combinations_of(r).next().is_none()
         })
         .filter_map(|r| command.address_map.to_wire(r.address).map(|w| (w, r)))
         .collect();
@@ -163,6 +166,10 @@ fn the_dv1_writes_twelve_registers_and_skips_the_reserved_ones() {
         assert_eq!(protocol.max_words_per_write, 12, "{}", protocol.id);
         let sim = Simulator::new(&dv1::DRIVE);
         let mut master = master(&sim, &dv1::DRIVE, protocol);
+        // Two stop bits first (07-04 = 1, 07-05 = 0): the block below sets one stop bit and
+        // odd parity together, which the manual allows (note 4, l. 102) though odd parity
+        // with the two stop bits held before would not be.
+        master.write_words(0x0031, &[1]).unwrap();
         let twelve = [0, 0, 1, 2, 3, 50, 0x11, 0x12, 0x13, 0x14, 0x15, 0x16];
         master
             .write_words(0x0030, &twelve)

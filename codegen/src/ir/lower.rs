@@ -227,6 +227,7 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
         behaviour: None,
         ports: lower_ports(model, &index),
         conversions: lower_conversions(model, &index),
+        forbidden_combinations: lower_forbidden(model, &index),
     };
     ir.behaviour = model
         .behaviour
@@ -276,6 +277,7 @@ fn lower_register(
         id: register.id.clone(),
         type_name: type_name(&register.id),
         code: register.code.clone(),
+        aliases: register.aliases.clone(),
         name: register.name.clone(),
         name_zh: register.name_zh.clone(),
         description: register.description.trim().to_owned(),
@@ -411,6 +413,38 @@ fn lower_ports(model: &DriveFile, index: &ranges::RegisterIndex<'_>) -> Option<P
             })
             .collect(),
     })
+}
+
+/// The forbidden combinations, each condition's register resolved to its code and its
+/// values to raw words (validation has checked both).
+fn lower_forbidden(
+    model: &DriveFile,
+    index: &ranges::RegisterIndex<'_>,
+) -> Vec<ForbiddenCombinationIr> {
+    model
+        .forbidden_combinations
+        .iter()
+        .map(|combination| ForbiddenCombinationIr {
+            id: combination.id.clone(),
+            rule: combination.rule.trim().to_owned(),
+            meaning: combination.meaning.trim().to_owned(),
+            source: combination.source.clone(),
+            when: combination
+                .when
+                .iter()
+                .filter_map(|condition| {
+                    let register = index.find(&condition.register)?;
+                    let scale = ranges::scale_of(register);
+                    let raw = condition
+                        .values
+                        .iter()
+                        .map(|v| (v / scale).round() as u32)
+                        .collect();
+                    Some((register.code.clone(), raw))
+                })
+                .collect(),
+        })
+        .collect()
 }
 
 /// The conversions, their formulas parsed (validation has checked they parse).
@@ -692,7 +726,7 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                             .model
                             .registers
                             .iter()
-                            .find(|r| &r.code == name || &r.id == name)
+                            .find(|r| r.is_named(name))
                             .map_or_else(|| name.clone(), |r| r.code.clone());
                         (code, *value)
                     })

@@ -73,6 +73,25 @@ pub struct DriveIr {
     /// The manual's formulas between registers.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub conversions: Vec<ConversionIr>,
+    /// Combinations of register values the manual forbids.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub forbidden_combinations: Vec<ForbiddenCombinationIr>,
+}
+
+/// Values of several registers the manual forbids together, resolved to codes and raw
+/// words.
+#[derive(Debug, Clone, Serialize)]
+pub struct ForbiddenCombinationIr {
+    /// Identifier.
+    pub id: String,
+    /// The manual's words.
+    pub rule: String,
+    /// In English.
+    pub meaning: String,
+    /// Manual section.
+    pub source: String,
+    /// Each condition: register code and the raw words that fulfil it.
+    pub when: Vec<(String, Vec<u32>)>,
 }
 
 /// The drive's serial ports, resolved to register codes.
@@ -665,6 +684,9 @@ pub struct RegisterIr {
     pub type_name: String,
     /// The manual's code (`FH`, `FA01`, `3-03`).
     pub code: String,
+    /// Other names the manual gives it (`P.33`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub aliases: Vec<String>,
     /// English name.
     pub name: String,
     /// Chinese name.

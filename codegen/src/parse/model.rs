@@ -66,6 +66,37 @@ pub struct DriveFile {
     /// poles), each becoming a typed function tested with the manual's numbers.
     #[serde(default)]
     pub conversions: Vec<ConversionModel>,
+    /// Combinations of register values the manual forbids (the DV1's two stop bits with
+    /// parity): the virtual drive refuses a write that would make one, `vfd write` checks
+    /// a write against the values it reads first.
+    #[serde(default)]
+    pub forbidden_combinations: Vec<ForbiddenCombinationModel>,
+}
+
+/// Values of several registers the manual forbids together (`forbidden_combinations:`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ForbiddenCombinationModel {
+    /// Unique lower snake case name (`two_stop_bits_with_parity`).
+    pub id: String,
+    /// The manual's rule, in its words (quoted by the error a forbidden write gets).
+    pub rule: String,
+    /// What the rule says, in English.
+    pub meaning: String,
+    /// Where the manual says it.
+    pub source: String,
+    /// The conditions, all holding at once: at least two, each about another register.
+    pub when: Vec<CombinationConditionModel>,
+}
+
+/// One condition of a forbidden combination: the register holds one of these values.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CombinationConditionModel {
+    /// The register, by code, id or alias.
+    pub register: String,
+    /// Its values (in its unit, as its range gives them) that fulfil the condition.
+    pub values: Vec<f64>,
 }
 
 /// The drive's serial ports (`ports:`).
@@ -948,6 +979,12 @@ pub struct RegisterModel {
     pub id: String,
     /// The manual's code or mnemonic for the register, unique.
     pub code: String,
+    /// Other names the manual gives the register (the DV1's P numbers: `[P.33]` for 07-00),
+    /// each unique among the codes, ids and aliases: usable wherever a register is named
+    /// (ranges, relations, the command line, `DriveInfo::register`) and shown on the page;
+    /// one that makes a Rust name becomes a type alias (`pub type P33 = Protocol;`).
+    #[serde(default)]
+    pub aliases: Vec<String>,
     /// The register's name in English.
     pub name: String,
     /// The register's name as the manual prints it in Chinese.
@@ -1033,6 +1070,13 @@ pub struct RegisterModel {
     /// special value may be the default.
     #[serde(default)]
     pub special_values: Vec<SpecialValueModel>,
+}
+
+impl RegisterModel {
+    /// Whether `name` is its code, id or one of its aliases (as written).
+    pub fn is_named(&self, name: &str) -> bool {
+        self.code == name || self.id == name || self.aliases.iter().any(|a| a == name)
+    }
 }
 
 /// A value a register takes besides its range, with its own raw word.

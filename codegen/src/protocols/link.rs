@@ -194,11 +194,7 @@ fn reply_delay(input: &Input<'_>, out: &mut Diagnostics) -> Option<ReplyDelay> {
 }
 
 fn find_register<'a>(input: &'a Input<'_>, name: &str) -> Option<&'a RegisterModel> {
-    input
-        .drive
-        .registers
-        .iter()
-        .find(|r| r.code == name || r.id == name)
+    input.drive.registers.iter().find(|r| r.is_named(name))
 }
 
 /// The drive's broadcast rule: its commands must be the protocol's writes, each with a

@@ -446,7 +446,7 @@ impl VirtualDrive {
             let (outcome, width) = self.block_word(protocol, command, wire, at, &words);
             at += width;
             match outcome {
-                Ok((info, raw)) => match self.check_write(info, raw, persistent) {
+                Ok((info, raw)) => match self.check_value(info, raw, persistent) {
                     Ok(()) => writes.push((info, raw)),
                     Err(refusal) if protocol.partial_blocks => {
                         refused.get_or_insert(refusal);
@@ -459,6 +459,19 @@ impl VirtualDrive {
                 Err(refusal) => return Err(refusal),
             }
         }
+        // The manual's forbidden combinations, over the values the whole block leaves.
+        let block = writes.clone();
+        let mut kept = Vec::with_capacity(writes.len());
+        for (info, raw) in writes {
+            match self.check_combinations(info, raw, &block) {
+                Ok(()) => kept.push((info, raw)),
+                Err(refusal) if protocol.partial_blocks => {
+                    refused.get_or_insert(refusal);
+                }
+                Err(refusal) => return Err(refusal),
+            }
+        }
+        let writes = kept;
         if writes.is_empty() {
             return Err(refused.unwrap_or(Refusal::UnknownRegister));
         }
@@ -779,7 +792,20 @@ impl VirtualDrive {
         Ok((request.data, 0))
     }
 
+    /// Whether the drive takes `raw` for `info`: access, running state, range and bounds,
+    /// and the combinations the manual forbids with what the other registers hold.
     pub(super) fn check_write(
+        &self,
+        info: &'static RegisterInfo,
+        raw: u32,
+        persistent: bool,
+    ) -> Result<(), Refusal> {
+        self.check_value(info, raw, persistent)?;
+        self.check_combinations(info, raw, &[])
+    }
+
+    /// [`VirtualDrive::check_write`] without the forbidden combinations.
+    fn check_value(
         &self,
         info: &'static RegisterInfo,
         raw: u32,
@@ -819,6 +845,29 @@ impl VirtualDrive {
             return Err(Refusal::OutOfRange);
         }
         Ok(())
+    }
+
+    /// Refuses writing `raw` to `info` when it would make a combination of values the
+    /// manual forbids (two stop bits with parity), as a value the drive does not accept:
+    /// the other registers holding what `pending` writes in the same request, else what
+    /// they hold now.
+    fn check_combinations(
+        &self,
+        info: &'static RegisterInfo,
+        raw: u32,
+        pending: &[(&'static RegisterInfo, u32)],
+    ) -> Result<(), Refusal> {
+        let drive = self.drive;
+        drive
+            .check_combinations(info, raw, |code| {
+                let other = drive.register(code)?;
+                pending
+                    .iter()
+                    .find(|(written, _)| std::ptr::eq(*written, other))
+                    .map(|(_, value)| *value)
+                    .or_else(|| Some(self.storage.get(other, 0)))
+            })
+            .map_err(|_| Refusal::OutOfRange)
     }
 }
 
