@@ -392,6 +392,7 @@ impl Session {
     ) -> Result<(Option<u32>, bool), Failure> {
         let info = self.on_port(info);
         check_writable(info, persist)?;
+        self.check_combinations(info, raw)?;
         let kind = if persist {
             CommandKind::WritePersistent
         } else {
@@ -404,6 +405,44 @@ impl Session {
             .transact(&request)
             .map_err(|e| self.failure(e))?;
         Ok((answer.data, answer.tripped))
+    }
+
+    /// Refuses a write of `raw` to `info` that would make a combination of values the
+    /// manual forbids (the description's `forbidden_combinations`): the other registers of
+    /// each combination `info` is in are read first; one that cannot be read fulfils no
+    /// condition.
+    fn check_combinations(&mut self, info: &'static RegisterInfo, raw: u32) -> Result<(), Failure> {
+        let drive = self.drive;
+        let mut known: Vec<(&'static str, u32)> = Vec::new();
+        for combination in drive.combinations_of(info) {
+            for condition in combination.when {
+                if condition.register == info.code
+                    || known.iter().any(|(code, _)| *code == condition.register)
+                {
+                    continue;
+                }
+                let Some(other) = drive.register(condition.register) else {
+                    continue;
+                };
+                if !self.can_read(other) {
+                    continue;
+                }
+                if let Ok(Value {
+                    raw: Some(value), ..
+                }) = self.read(other)
+                {
+                    known.push((condition.register, value));
+                }
+            }
+        }
+        drive
+            .check_combinations(info, raw, |code| {
+                known.iter().find(|(c, _)| *c == code).map(|(_, v)| *v)
+            })
+            .map_err(|error| {
+                Failure::new(error.to_string())
+                    .hint("change the other register first (most take effect after a reset), or write a value the rule allows")
+            })
     }
 
     /// Runs one block transfer with `selection` (see `vfd block`).

@@ -188,6 +188,9 @@ fn clip(text: &str, width: usize) -> String {
 fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
     say!("{}", r.label());
     say!("  code        {}", r.code);
+    if !r.aliases.is_empty() {
+        say!("  also named  {}", r.aliases.join(", "));
+    }
     say!("  id          {}", r.id);
     say!(
         "  number      {} ({}{})",

@@ -1,6 +1,6 @@
 //! Finding what people name on the command line: drives by id, protocols by id, and
-//! registers by manual code (`FA01`, `FH`, `3-03`), address (`0xFA01`, `FA01h`, `303`), id
-//! or English or Chinese name (`最高频率`), case-insensitive. Nothing here names a drive:
+//! registers by manual code (`FA01`, `FH`, `3-03`), alias (`P.195`), address (`0xFA01`,
+//! `FA01h`, `303`), id or English or Chinese name (`最高频率`), case-insensitive. Nothing here names a drive:
 //! everything comes from [`DriveInfo`].
 
 use crate::Failure;
@@ -63,15 +63,15 @@ pub fn variant(
     })
 }
 
-/// Every register `name` may mean, best match first: an exact code or id, then the code,
-/// id, address or name without regard to case, then names containing it.
+/// Every register `name` may mean, best match first: an exact code, id or alias, then the
+/// code, id, alias, address or name without regard to case, then names containing it.
 pub fn registers(drive: &DriveInfo, name: &str) -> Vec<&'static RegisterInfo> {
     let wanted = name.trim();
     let all = drive.registers;
     let exact: Vec<_> = all
         .iter()
         .copied()
-        .filter(|r| r.code == wanted || r.id == wanted)
+        .filter(|r| r.code == wanted || r.id == wanted || r.aliases.contains(&wanted))
         .collect();
     if !exact.is_empty() {
         return exact;
@@ -83,6 +83,7 @@ pub fn registers(drive: &DriveInfo, name: &str) -> Vec<&'static RegisterInfo> {
         .filter(|r| {
             r.code.eq_ignore_ascii_case(wanted)
                 || r.id.eq_ignore_ascii_case(wanted)
+                || r.aliases.iter().any(|a| a.eq_ignore_ascii_case(wanted))
                 || r.name.eq_ignore_ascii_case(wanted)
                 || r.name_zh == wanted
                 || manual_number(r.space, r.address, r.code).eq_ignore_ascii_case(wanted)

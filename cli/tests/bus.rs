@@ -719,3 +719,33 @@ fn dv1_eaton_in_cr_lf_as_07_06_selects() {
         text(&unknown)
     );
 }
+
+#[test]
+fn dv1_parameters_by_p_number_and_settings_its_manual_forbids() {
+    let sim = Sim::start("dv1", "modbus");
+    // 02-15 is P.195 (通讯参数组; 例三): the same register either way.
+    let by_code = sim.vfd("dv1", "modbus", &["read", "02-15"]);
+    let by_alias = sim.vfd("dv1", "modbus", &["read", "P.195"]);
+    assert!(by_alias.status.success(), "{}", text(&by_alias));
+    assert_eq!(text(&by_code), text(&by_alias));
+    assert!(text(&by_alias).contains("60.00 Hz"), "{}", text(&by_alias));
+    let write = sim.vfd("dv1", "modbus", &["write", "p.50", "2"]);
+    assert!(write.status.success(), "{}", text(&write));
+    // Two stop bits with even parity in the Eaton protocol (07-00 = 1): refused before
+    // sending, quoting the manual (note 4, l. 102).
+    let refused = sim.vfd("dv1", "modbus", &["write", "07-04", "1"]);
+    assert!(!refused.status.success(), "{}", text(&refused));
+    assert!(
+        text(&refused).contains("请务必把 07-05 设定为 0"),
+        "{}",
+        text(&refused)
+    );
+    let stop = sim.vfd("dv1", "modbus", &["read", "P.49"]);
+    assert!(text(&stop).contains("1 stop bit"), "{}", text(&stop));
+    // `vfd info` names the aliases.
+    let info = Command::new(env!("CARGO_BIN_EXE_vfd"))
+        .args(["info", "dv1", "P.33"])
+        .output()
+        .expect("vfd runs");
+    assert!(text(&info).contains("also named  P.33"), "{}", text(&info));
+}

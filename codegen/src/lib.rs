@@ -11,7 +11,7 @@
 //! | # | Stage | Module | Input | Output |
 //! |---|---|---|---|---|
 //! | 1 | parse | `parse/` (`tree.rs`: the YAML read once into positioned nodes; `reader.rs`: nodes -> `model.rs` types, every problem collected) | file text | `SourceFile` + `parse::model::DriveFile` / `ProtocolFile` |
-//! | 2 | load | `load.rs` | a drive file path | `LoadedDrive`: the drive and the protocol files it names, parsed |
+//! | 2 | load | `load/` (`based_on.rs`: a protocol file merged with the file it is `based_on`) | a drive file path | `LoadedDrive`: the drive and the protocol files it names, parsed |
 //! | 3 | lower protocols | `protocols/` | `LoadedDrive` | `LoweredProtocol`s: each protocol file plus the drive's error table, address maps and pre-steps, as the runtime's own `vfd_runtime::Protocol` |
 //! | 4 | decode examples | `frames.rs` | the drive's examples + lowered protocols | every example frame decoded **once** into the runtime's `vfd_runtime::meaning::FrameMeaning` |
 //! | 5 | validate | `validate/` (one file per check) | `validate::Context` (stages 2-4) | problems, or nothing |
@@ -157,7 +157,8 @@ pub fn markdown_page(drive: &DriveIr, names: &OutputNames) -> Result<String, Err
     emit::markdown::drive_page_with(drive, names).map_err(Error::Emit)
 }
 
-/// The files a drive's output depends on: the drive file and its protocol files.
+/// The files a drive's output depends on: the drive file, its protocol files and the
+/// files they are `based_on`.
 pub fn inputs_of(drive: &DriveIr, protocols_dir: Option<&Path>) -> Vec<PathBuf> {
     let path = PathBuf::from(&drive.file);
     let dir = protocols_dir
@@ -170,5 +171,15 @@ pub fn inputs_of(drive: &DriveIr, protocols_dir: Option<&Path>) -> Vec<PathBuf> 
             .iter()
             .map(|p| dir.join(format!("{}.yaml", p.uses))),
     );
+    for base in drive
+        .protocol_files
+        .iter()
+        .filter_map(|f| f.based_on.as_ref())
+    {
+        let path = dir.join(format!("{base}.yaml"));
+        if !inputs.contains(&path) {
+            inputs.push(path);
+        }
+    }
     inputs
 }

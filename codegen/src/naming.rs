@@ -14,6 +14,15 @@ pub fn type_name(id: &str) -> String {
         .collect()
 }
 
+/// `P.195` -> `P195`: the Rust type name a register alias gives, its ASCII letters and
+/// digits with the first in upper case; `None` when they do not begin with a letter.
+pub fn alias_type_name(alias: &str) -> Option<String> {
+    let kept: String = alias.chars().filter(char::is_ascii_alphanumeric).collect();
+    let mut chars = kept.chars();
+    let first = chars.next().filter(char::is_ascii_alphabetic)?;
+    Some(first.to_ascii_uppercase().to_string() + chars.as_str())
+}
+
 /// `vf-as1` -> `vf_as1`: a drive or protocol-file id as a Rust module name.
 pub fn module_name(id: &str) -> String {
     id.replace('-', "_")
@@ -51,5 +60,8 @@ mod tests {
         assert_eq!(module_name("vf-as1"), "vf_as1");
         assert_eq!(method_name("run"), "run");
         assert_eq!(method_name("type"), "type_");
+        assert_eq!(alias_type_name("P.195").as_deref(), Some("P195"));
+        assert_eq!(alias_type_name("p.33").as_deref(), Some("P33"));
+        assert_eq!(alias_type_name("10700"), None);
     }
 }

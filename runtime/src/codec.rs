@@ -74,13 +74,16 @@ impl FrameValues {
         })
     }
 
-    /// The bytes of the bytes field with `role` in `frame` (the frame these values were decoded from).
+    /// The bytes of the bytes field with `role` in `frame` (the frame these values were
+    /// decoded from), as they lie on the wire: for an [`Encoding::HexPairs`] layout, the
+    /// hex digits that carry them (two per byte; [`FrameValues::words`] and
+    /// [`FrameValues::data_words`] give their values).
     pub fn bytes<'f>(&self, layout: &FrameLayout, role: Role, frame: &'f [u8]) -> Option<&'f [u8]> {
         let index = layout.index_of(role)?;
         let slot = self.parts[index];
-        let start = slot.value as usize;
+        let (start, len) = layout.wire_span(slot.value as usize, usize::from(slot.width));
         slot.present
-            .then(|| frame.get(start..start + usize::from(slot.width)))
+            .then(|| frame.get(start..start + len))
             .flatten()
     }
 
@@ -91,7 +94,40 @@ impl FrameValues {
         let little_endian = layout
             .field(Role::Words)
             .is_some_and(|field| field.format == Format::U16Le);
-        let bytes = self.bytes(layout, Role::Words, frame).unwrap_or(&[]);
+        self.words_of(layout, Role::Words, frame, little_endian)
+    }
+
+    /// The 16-bit registers of a data field that carries several (`data_size` above 4: a
+    /// Modbus write of several registers), in `frame` (the frame these values were decoded
+    /// from), in frame order, each in the data field's byte order; empty when the data is a
+    /// number (4 bytes or fewer) or more than [`MAX_WORDS`] words.
+    pub fn data_words(&self, layout: &FrameLayout, frame: &[u8]) -> Words {
+        if self.data_size <= 4 || usize::from(self.data_size) > 2 * MAX_WORDS {
+            return Words::default();
+        }
+        let little_endian = layout
+            .field(Role::Data)
+            .is_some_and(|field| field.format == Format::UintLe);
+        self.words_of(layout, Role::Data, frame, little_endian)
+    }
+
+    /// The words of the field with `role`, read from the wire (hex digits turned back into
+    /// bytes for an [`Encoding::HexPairs`] layout).
+    fn words_of(
+        &self,
+        layout: &FrameLayout,
+        role: Role,
+        frame: &[u8],
+        little_endian: bool,
+    ) -> Words {
+        let wire = self.bytes(layout, role, frame).unwrap_or(&[]);
+        let mut decoded = [0u8; 2 * MAX_WORDS];
+        let bytes = if layout.encoding == Encoding::HexPairs {
+            let n = hex_digits_to_bytes(wire, &mut decoded);
+            &decoded[..n]
+        } else {
+            wire
+        };
         let mut words = Words::default();
         for pair in bytes.chunks_exact(2).take(MAX_WORDS) {
             let pair = [pair[0], pair[1]];
@@ -115,10 +151,12 @@ impl FrameValues {
     }
 }
 
-/// The most words a words field ([`Role::Words`]) holds in a [`Words`] list.
-pub const MAX_WORDS: usize = 64;
+/// The most words a [`Words`] list holds: a words field's ([`Role::Words`]), or the
+/// registers of a data field carrying several (a Modbus 10h write: at most 123).
+pub const MAX_WORDS: usize = 128;
 
-/// The words a frame's words field carries (a block transfer's), held without allocation.
+/// The words a frame's words field carries (a block transfer's), or the registers a data
+/// field carries, held without allocation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Words {
     words: [u16; MAX_WORDS],

@@ -35,6 +35,9 @@ pub struct DriveInfo {
     pub ports: Option<&'static Ports>,
     /// The manual's formulas between registers.
     pub conversions: &'static [Conversion],
+    /// Combinations of register values the manual forbids (see
+    /// [`DriveInfo::check_combinations`]); empty for most drives.
+    pub forbidden: &'static [crate::combination::ForbiddenCombination],
 }
 
 /// One port of a drive, chosen once: requests for a register that exists once per port go
@@ -149,7 +152,8 @@ impl DriveInfo {
         self.conversions.iter().find(|c| c.id == id)
     }
 
-    /// The register with this manual code (case-insensitive) or identifier.
+    /// The register with this manual code (case-insensitive) or identifier, else the one
+    /// with this alias (case-insensitive: `p.195` names the DV1's 02-15).
     pub fn register(&self, name: &str) -> Option<&'static RegisterInfo> {
         self.registers
             .iter()
@@ -161,5 +165,55 @@ impl DriveInfo {
                     .copied()
                     .find(|r| r.code.eq_ignore_ascii_case(name))
             })
+            .or_else(|| {
+                self.registers.iter().copied().find(|r| {
+                    r.aliases
+                        .iter()
+                        .any(|alias| alias.eq_ignore_ascii_case(name))
+                })
+            })
+    }
+}
+
+impl DriveInfo {
+    /// Checks writing `raw` to `register` against the drive's forbidden combinations, the
+    /// other registers holding what `raw_of` gives (by code; `None`: not known, which
+    /// fulfils no condition). The first combination the write would make is the error.
+    pub fn check_combinations(
+        &self,
+        register: &'static RegisterInfo,
+        raw: u32,
+        raw_of: impl Fn(&str) -> Option<u32>,
+    ) -> Result<(), crate::combination::CombinationError> {
+        let after = |code: &str| {
+            if code == register.code {
+                Some(raw)
+            } else {
+                raw_of(code)
+            }
+        };
+        match self
+            .forbidden
+            .iter()
+            .find(|c| c.involves(register) && c.holds(after))
+        {
+            Some(combination) => Err(crate::combination::CombinationError {
+                register,
+                raw,
+                combination,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// The forbidden combinations one of whose conditions is about `register`.
+    pub fn combinations_of(
+        &self,
+        register: &RegisterInfo,
+    ) -> impl Iterator<Item = &'static crate::combination::ForbiddenCombination> + '_ {
+        let code = register.code;
+        self.forbidden
+            .iter()
+            .filter(move |c| c.when.iter().any(|w| w.register == code))
     }
 }

@@ -328,6 +328,17 @@ pub enum EncodeError {
         /// The most one request carries.
         max: u16,
     },
+    /// A write of more consecutive registers than the protocol (or the drive) allows in
+    /// one request, or of none.
+    #[error("protocol {protocol} writes 1 to {max} register(s) per request, not {words}")]
+    TooManyWordsToWrite {
+        /// Protocol id.
+        protocol: Text,
+        /// Registers to write.
+        words: usize,
+        /// The most one request carries.
+        max: u16,
+    },
     /// The register number does not fit the protocol's wire numbering.
     #[error("protocol {protocol}: register {register:04X}h has no wire address (its address map leaves 0000h-FFFFh)")]
     RegisterOutOfRange {

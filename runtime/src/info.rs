@@ -17,6 +17,9 @@ pub struct RegisterInfo {
     pub id: &'static str,
     /// The manual's code or mnemonic (`Dec`, `F800`, `FA01`).
     pub code: &'static str,
+    /// Other names the manual gives it (the DV1's P numbers: `P.33` for 07-00); a client
+    /// may name the register by any of them ([`crate::DriveInfo::register`]).
+    pub aliases: &'static [&'static str],
     /// English name.
     pub name: &'static str,
     /// The manual's Chinese name.
@@ -288,6 +291,12 @@ impl RegisterInfo {
         self
     }
 
+    /// Other names the manual gives it (`P.33`).
+    pub const fn with_aliases(mut self, aliases: &'static [&'static str]) -> Self {
+        self.aliases = aliases;
+        self
+    }
+
     /// It exists once per serial port: (port id, register code) of every copy.
     pub const fn with_per_port(
         mut self,
@@ -299,6 +308,11 @@ impl RegisterInfo {
 }
 
 impl RegisterInfo {
+    /// Whether `name` is its code, id or one of its aliases (exactly as written).
+    pub fn is_named(&self, name: &str) -> bool {
+        self.code == name || self.id == name || self.aliases.contains(&name)
+    }
+
     /// A read-write, unsigned, unscaled word parameter without unit, array or run-time
     /// bounds, over the whole word range; address 0 and empty names. A literal can write
     /// only the fields that differ: `RegisterInfo { address: 0x0011, id: "maximum_frequency",
@@ -307,6 +321,7 @@ impl RegisterInfo {
         address: 0,
         id: "",
         code: "",
+        aliases: &[],
         name: "",
         name_zh: "",
         unit: Unit::None,

@@ -50,6 +50,7 @@ pub mod broadcast;
 pub mod checksum;
 pub mod codec;
 pub mod codes;
+pub mod combination;
 pub mod conversion;
 pub mod drive;
 pub mod error;
@@ -74,6 +75,7 @@ pub mod virtual_drive;
 
 pub use broadcast::{Broadcast, BroadcastAnswer, BroadcastRule, StationGroup};
 pub use codec::{FieldValue, FrameValues, Roles, Words};
+pub use combination::{CombinationError, Condition, ForbiddenCombination};
 pub use drive::{DriveInfo, Port};
 pub use error::{DecodeError, DecodeErrorKind, EncodeError, ValueError};
 pub use info::{

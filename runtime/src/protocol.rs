@@ -549,6 +549,17 @@ pub struct Protocol {
     /// see [`Protocol::block_read_command`] and
     /// [`crate::transaction::Master::read_words`].
     pub max_words_per_read: u16,
+    /// The most 16-bit registers one write may carry (Modbus 10h: 123; the DV1: 12); 1 when
+    /// every write carries one register (of its own width). Above 1, a write command whose
+    /// request's data field is sized by a length part writes consecutive registers in one
+    /// exchange: see [`Protocol::block_write_command`] and
+    /// [`crate::transaction::Master::write_words`].
+    pub max_words_per_write: u16,
+    /// A read or write of several registers is carried out for the registers that can be,
+    /// and refused only when none can (the DV1: "若有 1 个及以上可以操作就不视为错误"): a
+    /// register that does not exist reads as 0, one that does not exist or refuses its value
+    /// is left as it is. `false`: one such register refuses the whole request.
+    pub partial_blocks: bool,
     /// What a block-transfer command ([`CommandKind::Block`]) writes and reads on this
     /// drive; `None`: the drive has no block transfer (and no such command).
     pub block: Option<BlockSpec>,
@@ -981,6 +992,16 @@ pub fn command_reads_blocks(command: &CommandSpec) -> bool {
     counts_data && sized_data
 }
 
+/// Whether `command`'s request carries its data in a field sized by a length part (the
+/// Modbus 10h quantity and byte count): it can write several consecutive registers.
+pub fn command_writes_blocks(command: &CommandSpec) -> bool {
+    command.request.parts.iter().any(|part| {
+        matches!(part, Part::Field(field) if field.role == Role::Data
+            && field.sized_by == SizedBy::Length
+            && matches!(field.format, Format::UintBe | Format::UintLe))
+    })
+}
+
 /// A decoded request (what a drive, or the simulator, receives).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DecodedRequest<'p> {
@@ -1003,6 +1024,10 @@ pub struct DecodedRequest<'p> {
     pub process: Option<[u16; 2]>,
     /// The words of its words field (a block transfer's words to write); empty if none.
     pub words: Words,
+    /// The registers its data field carries when it carries more than 4 bytes (a Modbus
+    /// 10h write of three registers or more), each in the field's byte order; empty
+    /// otherwise (the data is then the number in `data`).
+    pub data_words: Words,
     /// Every part's value, including presentation (digits used, optional parts present).
     pub values: FrameValues,
     /// Frame length in bytes.
@@ -1134,6 +1159,18 @@ impl Protocol {
         }
         self.command_for(CommandKind::Read, space, DataType::Word)
             .filter(|command| command_reads_blocks(command))
+    }
+
+    /// The command that writes several consecutive registers in one exchange, when the
+    /// protocol allows more than one ([`Protocol::max_words_per_write`]): a RAM write of
+    /// `space` whose request's data field is sized by a length part (Modbus 10h).
+    pub fn block_write_command(&self, space: Space) -> Option<&CommandSpec> {
+        if self.max_words_per_write < 2 {
+            return None;
+        }
+        self.commands.iter().find(|c| {
+            c.kind == CommandKind::WriteRam && c.space == space && command_writes_blocks(c)
+        })
     }
 
     /// The block-transfer command, when the drive has one (a [`CommandKind::Block`] command
@@ -1379,6 +1416,7 @@ impl Protocol {
                             data: values.get(layout, Role::Data).unwrap_or(0),
                             process: process_of(layout, &values),
                             words: values.words(layout, bytes),
+                            data_words: values.data_words(layout, bytes),
                             values,
                             len,
                         },

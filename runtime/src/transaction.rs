@@ -181,6 +181,8 @@ pub struct Master<T: Transport, D: 'static = AnyDrive> {
     block_words: u16,
     /// The words a block transfer under way writes, and the words it asks back.
     block_transfer: Option<(crate::codec::Words, u8)>,
+    /// The registers a block write under way carries ([`Master::write_words`]).
+    block_write: Option<crate::codec::Words>,
     /// Added to the drive's processing time in every reply timeout: the adapter's and the
     /// host's latency, which no manual can know.
     host_latency: Duration,
@@ -255,6 +257,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
             echo_fixed: false,
             block_words: 0,
             block_transfer: None,
+            block_write: None,
             host_latency: crate::serial::HOST_LATENCY,
             late_reply_until: None,
             reply_delay: None,
@@ -792,6 +795,69 @@ impl<T: Transport, D: 'static> Master<T, D> {
         Ok(answer)
     }
 
+    /// Writes `words` to consecutive 16-bit registers of the parameter space, from register
+    /// `start` (its number before the protocol's address map), in one exchange where the
+    /// protocol has a write command whose data field is sized by a length part (Modbus 10h:
+    /// its quantity and byte count), at most [`Protocol::max_words_per_write`] of them
+    /// (the DV1: 12). Each word goes in the byte order of the request's data field; a
+    /// double-word register takes two (Modbus: the high word first). One word is written
+    /// with the protocol's ordinary RAM write. Too many words, none, or more than one on a
+    /// protocol that writes one register at a time, is refused before anything is sent.
+    /// Not repeated on failure (it writes). Returns what the reply said besides.
+    pub fn write_words(&mut self, start: u16, words: &[u16]) -> Result<Answer, TransactionError> {
+        let mut request = Request::raw(CommandKind::WriteRam, start, 0);
+        let protocol = self.protocol;
+        let command = protocol.block_write_command(Space::Parameter);
+        let max = if command.is_some() {
+            protocol.max_words_per_write
+        } else {
+            1
+        };
+        let too_many = |request: &Request| {
+            TransactionError::new(
+                Some(request),
+                TransactionErrorKind::Encode(EncodeError::TooManyWordsToWrite {
+                    protocol: protocol.id.clone(),
+                    words: words.len(),
+                    max,
+                }),
+            )
+        };
+        if words.is_empty() || words.len() > usize::from(max) {
+            return Err(too_many(&request));
+        }
+        if let [only] = *words {
+            request.data = u32::from(only);
+            return self.transact(&request);
+        }
+        let Some(command) = command else {
+            return Err(too_many(&request));
+        };
+        request.command = Some(command.code);
+        if let [first, second] = *words {
+            // Two words are a number, as a double-word register's write carries them.
+            request.data_type = DataType::DoubleWord;
+            request.data = if self.block_write_little_endian(command) {
+                u32::from(first) | (u32::from(second) << 16)
+            } else {
+                (u32::from(first) << 16) | u32::from(second)
+            };
+        }
+        let list = crate::codec::Words::from_slice(words).ok_or_else(|| too_many(&request))?;
+        self.block_write = Some(list);
+        let outcome = self.exchange(&request);
+        self.block_write = None;
+        outcome
+    }
+
+    /// Whether a block write's data field is least significant byte first.
+    fn block_write_little_endian(&self, command: &CommandSpec) -> bool {
+        command
+            .request
+            .field(Role::Data)
+            .is_some_and(|field| field.format == crate::layout::Format::UintLe)
+    }
+
     /// The value of a register `words.len()` words wide (1 or 2) that [`Master::read_words`]
     /// returned, as a read of that register alone gives it (Modbus: the high word first).
     pub fn join_words(&self, words: &[u16]) -> u32 {
@@ -1180,6 +1246,30 @@ impl<T: Transport, D: 'static> Master<T, D> {
             protocol
                 .encode_broadcast(request, &to, &mut self.request)
                 .map_err(cannot_send)?
+        } else if let Some(words) = self.block_write {
+            // A block write: the request counts the words it carries; more than two go in
+            // its data field as a payload, each in the field's byte order.
+            let (layout, mut values) = protocol
+                .request_values(request, self.address)
+                .map_err(cannot_send)?;
+            let count = words.as_slice().len();
+            values.data_size = (count * 2) as u8;
+            let mut payload = [0u8; 2 * crate::codec::MAX_WORDS];
+            let little_endian = self.block_write_little_endian(command);
+            for (word, pair) in words.as_slice().iter().zip(payload.chunks_exact_mut(2)) {
+                pair.copy_from_slice(&if little_endian {
+                    word.to_le_bytes()
+                } else {
+                    word.to_be_bytes()
+                });
+            }
+            let payload = if count > 2 {
+                &payload[..count * 2]
+            } else {
+                &[]
+            };
+            crate::codec::encode_with_payload(layout, &values, payload, &mut self.request)
+                .map_err(cannot_send)?
         } else if self.block_words > 1 {
             // A block read: the request counts the words it asks for.
             let (layout, mut values) = protocol
@@ -1218,6 +1308,9 @@ impl<T: Transport, D: 'static> Master<T, D> {
             // A block read asks for its words; a single read for its data type's size.
             data_size: if self.block_words > 1 {
                 Some((self.block_words * 2).min(u16::from(u8::MAX)) as u8)
+            } else if let Some(words) = self.block_write {
+                // A block write's reply repeats the count of registers written.
+                Some((words.as_slice().len() * 2) as u8)
             } else {
                 (request.kind.only_reads() && request.data_type.size() > 0)
                     .then_some(request.data_type.size())
@@ -1605,7 +1698,8 @@ fn check_reply(
             ..
         } => {
             let size = usize::from(values.data_size);
-            let wide = size > 4;
+            // A reply without a data field counts what it answers (Modbus 10h's quantity).
+            let wide = size > 4 && command.reply.has(Role::Data);
             if (block_size > 0 || wide) && size != block_size {
                 return Err(TransactionError::new(
                     Some(request),

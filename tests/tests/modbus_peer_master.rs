@@ -10,8 +10,9 @@
 //!   command FA01 and command word FA00 to run at 60 Hz, and get exception 03 for a read of
 //!   two words and 02 for a communication number that does not exist (manual 5.1, 5.3).
 //! - DV1, in Modbus RTU and Modbus ASCII: reads of one register and of a block of eight,
-//!   writes of one and of several registers, exception 02 for an address with no register
-//!   and function 08's echo (manual 5.8.1).
+//!   writes of one, two and twelve registers (the most function 10 takes, read back),
+//!   exception 03 for thirteen, exception 02 for an address with no register and
+//!   function 08's echo (manual 5.8.1).
 //!
 //! Needs `pip install -r tests/python/requirements.txt` (.ci/run does it). Without the
 //! packages the test says SKIPPED, except under CI, where it fails.
@@ -278,6 +279,11 @@ fn minimalmodbus_drives_our_virtual_vf_as1_to_60_hz() {
     check_vf_as1("minimalmodbus");
 }
 
+/// Twelve registers from 0030h for the DV1's function 10: 07-03 = 0, 07-04 = 0, 07-05 = 1,
+/// 07-06 = 2, 07-08 = 3, 07-09 = 5.0 s (50), then six words for addresses without a
+/// parameter.
+const DV1_TWELVE: [u16; 12] = [0, 0, 1, 2, 3, 50, 0x11, 0x12, 0x13, 0x14, 0x15, 0x16];
+
 /// The DV1 over Modbus, in either framing (5.8.1): the communication parameters and the
 /// monitor block are consecutive registers.
 fn dv1_plan() -> serde_json::Value {
@@ -287,10 +293,19 @@ fn dv1_plan() -> serde_json::Value {
         { "op": "read", "address": register("parameter_02_15"), "count": 1 },
         { "op": "write", "address": register("parameter_02_15"), "value": 5000 },
         { "op": "read", "address": register("parameter_02_15"), "count": 1 },
-        // Function 10 over 07-03 and 07-04 (the virtual drive takes up to two registers per
-        // write), then a block read of 07-03 .. 07-06.
+        // Function 10 over 07-03 and 07-04, then a block read of 07-03 .. 07-06.
         { "op": "write_many", "address": register("data_length"), "values": [0, 1] },
         { "op": "read", "address": register("data_length"), "count": 4 },
+        // Function 10 with the most registers the manual allows, 12 (l. 439-440), from
+        // 0030h: 07-03 .. 07-09 (0030h-0035h), then six addresses the drive has no
+        // parameter at, which are skipped: at least one register is written, so the
+        // request is not refused (l. 473). Read back: the six values, then 0 for the rest.
+        { "op": "write_many", "address": register("data_length"), "values": DV1_TWELVE },
+        { "op": "read", "address": register("data_length"), "count": 12 },
+        // Thirteen registers: more than the drive takes, exception 03 (illegal data value);
+        // nothing is written.
+        { "op": "write_many", "address": register("data_length"), "values": [1, 1, 0, 1, 1, 100, 0, 0, 0, 0, 0, 0, 0] },
+        { "op": "read", "address": register("data_length"), "count": 6 },
         // The monitor block 1019h-1020h: eight registers in one read.
         { "op": "read", "address": register("dc_bus_voltage"), "count": 8 },
         // No register at 2000h: exception 02, illegal data address.
@@ -338,18 +353,40 @@ fn check_dv1(client: &str, framing: &str) {
         &[0, 1, 0, 1].map(serde_json::Value::from),
         "{client} {framing}"
     );
+    ok(5);
+    let written: Vec<serde_json::Value> = DV1_TWELVE[..6]
+        .iter()
+        .copied()
+        .chain([0; 6])
+        .map(serde_json::Value::from)
+        .collect();
     assert_eq!(
-        ok(5),
+        ok(6),
+        &written,
+        "{client} {framing}: twelve registers written in one request, the six without a parameter skipped"
+    );
+    assert_eq!(
+        answers[7]["exception"], 3,
+        "{client} {framing}: thirteen registers refused: {}",
+        answers[7]
+    );
+    assert_eq!(
+        ok(8),
+        &written[..6],
+        "{client} {framing}: the refused write changed nothing"
+    );
+    assert_eq!(
+        ok(9),
         &(101..=108).map(serde_json::Value::from).collect::<Vec<_>>(),
         "{client} {framing}: 1019h-1020h in one read"
     );
     assert_eq!(
-        answers[6]["exception"], 2,
+        answers[10]["exception"], 2,
         "{client} {framing}: {}",
-        answers[6]
+        answers[10]
     );
     assert_eq!(
-        ok(7),
+        ok(11),
         &[serde_json::json!(0x1234)],
         "{client} {framing}: 08 echoes"
     );

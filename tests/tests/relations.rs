@@ -313,3 +313,116 @@ fn dv1_takes_99999_as_ffffh_besides_its_range_and_starts_with_it() {
     assert_eq!(sim.lock().raw("07-09"), Some(0xFFFF));
     assert_eq!(master.read::<Interval>().unwrap(), Seconds(99999.0));
 }
+
+#[test]
+fn dv1_parameters_answer_to_their_p_numbers() {
+    // 通讯参数组 (l. 19-52): every communication parameter has a group number and a P
+    // number; 02-15 is P.195 (例三).
+    for (code, alias) in [
+        ("07-00", "P.33"),
+        ("07-01", "P.36"),
+        ("07-07", "P.154"),
+        ("07-11", "P.34"),
+        ("02-15", "P.195"),
+    ] {
+        let by_code = dv1::DRIVE.register(code).expect(code);
+        assert_eq!(by_code.aliases, [alias], "{code}");
+        let by_alias = dv1::DRIVE.register(alias).expect(alias);
+        assert!(std::ptr::eq(by_code, by_alias), "{alias} names {code}");
+        let lower = alias.to_ascii_lowercase();
+        assert!(
+            dv1::DRIVE
+                .register(&lower)
+                .is_some_and(|r| std::ptr::eq(r, by_code)),
+            "{lower}"
+        );
+    }
+    // The typed API's aliases are the same types.
+    fn code_of<R: Register>() -> &'static str {
+        R::INFO.code
+    }
+    assert_eq!(code_of::<dv1::registers::P195>(), "02-15");
+    assert_eq!(code_of::<dv1::registers::P33>(), "07-00");
+    let sim = Simulator::new(&dv1::DRIVE);
+    let mut master = sim.master(&dv1::protocols::MODBUS);
+    master
+        .write_ram::<dv1::registers::P195>(Hertz(50.0))
+        .unwrap();
+    assert_eq!(
+        master.read::<dv1::registers::Parameter0215>().unwrap(),
+        Hertz(50.0)
+    );
+}
+
+#[test]
+fn dv1_refuses_the_communication_settings_its_manual_forbids() {
+    // 5.8.1 设定, note 4 (l. 102): in the Eaton protocol (07-00 = 1, the factory setting),
+    // two stop bits only without parity; 7 data bits, 1 stop bit and no parity cannot be
+    // used. Note 1 (l. 94): Modbus (07-00 = 0) needs a station number other than 0.
+    use dv1::registers::{DataLength, Parity, Protocol, StationNumber, StopBits};
+    let rejected = |error: vfd_runtime::TransactionError| {
+        matches!(
+            error.kind,
+            TransactionErrorKind::Rejected { code: 0x03, .. }
+        )
+    };
+    let sim = Simulator::new(&dv1::DRIVE);
+    let mut master = sim.master(&dv1::protocols::MODBUS);
+    master
+        .write_ram::<Parity>(dv1::codes::Parity::Even)
+        .unwrap();
+    let error = master
+        .write_ram::<StopBits>(dv1::codes::StopBits::Bits2)
+        .unwrap_err();
+    assert!(rejected(error), "two stop bits with even parity");
+    assert_eq!(sim.lock().raw("07-04"), Some(0), "07-04 unchanged");
+    master
+        .write_ram::<Parity>(dv1::codes::Parity::None)
+        .unwrap();
+    master
+        .write_ram::<StopBits>(dv1::codes::StopBits::Bits2)
+        .unwrap();
+    // 07-04 = 1 now: parity must stay 0.
+    assert!(rejected(
+        master
+            .write_ram::<Parity>(dv1::codes::Parity::Odd)
+            .unwrap_err()
+    ));
+    master
+        .write_ram::<StopBits>(dv1::codes::StopBits::Bits1)
+        .unwrap();
+    // 7 bits with 1 stop bit and no parity.
+    assert!(rejected(
+        master
+            .write_ram::<DataLength>(dv1::codes::DataLength::Bits7)
+            .unwrap_err()
+    ));
+    // Under Modbus (07-00 = 0) those rules do not apply, but the station must not be 0.
+    assert_eq!(sim.lock().raw("07-01"), Some(0));
+    assert!(rejected(
+        master
+            .write_ram::<Protocol>(dv1::codes::Protocol::Modbus)
+            .unwrap_err()
+    ));
+    master.write_ram::<StationNumber>(1).unwrap();
+    master
+        .write_ram::<Protocol>(dv1::codes::Protocol::Modbus)
+        .unwrap();
+    master
+        .write_ram::<DataLength>(dv1::codes::DataLength::Bits7)
+        .unwrap();
+    assert!(rejected(master.write_ram::<StationNumber>(0).unwrap_err()));
+    // The rule as a typed error, quoting the manual.
+    let stop = dv1::DRIVE.register("07-04").unwrap();
+    let error = dv1::DRIVE
+        .check_combinations(stop, 1, |code| match code {
+            "07-00" => Some(1),
+            "07-05" => Some(2),
+            _ => None,
+        })
+        .unwrap_err();
+    assert_eq!(error.combination.id, "two_stop_bits_with_parity");
+    let message = error.to_string();
+    assert!(message.contains("请务必把 07-05 设定为 0"), "{message}");
+    assert!(message.contains("note 4 (l. 102)"), "{message}");
+}

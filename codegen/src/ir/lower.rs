@@ -240,6 +240,7 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             source: p.source.clone(),
             note: p.note.trim().to_owned(),
         }),
+        forbidden_combinations: lower_forbidden(model, &index),
     };
     ir.behaviour = model
         .behaviour
@@ -289,6 +290,7 @@ fn lower_register(
         id: register.id.clone(),
         type_name: type_name(&register.id),
         code: register.code.clone(),
+        aliases: register.aliases.clone(),
         name: register.name.clone(),
         name_zh: register.name_zh.clone(),
         description: register.description.trim().to_owned(),
@@ -443,6 +445,38 @@ fn lower_ports(model: &DriveFile, index: &ranges::RegisterIndex<'_>) -> Option<P
     })
 }
 
+/// The forbidden combinations, each condition's register resolved to its code and its
+/// values to raw words (validation has checked both).
+fn lower_forbidden(
+    model: &DriveFile,
+    index: &ranges::RegisterIndex<'_>,
+) -> Vec<ForbiddenCombinationIr> {
+    model
+        .forbidden_combinations
+        .iter()
+        .map(|combination| ForbiddenCombinationIr {
+            id: combination.id.clone(),
+            rule: combination.rule.trim().to_owned(),
+            meaning: combination.meaning.trim().to_owned(),
+            source: combination.source.clone(),
+            when: combination
+                .when
+                .iter()
+                .filter_map(|condition| {
+                    let register = index.find(&condition.register)?;
+                    let scale = ranges::scale_of(register);
+                    let raw = condition
+                        .values
+                        .iter()
+                        .map(|v| (v / scale).round() as u32)
+                        .collect();
+                    Some((register.code.clone(), raw))
+                })
+                .collect(),
+        })
+        .collect()
+}
+
 /// The conversions, their formulas parsed (validation has checked they parse).
 fn lower_conversions(model: &DriveFile, index: &ranges::RegisterIndex<'_>) -> Vec<ConversionIr> {
     model
@@ -549,6 +583,7 @@ fn protocol_files(protocols: &[LoweredProtocol]) -> Vec<ProtocolFileIr> {
             description: meta.description.trim().to_owned(),
             text: meta.text,
             layouts,
+            based_on: protocol.file.based_on.as_ref().map(|b| b.protocol.clone()),
         });
     }
     files
@@ -630,6 +665,8 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         default_process: protocol.file.protocol.default_process,
         frame_gap_chars: runtime.frame_gap_chars,
         max_words_per_read: runtime.max_words_per_read,
+        max_words_per_write: runtime.max_words_per_write,
+        partial_blocks: runtime.partial_blocks,
         block: runtime.block.clone(),
         block_source: block_model(model, &protocol.id).map_or_else(String::new, |b| {
             let modes: Vec<&str> = b.modes.iter().map(|m| m.source.as_str()).collect();
@@ -805,7 +842,7 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                             .model
                             .registers
                             .iter()
-                            .find(|r| &r.code == name || &r.id == name)
+                            .find(|r| r.is_named(name))
                             .map_or_else(|| name.clone(), |r| r.code.clone());
                         (code, *value)
                     })

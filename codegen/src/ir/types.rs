@@ -79,6 +79,9 @@ pub struct DriveIr {
     /// The register choosing where parameter writes go, when the drive has one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub persistence: Option<PersistenceIr>,
+    /// Combinations of register values the manual forbids.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub forbidden_combinations: Vec<ForbiddenCombinationIr>,
 }
 
 /// The register choosing where parameter writes over the link go (`persistence:`).
@@ -96,6 +99,22 @@ pub struct PersistenceIr {
     pub source: String,
     /// Remarks.
     pub note: String,
+}
+
+/// Values of several registers the manual forbids together, resolved to codes and raw
+/// words.
+#[derive(Debug, Clone, Serialize)]
+pub struct ForbiddenCombinationIr {
+    /// Identifier.
+    pub id: String,
+    /// The manual's words.
+    pub rule: String,
+    /// In English.
+    pub meaning: String,
+    /// Manual section.
+    pub source: String,
+    /// Each condition: register code and the raw words that fulfil it.
+    pub when: Vec<(String, Vec<u32>)>,
 }
 
 /// The drive's serial ports, resolved to register codes.
@@ -417,6 +436,10 @@ pub struct ProtocolFileIr {
     pub text: bool,
     /// Every layout a command or the error reply uses, by name, in the file's order.
     pub layouts: Vec<FrameLayout>,
+    /// The protocol file it is `based_on`, read with it (an input of the build, not part
+    /// of the snapshot: the layouts above are already merged).
+    #[serde(skip)]
+    pub based_on: Option<String>,
 }
 
 /// A protocol as one drive speaks it.
@@ -453,6 +476,10 @@ pub struct ProtocolIr {
     pub frame_gap_chars: f32,
     /// The most registers one read carries (1: one per read).
     pub max_words_per_read: u16,
+    /// The most registers one write carries (1: one per write).
+    pub max_words_per_write: u16,
+    /// A read or write of several registers skips the registers it cannot access.
+    pub partial_blocks: bool,
     /// What a block transfer writes and reads on this drive (`None`: no block transfer).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub block: Option<vfd_runtime::BlockSpec>,
@@ -752,6 +779,9 @@ pub struct RegisterIr {
     pub type_name: String,
     /// The manual's code (`FH`, `FA01`, `3-03`).
     pub code: String,
+    /// Other names the manual gives it (`P.33`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub aliases: Vec<String>,
     /// English name.
     pub name: String,
     /// Chinese name.

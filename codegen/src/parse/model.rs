@@ -75,6 +75,11 @@ pub struct DriveFile {
     /// (DV1 07-11: 0 RAM and EEPROM, 1 RAM only): the master sets that register so that a
     /// RAM write stays out of the EEPROM and a persistent write reaches it.
     pub persistence: Option<PersistenceModel>,
+    /// Combinations of register values the manual forbids (the DV1's two stop bits with
+    /// parity): the virtual drive refuses a write that would make one, `vfd write` checks
+    /// a write against the values it reads first.
+    #[serde(default)]
+    pub forbidden_combinations: Vec<ForbiddenCombinationModel>,
 }
 
 /// A register of the drive that chooses where parameter writes over the link go
@@ -107,6 +112,32 @@ pub struct AddressSpanModel {
     pub from: u16,
     /// The last register number.
     pub to: u16,
+}
+
+/// Values of several registers the manual forbids together (`forbidden_combinations:`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ForbiddenCombinationModel {
+    /// Unique lower snake case name (`two_stop_bits_with_parity`).
+    pub id: String,
+    /// The manual's rule, in its words (quoted by the error a forbidden write gets).
+    pub rule: String,
+    /// What the rule says, in English.
+    pub meaning: String,
+    /// Where the manual says it.
+    pub source: String,
+    /// The conditions, all holding at once: at least two, each about another register.
+    pub when: Vec<CombinationConditionModel>,
+}
+
+/// One condition of a forbidden combination: the register holds one of these values.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CombinationConditionModel {
+    /// The register, by code, id or alias.
+    pub register: String,
+    /// Its values (in its unit, as its range gives them) that fulfil the condition.
+    pub values: Vec<f64>,
 }
 
 /// The drive's serial ports (`ports:`).
@@ -733,6 +764,15 @@ pub struct ProtocolRef {
     /// file's `max_words_per_read` (`12`; `1`: one register per read); left out: the
     /// protocol file's.
     pub max_words_per_read: Option<u16>,
+    /// The most registers one write of several carries on this drive, where fewer than the
+    /// protocol file's `max_words_per_write` (DV1: `12`); left out: the protocol file's.
+    pub max_words_per_write: Option<u16>,
+    /// A read or write of several registers is carried out for the registers that can be,
+    /// and refused only when none can (DV1 l. 473: 若有 1 个及以上可以操作就不视为错误): a
+    /// register that does not exist reads as 0, one that does not exist or refuses its
+    /// value is left as it is. Left out (false): one such register refuses the request.
+    #[serde(default)]
+    pub partial_blocks: bool,
     /// The codes this protocol's error replies carry as the manual gives them for this
     /// drive (its own Modbus exception table, whose numbers mean something else than the
     /// drive's `error_codes`): they name this protocol's error replies in place of the
@@ -1105,6 +1145,12 @@ pub struct RegisterModel {
     pub id: String,
     /// The manual's code or mnemonic for the register, unique.
     pub code: String,
+    /// Other names the manual gives the register (the DV1's P numbers: `[P.33]` for 07-00),
+    /// each unique among the codes, ids and aliases: usable wherever a register is named
+    /// (ranges, relations, the command line, `DriveInfo::register`) and shown on the page;
+    /// one that makes a Rust name becomes a type alias (`pub type P33 = Protocol;`).
+    #[serde(default)]
+    pub aliases: Vec<String>,
     /// The register's name in English.
     pub name: String,
     /// The register's name as the manual prints it in Chinese.
@@ -1190,6 +1236,13 @@ pub struct RegisterModel {
     /// special value may be the default.
     #[serde(default)]
     pub special_values: Vec<SpecialValueModel>,
+}
+
+impl RegisterModel {
+    /// Whether `name` is its code, id or one of its aliases (as written).
+    pub fn is_named(&self, name: &str) -> bool {
+        self.code == name || self.id == name || self.aliases.iter().any(|a| a == name)
+    }
 }
 
 /// A value a register takes besides its range, with its own raw word.
@@ -1557,9 +1610,17 @@ pub struct ProtocolFile {
     /// Reusable frame parts by name; layouts list them.
     #[serde(default)]
     pub parts: BTreeMap<String, PartModel>,
+    /// Another protocol file whose parts, layouts, commands, error reply and error codes
+    /// this one takes, with the changes said here (Modbus ASCII: Modbus RTU's frames with
+    /// another start, checksum and end). What this file gives itself replaces the base's.
+    pub based_on: Option<BasedOnModel>,
     /// Frame layouts by name: the parts of a frame in order, each the name of a part or a part written in place.
+    /// Required unless the file is `based_on` another.
+    #[serde(default)]
     pub layouts: BTreeMap<String, Vec<PartRefModel>>,
-    /// The commands: which layouts a request and its reply use.
+    /// The commands: which layouts a request and its reply use. Required unless the file
+    /// is `based_on` another.
+    #[serde(default)]
     pub commands: Vec<CommandModel>,
     /// Name of the layout of an error reply.
     pub error_reply: Option<String>,
@@ -1600,6 +1661,26 @@ pub struct VariantLiteralModel {
     pub literal: Option<String>,
     /// The bytes, as hex pairs.
     pub literal_hex: Option<String>,
+}
+
+/// A protocol file built on another (`based_on:`): the base's layouts, each changed the
+/// same way.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BasedOnModel {
+    /// The base protocol file's id (its file name without `.yaml`), in the same folder. A
+    /// base may not itself be based on another.
+    pub protocol: String,
+    /// Parts put before the first part of every layout of the base (a start literal).
+    #[serde(default)]
+    pub prepend: Vec<String>,
+    /// Parts put after the last part of every layout of the base (an end literal).
+    #[serde(default)]
+    pub append: Vec<String>,
+    /// Parts of the base's layouts replaced, wherever a layout names them: base part name
+    /// -> the name of the part used instead (`{ crc: lrc }`).
+    #[serde(default)]
+    pub replace: BTreeMap<String, String>,
 }
 
 /// A protocol's own error codes.
@@ -1652,6 +1733,10 @@ pub struct ProtocolMeta {
     /// protocol's read command counts its data (a length part with `counts: data_size`);
     /// left out: 1, one register per read.
     pub max_words_per_read: Option<u16>,
+    /// The most 16-bit registers one write request may carry (Modbus 10h: 123), when a
+    /// RAM write command's data field is sized by a length part; left out: 1, one register
+    /// (of its own width) per write.
+    pub max_words_per_write: Option<u16>,
 }
 
 /// The suffix of a struct name asking the reader for "a mapping with these keys, or a

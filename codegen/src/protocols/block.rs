@@ -85,10 +85,10 @@ fn resolve<'d>(
     path: &str,
     out: &mut Diagnostics,
 ) -> Option<&'d RegisterModel> {
-    let found = input.drive.registers.iter().find(|r| {
-        (r.code == name || r.id == name)
-            && r.space.is_none_or(|s| s == vfd_runtime::Space::Parameter)
-    });
+    let found =
+        input.drive.registers.iter().find(|r| {
+            r.is_named(name) && r.space.is_none_or(|s| s == vfd_runtime::Space::Parameter)
+        });
     if found.is_none() {
         out.push(
             input
@@ -164,12 +164,7 @@ fn choices(
     let drive = input.drive;
     let tables: Vec<&str> = names
         .iter()
-        .filter_map(|name| {
-            drive
-                .registers
-                .iter()
-                .find(|r| &r.code == name || &r.id == name)
-        })
+        .filter_map(|name| drive.registers.iter().find(|r| r.is_named(name)))
         .filter_map(|r| r.code_table.as_deref())
         .collect();
     let first = *tables.first()?;

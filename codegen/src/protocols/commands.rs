@@ -207,7 +207,7 @@ pub(super) fn apply_command_registers(
     out: &mut Diagnostics,
 ) {
     let registers = &input.drive.registers;
-    let find = |name: &str| registers.iter().find(|r| r.code == name || r.id == name);
+    let find = |name: &str| registers.iter().find(|r| r.is_named(name));
     for (index, entry) in input.reference.command_registers.iter().enumerate() {
         let path = format!("{}.command_registers[{index}]", input.reference_path);
         let error = |key: &str, message: String, hint: &str| {

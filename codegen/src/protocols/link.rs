@@ -193,13 +193,9 @@ fn reply_delay(input: &Input<'_>, out: &mut Diagnostics) -> Option<ReplyDelay> {
     })
 }
 
-/// The register with this code or id in the drive file.
+/// The register with this code, id or alias in the drive file.
 pub(super) fn find_register<'a>(input: &'a Input<'_>, name: &str) -> Option<&'a RegisterModel> {
-    input
-        .drive
-        .registers
-        .iter()
-        .find(|r| r.code == name || r.id == name)
+    input.drive.registers.iter().find(|r| r.is_named(name))
 }
 
 /// The drive's broadcast rule: its commands must be the protocol's writes, each with a

@@ -3,7 +3,8 @@
 //! the value the generated code embeds and the example frames are decoded with. Problems in
 //! a protocol file are reported here, with the protocol file's positions.
 //!
-//! One module per thing lowered: [`layouts`] (layouts and their sizes), [`parts`] (one
+//! A file `based_on` another comes merged with its base ([`crate::load::based_on`]). One
+//! module per thing lowered: [`layouts`] (layouts and their sizes), [`parts`] (one
 //! function per kind of part), [`commands`] (commands, codes and address maps),
 //! [`pre_steps`], [`error_codes`] (which table names the error replies) and [`text`] (what
 //! `text: true` forbids). Every function reports into one
@@ -66,7 +67,14 @@ pub(crate) fn lower(drive: &LoadedDrive, out: &mut Diagnostics) -> Vec<LoweredPr
                 drive_source: &drive.source,
                 drive: &drive.model,
             };
-            let runtime = lower_protocol(&input, out)?;
+            let before = out.items.len();
+            let runtime = lower_protocol(&input, out);
+            if let Some(inherited) = &protocol.inherited {
+                for item in &mut out.items[before..] {
+                    inherited.relocate(&protocol.source, item);
+                }
+            }
+            let runtime = runtime?;
             Some(LoweredProtocol {
                 id: reference.id.clone(),
                 uses: reference.uses.clone(),
@@ -101,6 +109,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     let layouts = layouts::lower_layouts(file, source, out);
     layouts::check_rust_names(&input.reference.id, file, source, out);
     let commands = commands::lower_commands(input, &layouts, out);
+    let file_writes_blocks = commands.iter().any(writes_blocks);
     let mut commands = commands::drive_subset(commands, input, out);
     commands::apply_command_registers(&mut commands, input, out);
     let block = block::lower_block(input, &commands, out);
@@ -128,6 +137,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     error_codes::check_error_codes(input, out);
     let out_of_band = check_station_range(input, out);
     let max_words_per_read = max_words_per_read(input, &commands, out);
+    let max_words_per_write = max_words_per_write(input, &commands, file_writes_blocks, out);
     let frame_gap_chars = link::frame_gap_chars(input, out);
     let timing = link::timing(input, out);
     let broadcast = link::broadcast(input, &commands, out);
@@ -155,6 +165,8 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         default_process: meta.default_process.unwrap_or([0, 0]),
         frame_gap_chars,
         max_words_per_read,
+        max_words_per_write,
+        partial_blocks: input.reference.partial_blocks,
         timing,
         broadcast,
         error_codes: Cow::Owned(error_codes::error_table(input)),
@@ -334,6 +346,89 @@ fn shared_write_numbers(
             }
         }
     }
+}
+
+/// The most registers one write carries: the protocol file's `max_words_per_write`,
+/// lowered by the drive's. Above 1, a RAM write command's data field must be sized by a
+/// length part, and a block must fit the one byte a frame's data size is held in.
+/// Whether a lowered command is a RAM write that can carry several registers.
+fn writes_blocks(command: &commands::LoweredCommand) -> bool {
+    command.spec.kind == vfd_runtime::CommandKind::WriteRam
+        && vfd_runtime::protocol::command_writes_blocks(&command.spec)
+}
+
+/// (A drive whose subset of the file's commands leaves out every such write, the VF-AS1's
+/// Modbus with 03 and 06 only, writes one register at a time without saying so.)
+fn max_words_per_write(
+    input: &Input<'_>,
+    commands: &[commands::LoweredCommand],
+    file_writes_blocks: bool,
+    out: &mut Diagnostics,
+) -> u16 {
+    let file = input.file.protocol.max_words_per_write;
+    let drive = input.reference.max_words_per_write;
+    for (value, source, path) in [
+        (
+            file,
+            input.source,
+            "protocol.max_words_per_write".to_owned(),
+        ),
+        (
+            drive,
+            input.drive_source,
+            format!("{}.max_words_per_write", input.reference_path),
+        ),
+    ] {
+        if value.is_some_and(|v| v == 0 || v > 127) {
+            out.push(
+                source
+                    .error(&path, "max_words_per_write must be 1 to 127")
+                    .hint("a write's data size is one byte: at most 127 registers of 2 bytes"),
+            );
+            return 1;
+        }
+    }
+    if let (Some(drive), file) = (drive, file.unwrap_or(1)) {
+        if drive > file {
+            out.push(
+                input
+                    .drive_source
+                    .error(
+                        &format!("{}.max_words_per_write", input.reference_path),
+                        format!("max_words_per_write {drive} is above the protocol file's {file}"),
+                    )
+                    .hint("a drive may only lower the protocol's limit"),
+            );
+            return 1;
+        }
+    }
+    let value = drive.or(file).unwrap_or(1);
+    let drive_writes_blocks = commands.iter().any(writes_blocks);
+    if value > 1 && drive.is_none() && file_writes_blocks && !drive_writes_blocks {
+        return 1;
+    }
+    if value > 1 && !drive_writes_blocks {
+        let (source, path) = match drive {
+            Some(_) => (
+                input.drive_source,
+                format!("{}.max_words_per_write", input.reference_path),
+            ),
+            None => (input.source, "protocol.max_words_per_write".to_owned()),
+        };
+        out.push(
+            source
+                .error(
+                    &path,
+                    format!("max_words_per_write is {value}, but no RAM write command can carry several registers"),
+                )
+                .hint(
+                    "a RAM write's request needs a data field with `size: length` (a length part counting it); \
+                     or leave max_words_per_write out",
+                ),
+        );
+        return 1;
+    }
+    value
 }
 
 /// The most registers one read carries: the protocol file's `max_words_per_read`, lowered

@@ -122,6 +122,7 @@ pub(super) fn lower_both(drive: &str, protocol: &str) -> Result<Protocol, Vec<Di
             reference: 0,
             source,
             file,
+            inherited: None,
         }],
         sources: Vec::new(),
         incomplete: Vec::new(),

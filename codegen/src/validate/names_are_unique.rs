@@ -64,6 +64,15 @@ pub fn names_are_unique(drive: &Context, out: &mut Diagnostics) {
                 .collect(),
         ),
         (
+            "forbidden combination id",
+            model
+                .forbidden_combinations
+                .iter()
+                .enumerate()
+                .map(|(i, c)| (format!("forbidden_combinations[{i}].id"), c.id.clone()))
+                .collect(),
+        ),
+        (
             "protocol id",
             model
                 .protocols
@@ -91,6 +100,7 @@ pub fn names_are_unique(drive: &Context, out: &mut Diagnostics) {
                 .collect(),
         ));
     }
+    aliases_are_unique(drive, out);
     for (what, items) in groups {
         let mut seen: HashMap<&str, &str> = HashMap::new();
         for (path, name) in &items {
@@ -104,6 +114,48 @@ pub fn names_are_unique(drive: &Context, out: &mut Diagnostics) {
                         )
                         .hint(format!("each {what} must be unique")),
                 );
+            }
+        }
+    }
+}
+
+/// A register alias names one register: it is no register's code or id, nor another
+/// alias, ignoring case (a client may write `p.33` for `P.33`), and is not empty.
+fn aliases_are_unique(drive: &Context, out: &mut Diagnostics) {
+    let model = &drive.model;
+    let mut names: HashMap<String, String> = HashMap::new();
+    for (i, register) in model.registers.iter().enumerate() {
+        for (key, name) in [("code", &register.code), ("id", &register.id)] {
+            names
+                .entry(name.to_ascii_lowercase())
+                .or_insert(format!("registers[{i}].{key}"));
+        }
+    }
+    for (i, register) in model.registers.iter().enumerate() {
+        for (j, alias) in register.aliases.iter().enumerate() {
+            let path = format!("registers[{i}].aliases[{j}]");
+            if alias.trim().is_empty() {
+                out.push(
+                    drive
+                        .source
+                        .error(&path, "an empty register alias")
+                        .hint("write the manual's other name for the register (`P.33`), or leave the alias out"),
+                );
+                continue;
+            }
+            match names.get(&alias.to_ascii_lowercase()) {
+                Some(first) => out.push(
+                    drive
+                        .source
+                        .error(
+                            &path,
+                            format!("register alias `{alias}` is already a register's name (at {first})"),
+                        )
+                        .hint("an alias must name one register: unique among the codes, ids and aliases, ignoring case"),
+                ),
+                None => {
+                    names.insert(alias.to_ascii_lowercase(), path);
+                }
             }
         }
     }

@@ -50,6 +50,7 @@ pub struct RegisterIndex<'a> {
     code_tables: &'a [crate::parse::model::CodeTableModel],
     by_code: HashMap<&'a str, usize>,
     by_id: HashMap<&'a str, usize>,
+    by_alias: HashMap<&'a str, usize>,
 }
 
 impl<'a> RegisterIndex<'a> {
@@ -58,23 +59,30 @@ impl<'a> RegisterIndex<'a> {
         let registers = drive.registers.as_slice();
         let mut by_code = HashMap::with_capacity(registers.len());
         let mut by_id = HashMap::with_capacity(registers.len());
+        let mut by_alias = HashMap::new();
         for (index, register) in registers.iter().enumerate() {
             by_code.entry(register.code.as_str()).or_insert(index);
             by_id.entry(register.id.as_str()).or_insert(index);
+            for alias in &register.aliases {
+                by_alias.entry(alias.as_str()).or_insert(index);
+            }
         }
         RegisterIndex {
             registers,
             code_tables: &drive.codes,
             by_code,
             by_id,
+            by_alias,
         }
     }
 
-    /// The first register with this code, else the first with this id.
+    /// The first register with this code, else the first with this id, else the one with
+    /// this alias (`P.195`).
     pub fn find(&self, name: &str) -> Option<&'a RegisterModel> {
         self.by_code
             .get(name)
             .or_else(|| self.by_id.get(name))
+            .or_else(|| self.by_alias.get(name))
             .map(|&index| &self.registers[index])
     }
 

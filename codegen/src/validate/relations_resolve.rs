@@ -36,6 +36,7 @@ pub fn relations_resolve(drive: &Context, out: &mut Diagnostics) {
     };
     ports(drive, &index, out, &unknown);
     persistence(drive, &index, out, &unknown);
+    forbidden_combinations(drive, &index, out, &unknown);
     for (i, register) in drive.model.registers.iter().enumerate() {
         if let Some(live) = &register.held_at_trip_of {
             let path = format!("registers[{i}].held_at_trip_of");
@@ -477,6 +478,97 @@ fn conversions(
                         )
                         .hint("check the formula, the inputs' `times` and `rounding`, or record a manual mistake"),
                 );
+            }
+        }
+    }
+}
+
+/// Each forbidden combination has at least two conditions, each about another register
+/// that exists, with values the register can hold (whole raw words within its range).
+fn forbidden_combinations(
+    drive: &Context,
+    index: &RegisterIndex<'_>,
+    out: &mut Diagnostics,
+    unknown: &dyn Fn(&mut Diagnostics, &str, &str),
+) {
+    for (i, combination) in drive.model.forbidden_combinations.iter().enumerate() {
+        let path = format!("forbidden_combinations[{i}]");
+        if !is_snake_case(&combination.id) {
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("{path}.id"),
+                        format!("id `{}` is not lower snake case", combination.id),
+                    )
+                    .hint("write it like `two_stop_bits_with_parity`"),
+            );
+        }
+        if combination.when.len() < 2 {
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("{path}.when"),
+                        "a forbidden combination needs at least two conditions",
+                    )
+                    .hint("one condition alone is a range: narrow the register's `range` instead"),
+            );
+        }
+        let mut seen: Vec<&str> = Vec::new();
+        for (j, condition) in combination.when.iter().enumerate() {
+            let at = format!("{path}.when[{j}]");
+            let Some(register) = index.find(&condition.register) else {
+                unknown(out, &format!("{at}.register"), &condition.register);
+                continue;
+            };
+            if seen.contains(&register.code.as_str()) {
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("{at}.register"),
+                            format!(
+                                "register `{}` has two conditions in one combination",
+                                register.code
+                            ),
+                        )
+                        .hint("list all its values in one condition's `values`"),
+                );
+            }
+            seen.push(&register.code);
+            if condition.values.is_empty() {
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &format!("{at}.values"),
+                            "a condition needs at least one value",
+                        )
+                        .hint("the register's values, in its unit, that fulfil the condition"),
+                );
+            }
+            let scale = ranges::scale_of(register);
+            let (low, high) = index.raw_range(register);
+            for (k, value) in condition.values.iter().enumerate() {
+                let raw = value / scale;
+                if (raw - raw.round()).abs() > 1e-6
+                    || (raw.round() as i64) < low
+                    || (raw.round() as i64) > high
+                {
+                    out.push(
+                        drive
+                            .source
+                            .error(
+                                &format!("{at}.values[{k}]"),
+                                format!(
+                                    "{value} is not a value `{}` can hold (a whole step of {scale} within its range)",
+                                    register.code
+                                ),
+                            )
+                            .hint("give the register's values in its unit, as its range does"),
+                    );
+                }
             }
         }
     }

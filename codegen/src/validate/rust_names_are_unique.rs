@@ -86,6 +86,18 @@ fn scopes(drive: &Context) -> Vec<Scope<'_>> {
             .collect(),
     );
     registers.fixed = &[("ALL", "the list of every register")];
+    for (i, register) in model.registers.iter().enumerate() {
+        for (j, alias) in register.aliases.iter().enumerate() {
+            if let Some(rust) = crate::naming::alias_type_name(alias) {
+                registers.items.push(Item {
+                    path: format!("registers[{i}].aliases[{j}]"),
+                    id: alias,
+                    rust,
+                    kind: "type alias",
+                });
+            }
+        }
+    }
     scopes.push(registers);
     // Bit-field words and code tables live in separate modules (`bits`, `codes`).
     scopes.push(types(
@@ -215,11 +227,16 @@ fn report(drive: &Context, scope: &Scope<'_>, out: &mut Diagnostics) {
     let mut reported: HashSet<&str> = HashSet::new();
     for item in &scope.items {
         let rust = format!("{}::{}", scope.rust_path, item.rust);
+        let label = if item.kind == "type alias" {
+            "register alias"
+        } else {
+            scope.label
+        };
         let problem = if let Some((_, what)) = scope.fixed.iter().find(|(n, _)| *n == item.rust) {
             Some((
                 format!(
                     "{} `{}` becomes the Rust {} `{rust}`, which the generator already declares as {what}",
-                    scope.label, item.id, item.kind
+                    label, item.id, item.kind
                 ),
                 "rename it: the generated code needs that name",
             ))
@@ -229,7 +246,7 @@ fn report(drive: &Context, scope: &Scope<'_>, out: &mut Diagnostics) {
                 Some(first) if first.id != item.id => Some((
                     format!(
                         "{} `{}` becomes the Rust {} `{rust}`, like `{}` at {}",
-                        scope.label, item.id, item.kind, first.id, first.path
+                        label, item.id, item.kind, first.id, first.path
                     ),
                     scope.hint,
                 )),

@@ -132,6 +132,12 @@ impl VirtualDrive {
                 Err(refusal) => self.refuse(protocol, Some(request), refusal),
             };
         }
+        if self.is_block_write(protocol, request) {
+            return match self.write_block(protocol, request) {
+                Ok(()) => self.reply(protocol, request, request.data, 0),
+                Err(refusal) => self.refuse(protocol, Some(request), refusal),
+            };
+        }
         let widest = request.command.data_types.iter().map(|t| t.size()).max();
         if widest.is_some_and(|widest| request.values.data_size > widest) {
             // More data than any type the command carries (a Modbus read of two words where
@@ -348,18 +354,25 @@ impl VirtualDrive {
         let little_endian = data_little_endian(&command.reply);
         let mut block = Vec::with_capacity(size);
         let mut word = 0usize;
+        let mut found = 0usize;
         while word < words {
-            let at =
-                u16::try_from(usize::from(wire) + word).map_err(|_| Refusal::UnknownRegister)?;
-            let info = protocol
-                .from_wire(command, at, None)
+            let info = u16::try_from(usize::from(wire) + word)
+                .ok()
+                .and_then(|at| protocol.from_wire(command, at, None))
                 .and_then(|number| self.drive.register_for(command.space, number, false))
                 .filter(|info| info.data_type != DataType::Text)
-                .ok_or(Refusal::UnknownRegister)?;
+                .filter(|info| word + usize::from(info.data_type.size().clamp(2, 4)) / 2 <= words);
+            let Some(info) = info else {
+                if !protocol.partial_blocks {
+                    return Err(Refusal::UnknownRegister);
+                }
+                // A register the drive does not have reads as 0 in a block it answers.
+                block.extend_from_slice(&[0, 0]);
+                word += 1;
+                continue;
+            };
+            found += 1;
             let width = usize::from(info.data_type.size().clamp(2, 4));
-            if word + width / 2 > words {
-                return Err(Refusal::UnknownRegister);
-            }
             let index = if info.array_len == 0 {
                 0
             } else {
@@ -373,7 +386,164 @@ impl VirtualDrive {
             }
             word += width / 2;
         }
+        if found == 0 {
+            return Err(Refusal::UnknownRegister);
+        }
         Ok(block)
+    }
+
+    /// Whether `request` writes more than its first register: a write by the protocol's
+    /// block-write command whose data goes beyond the register it names (or names none).
+    fn is_block_write(&self, protocol: &Protocol, request: &DecodedRequest<'_>) -> bool {
+        let command = request.command;
+        if !protocol
+            .block_write_command(command.space)
+            .is_some_and(|block| std::ptr::eq(block, command))
+        {
+            return false;
+        }
+        let own = self
+            .target_of(request)
+            .map_or(2, |info| info.data_type.size().max(1));
+        request.values.data_size > own
+    }
+
+    /// Writes the consecutive registers a block write carries, word `n` to the register
+    /// `n` words after the first (a double-word register takes two, high word first in a
+    /// big-endian data field). More words than [`Protocol::max_words_per_write`] is a data
+    /// value error. A register that does not exist, or refuses its value, refuses the
+    /// whole request, or with [`Protocol::partial_blocks`] is left as it is as long as one
+    /// register of the block is written. Nothing is written when the request is refused.
+    fn write_block(
+        &mut self,
+        protocol: &Protocol,
+        request: &DecodedRequest<'_>,
+    ) -> Result<(), Refusal> {
+        let command = request.command;
+        let size = usize::from(request.values.data_size);
+        let count = size / 2;
+        if size % 2 != 0 || count > usize::from(protocol.max_words_per_write) {
+            return Err(Refusal::OutOfRange);
+        }
+        let little_endian = data_little_endian(&command.request);
+        let words: Vec<u16> = if size > 4 {
+            request.data_words.as_slice().to_vec()
+        } else {
+            let bytes = if little_endian {
+                request.data.to_le_bytes()[..size].to_vec()
+            } else {
+                request.data.to_be_bytes()[4 - size..].to_vec()
+            };
+            bytes
+                .chunks_exact(2)
+                .map(|pair| {
+                    let pair = [pair[0], pair[1]];
+                    if little_endian {
+                        u16::from_le_bytes(pair)
+                    } else {
+                        u16::from_be_bytes(pair)
+                    }
+                })
+                .collect()
+        };
+        if words.len() != count {
+            return Err(Refusal::OutOfRange);
+        }
+        let wire = request.wire_register.ok_or(Refusal::UnknownRegister)?;
+        let persistent = command.kind == CommandKind::WritePersistent
+            || (command.space == Space::Parameter
+                && self.persistent_writes
+                && protocol
+                    .pre_steps
+                    .iter()
+                    .any(|step| matches!(step, PreStep::Persistence { .. })));
+        let mut writes: Vec<(&'static RegisterInfo, u32)> = Vec::new();
+        let mut refused = None;
+        let mut at = 0usize;
+        while at < count {
+            let (outcome, width) = self.block_word(protocol, command, wire, at, &words);
+            at += width;
+            match outcome {
+                Ok((info, raw)) => match self.check_value(info, raw, persistent) {
+                    Ok(()) => writes.push((info, raw)),
+                    Err(refusal) if protocol.partial_blocks => {
+                        refused.get_or_insert(refusal);
+                    }
+                    Err(refusal) => return Err(refusal),
+                },
+                Err(refusal) if protocol.partial_blocks => {
+                    refused.get_or_insert(refusal);
+                }
+                Err(refusal) => return Err(refusal),
+            }
+        }
+        // The manual's forbidden combinations, over the values the whole block leaves.
+        let block = writes.clone();
+        let mut kept = Vec::with_capacity(writes.len());
+        for (info, raw) in writes {
+            match self.check_combinations(info, raw, &block) {
+                Ok(()) => kept.push((info, raw)),
+                Err(refusal) if protocol.partial_blocks => {
+                    refused.get_or_insert(refusal);
+                }
+                Err(refusal) => return Err(refusal),
+            }
+        }
+        let writes = kept;
+        if writes.is_empty() {
+            return Err(refused.unwrap_or(Refusal::UnknownRegister));
+        }
+        let command_register = self.behaviour().map(|b| self.served(b.command.register));
+        for (info, raw) in writes {
+            let index = if info.array_len == 0 {
+                0
+            } else {
+                self.selected_index.min(u16::from(info.array_len) - 1)
+            };
+            self.storage
+                .set(info, index, raw, persistent && !info.ram_only);
+            if command_register == Some(info.id) {
+                self.command_written(raw);
+            }
+        }
+        self.refresh();
+        Ok(())
+    }
+
+    /// The register word `at` of a block write goes to, with its value and how many words
+    /// it takes; a word with no register (or a double word the block cuts) takes one.
+    #[allow(clippy::type_complexity)]
+    fn block_word(
+        &self,
+        protocol: &Protocol,
+        command: &CommandSpec,
+        wire: u16,
+        at: usize,
+        words: &[u16],
+    ) -> (Result<(&'static RegisterInfo, u32), Refusal>, usize) {
+        let info = u16::try_from(usize::from(wire) + at)
+            .ok()
+            .and_then(|number| protocol.from_wire(command, number, Some(u32::from(words[at]))))
+            .filter(|number| command.serves_register(*number))
+            .and_then(|number| self.drive.register_for(command.space, number, true));
+        let Some(info) = info else {
+            return (Err(Refusal::UnknownRegister), 1);
+        };
+        if info.data_type == DataType::Text {
+            return (Err(Refusal::ReadOnly), 1);
+        }
+        if info.data_type.size() <= 2 {
+            return (Ok((info, u32::from(words[at]))), 1);
+        }
+        let Some(&low_or_high) = words.get(at + 1) else {
+            return (Err(Refusal::OutOfRange), 1);
+        };
+        let raw = if data_little_endian(&command.request) {
+            u32::from(words[at]) | (u32::from(low_or_high) << 16)
+        } else {
+            (u32::from(words[at]) << 16) | u32::from(low_or_high)
+        };
+        (Ok((info, raw)), 2)
     }
 
     /// The reply to a block read: up to 4 bytes as a number, more as the data field's bytes.
@@ -661,7 +831,20 @@ impl VirtualDrive {
         Ok((request.data, 0))
     }
 
+    /// Whether the drive takes `raw` for `info`: access, running state, range and bounds,
+    /// and the combinations the manual forbids with what the other registers hold.
     pub(super) fn check_write(
+        &self,
+        info: &'static RegisterInfo,
+        raw: u32,
+        persistent: bool,
+    ) -> Result<(), Refusal> {
+        self.check_value(info, raw, persistent)?;
+        self.check_combinations(info, raw, &[])
+    }
+
+    /// [`VirtualDrive::check_write`] without the forbidden combinations.
+    fn check_value(
         &self,
         info: &'static RegisterInfo,
         raw: u32,
@@ -704,6 +887,29 @@ impl VirtualDrive {
             return Err(Refusal::OutOfRange);
         }
         Ok(())
+    }
+
+    /// Refuses writing `raw` to `info` when it would make a combination of values the
+    /// manual forbids (two stop bits with parity), as a value the drive does not accept:
+    /// the other registers holding what `pending` writes in the same request, else what
+    /// they hold now.
+    fn check_combinations(
+        &self,
+        info: &'static RegisterInfo,
+        raw: u32,
+        pending: &[(&'static RegisterInfo, u32)],
+    ) -> Result<(), Refusal> {
+        let drive = self.drive;
+        drive
+            .check_combinations(info, raw, |code| {
+                let other = drive.register(code)?;
+                pending
+                    .iter()
+                    .find(|(written, _)| std::ptr::eq(*written, other))
+                    .map(|(_, value)| *value)
+                    .or_else(|| Some(self.storage.get(other, 0)))
+            })
+            .map_err(|_| Refusal::OutOfRange)
     }
 }
 

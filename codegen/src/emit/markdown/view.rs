@@ -184,6 +184,8 @@ struct RegisterView<'a> {
     /// Its relations to other registers (held copy, scale selector, port copies), as
     /// sentences; empty when there are none.
     relations_display: String,
+    /// The typed API's aliases of its type (`registers::P195`).
+    alias_types: Vec<String>,
 }
 
 #[derive(Serialize)]
@@ -437,6 +439,12 @@ impl<'a> DriveView<'a> {
                     value_type_display: format!("`{}`", value_type_text(register)),
                     inferred_display: inferred_text(&register.inferred),
                     relations_display: crate::emit::rust::relation_lines(register).join(" "),
+                    alias_types: register
+                        .aliases
+                        .iter()
+                        .filter_map(|alias| crate::naming::alias_type_name(alias))
+                        .map(|name| format!("registers::{name}"))
+                        .collect(),
                 })
                 .collect(),
             bitfields: drive

@@ -81,6 +81,7 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
     let (behaviour, behaviour_ref) = behaviour::behaviour_static(drive);
     let (ports, ports_ref) = relations::ports_module(drive);
     let conversions = relations::conversions_module(drive);
+    let forbidden = relations::forbidden_tokens(drive);
     quote! {
         #(#[doc = #docs])*
         #[allow(clippy::excessive_precision, clippy::unreadable_literal)]
@@ -112,6 +113,7 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
                 behaviour: #behaviour_ref,
                 ports: #ports_ref,
                 conversions: &conversions::ALL,
+                forbidden: #forbidden,
             };
             #own_layouts
             #protocols

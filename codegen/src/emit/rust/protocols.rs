@@ -252,6 +252,8 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
     let [first, second] = protocol.default_process.unwrap_or([0, 0]).map(int_literal);
     let gap = Literal::f32_unsuffixed(protocol.frame_gap_chars);
     let max_words = int_literal(protocol.max_words_per_read);
+    let max_words_written = int_literal(protocol.max_words_per_write);
+    let partial_blocks = protocol.partial_blocks;
     let timing = link_timing_tokens(&protocol.timing);
     let number = |n: Option<u16>| match n {
         Some(n) => {
@@ -380,6 +382,8 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             default_process: [#first, #second],
             frame_gap_chars: #gap,
             max_words_per_read: #max_words,
+            max_words_per_write: #max_words_written,
+            partial_blocks: #partial_blocks,
             block: #block,
             timing: #timing,
             broadcast: #broadcast,

@@ -17,6 +17,10 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
         ),
         String::new(),
     ];
+    if !register.aliases.is_empty() {
+        lines.push(format!("Also named {}.", register.aliases.join(", ")));
+        lines.push(String::new());
+    }
     let mut facts = vec![format!("address `{}`", address_label(register))];
     let unit = register.unit.symbol();
     if !unit.is_empty() {
@@ -165,6 +169,10 @@ fn info_chain(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
         str_literal(&register.name_zh),
     );
     let mut chain = quote!(RegisterInfo::new(#address, #code, #id).with_names(#name, #name_zh));
+    if !register.aliases.is_empty() {
+        let aliases = register.aliases.iter().map(|alias| str_literal(alias));
+        chain.extend(quote!(.with_aliases(&[#(#aliases),*])));
+    }
     if register.unit != vfd_runtime::units::Unit::None || register.scale != 1.0 {
         let unit = register.unit.bake();
         let scale = f64_literal(register.scale);
@@ -362,6 +370,19 @@ pub(super) fn registers_module(drive: &DriveIr) -> TokenStream {
             }
             #(#markers)*
         });
+        for alias in &register.aliases {
+            if let Some(alias_name) = crate::naming::alias_type_name(alias) {
+                let alias_name = ident(&alias_name);
+                let doc = str_literal(&format!(
+                    " {alias}: the manual's other name for [`{}`] ({}).",
+                    register.type_name, register.code
+                ));
+                body.extend(quote! {
+                    #[doc = #doc]
+                    pub type #alias_name = #name;
+                });
+            }
+        }
         all.push(quote!(#name::INFO));
     }
     let count = int_literal(all.len());

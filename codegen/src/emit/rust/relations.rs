@@ -254,3 +254,30 @@ pub(super) fn conversions_module(drive: &DriveIr) -> TokenStream {
         }
     }
 }
+
+/// The drive's forbidden combinations as a `&[ForbiddenCombination]` literal.
+pub(super) fn forbidden_tokens(drive: &DriveIr) -> TokenStream {
+    let items = drive.forbidden_combinations.iter().map(|combination| {
+        let (id, rule, meaning, source) = (
+            str_literal(&combination.id),
+            str_literal(&combination.rule),
+            str_literal(&combination.meaning),
+            str_literal(&combination.source),
+        );
+        let when = combination.when.iter().map(|(register, raw)| {
+            let register = str_literal(register);
+            let raw = raw.iter().map(|r| int_literal(*r));
+            quote!(::vfd_runtime::Condition { register: #register, raw: &[#(#raw),*] })
+        });
+        quote! {
+            ::vfd_runtime::ForbiddenCombination {
+                id: #id,
+                rule: #rule,
+                meaning: #meaning,
+                source: #source,
+                when: &[#(#when),*],
+            }
+        }
+    });
+    quote!(&[#(#items),*])
+}

@@ -1,10 +1,14 @@
 //! Stage 2: reads a drive file and the protocol files it refers to, parsed into the
-//! format's types ([`crate::parse::model`]). Nothing is checked or lowered here.
+//! format's types ([`crate::parse::model`]), a protocol file `based_on` another merged with
+//! its base ([`based_on`]). Nothing else is checked, and nothing is lowered, here.
 
 use crate::diagnostics::Diagnostics;
 use crate::parse::model::{DriveFile, ProtocolFile};
 use crate::parse::SourceFile;
 use std::path::{Path, PathBuf};
+
+pub(crate) mod based_on;
+use based_on::Inherited;
 
 /// A protocol file as one drive refers to it, parsed but not yet lowered.
 #[derive(Debug, Clone)]
@@ -13,8 +17,10 @@ pub(crate) struct ProtocolSource {
     pub reference: usize,
     /// The protocol file.
     pub source: SourceFile,
-    /// Its parsed content.
+    /// Its parsed content, with its base's merged in (`based_on`).
     pub file: ProtocolFile,
+    /// What came from the base, when the file is `based_on` another.
+    pub inherited: Option<Inherited>,
 }
 
 /// A drive file and the protocol files it refers to, parsed.
@@ -96,11 +102,22 @@ pub(crate) fn load(
                 .into_iter()
                 .map(|path| (protocol_source.path.clone(), path)),
         );
-        if let Some(file) = read.value {
+        let Some(file) = read.value else {
+            continue;
+        };
+        if let Some(merged) = based_on::merge(
+            &protocol_source,
+            file,
+            &protocols_dir,
+            out,
+            &mut sources,
+            &mut incomplete,
+        ) {
             protocol_files.push(ProtocolSource {
                 reference: index,
                 source: protocol_source,
-                file,
+                file: merged.file,
+                inherited: merged.inherited,
             });
         }
     }
@@ -113,7 +130,8 @@ pub(crate) fn load(
     })
 }
 
-fn available(dir: &Path) -> String {
+/// The protocol files in `dir`, by id, for a hint.
+pub(crate) fn available(dir: &Path) -> String {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .map(|entries| {
             entries
