@@ -367,40 +367,8 @@ fn max_words_per_write(
 ) -> u16 {
     let file = input.file.protocol.max_words_per_write;
     let drive = input.reference.max_words_per_write;
-    for (value, source, path) in [
-        (
-            file,
-            input.source,
-            "protocol.max_words_per_write".to_owned(),
-        ),
-        (
-            drive,
-            input.drive_source,
-            format!("{}.max_words_per_write", input.reference_path),
-        ),
-    ] {
-        if value.is_some_and(|v| v == 0 || v > 127) {
-            out.push(
-                source
-                    .error(&path, "max_words_per_write must be 1 to 127")
-                    .hint("a write's data size is one byte: at most 127 registers of 2 bytes"),
-            );
-            return 1;
-        }
-    }
-    if let (Some(drive), file) = (drive, file.unwrap_or(1)) {
-        if drive > file {
-            out.push(
-                input
-                    .drive_source
-                    .error(
-                        &format!("{}.max_words_per_write", input.reference_path),
-                        format!("max_words_per_write {drive} is above the protocol file's {file}"),
-                    )
-                    .hint("a drive may only lower the protocol's limit"),
-            );
-            return 1;
-        }
+    if word_limit(input, "max_words_per_write", file, drive, "write", out).is_none() {
+        return 1;
     }
     let value = drive.or(file).unwrap_or(1);
     let drive_writes_blocks = commands.iter().any(writes_blocks);
@@ -441,36 +409,8 @@ fn max_words_per_read(
 ) -> u16 {
     let file = input.file.protocol.max_words_per_read;
     let drive = input.reference.max_words_per_read;
-    for (value, source, path) in [
-        (file, input.source, "protocol.max_words_per_read".to_owned()),
-        (
-            drive,
-            input.drive_source,
-            format!("{}.max_words_per_read", input.reference_path),
-        ),
-    ] {
-        if value.is_some_and(|v| v == 0 || v > 127) {
-            out.push(
-                source
-                    .error(&path, "max_words_per_read must be 1 to 127")
-                    .hint("a read's data size is one byte: at most 127 registers of 2 bytes"),
-            );
-            return 1;
-        }
-    }
-    if let (Some(drive), file) = (drive, file.unwrap_or(1)) {
-        if drive > file {
-            out.push(
-                input
-                    .drive_source
-                    .error(
-                        &format!("{}.max_words_per_read", input.reference_path),
-                        format!("max_words_per_read {drive} is above the protocol file's {file}"),
-                    )
-                    .hint("a drive may only lower the protocol's limit"),
-            );
-            return 1;
-        }
+    if word_limit(input, "max_words_per_read", file, drive, "read", out).is_none() {
+        return 1;
     }
     let value = drive.or(file).unwrap_or(1);
     if value > 1
@@ -553,6 +493,54 @@ fn names_of<'a>(names: impl Iterator<Item = &'a String>) -> String {
 
 #[cfg(test)]
 mod test_support;
+
+/// Checks a limit of words per request (`key`: `max_words_per_read` or
+/// `max_words_per_write`) as the protocol file (`file`) and the drive (`drive`) give it:
+/// each 1 to 127 (a frame's data size is one byte), the drive's at most the file's.
+/// `None` when a problem was reported.
+fn word_limit(
+    input: &Input<'_>,
+    key: &str,
+    file: Option<u16>,
+    drive: Option<u16>,
+    what: &str,
+    out: &mut Diagnostics,
+) -> Option<()> {
+    for (value, source, path) in [
+        (file, input.source, format!("protocol.{key}")),
+        (
+            drive,
+            input.drive_source,
+            format!("{}.{key}", input.reference_path),
+        ),
+    ] {
+        if value.is_some_and(|v| v == 0 || v > 127) {
+            out.push(
+                source
+                    .error(&path, format!("{key} must be 1 to 127"))
+                    .hint(format!(
+                        "a {what}'s data size is one byte: at most 127 registers of 2 bytes"
+                    )),
+            );
+            return None;
+        }
+    }
+    if let (Some(drive), file) = (drive, file.unwrap_or(1)) {
+        if drive > file {
+            out.push(
+                input
+                    .drive_source
+                    .error(
+                        &format!("{}.{key}", input.reference_path),
+                        format!("{key} {drive} is above the protocol file's {file}"),
+                    )
+                    .hint("a drive may only lower the protocol's limit"),
+            );
+            return None;
+        }
+    }
+    Some(())
+}
 
 #[cfg(test)]
 mod tests {

@@ -822,6 +822,14 @@ fn block_lines(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
     lines
 }
 
+/// The code of the parameter register at `number`, or the number in hex when none is
+/// described there.
+fn parameter_code(drive: &DriveIr, number: u16) -> String {
+    drive
+        .register_at(Space::Parameter, number)
+        .map_or_else(|| format!("{number:04X}h"), |r| r.code.clone())
+}
+
 /// One paragraph on a protocol's pages: the ranges, the page register, what resets it.
 fn pages_rule(
     drive: &DriveIr,
@@ -853,11 +861,7 @@ fn pages_rule(
     let forgotten: Vec<String> = paging
         .forgotten_after
         .iter()
-        .map(|number| {
-            drive
-                .register_at(Space::Parameter, *number)
-                .map_or_else(|| format!("{number:04X}h"), |r| r.code.clone())
-        })
+        .map(|number| parameter_code(drive, *number))
         .collect();
     let mut text = format!(
         "Parameter pages (manual section {}): {}. A request carries a paged register's offset in its page; the master first writes the page to the page register ({select}), only when the station is not known to be on that page, and forgets the page after any error",
@@ -1040,11 +1044,7 @@ fn link_rules(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
         let names: Vec<String> = delay
             .registers
             .iter()
-            .map(|number| {
-                drive
-                    .register_at(Space::Parameter, *number)
-                    .map_or_else(|| format!("{number:04X}h"), |r| r.code.clone())
-            })
+            .map(|number| parameter_code(drive, *number))
             .collect();
         rules.push(format!(
             "Every reply waits the time set by {} (0-{} ms in steps of {} ms, factory setting {} ms); the master adds it to the reply timeout{}.",
