@@ -99,6 +99,8 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
                         variant: type_name(&value.id),
                         name: value.name.clone(),
                         name_zh: value.name_zh.clone(),
+                        line: value.line.map(|l| (l.data_bits, l.parity, l.stop_bits)),
+                        protocol: value.protocol.clone(),
                     })
                     .collect(),
             })

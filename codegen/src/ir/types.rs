@@ -646,6 +646,12 @@ pub struct CodeValueIr {
     pub name: String,
     /// Chinese name.
     pub name_zh: String,
+    /// The character format it sets on the line: data bits, parity, stop bits.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub line: Option<(u8, vfd_runtime::serial::Parity, u8)>,
+    /// The id of the protocol it chooses.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub protocol: Option<String>,
 }
 
 /// A bit-field layout of a word.

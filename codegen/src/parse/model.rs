@@ -1041,6 +1041,23 @@ pub struct CodeValueModel {
     /// The register (code or id) this value selects, in a code table of selector registers
     /// (a block transfer's: F870 = 1 selects FA00).
     pub register: Option<String>,
+    /// The character format this value sets on the line, in a code table of a format
+    /// setting (DV1 07-07 = 0: `{ data_bits: 7, parity: none, stop_bits: 2 }`).
+    pub line: Option<LineFormatModel>,
+    /// The id of the drive's protocol this value chooses (DV1 07-07 = 0-2: `modbus_ascii`).
+    pub protocol: Option<String>,
+}
+
+/// A character format on the line (`codes[].values[].line`).
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct LineFormatModel {
+    /// Data bits per character (7 or 8).
+    pub data_bits: u8,
+    /// `none`, `even` or `odd`.
+    pub parity: Parity,
+    /// Stop bits (1 or 2).
+    pub stop_bits: u8,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]

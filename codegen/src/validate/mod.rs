@@ -15,6 +15,7 @@ mod defaults_are_in_range;
 mod examples_decode;
 mod identifiers_are_snake_case;
 mod inferred_facts_exist;
+mod line_formats_resolve;
 mod names_are_unique;
 mod ranges_resolve;
 mod reference_scaling_resolves;
@@ -51,7 +52,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 21] = [
+    let checks: [fn(&Context, &mut Diagnostics); 22] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -73,6 +74,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         behaviour_resolves::behaviour_resolves,
         relations_resolve::relations_resolve,
         sequences_resolve::sequences_resolve,
+        line_formats_resolve::line_formats_resolve,
     ];
     for check in checks {
         check(drive, out);

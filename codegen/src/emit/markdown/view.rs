@@ -225,6 +225,8 @@ struct CodeValueView<'a> {
     #[serde(flatten)]
     value: &'a CodeValueIr,
     value_hex: String,
+    /// What it sets on the line and which protocol it chooses, where it says.
+    sets: String,
 }
 
 #[derive(Serialize)]
@@ -502,6 +504,7 @@ impl<'a> DriveView<'a> {
                         .map(|value| CodeValueView {
                             value,
                             value_hex: format!("{:04X}h", value.value),
+                            sets: code_value_sets(value),
                         })
                         .collect(),
                 })
@@ -820,6 +823,35 @@ fn block_lines(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
         lines.push(protocol.block_note.clone());
     }
     lines
+}
+
+/// What a code value sets on the line and which protocol it chooses (` — line 7 data
+/// bits, no parity, 2 stop bits; protocol `modbus_ascii``), empty when it says neither.
+fn code_value_sets(value: &CodeValueIr) -> String {
+    let mut parts = Vec::new();
+    if let Some((data_bits, parity, stop_bits)) = value.line {
+        let parity = match parity {
+            vfd_runtime::serial::Parity::None => "no parity",
+            vfd_runtime::serial::Parity::Even => "even parity",
+            vfd_runtime::serial::Parity::Odd => "odd parity",
+        };
+        let stops = if stop_bits == 1 {
+            "stop bit"
+        } else {
+            "stop bits"
+        };
+        parts.push(format!(
+            "line: {data_bits} data bits, {parity}, {stop_bits} {stops}"
+        ));
+    }
+    if let Some(protocol) = &value.protocol {
+        parts.push(format!("protocol `{protocol}`"));
+    }
+    if parts.is_empty() {
+        String::new()
+    } else {
+        format!(" — {}", parts.join("; "))
+    }
 }
 
 /// The code of the parameter register at `number`, or the number in hex when none is
