@@ -5,23 +5,13 @@
 //! the drive with the protocol's code, unless the drive answers partial blocks
 //! (`partial_blocks`), where it reads as 0.
 
-use vfd_runtime::transaction::Master;
-use vfd_runtime::virtual_drive::{SimLink, Simulator};
+use vfd_runtime::virtual_drive::Simulator;
 use vfd_runtime::{
     CommandKind, DataType, DriveInfo, EncodeError, Protocol, RegisterInfo, Request, Space,
     TransactionErrorKind,
 };
 
-fn master(sim: &Simulator, drive: &DriveInfo, protocol: &'static Protocol) -> Master<SimLink> {
-    let address = sim.lock().address();
-    Master::for_protocol(
-        sim.link(protocol),
-        protocol,
-        drive.serial.default,
-        drive.serial.timing,
-    )
-    .with_address(Some(address))
-}
+use vfd_tests::masters::untyped as master;
 
 /// Word and double-word parameters, by wire address, with their wire address.
 fn wired(protocol: &Protocol, drive: &DriveInfo) -> Vec<(u16, &'static RegisterInfo)> {

@@ -5,23 +5,13 @@
 //! a number with no register is refused whole, or, on a drive that answers partial blocks
 //! (`partial_blocks`, the DV1), carried out for the registers it has.
 
-use vfd_runtime::transaction::Master;
-use vfd_runtime::virtual_drive::{SimLink, Simulator};
+use vfd_runtime::virtual_drive::Simulator;
 use vfd_runtime::{
     CommandKind, DataType, DriveInfo, EncodeError, Protocol, RegisterInfo, Request, Space,
     TransactionErrorKind,
 };
 
-fn master(sim: &Simulator, drive: &DriveInfo, protocol: &'static Protocol) -> Master<SimLink> {
-    let address = sim.lock().address();
-    Master::for_protocol(
-        sim.link(protocol),
-        protocol,
-        drive.serial.default,
-        drive.serial.timing,
-    )
-    .with_address(Some(address))
-}
+use vfd_tests::masters::untyped as master;
 
 /// Readable and writable one-word parameters by wire address, without behaviour (no command word) and
 /// in no forbidden combination.
