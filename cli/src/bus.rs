@@ -614,17 +614,37 @@ impl Session {
             .is_some()
     }
 
+    /// For a protocol with variants, the one in use and the others (`, variant cr (the
+    /// drive may be set to cr_lf: --variant)`); empty otherwise.
+    fn variant_hint(&self) -> String {
+        let Some(variants) = &self.protocol.variants else {
+            return String::new();
+        };
+        let current = self.protocol.variant_id().unwrap_or("");
+        let others: Vec<&str> = variants
+            .choices
+            .iter()
+            .map(|v| v.id.as_ref())
+            .filter(|id| *id != current)
+            .collect();
+        format!(
+            ", variant {current} (the drive may be set to {}: --variant)",
+            others.join(" or ")
+        )
+    }
+
     /// A transaction error for people, with a hint where one helps.
     fn failure(&self, error: TransactionError) -> Failure {
         let hint = match &error.kind {
             TransactionErrorKind::Timeout { .. } => Some(format!(
                 "check baud rate, parity and station address: {} baud, parity {}, protocol {}, \
-                 station {} (--baud, --parity, --protocol, --address), and the wiring; a slow \
+                 station {} (--baud, --parity, --protocol, --address){}, and the wiring; a slow \
                  drive may need --timeout",
                 self.settings.baud,
                 self.settings.parity.as_str(),
                 self.protocol.id,
-                self.address_text()
+                self.address_text(),
+                self.variant_hint()
             )),
             TransactionErrorKind::Encode(EncodeError::UnsupportedCommand { .. }) => Some(format!(
                 "protocol {} cannot carry this request; try another with --protocol ({})",

@@ -330,8 +330,13 @@ fn word_text(info: &RegisterInfo, raw: u32) -> String {
 
 fn write(session: &mut Session, info: &'static RegisterInfo, raw: u32) -> Result<(), Failure> {
     let (_, tripped) = session.write(info, raw, false)?;
+    let how = if info.no_reply {
+        "sent; the drive never answers it"
+    } else {
+        "RAM"
+    };
     say!(
-        "wrote {} {} = {} (RAM)",
+        "wrote {} {} = {} ({how})",
         info.code,
         info.name,
         values::short(info, raw)

@@ -1033,7 +1033,12 @@ impl<T: Transport, D: 'static> Master<T, D> {
             }
         }
         if let Some((step, number)) = page {
-            self.exchange(&step)?;
+            // A failed page switch is reported as the caller's request failing (the page
+            // register is not one the caller named).
+            self.exchange(&step).map_err(|error| TransactionError {
+                request: Some(*request),
+                ..error
+            })?;
             self.remember_page(Some(number));
         }
         self.exchange(main).map_err(|error| TransactionError {
