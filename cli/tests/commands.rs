@@ -347,6 +347,7 @@ fn demo_runs_to_completion_piped() {
     // The DV1's tour: its status word at 1001h shows the trip; the reset is a write of
     // its own register (1101h = 9696h), never answered.
     let dv1 = vfd(&["demo", "--drive", "dv1", "--seconds", "1"]);
+    assert!(dv1.status.success(), "{}", stderr(&dv1));
     let shown = stdout(&dv1);
     assert!(
         shown.contains("TRIPPED: H7A says so") && shown.contains("HFD reset   # reset"),

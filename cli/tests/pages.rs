@@ -22,11 +22,16 @@ fn dv1_parameters_on_two_pages_are_read_and_written_over_the_eaton_protocol() {
     let read = run(&["read", "02-15", "07-08", "H6F"]);
     assert!(read.status.success(), "{}", text(&read));
     let shown = text(&read);
-    assert!(
-        shown.contains("02-15") && shown.contains("= 60.00 Hz"),
-        "{shown}"
-    );
-    assert!(shown.contains("07-08") && shown.contains("= 1"), "{shown}");
+    let line = |code: &str| {
+        shown
+            .lines()
+            .find(|l| l.starts_with(code))
+            .unwrap_or_else(|| panic!("no line for {code}: {shown}"))
+            .to_owned()
+    };
+    assert!(line("02-15").ends_with("= 60.00 Hz"), "{shown}");
+    assert!(line("07-08").ends_with("= 1"), "{shown}");
+    assert!(line("H6F").ends_with("= 0.00 Hz"), "{shown}");
     let write = run(&["write", "02-15", "50"]);
     assert!(write.status.success(), "{}", text(&write));
     let back = run(&["read", "02-15"]);
@@ -34,5 +39,10 @@ fn dv1_parameters_on_two_pages_are_read_and_written_over_the_eaton_protocol() {
     // Out of range: refused before anything is sent, the value is kept.
     let beyond = run(&["write", "02-15", "500"]);
     assert!(!beyond.status.success(), "{}", text(&beyond));
+    assert!(
+        text(&beyond).contains("outside the range 0 to 400 Hz"),
+        "{}",
+        text(&beyond)
+    );
     assert!(text(&run(&["read", "02-15"])).contains("= 50.00 Hz"));
 }

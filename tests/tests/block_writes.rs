@@ -139,6 +139,7 @@ fn more_words_than_the_limit_are_refused_before_sending() {
                 "{error}"
             );
             assert!(master.last_reply().is_empty(), "nothing was exchanged");
+            assert_eq!(sim.requests(), 0, "nothing was sent");
         }
     }
 }

@@ -272,8 +272,14 @@ fn over_eaton_the_unit_digit_gives_the_scale_of_1003h() {
     ] {
         let sim = running_at(&dv1::protocols::EATON, selector, 50.0);
         let mut master = sim.master(&dv1::protocols::EATON);
-        // No read of 00-08 (it has no Eaton code without its page): the digit says it.
+        // No read of 00-08: the reply's unit digit says the scale (one request only).
+        let before = sim.requests();
         assert_eq!(master.read::<OutputFrequency>().unwrap(), Hertz(50.0));
+        assert_eq!(
+            sim.requests() - before,
+            1,
+            "00-08 = {selector}: one request"
+        );
         assert_eq!(master.last_reply(), frame, "00-08 = {selector}");
         let answer = master.transact(&OutputFrequency::read()).unwrap();
         assert_eq!(answer.decimals, Some(if selector == 0 { 2 } else { 1 }));

@@ -214,7 +214,8 @@ fn the_virtual_drive_refuses_a_page_that_does_not_exist() {
     let sim = Simulator::new(&dv1::DRIVE);
     sim.lock().set_address(0);
     let protocol = &dv1::protocols::EATON;
-    // Page 5 (P mode ends at page 4) and page 109 (no group 09): H0C, data range error.
+    // Page 5 (P mode ends at page 4) and page 109 (no group 09): H0C, data range error,
+    // and the drive stays on its page.
     for (frame, page) in [("\x0500FF00005E1\r", 5), ("\x0500FF0006DF6\r", 109)] {
         let outcome = sim.lock().respond(protocol, frame.as_bytes());
         assert_eq!(
@@ -222,21 +223,23 @@ fn the_virtual_drive_refuses_a_page_that_does_not_exist() {
             vfd_runtime::virtual_drive::Outcome::Reply(b"\x1500C\r".to_vec()),
             "page {page}"
         );
+        assert_eq!(sim.lock().page(protocol), Some(0), "page {page} refused");
     }
-    // Group mode page 102 (02-xx) exists: acknowledged, and the page can be read back.
-    let outcome = sim.lock().respond(protocol, b"\x0500FF00066E8\r");
+    // Page 4 (the last of P mode) and group-mode page 102 (02-xx) exist: acknowledged.
+    for (frame, page) in [("\x0500FF00004E0\r", 4), ("\x0500FF00066E8\r", 102)] {
+        let outcome = sim.lock().respond(protocol, frame.as_bytes());
+        assert_eq!(
+            outcome,
+            vfd_runtime::virtual_drive::Outcome::Reply(b"\x0600\r".to_vec()),
+            "page {page}"
+        );
+        assert_eq!(sim.lock().page(protocol), Some(page));
+    }
+    // The page reads back with H7F: 0066h, unit digit 0 (30h+30h+30h+30h+36h+36h+30h = 15Ch).
+    let outcome = sim.lock().respond(protocol, b"\x05007F00D\r");
     assert_eq!(
         outcome,
-        vfd_runtime::virtual_drive::Outcome::Reply(b"\x0600\r".to_vec())
-    );
-    let outcome = sim.lock().respond(protocol, b"\x05007F00D\r");
-    let vfd_runtime::virtual_drive::Outcome::Reply(reply) = outcome else {
-        panic!("the page read is answered: {outcome:?}");
-    };
-    assert!(
-        reply.starts_with(b"\x02000066"),
-        "{:?}",
-        String::from_utf8_lossy(&reply)
+        vfd_runtime::virtual_drive::Outcome::Reply(b"\x020000660\x035C\r".to_vec())
     );
 }
 
@@ -244,28 +247,25 @@ fn the_virtual_drive_refuses_a_page_that_does_not_exist() {
 fn pages_locate_registers_in_both_numberings() {
     let paging = dv1::protocols::EATON.paging.as_ref().unwrap();
     assert_eq!(paging.locate(0xC3), Some((1, 0x5F)));
+    assert_eq!(paging.register(1, 0x5F), Some(0xC3));
+    assert_eq!(paging.locate(99), Some((0, 99)));
+    assert_eq!(paging.locate(100), Some((1, 0)));
+    assert_eq!(paging.locate(499), Some((4, 99)));
+    assert_eq!(paging.locate(500), None, "P mode ends at P.499");
     assert_eq!(paging.locate(10215), Some((102, 15)));
     assert_eq!(paging.locate(10915), None, "no page for group 09");
     assert_eq!(paging.register(102, 15), Some(10215));
     assert_eq!(paging.register(5, 0), None);
-}
-
-#[test]
-fn in_cr_lf_the_whole_exchange_ends_its_frames_in_cr_lf_the_follow_up_too() {
-    let (sim, master) = eaton();
-    let cr_lf = dv1::protocols::EATON.variant("cr_lf").unwrap();
-    assert!(sim.lock().select_variant(cr_lf.protocol()));
-    let mut master = master.with_variant("cr_lf").unwrap();
-    let value = master.read::<Parameter0215>().unwrap();
-    assert_eq!(value.into_value(), Hertz(60.0));
-    assert_eq!(
-        take_log(&mut master),
-        vec![
-            sent("\x0500FF00001DD\r\n"),
-            received("\x0600\r\n"),
-            sent("\x05005F00B\r\n"),
-            received("\x020017702\x0361\r\n"),
-            sent("\x0600\r\n"),
-        ]
-    );
+    assert_eq!(paging.register(109, 0), None);
+    // Every paged register of the description maps there and back.
+    for info in dv1::DRIVE.registers {
+        if let Some((page, offset)) = dv1::protocols::EATON.page_of(info.address) {
+            assert_eq!(
+                paging.register(page, offset),
+                Some(info.address),
+                "{}",
+                info.code
+            );
+        }
+    }
 }

@@ -137,6 +137,7 @@ fn the_drive_answers_a_frame_with_the_other_terminator_with_h03() {
         .lock()
         .respond(dv1::protocols::EATON.protocol(), RUN_FORWARD_CR_LF);
     assert_eq!(outcome, Outcome::Reply(b"\x0600\r\n".to_vec()));
+    assert!(sim.lock().is_running(), "the run command was carried out");
     // 07-06 = 1 (the factory setting): CR LF is the error, answered in CR.
     let sim = drive_with_terminator(1);
     let outcome = sim

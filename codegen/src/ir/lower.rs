@@ -734,9 +734,8 @@ fn lower_sequences(drive: &Context, registers: &[RegisterIr]) -> Vec<SequenceIr>
         .filter_map(|sequence| {
             let call = &sequence.call;
             let name = call.read.as_ref().or(call.write.as_ref())?;
-            let register = registers
-                .iter()
-                .find(|r| r.code == *name || r.id == *name)?;
+            let id = &drive.model.registers.iter().find(|r| r.is_named(name))?.id;
+            let register = registers.iter().find(|r| r.id == *id)?;
             let call_ir = match (&call.read, call.value, call.raw) {
                 (Some(_), _, _) => SequenceCallIr::Read,
                 (None, Some(value), _) => SequenceCallIr::Write(value),

@@ -187,7 +187,7 @@ fn persistence(drive: &crate::parse::model::DriveFile) -> Option<vfd_runtime::Pe
     let register = drive
         .registers
         .iter()
-        .find(|r| r.code == model.selector || r.id == model.selector)?;
+        .find(|r| r.is_named(&model.selector))?;
     Some(vfd_runtime::PersistenceSelector {
         register: u16::try_from(register.address).ok()?,
         space: register.space.unwrap_or(vfd_runtime::Space::Parameter),

@@ -263,12 +263,7 @@ fn selector(
         out.push(input.drive_source.error(&path, message).hint(hint));
         None
     };
-    let Some(register) = input
-        .drive
-        .registers
-        .iter()
-        .find(|r| r.code == name || r.id == name)
-    else {
+    let Some(register) = input.drive.registers.iter().find(|r| r.is_named(name)) else {
         return fail(
             format!("no register `{name}`"),
             "name a described register by its code or id",

@@ -37,15 +37,24 @@ pub fn sequences_resolve(drive: &Context, out: &mut Diagnostics) {
             continue;
         };
         check_call(drive, sequence, &mut error);
+        if sequence.given.len() > 1 {
+            error(
+                ".given",
+                format!("{} values given", sequence.given.len()),
+                "a master can be told one value: the persistence selector's",
+            );
+        }
+        let registers = ranges::RegisterIndex::new(&drive.model);
+        let selector = drive
+            .model
+            .persistence
+            .as_ref()
+            .and_then(|p| registers.find(&p.selector));
         for name in sequence.given.keys() {
-            let selector = drive
-                .model
-                .persistence
-                .as_ref()
-                .map(|p| p.selector.as_str());
-            let is_selector = ranges::RegisterIndex::new(&drive.model)
+            let is_selector = registers
                 .find(name)
-                .is_some_and(|r| selector.is_some_and(|s| s == r.code || s == r.id));
+                .zip(selector)
+                .is_some_and(|(r, s)| std::ptr::eq(r, s));
             if !is_selector {
                 error(
                     &format!(".given.{name}"),
@@ -172,6 +181,21 @@ fn check_result(
             ".result",
             "a result is one `value`, `written: true` or one `error`".into(),
             "result: { value: 60.0 }",
+        );
+    }
+    let reads = sequence.call.read.is_some();
+    if reads && result.written {
+        error(
+            ".result.written",
+            "a read does not write".into(),
+            "a read's result is `value:` (or `error:`)",
+        );
+    }
+    if !reads && result.value.is_some() {
+        error(
+            ".result.value",
+            "a write returns no value".into(),
+            "a write's result is `written: true` (or `error:`)",
         );
     }
     if let Some(id) = &result.error {
