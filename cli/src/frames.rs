@@ -819,7 +819,8 @@ fn paged_text(
         .ranges
         .iter()
         .flat_map(|range| {
-            let last = range.first_page + (range.last - range.first) / range.size.max(1);
+            let pages = range.last.saturating_sub(range.first) / range.size.max(1);
+            let last = range.first_page.saturating_add(pages);
             range.first_page..=last
         })
         .filter_map(|page| {

@@ -752,7 +752,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
             return Ok(answer);
         }
         self.block_words = words.len() as u16;
-        let outcome = self.exchange(&request);
+        let outcome = self.exchange_block(&request);
         self.block_words = 0;
         let answer = outcome?;
         let little_endian = self.block_little_endian();
@@ -845,7 +845,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
         }
         let list = crate::codec::Words::from_slice(words).ok_or_else(|| too_many(&request))?;
         self.block_write = Some(list);
-        let outcome = self.exchange(&request);
+        let outcome = self.exchange_block(&request);
         self.block_write = None;
         outcome
     }
@@ -1045,6 +1045,30 @@ impl<T: Transport, D: 'static> Master<T, D> {
             request: Some(*request),
             ..error
         })
+    }
+
+    /// A block request (several registers in one exchange) with the page switch its first
+    /// register needs first, as [`Master::transact`] makes it; the page is forgotten when
+    /// anything fails.
+    fn exchange_block(&mut self, request: &Request) -> Result<Answer, TransactionError> {
+        let page = self.page_step(request);
+        if let Some((step, _)) = &page {
+            self.check_encodes(step, request)?;
+        }
+        let outcome = (|| {
+            if let Some((step, number)) = page {
+                self.exchange(&step).map_err(|error| TransactionError {
+                    request: Some(*request),
+                    ..error
+                })?;
+                self.remember_page(Some(number));
+            }
+            self.exchange(request)
+        })();
+        if outcome.is_err() {
+            self.remember_page(None);
+        }
+        outcome
     }
 
     /// The page switch `request` needs first, with the page it selects: `None` when the

@@ -269,3 +269,51 @@ fn pages_locate_registers_in_both_numberings() {
         }
     }
 }
+
+#[test]
+fn a_refusal_gets_no_follow_up_and_an_f_then_repeats_nothing() {
+    let sim = Simulator::new(&dv1::DRIVE);
+    sim.lock().set_address(0);
+    let protocol = &dv1::protocols::EATON;
+    let page = sim.lock().respond(protocol, b"\x0500FF00001DD\r");
+    assert_eq!(
+        page,
+        vfd_runtime::virtual_drive::Outcome::Reply(b"\x0600\r".to_vec())
+    );
+    // A read of P.190 (offset 90 = 5Ah on page 1), which the description does not have:
+    // D, H0B (command code error).
+    let refused = sim.lock().respond(protocol, b"\x05005A006\r");
+    assert_eq!(
+        refused,
+        vfd_runtime::virtual_drive::Outcome::Reply(b"\x1500B\r".to_vec())
+    );
+    let again = sim.lock().respond(protocol, b"\x1500\r");
+    assert!(
+        matches!(again, vfd_runtime::virtual_drive::Outcome::Silent(_)),
+        "{again:?}"
+    );
+    // A sound read reply is repeated on F.
+    let read = sim.lock().respond(protocol, b"\x05005F00B\r");
+    let again = sim.lock().respond(protocol, b"\x1500\r");
+    assert_eq!(read, again);
+}
+
+#[test]
+fn in_cr_lf_the_whole_exchange_ends_its_frames_in_cr_lf_the_follow_up_too() {
+    let (sim, master) = eaton();
+    let cr_lf = dv1::protocols::EATON.variant("cr_lf").unwrap();
+    assert!(sim.lock().select_variant(cr_lf.protocol()));
+    let mut master = master.with_variant("cr_lf").unwrap();
+    let value = master.read::<Parameter0215>().unwrap();
+    assert_eq!(value.into_value(), Hertz(60.0));
+    assert_eq!(
+        take_log(&mut master),
+        vec![
+            sent("\x0500FF00001DD\r\n"),
+            received("\x0600\r\n"),
+            sent("\x05005F00B\r\n"),
+            received("\x020017702\x0361\r\n"),
+            sent("\x0600\r\n"),
+        ]
+    );
+}

@@ -65,6 +65,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
     /// sets it again (after another master or the operator panel may have changed it).
     pub fn forget_persistence_selector(&mut self) {
         self.selector.value = None;
+        self.selector.assumed = false;
     }
 
     /// The drive's persistence selector, when `request` is a write it governs and no
@@ -99,6 +100,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
         self.selector.busy = false;
         if outcome.is_err() {
             self.selector.value = None;
+            self.selector.assumed = false;
         }
         outcome
     }

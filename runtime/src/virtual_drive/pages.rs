@@ -119,8 +119,17 @@ impl VirtualDrive {
             .commands
             .iter()
             .any(|c| c.code == code && c.follow_up.is_some());
+        // An error reply gets no follow-up (the Eaton D): only a normal reply awaits one.
+        let refused = |reply: &[u8]| {
+            protocol.error_reply.as_ref().is_some_and(|layout| {
+                matches!(
+                    crate::codec::decode(layout, reply),
+                    Ok(crate::codec::DecodeStatus::Complete { len, .. }) if len == reply.len()
+                )
+            })
+        };
         self.awaiting_follow_up = match reply {
-            Some(reply) if awaits => Some((code, reply.to_vec())),
+            Some(reply) if awaits && !refused(reply) => Some((code, reply.to_vec())),
             _ => None,
         };
     }
