@@ -58,6 +58,8 @@ pub(super) fn paging(
         );
     }
     let mut ranges: Vec<PageRange> = Vec::new();
+    // The YAML index of each range kept (a range with problems is left out).
+    let mut indexes: Vec<usize> = Vec::new();
     for (index, range) in model.ranges.iter().enumerate() {
         let path = format!("{base}.ranges[{index}]");
         let [first, last] = range.registers;
@@ -109,6 +111,7 @@ pub(super) fn paging(
         if let Some(other) = ranges
             .iter()
             .position(|r| r.first <= built.last && built.first <= r.last)
+            .map(|at| indexes[at])
         {
             error(
                 out,
@@ -121,10 +124,14 @@ pub(super) fn paging(
             let count = (r.last - r.first) / r.size;
             r.first_page..=r.first_page + count
         };
-        if let Some(other) = ranges.iter().position(|r| {
-            let (a, b) = (pages_of(r), pages_of(&built));
-            a.start() <= b.end() && b.start() <= a.end()
-        }) {
+        if let Some(other) = ranges
+            .iter()
+            .position(|r| {
+                let (a, b) = (pages_of(r), pages_of(&built));
+                a.start() <= b.end() && b.start() <= a.end()
+            })
+            .map(|at| indexes[at])
+        {
             error(
                 out,
                 format!("{path}.first_page"),
@@ -133,6 +140,7 @@ pub(super) fn paging(
             );
         }
         ranges.push(built);
+        indexes.push(index);
     }
     // The offset goes in the register field of every command that addresses parameters.
     let largest = model.ranges.iter().map(|r| r.size).max().unwrap_or(0);
@@ -155,7 +163,7 @@ pub(super) fn paging(
             );
         }
     }
-    if model.initial != 0 && !ranges.is_empty() {
+    if !ranges.is_empty() {
         let paging = Paging {
             select_read,
             select_write: select_write.unwrap_or(0),
