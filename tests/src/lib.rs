@@ -13,3 +13,4 @@ pub mod module_graph;
 pub mod outcomes;
 pub mod random;
 pub mod scripted_peer;
+pub mod watched;
