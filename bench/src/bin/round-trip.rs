@@ -521,6 +521,20 @@ fn main() {
     }
 }
 
+/// How long `thread::sleep(duration)` takes on this machine, p50 of 500 (the timer slack
+/// and wake-up latency every sleep of a frame gap pays).
+fn sleep_p50(duration: Duration) -> f64 {
+    let mut taken: Vec<Duration> = (0..500)
+        .map(|_| {
+            let start = Instant::now();
+            std::thread::sleep(duration);
+            start.elapsed()
+        })
+        .collect();
+    taken.sort();
+    ms(percentile(&taken, 50.0))
+}
+
 /// Everything measured at one baud rate.
 struct AtBaud {
     baud: u32,
@@ -638,13 +652,14 @@ fn run(count: usize, bauds: &[u32]) -> Result<(), String> {
     println!();
     println!("Where vfd's read goes against the virtual drive (p50 of each phase):");
     println!();
-    println!("| Baud | Before the request is sent (frame gap kept, stale input dropped) | Request sent to the reply's first byte | First to last reply byte | Last byte to answer | Whole read |");
-    println!("|---|---|---|---|---|---|");
+    println!("| Baud | `thread::sleep` of the 3.5-char gap alone | Before the request is sent (frame gap kept, stale input dropped) | Request sent to the reply's first byte (the drive keeps the gap too) | First to last reply byte | Last byte to answer | Whole read |");
+    println!("|---|---|---|---|---|---|---|");
     for result in &results {
         let phases = &result.direct.phases;
         println!(
-            "| {} | {:.3} ms | {:.3} ms | {:.3} ms | {:.3} ms | {:.3} ms |",
+            "| {} | {:.3} ms | {:.3} ms | {:.3} ms | {:.3} ms | {:.3} ms | {:.3} ms |",
             result.baud,
+            sleep_p50(settings(result.baud).char_time().mul_f32(3.5)),
             median(&phases.before_send),
             median(&phases.to_first_byte),
             median(&phases.reply_bytes),
