@@ -3,7 +3,8 @@
 //! virtual drive (no Python on the serving side), then against our virtual drive and a
 //! pymodbus server in turn through a relay that times each server's turnaround.
 //!
-//! `pip install -r bench/python/requirements.txt`, then
+//! `pip install -r bench/python/requirements.txt`, then, from the workspace root (the
+//! Python scripts are found by relative path),
 //! `cargo run --release -p vfd-bench --bin round-trip [-- COUNT [BAUD...]]` (default 2000
 //! reads per client at 115200 and 921600 baud).
 //!
