@@ -1,8 +1,9 @@
 """Python peer for the round-trip benchmark: COUNT reads of two holding registers.
 
-Usage: modbus_client.py LIBRARY PORT BAUD COUNT ADDRESS
-LIBRARY is pymodbus or minimalmodbus. Prints one JSON object: the library and the
-latency of every read in nanoseconds.
+Usage: modbus_client.py LIBRARY PORT BAUD COUNT ADDRESS HIGH LOW
+LIBRARY is pymodbus or minimalmodbus. Reads holding registers ADDRESS and ADDRESS+1 of
+station 1 and checks every reply holds HIGH and LOW. Prints one JSON object: the library
+and the latency of every read in nanoseconds.
 """
 import json
 import sys
@@ -44,11 +45,14 @@ def minimalmodbus_reader(port: str, baud: int):
 
 
 def main() -> None:
-    library, port, baud, count, address = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5])
+    library, port = sys.argv[1], sys.argv[2]
+    baud, count, address, high, low = (int(a) for a in sys.argv[3:8])
     name, read = (pymodbus_reader if library == "pymodbus" else minimalmodbus_reader)(port, baud)
-    expected = [address % 65536, (address + 1) % 65536]
+    expected = [high, low]
     for _ in range(20):
-        read(address)
+        values = read(address)
+        if list(values) != expected:
+            raise SystemExit(f"read {values}, expected {expected}")
     latencies = []
     for _ in range(count):
         start = time.perf_counter_ns()

@@ -1,7 +1,9 @@
 """Modbus RTU server for the round-trip benchmark: pymodbus holding registers on a serial port.
 
-Usage: modbus_server.py PORT BAUD
-Every holding register at address A holds A mod 65536. Prints "ready" once configured.
+Usage: modbus_server.py PORT BAUD ADDRESS HIGH LOW
+Station 1 (pymodbus answers every station): holding registers ADDRESS and ADDRESS+1 hold
+HIGH and LOW, every other holding register at address A holds A mod 65536. Prints "ready"
+once configured.
 """
 import logging
 import sys
@@ -12,10 +14,13 @@ from pymodbus.server import StartSerialServer
 
 
 def main() -> None:
-    port, baud = sys.argv[1], int(sys.argv[2])
+    port = sys.argv[1]
+    baud, address, high, low = (int(a) for a in sys.argv[2:6])
     logging.disable(logging.CRITICAL)
+    values = [a % 65536 for a in range(max(8192, address + 2))]
+    values[address], values[address + 1] = high, low
     # pymodbus numbers blocks from 1 and adds 1 to wire addresses: position k answers address k.
-    block = ModbusSequentialDataBlock(1, [address % 65536 for address in range(8192)])
+    block = ModbusSequentialDataBlock(1, values)
     context = ModbusServerContext(devices=ModbusDeviceContext(hr=block), single=True)
     print("ready", flush=True)
     StartSerialServer(context, framer=FramerType.RTU, port=port, baudrate=baud, parity="N", stopbits=1, bytesize=8)

@@ -1,7 +1,10 @@
 //! Shared pieces of the benchmarks: synthetic drive descriptions of any size, generated
-//! on the fly (never committed), and small statistics helpers.
+//! on the fly (never committed), small statistics helpers, and the backup batching count
+//! ([`batching`]).
 
 #![warn(missing_docs)]
+
+pub mod batching;
 
 use std::fmt::Write as _;
 use std::time::Duration;
