@@ -4,12 +4,13 @@
 //! read per register, counting requests and bytes and the wire time they take.
 //!
 //! The selection of registers and their grouping into blocks follow `vfd backup`
-//! (`cli/src/backup.rs`, `Session::read_many` in `cli/src/bus.rs`): readable parameters that
+//! (`cli/src/backup.rs`; both group blocks with `vfd_runtime::read_runs`): readable parameters that
 //! are neither write-only, RAM-only nor arrays; runs of consecutive wire addresses of word
 //! and double-word parameters, at most the protocol's `max_words_per_read` words each, read
 //! with [`Master::read_words`]; a run the drive refuses is read register by register.
 
 use std::time::Duration;
+use vfd_runtime::read_runs::{block_words, read_runs};
 use vfd_runtime::serial::SerialSettings;
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{Direction, Recording, Transport};
@@ -93,58 +94,6 @@ fn default_address(protocol: &Protocol) -> Option<u8> {
     needs_one.then_some(protocol.address_range.0.max(1))
 }
 
-/// Words a register takes in a block read.
-fn width(info: &RegisterInfo) -> usize {
-    usize::from(info.data_type.size().max(2) / 2)
-}
-
-/// Indexes of `registers` in runs of consecutive wire addresses, each run at most as many
-/// words as one read carries; registers a block cannot hold stand alone.
-fn blocks(protocol: &Protocol, registers: &[&'static RegisterInfo]) -> Vec<Vec<usize>> {
-    let Some(command) = protocol.block_read_command(Space::Parameter) else {
-        return (0..registers.len()).map(|i| vec![i]).collect();
-    };
-    let max = usize::from(protocol.max_words_per_read);
-    let mut placed: Vec<(usize, Option<u16>)> = registers
-        .iter()
-        .enumerate()
-        .map(|(i, info)| {
-            let blockable = info.space == Space::Parameter
-                && info.array_len == 0
-                && matches!(info.data_type, DataType::Word | DataType::DoubleWord);
-            let wire = blockable
-                .then(|| protocol.to_wire(command, info.address))
-                .flatten();
-            (i, wire)
-        })
-        .collect();
-    placed.sort_by_key(|(i, wire)| (wire.is_none(), *wire, *i));
-    let mut runs: Vec<Vec<usize>> = Vec::new();
-    let mut next: Option<(u16, usize)> = None;
-    for (i, wire) in placed {
-        let words = width(registers[i]);
-        match (wire, next, runs.last_mut()) {
-            (Some(at), Some((expected, used)), Some(run))
-                if at == expected && used + words <= max =>
-            {
-                run.push(i);
-                next = at
-                    .checked_add(words as u16)
-                    .map(|after| (after, used + words));
-            }
-            (Some(at), _, _) => {
-                runs.push(vec![i]);
-                next = at.checked_add(words as u16).map(|after| (after, words));
-            }
-            (None, _, _) => {
-                runs.push(vec![i]);
-                next = None;
-            }
-        }
-    }
-    runs
-}
-
 /// Reads one register alone: its raw value (`Some(None)` for text), `None` if refused.
 fn read_one<T: Transport>(
     master: &mut Master<T>,
@@ -201,7 +150,7 @@ pub fn backup(
         let mut runs = Vec::new();
         for (chunk_index, chunk) in registers.chunks(128).enumerate() {
             runs.extend(
-                blocks(protocol, chunk)
+                read_runs(protocol, chunk)
                     .into_iter()
                     .map(|run| run.into_iter().map(|i| i + chunk_index * 128).collect()),
             );
@@ -214,7 +163,7 @@ pub fn backup(
     };
     for run in runs {
         if run.len() > 1 {
-            let widths: Vec<usize> = run.iter().map(|i| width(registers[*i])).collect();
+            let widths: Vec<usize> = run.iter().map(|i| block_words(registers[*i])).collect();
             let mut words = vec![0u16; widths.iter().sum()];
             if master
                 .read_words(registers[run[0]].address, &mut words)

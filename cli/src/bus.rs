@@ -498,7 +498,7 @@ impl Session {
     ) -> Vec<Result<Value, Failure>> {
         let mut results: Vec<Option<Result<Value, Failure>>> =
             registers.iter().map(|_| None).collect();
-        for run in self.blocks(registers) {
+        for run in vfd_runtime::read_runs::read_runs(self.protocol, registers) {
             if run.len() > 1 {
                 if let Some(values) = self.read_block(registers, &run) {
                     for (index, value) in run.iter().zip(values) {
@@ -517,57 +517,6 @@ impl Session {
             .collect()
     }
 
-    /// Indexes of `registers` in runs of consecutive wire addresses, each run at most as
-    /// many words as one read carries; registers a block cannot hold stand alone.
-    fn blocks(&self, registers: &[&'static RegisterInfo]) -> Vec<Vec<usize>> {
-        let Some(command) = self
-            .protocol
-            .block_read_command(vfd_runtime::Space::Parameter)
-        else {
-            return (0..registers.len()).map(|i| vec![i]).collect();
-        };
-        let max = usize::from(self.protocol.max_words_per_read);
-        let width = |info: &RegisterInfo| usize::from(info.data_type.size().max(2) / 2);
-        let mut placed: Vec<(usize, Option<u16>)> = registers
-            .iter()
-            .enumerate()
-            .map(|(i, info)| {
-                let blockable = info.space == vfd_runtime::Space::Parameter
-                    && info.array_len == 0
-                    && matches!(info.data_type, DataType::Word | DataType::DoubleWord);
-                let wire = blockable
-                    .then(|| self.protocol.to_wire(command, info.address))
-                    .flatten();
-                (i, wire)
-            })
-            .collect();
-        placed.sort_by_key(|(i, wire)| (wire.is_none(), *wire, *i));
-        let mut runs: Vec<Vec<usize>> = Vec::new();
-        let mut next: Option<(u16, usize)> = None; // wire address that continues, words so far
-        for (i, wire) in placed {
-            let words = width(registers[i]);
-            match (wire, next, runs.last_mut()) {
-                (Some(at), Some((expected, used)), Some(run))
-                    if at == expected && used + words <= max =>
-                {
-                    run.push(i);
-                    next = at
-                        .checked_add(words as u16)
-                        .map(|after| (after, used + words));
-                }
-                (Some(at), _, _) => {
-                    runs.push(vec![i]);
-                    next = at.checked_add(words as u16).map(|after| (after, words));
-                }
-                (None, _, _) => {
-                    runs.push(vec![i]);
-                    next = None;
-                }
-            }
-        }
-        runs
-    }
-
     /// Reads the registers of one run in one request; `None` when the drive refuses it.
     fn read_block(
         &mut self,
@@ -576,7 +525,7 @@ impl Session {
     ) -> Option<Vec<Value>> {
         let widths: Vec<usize> = run
             .iter()
-            .map(|i| usize::from(registers[*i].data_type.size().max(2) / 2))
+            .map(|i| vfd_runtime::read_runs::block_words(registers[*i]))
             .collect();
         let mut words = vec![0u16; widths.iter().sum()];
         self.requests += 1;

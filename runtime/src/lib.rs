@@ -60,6 +60,7 @@ pub mod layout;
 pub mod meaning;
 pub mod prelude;
 pub mod protocol;
+pub mod read_runs;
 pub mod register;
 pub mod scaling;
 #[cfg(all(test, feature = "serde"))]
