@@ -3,6 +3,9 @@
 
 #![warn(missing_docs)]
 
+#[cfg(unix)]
+pub mod paced;
+
 use std::fmt::Write as _;
 use std::time::Duration;
 
