@@ -1667,7 +1667,7 @@ fn shortest_frame(layout: &crate::layout::FrameLayout) -> usize {
     let total: usize = sizes().sum();
     match layout.encoding {
         crate::layout::Encoding::HexPairs if layout.parts.len() >= 2 => {
-            let ends = sizes().next().unwrap_or(0) + sizes().last().unwrap_or(0);
+            let ends = sizes().next().unwrap_or(0) + sizes().next_back().unwrap_or(0);
             ends + 2 * (total - ends)
         }
         _ => total,

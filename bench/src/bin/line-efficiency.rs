@@ -531,38 +531,50 @@ fn print_phases(baud: u32, rows: &[Row]) {
     }
 }
 
-/// The CPU time one wake-up costs a thread on this machine, the unit the master's CPU per
-/// exchange is made of: a sleep, and a blocking read that one byte ends.
+/// What one wake-up costs a thread of normal priority on this machine, the unit the
+/// master's CPU per exchange is made of, and how late it comes: a sleep (overshoot past the
+/// time asked), and a blocking pseudo-terminal read that one byte ends (from the write on
+/// the other side to the read's return).
 fn print_wake_costs() -> std::io::Result<()> {
     use vfd_runtime::transport::PseudoTerminal;
     const ROUNDS: u32 = 2000;
     println!();
-    println!("### CPU time of one wake-up of a normal thread on this machine");
+    println!("### One wake-up of a normal thread on this machine");
     println!();
-    println!("| Wait | Thread CPU per wake-up |");
-    println!("|---|---|");
+    println!("| Wait | Thread CPU per wake-up | Late: mean / p99 |");
+    println!("|---|---|---|");
     for pause in [Duration::from_micros(100), Duration::from_millis(1)] {
+        let mut late = Vec::with_capacity(ROUNDS as usize);
         let before = thread_cpu_time();
         for _ in 0..ROUNDS {
+            let asked = Instant::now();
             std::thread::sleep(pause);
+            late.push(asked.elapsed().saturating_sub(pause));
         }
         if let (Some(before), Some(after)) = (before, thread_cpu_time()) {
             println!(
-                "| `thread::sleep({} µs)` | {:.1} µs |",
+                "| `thread::sleep({} µs)` | {:.1} µs | {} |",
                 pause.as_micros(),
-                (after - before).as_secs_f64() * 1e6 / f64::from(ROUNDS)
+                (after - before).as_secs_f64() * 1e6 / f64::from(ROUNDS),
+                lateness(&mut late)
             );
         }
         let (mut reader, mut writer) = PseudoTerminal::open()?.into_transports()?;
+        let (sent_at, sent) = std::sync::mpsc::channel();
         let sender = std::thread::spawn(move || -> std::io::Result<()> {
             for _ in 0..ROUNDS {
                 std::thread::sleep(pause);
+                let now = Instant::now();
                 writer.send(&[0x55])?;
+                if sent_at.send(now).is_err() {
+                    break;
+                }
             }
             Ok(())
         });
         let mut buf = [0u8; 16];
         let mut received = 0u32;
+        let mut late = Vec::with_capacity(ROUNDS as usize);
         let before = thread_cpu_time();
         let deadline = Instant::now() + Duration::from_secs(60);
         while received < ROUNDS {
@@ -570,16 +582,35 @@ fn print_wake_costs() -> std::io::Result<()> {
             if got == 0 {
                 break;
             }
+            let now = Instant::now();
+            for _ in 0..got {
+                if let Ok(at) = sent.recv() {
+                    late.push(now.saturating_duration_since(at));
+                }
+            }
             received += u32::try_from(got).unwrap_or(1);
         }
         if let (Some(before), Some(after)) = (before, thread_cpu_time()) {
             println!(
-                "| pseudo-terminal read woken by a byte every {} µs | {:.1} µs |",
+                "| pseudo-terminal read woken by a byte every {} µs | {:.1} µs | {} |",
                 pause.as_micros(),
-                (after - before).as_secs_f64() * 1e6 / f64::from(received.max(1))
+                (after - before).as_secs_f64() * 1e6 / f64::from(received.max(1)),
+                lateness(&mut late)
             );
         }
+        drop(sent);
         sender.join().unwrap_or(Ok(()))?;
     }
     Ok(())
+}
+
+/// `mean / p99` of durations, in µs.
+fn lateness(late: &mut [Duration]) -> String {
+    late.sort();
+    let mean = late.iter().sum::<Duration>() / u32::try_from(late.len().max(1)).unwrap_or(1);
+    format!(
+        "{} / {} µs",
+        us(mean),
+        us(vfd_bench::percentile(late, 99.0))
+    )
 }
