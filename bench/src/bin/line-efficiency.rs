@@ -187,9 +187,12 @@ struct Row {
     count: u32,
     errors: u32,
     first_error: Option<String>,
-    /// Time the successful exchanges took (each from the start of its `transact`, which
-    /// keeps the gap after the exchange before, to its end).
+    /// Time the successful exchanges after a successful one took (each from the start of
+    /// its `transact`, which keeps the gap after the exchange before, to its end), and
+    /// their number: an exchange after a failed one first waits out the failed one's late
+    /// reply, by design.
     ok_time: Duration,
+    ok_count: u32,
     elapsed: Duration,
     cpu: Option<Duration>,
     phases: Phases,
@@ -201,9 +204,10 @@ impl Row {
     fn rate(&self) -> f64 {
         f64::from(self.count) / self.elapsed.as_secs_f64()
     }
-    /// The rate of the successful exchanges alone (the time failed ones took left out).
+    /// The rate of the successful exchanges that follow a successful one (the time failed
+    /// ones and the recovery after them took left out).
     fn ok_rate(&self) -> f64 {
-        f64::from(self.count) / self.ok_time.as_secs_f64()
+        f64::from(self.ok_count) / self.ok_time.as_secs_f64()
     }
     fn max_rate(&self) -> f64 {
         1.0 / self.model.exchange.as_secs_f64()
@@ -386,6 +390,7 @@ fn measure(subject: &Subject, baud: u32, duration: Duration, fine: bool) -> Resu
     let mut errors = 0u32;
     let mut first_error = None;
     let mut ok_time = Duration::ZERO;
+    let mut ok_count = 0u32;
     let mut previous: Option<Marks> = None;
     let cpu_before = thread_cpu_time();
     let start = Instant::now();
@@ -395,7 +400,10 @@ fn measure(subject: &Subject, baud: u32, duration: Duration, fine: bool) -> Resu
         match master.transact(&subject.request) {
             Ok(_) => {
                 count += 1;
-                ok_time += began.elapsed();
+                if previous.is_some() {
+                    ok_time += began.elapsed();
+                    ok_count += 1;
+                }
             }
             Err(error) => {
                 errors += 1;
@@ -450,6 +458,7 @@ fn measure(subject: &Subject, baud: u32, duration: Duration, fine: bool) -> Resu
         errors,
         first_error,
         ok_time,
+        ok_count,
         elapsed,
         cpu,
         phases,
@@ -477,7 +486,7 @@ fn print_rates(baud: u32, rows: &[Row]) {
     println!();
     println!("### {baud} baud");
     println!();
-    println!("| Drive | Protocol, register read | Format | Frames (bytes) | Gap after each frame | Exchange in theory | Max/s | Measured/s | Efficiency | Failed exchanges | Successful ones alone: /s, efficiency | Master CPU per exchange | CPU / wire time |");
+    println!("| Drive | Protocol, register read | Format | Frames (bytes) | Gap after each frame | Exchange in theory | Max/s | Measured/s | Efficiency | Failed exchanges | Without failures and recoveries: /s, efficiency | Master CPU per exchange | CPU / wire time |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for row in rows {
         let cpu = row.cpu_per_exchange();
