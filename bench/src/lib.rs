@@ -1,10 +1,12 @@
 //! Shared pieces of the benchmarks: synthetic drive descriptions of any size, generated
-//! on the fly (never committed), small statistics helpers, and the backup batching count
-//! ([`batching`]).
+//! on the fly (never committed), small statistics helpers, the backup batching count
+//! ([`batching`]) and a paced pseudo-terminal line (`paced`, Unix).
 
 #![warn(missing_docs)]
 
 pub mod batching;
+#[cfg(unix)]
+pub mod paced;
 
 use std::fmt::Write as _;
 use std::time::Duration;

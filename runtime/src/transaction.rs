@@ -1207,14 +1207,16 @@ impl<T: Transport, D: 'static> Master<T, D> {
     }
 
     /// Waits until a frame of `len` bytes sent at `sent` is on the line and the frame gap
-    /// after it has passed.
+    /// after it has passed. The line's last activity is the frame's end, so the next frame
+    /// does not keep the gap a second time.
     fn wait_on_line(&mut self, sent: Instant, len: usize) {
-        let done = sent + self.settings.wire_time(len) + self.frame_gap();
+        let on_line = sent + self.settings.wire_time(len);
+        let done = on_line + self.frame_gap();
         let now = Instant::now();
         if now < done {
             std::thread::sleep(done - now);
         }
-        self.last_activity = Some(Instant::now());
+        self.last_activity = Some(on_line.min(Instant::now()));
     }
 
     /// Drops what arrived before the request: what the transport can clear, then whatever
@@ -1366,6 +1368,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
         let timeout = self.reply_timeout(len);
         let deadline = Instant::now() + timeout;
         let silence_limit = self.silence_limit();
+        let shortest = shortest_reply(protocol, command);
         let mut reading = Collecting {
             request,
             command,
@@ -1414,6 +1417,32 @@ impl<T: Transport, D: 'static> Master<T, D> {
             if let Some(outcome) = self.settle(&mut reading) {
                 return outcome;
             }
+            self.read_ahead(&reading, shortest, deadline);
+        }
+    }
+
+    /// While a reply is incomplete, sleeps until nearly all the bytes it still needs at the
+    /// least can have arrived ([`read_ahead_wait`]), so that a line delivering a byte at a
+    /// time (a UART, a paced link) does not wake the master for every byte. No decision is
+    /// delayed by it: neither a reply nor an error reply is shorter than `shortest` (plus
+    /// the echo of the request, where the line is known to echo), bytes cannot cross the
+    /// line faster than one a character time, and the wait ends by the deadline. Not done
+    /// on a transport that reports the silence before what it delivers (the master splits
+    /// frames at such a silence, which a batch of bytes would hide).
+    fn read_ahead(&self, reading: &Collecting<'_>, shortest: usize, deadline: Instant) {
+        if self.transport.last_gap().is_some() {
+            return;
+        }
+        let echo = if self.echo == Some(true) && !reading.echo_passed {
+            reading.request_len
+        } else {
+            0
+        };
+        let needed = (shortest + echo).saturating_sub(reading.filled);
+        if let Some(wait) =
+            read_ahead_wait(needed, self.settings.char_time(), Instant::now(), deadline)
+        {
+            std::thread::sleep(wait);
         }
     }
 
@@ -1623,6 +1652,56 @@ impl Collecting<'_> {
     fn fail(&self, kind: TransactionErrorKind) -> TransactionError {
         TransactionError::new(Some(self.request), kind)
     }
+}
+
+/// The fewest bytes a frame of `layout` can have: its parts of fixed size (a part whose
+/// size depends on the frame counts as none), with every byte between the first and last
+/// part written as two digits in a hex-pairs layout.
+fn shortest_frame(layout: &crate::layout::FrameLayout) -> usize {
+    let sizes = || {
+        layout
+            .parts
+            .iter()
+            .map(|part| part.fixed_size().unwrap_or(0))
+    };
+    let total: usize = sizes().sum();
+    match layout.encoding {
+        crate::layout::Encoding::HexPairs if layout.parts.len() >= 2 => {
+            let ends = sizes().next().unwrap_or(0) + sizes().next_back().unwrap_or(0);
+            ends + 2 * (total - ends)
+        }
+        _ => total,
+    }
+}
+
+/// The fewest bytes any answer to `command` can have: its reply or the protocol's error
+/// reply, whichever can be shorter.
+fn shortest_reply(protocol: &Protocol, command: &CommandSpec) -> usize {
+    let reply = shortest_frame(&command.reply);
+    protocol
+        .error_reply
+        .as_ref()
+        .map_or(reply, |error| reply.min(shortest_frame(error)))
+}
+
+/// How long to wait at `now` for `needed` more bytes of `char_time` each before reading
+/// again: one character less than they take, so the wait ends before the last of them can
+/// have arrived even when the master woke up to a character late for the bytes it has;
+/// never past `deadline`. `None` when fewer than two are needed (reading at once costs no
+/// more).
+fn read_ahead_wait(
+    needed: usize,
+    char_time: Duration,
+    now: Instant,
+    deadline: Instant,
+) -> Option<Duration> {
+    if needed < 2 {
+        return None;
+    }
+    let wait = char_time
+        .saturating_mul(u32::try_from(needed - 1).unwrap_or(u32::MAX))
+        .min(deadline.saturating_duration_since(now));
+    (!wait.is_zero()).then_some(wait)
 }
 
 /// The mismatch error for a frame that answers something else than `request`.
@@ -2052,6 +2131,24 @@ fn for_people(duration: Duration) -> String {
 mod tests {
     use super::*;
     use std::error::Error as _;
+
+    #[test]
+    fn read_ahead_waits_one_character_less_than_the_bytes_still_needed() {
+        let now = Instant::now();
+        let char_time = Duration::from_micros(1146);
+        let far = now + Duration::from_secs(1);
+        assert_eq!(read_ahead_wait(0, char_time, now, far), None);
+        assert_eq!(read_ahead_wait(1, char_time, now, far), None);
+        assert_eq!(read_ahead_wait(2, char_time, now, far), Some(char_time));
+        assert_eq!(read_ahead_wait(7, char_time, now, far), Some(char_time * 6));
+        // Never past the deadline, and not at all once it has come.
+        let soon = now + Duration::from_millis(2);
+        assert_eq!(
+            read_ahead_wait(7, char_time, now, soon),
+            Some(Duration::from_millis(2))
+        );
+        assert_eq!(read_ahead_wait(7, char_time, soon, now), None);
+    }
 
     #[test]
     fn durations_read_as_people_write_them() {

@@ -148,7 +148,7 @@ impl PtyTransport {
     /// became ready (readable, hung up or in error, which the following read reports).
     fn wait_readable(&self, remaining: Duration) -> io::Result<bool> {
         let mut fds = [PollFd::new(self.file.as_fd(), PollFlags::POLLIN)];
-        match poll(&mut fds, poll_timeout(remaining)) {
+        match wait(&mut fds, remaining) {
             Ok(0) => Ok(false),
             Ok(_) => {
                 let revents = fds[0].revents().unwrap_or_else(PollFlags::empty);
@@ -261,9 +261,25 @@ fn make_raw<Fd: AsFd>(fd: Fd) -> io::Result<()> {
     })
 }
 
+/// Waits for `fds` at most `remaining`. On Linux `ppoll` takes the time to the nanosecond,
+/// so a wait for a few character times at 115200 baud (under 0.1 ms each) is not rounded
+/// up to a whole millisecond; elsewhere `poll` rounds up ([`poll_timeout`]).
+#[cfg(any(target_os = "linux", target_os = "android"))]
+fn wait(fds: &mut [PollFd], remaining: Duration) -> nix::Result<nix::libc::c_int> {
+    let timeout = nix::sys::time::TimeSpec::from_duration(remaining);
+    nix::poll::ppoll(fds, Some(timeout), None)
+}
+
+/// Waits for `fds` at most `remaining`, rounded up to whole milliseconds ([`poll_timeout`]).
+#[cfg(not(any(target_os = "linux", target_os = "android")))]
+fn wait(fds: &mut [PollFd], remaining: Duration) -> nix::Result<nix::libc::c_int> {
+    poll(fds, poll_timeout(remaining))
+}
+
 /// Converts the time left until a deadline to a `poll` timeout, rounding up to whole
 /// milliseconds (so a wake-up is never early) and clamping to what `poll` accepts; the
 /// caller loops when a clamped wait ends before the deadline.
+#[cfg_attr(any(target_os = "linux", target_os = "android"), allow(dead_code))]
 fn poll_timeout(remaining: Duration) -> PollTimeout {
     let mut millis = remaining.as_millis();
     if remaining.subsec_nanos() % 1_000_000 != 0 {

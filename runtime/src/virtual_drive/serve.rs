@@ -1,7 +1,9 @@
 //! Serving a virtual drive over any [`Transport`] (a pseudo-terminal, a serial port) in
 //! wall time, with the line's timing: a reply starts after the request's last byte and the
-//! protocol's frame gap, unfinished frames are dropped after the gap or the drive's frame
-//! abandon time, and the simulated clock follows the wall clock.
+//! protocol's frame gap (none where the protocol states none) plus the drive's reply delay,
+//! unfinished frames are dropped after the gap or the drive's frame abandon time, and the
+//! simulated clock follows the wall clock. The loop waits for bytes only until the next of
+//! these moments, so a silence is noticed when it is due, not at the next idle poll.
 
 use super::{Fault, Simulator};
 use crate::protocol::Protocol;
@@ -42,7 +44,12 @@ pub fn serve<T: Transport>(
     let mut clock = Instant::now();
     let mut last_byte = clock;
     while !stop.load(Ordering::Relaxed) {
-        let got = transport.receive(&mut buf, Instant::now() + POLL)?;
+        let deadline = next_wait(
+            clock,
+            (!input.is_empty()).then_some(last_byte),
+            &[settle, gap, inner_gap, timing.frame_abandon],
+        );
+        let got = transport.receive(&mut buf, deadline)?;
         let now = Instant::now();
         simulator.advance(now - clock);
         clock = now;
@@ -69,10 +76,13 @@ pub fn serve<T: Transport>(
             transport.send(&NOISE)?;
         }
         transmissions.extend(simulator.lock().receive(protocol, &mut input));
+        // The line is free from the request's last byte on; each transmission keeps the
+        // frame gap after whatever went before it.
+        let mut line_free = last_byte;
         for transmission in transmissions {
             // The reply starts after the request's last byte and the frame gap, and the
             // wait the drive's reply-delay registers set.
-            std::thread::sleep(gap.max(char_time) + transmission.wait);
+            sleep_until(line_free + gap + transmission.wait);
             if transmission.delayed {
                 let timeout = timing.reply_timeout(
                     &settings,
@@ -91,10 +101,78 @@ pub fn serve<T: Transport>(
                         transport.send(std::slice::from_ref(byte))?;
                         std::thread::sleep(char_time * chars.max(1));
                     }
+                    line_free = Instant::now();
                 }
-                None => transport.send(&transmission.bytes)?,
+                None => {
+                    transport.send(&transmission.bytes)?;
+                    line_free = Instant::now() + settings.wire_time(transmission.bytes.len());
+                }
             }
         }
     }
     Ok(())
+}
+
+/// Sleeps until `due` (at once if it has passed).
+fn sleep_until(due: Instant) {
+    let now = Instant::now();
+    if due > now {
+        std::thread::sleep(due - now);
+    }
+}
+
+/// Until when the loop waits for bytes at `now`: the first of the silences in `silences`
+/// (after the last byte of unfinished input, when there is some) still to come, and at most
+/// [`POLL`] (when the stop flag and the noise fault are looked at).
+fn next_wait(now: Instant, last_byte: Option<Instant>, silences: &[Duration]) -> Instant {
+    let idle = now + POLL;
+    let Some(last_byte) = last_byte else {
+        return idle;
+    };
+    silences
+        .iter()
+        .filter(|silence| !silence.is_zero())
+        .map(|silence| last_byte + *silence)
+        .filter(|due| *due > now)
+        .fold(idle, Instant::min)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn without_input_the_loop_waits_the_idle_poll() {
+        let now = Instant::now();
+        let ms = Duration::from_millis;
+        assert_eq!(next_wait(now, None, &[ms(1), ms(2)]), now + POLL);
+    }
+
+    #[test]
+    fn with_input_the_loop_wakes_at_the_next_silence_due() {
+        let now = Instant::now();
+        let us = Duration::from_micros;
+        let last = now - us(100);
+        // 0.2 ms settle, no gap, 1.5 ms inner gap: the settle comes first.
+        assert_eq!(
+            next_wait(now, Some(last), &[us(200), Duration::ZERO, us(1500)]),
+            last + us(200)
+        );
+        // Once the settle has passed, the inner gap is next.
+        let later = last + us(300);
+        assert_eq!(
+            next_wait(later, Some(last), &[us(200), Duration::ZERO, us(1500)]),
+            last + us(1500)
+        );
+        // Every silence passed (or longer than the idle poll): the idle poll.
+        let much_later = last + Duration::from_secs(2);
+        assert_eq!(
+            next_wait(much_later, Some(last), &[us(200), us(1500)]),
+            much_later + POLL
+        );
+        assert_eq!(
+            next_wait(now, Some(last), &[Duration::from_secs(1)]),
+            now + POLL
+        );
+    }
 }
