@@ -251,7 +251,25 @@ pub struct Roles {
 }
 
 impl Roles {
-    fn slot(&mut self, role: Role) -> Option<&mut Option<u32>> {
+    /// The value given for `role`, for the roles this type holds.
+    pub fn value(&self, role: Role) -> Option<u32> {
+        match role {
+            Role::Address => self.address,
+            Role::Command => self.command,
+            Role::Register => self.register,
+            Role::Index => self.index,
+            Role::Data => self.data,
+            Role::ErrorCode => self.error_code,
+            Role::Process1 => self.process_1,
+            Role::Process2 => self.process_2,
+            Role::Decimals => self.decimals,
+            Role::Text | Role::Words | Role::ReadCount | Role::WriteStatus | Role::ReplyWait => {
+                None
+            }
+        }
+    }
+
+    pub(crate) fn slot(&mut self, role: Role) -> Option<&mut Option<u32>> {
         match role {
             Role::Address => Some(&mut self.address),
             Role::Command => Some(&mut self.command),
@@ -1474,6 +1492,7 @@ mod tests {
         FrameLayout {
             name: "read_request".into(),
             encoding: Encoding::Binary,
+            plan: None,
             parts: List::Owned(vec![
                 Part::Literal {
                     name: "start".into(),
@@ -1560,6 +1579,7 @@ mod tests {
         FrameLayout {
             name: "data_reply".into(),
             encoding: Encoding::Binary,
+            plan: None,
             parts: Cow::Owned(vec![
                 Part::Literal {
                     name: "stx".into(),
@@ -1684,6 +1704,7 @@ mod tests {
         FrameLayout {
             name: "block_reply".into(),
             encoding: Encoding::Binary,
+            plan: None,
             parts: List::Owned(vec![
                 Part::literal("start", b"/"),
                 field("command", Role::Command, Format::Char),
@@ -1788,6 +1809,7 @@ mod tests {
         FrameLayout {
             name: "write_register".into(),
             encoding: Encoding::HexPairs,
+            plan: None,
             parts: Cow::Owned(vec![
                 literal("start", b":"),
                 field("address", Role::Address, Format::U8, 1),

@@ -4,6 +4,7 @@
 //! `static` items (every list is a borrowed [`Cow`]); the code generator builds the same
 //! types at run time (owned) to check a description's example frames while reading it.
 
+use crate::plan::FramePlan;
 use std::borrow::Cow;
 
 // Sizes of fixed parts, used by the codec to size rest-of-frame fields.
@@ -56,7 +57,10 @@ pub type List<T> = Cow<'static, [T]>;
 pub const MAX_PARTS: usize = 16;
 
 /// One frame layout, for example "ASCII read request" or "binary error reply".
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Two layouts are equal when their name, parts and encoding are: the plan is derived
+/// from them.
+#[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct FrameLayout {
     /// Name used in error messages, e.g. `read_request`.
@@ -65,6 +69,19 @@ pub struct FrameLayout {
     pub parts: List<Part>,
     /// How the frame's bytes go on the wire.
     pub encoding: Encoding,
+    /// The layout's [`FramePlan`] (its fast encoder and decoder), computed from the parts
+    /// by [`FramePlan::of`] (generated layouts hold it as const data; see
+    /// [`FrameLayout::planned`]); `None`: the interpreter handles every frame. A plan must
+    /// be the one computed from these parts: after changing the parts, call
+    /// [`FrameLayout::planned`] again.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub plan: Option<FramePlan>,
+}
+
+impl PartialEq for FrameLayout {
+    fn eq(&self, other: &FrameLayout) -> bool {
+        self.name == other.name && self.parts == other.parts && self.encoding == other.encoding
+    }
 }
 
 /// How a layout's bytes go on the wire.

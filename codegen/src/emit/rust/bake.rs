@@ -10,6 +10,7 @@
 use proc_macro2::{Literal, TokenStream};
 use quote::{quote, ToTokens};
 use vfd_runtime::meaning::{Direction, FrameMeaning};
+use vfd_runtime::plan::{FramePlan, Step};
 use vfd_runtime::serial::Parity;
 use vfd_runtime::units::Unit;
 use vfd_runtime::{
@@ -468,11 +469,108 @@ impl Bake for FrameLayout {
             Encoding::Binary => quote!(Binary),
             Encoding::HexPairs => quote!(HexPairs),
         };
+        let plan = match &self.plan {
+            Some(plan) => {
+                let plan = plan.bake();
+                quote!(Some(#plan))
+            }
+            None => quote!(None),
+        };
         quote!(FrameLayout {
             name: Cow::Borrowed(#name),
             parts: Cow::Borrowed(&[#(#parts),*]),
             encoding: Encoding::#encoding,
+            plan: #plan,
         })
+    }
+}
+
+/// A layout's plan, as const data: computed here, at build time, by the runtime's
+/// [`FramePlan::of`], so the generated layout does not compute it again.
+impl Bake for FramePlan {
+    fn bake(&self) -> TokenStream {
+        let steps = self.steps.iter().map(Bake::bake);
+        quote!(::vfd_runtime::plan::FramePlan {
+            steps: Cow::Borrowed(&[#(#steps),*]),
+        })
+    }
+}
+
+impl Bake for Step {
+    fn bake(&self) -> TokenStream {
+        let option = |value: Option<TokenStream>| match value {
+            Some(value) => quote!(Some(#value)),
+            None => quote!(None),
+        };
+        match *self {
+            Step::Literal { optional } => {
+                quote!(::vfd_runtime::plan::Step::Literal { optional: #optional })
+            }
+            Step::Field {
+                role,
+                format,
+                width,
+                min_width,
+                optional,
+                by_length,
+                checked,
+                open_digits,
+            } => {
+                let (role, format) = (role.bake(), format.bake());
+                let (width, min_width) = (int_literal(width), int_literal(min_width));
+                let optional = option(optional.as_ref().map(Bake::bake));
+                quote!(::vfd_runtime::plan::Step::Field {
+                    role: #role,
+                    format: #format,
+                    width: #width,
+                    min_width: #min_width,
+                    optional: #optional,
+                    by_length: #by_length,
+                    checked: #checked,
+                    open_digits: #open_digits,
+                })
+            }
+            Step::Word { format } => {
+                let format = format.bake();
+                quote!(::vfd_runtime::plan::Step::Word { format: #format })
+            }
+            Step::Length {
+                format,
+                counts,
+                times,
+                per,
+            } => {
+                let (format, counts) = (format.bake(), counts.bake());
+                let (times, per) = (int_literal(times), int_literal(per));
+                quote!(::vfd_runtime::plan::Step::Length {
+                    format: #format,
+                    counts: #counts,
+                    times: #times,
+                    per: #per,
+                })
+            }
+            Step::Checksum {
+                algorithm,
+                format,
+                covers_from,
+                covers_through,
+                optional,
+            } => {
+                let (algorithm, format) = (algorithm.bake(), format.bake());
+                let covers_from = int_literal(covers_from);
+                let covers_through = option(covers_through.map(|t| {
+                    let t = int_literal(t);
+                    quote!(#t)
+                }));
+                quote!(::vfd_runtime::plan::Step::Checksum {
+                    algorithm: #algorithm,
+                    format: #format,
+                    covers_from: #covers_from,
+                    covers_through: #covers_through,
+                    optional: #optional,
+                })
+            }
+        }
     }
 }
 
