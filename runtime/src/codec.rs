@@ -252,6 +252,7 @@ pub struct Roles {
 
 impl Roles {
     /// The value given for `role`, for the roles this type holds.
+    #[inline]
     pub fn value(&self, role: Role) -> Option<u32> {
         match role {
             Role::Address => self.address,
@@ -269,6 +270,7 @@ impl Roles {
         }
     }
 
+    #[inline]
     pub(crate) fn slot(&mut self, role: Role) -> Option<&mut Option<u32>> {
         match role {
             Role::Address => Some(&mut self.address),

@@ -304,11 +304,13 @@ impl Format {
     }
 
     /// Whether the format is made of ASCII digits whose count may vary.
+    #[inline]
     pub const fn is_digits(self) -> bool {
         matches!(self, Format::Decimal | Format::Hex)
     }
 
     /// The fixed byte count of a binary or character format, `None` for digit formats.
+    #[inline]
     pub const fn fixed_len(self) -> Option<usize> {
         match self {
             Format::Char | Format::U8 => Some(1),
@@ -319,6 +321,7 @@ impl Format {
     }
 
     /// Whether `byte` can start a value in this format (used for optional fields).
+    #[inline]
     pub fn accepts_digit(self, byte: u8) -> bool {
         match self {
             Format::Decimal => byte.is_ascii_digit(),
@@ -452,11 +455,13 @@ impl BroadcastAddress {
     }
 
     /// Whether a field value holds open digits.
+    #[inline]
     pub const fn is_open(value: u32) -> bool {
         value & Self::OPEN != 0
     }
 
     /// Whether `byte` can begin a broadcast station field.
+    #[inline]
     pub fn starts_with(&self, byte: u8) -> bool {
         self.all_bytes.first() == Some(&byte)
             || self.wildcard == Some(byte)
@@ -494,6 +499,7 @@ pub struct BitsSpec {
 
 impl BitsSpec {
     /// The bits' mask within the word.
+    #[inline]
     pub const fn mask(&self) -> u32 {
         (((1u64 << self.width) - 1) << self.lsb) as u32
     }

@@ -20,17 +20,43 @@
 use crate::checksum;
 use crate::codec::{FieldValue, FrameValues, Roles};
 use crate::layout::{
-    checksum_size, BroadcastAddress, ChecksumAlgorithm, Counts, Encoding, Format, FrameLayout,
-    List, Part, Presence, Role, SizedBy, MAX_PARTS,
+    checksum_size, BitsSpec, BroadcastAddress, ChecksumAlgorithm, Counts, Encoding, Format,
+    FrameLayout, List, Part, Presence, Role, SizedBy, MAX_PARTS,
 };
 
 /// The steps of one layout, one per part, in wire order (see the module documentation).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct FramePlan {
     /// One step per part of the layout, at the part's index.
     pub steps: List<Step>,
+    /// The same steps compiled for this layout alone: functions the generator writes
+    /// for each generated layout, which run the steps one after the other with every
+    /// argument a constant (see [`Decoder`] and [`Encoder`]). `None` for a plan computed at
+    /// run time, which [`FramePlan::decode`] and [`FramePlan::encode`] run step by step.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub compiled: Option<Compiled>,
 }
+
+/// Two plans are equal when their steps are (compiled functions run the same steps).
+impl PartialEq for FramePlan {
+    fn eq(&self, other: &FramePlan) -> bool {
+        self.steps == other.steps
+    }
+}
+
+/// A plan's steps compiled for one layout by the generator.
+#[derive(Debug, Clone, Copy)]
+pub struct Compiled {
+    /// Runs [`FramePlan::decode`]'s steps.
+    pub decode: fn(&[u8]) -> Option<PlannedFrame>,
+    /// Runs [`FramePlan::encode`]'s steps.
+    pub encode: EncodeFn,
+}
+
+/// The signature of a compiled encoder: roles, data size, the protocol's default optional
+/// parts, the output buffer (see [`FramePlan::encode`]).
+pub type EncodeFn = fn(&Roles, u8, &[crate::layout::Text], &mut [u8]) -> Option<usize>;
 
 /// What a plan does for one part. Lists (literal bytes, allowed values, bit fields,
 /// markers) stay in the layout's part; a step holds what the fast path decides on.
@@ -44,54 +70,69 @@ pub enum Step {
         optional: bool,
     },
     /// A value field.
-    Field {
-        /// What it means.
-        role: Role,
-        /// Wire format: a digit format, a fixed binary format, or `uint_be`/`uint_le`.
-        format: Format,
-        /// Digits or bytes written (and the most digits read).
-        width: u8,
-        /// The fewest digits read.
-        min_width: u8,
-        /// How a decoder tells it is there, when it may be left out.
-        optional: Option<Presence>,
-        /// Sized by the length part that covers it alone (a Modbus byte count).
-        by_length: bool,
-        /// The part lists the values it accepts.
-        checked: bool,
-        /// The part has broadcast encodings with open digits (`**`, `*9`): frames holding
-        /// one go to the interpreter.
-        open_digits: bool,
-    },
+    Field(FieldStep),
     /// A word of bit fields, in a fixed binary format.
     Word {
         /// `u16be`, `u16le`, `u32be` or `u32le`.
         format: Format,
     },
     /// A computed length, in a fixed binary format.
-    Length {
-        /// `u8` or `u16be`.
-        format: Format,
-        /// What it counts.
-        counts: Counts,
-        /// See [`crate::LengthSpec::times`].
-        times: u8,
-        /// See [`crate::LengthSpec::per`].
-        per: u8,
-    },
+    Length(LengthStep),
     /// A checksum over earlier parts.
-    Checksum {
-        /// The algorithm.
-        algorithm: ChecksumAlgorithm,
-        /// `hex` (two digits) or a fixed binary format.
-        format: Format,
-        /// First part covered.
-        covers_from: u8,
-        /// Last part covered, when coverage stops before the checksum.
-        covers_through: Option<u8>,
-        /// May be left out (present when its marker is there).
-        optional: bool,
-    },
+    Checksum(ChecksumStep),
+}
+
+/// A value field's step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct FieldStep {
+    /// What it means.
+    pub role: Role,
+    /// Wire format: a digit format, a fixed binary format, or `uint_be`/`uint_le`.
+    pub format: Format,
+    /// Digits or bytes written (and the most digits read).
+    pub width: u8,
+    /// The fewest digits read.
+    pub min_width: u8,
+    /// How a decoder tells it is there, when it may be left out.
+    pub optional: Option<Presence>,
+    /// Sized by the length part that covers it alone (a Modbus byte count).
+    pub by_length: bool,
+    /// The part lists the values it accepts.
+    pub checked: bool,
+    /// The part has broadcast encodings with open digits (`**`, `*9`): frames holding
+    /// one go to the interpreter.
+    pub open_digits: bool,
+}
+
+/// A length's step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct LengthStep {
+    /// `u8` or `u16be`.
+    pub format: Format,
+    /// What it counts.
+    pub counts: Counts,
+    /// See [`crate::LengthSpec::times`].
+    pub times: u8,
+    /// See [`crate::LengthSpec::per`].
+    pub per: u8,
+}
+
+/// A checksum's step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct ChecksumStep {
+    /// The algorithm.
+    pub algorithm: ChecksumAlgorithm,
+    /// `hex` (two digits) or a fixed binary format.
+    pub format: Format,
+    /// First part covered.
+    pub covers_from: u8,
+    /// Last part covered, when coverage stops before the checksum.
+    pub covers_through: Option<u8>,
+    /// May be left out (present when its marker is there).
+    pub optional: bool,
 }
 
 /// A frame decoded by a plan: what [`crate::codec::decode`] returns for it, with its
@@ -130,7 +171,8 @@ impl FramePlan {
     /// The plan of `layout`, when every part is one a plan handles: a binary encoding, at
     /// most [`MAX_PARTS`] parts, no text or words fields, no field sized by the rest of the
     /// frame, lengths and checksums that cover parts before them. `None` otherwise (the
-    /// interpreter then handles every frame of the layout).
+    /// interpreter then handles every frame of the layout). The plan has no compiled
+    /// functions: the generator adds them to the layouts it writes.
     pub fn of(layout: &FrameLayout) -> Option<FramePlan> {
         if layout.encoding != Encoding::Binary
             || layout.parts.is_empty()
@@ -187,7 +229,7 @@ impl FramePlan {
                         .broadcast
                         .as_ref()
                         .is_some_and(|b| !b.all_bytes.is_empty() || b.wildcard.is_some());
-                    Step::Field {
+                    Step::Field(FieldStep {
                         role: field.role,
                         format: field.format,
                         width: field.width,
@@ -196,14 +238,14 @@ impl FramePlan {
                         by_length,
                         checked: !field.allowed.is_empty(),
                         open_digits,
-                    }
+                    })
                 }
                 Part::Word(word) => {
                     fixed(word.format)?;
                     if word
                         .fields
                         .iter()
-                        .any(|bits| bits.width == 0 || bits.width > 32)
+                        .any(|bits| bits.width == 0 || bits.width > 32 || bits.lsb >= 32)
                     {
                         return None;
                     }
@@ -218,12 +260,12 @@ impl FramePlan {
                             return None;
                         }
                     }
-                    Step::Length {
+                    Step::Length(LengthStep {
                         format: length.format,
                         counts: length.counts,
                         times: length.times,
                         per: length.per,
-                    }
+                    })
                 }
                 Part::Checksum(spec) => {
                     if spec.format != Format::Hex && fixed(spec.format).is_none() {
@@ -232,23 +274,27 @@ impl FramePlan {
                     if usize::from(spec.covers_from) >= index
                         || spec
                             .covers_through
+                            .is_some_and(|through| through < spec.covers_from)
+                        || spec
+                            .covers_through
                             .is_some_and(|through| usize::from(through) >= index)
                     {
                         return None;
                     }
-                    Step::Checksum {
+                    Step::Checksum(ChecksumStep {
                         algorithm: spec.algorithm,
                         format: spec.format,
                         covers_from: spec.covers_from,
                         covers_through: spec.covers_through,
                         optional: spec.optional,
-                    }
+                    })
                 }
             };
             steps.push(step);
         }
         Some(FramePlan {
             steps: List::Owned(steps),
+            compiled: None,
         })
     }
 
@@ -257,242 +303,50 @@ impl FramePlan {
     /// the interpreter returns; `None` for everything else.
     #[inline]
     pub fn decode(&self, layout: &FrameLayout, bytes: &[u8]) -> Option<PlannedFrame> {
+        if let Some(compiled) = &self.compiled {
+            return (compiled.decode)(bytes);
+        }
+        self.decode_steps(layout, bytes)
+    }
+
+    /// [`FramePlan::decode`] step by step, without the compiled functions.
+    pub fn decode_steps(&self, layout: &FrameLayout, bytes: &[u8]) -> Option<PlannedFrame> {
         let steps: &[Step] = &self.steps;
         let parts: &[Part] = &layout.parts;
         if steps.len() != parts.len() || steps.len() > MAX_PARTS {
             return None;
         }
-        let mut values = FrameValues::default();
-        let mut roles = Roles::default();
-        let mut starts = [0usize; MAX_PARTS];
-        let mut ends = [0usize; MAX_PARTS];
-        let mut sized = [u16::MAX; MAX_PARTS];
-        let mut frame_end = usize::MAX;
-        let mut pos = 0usize;
+        let mut decoder = Decoder::new(bytes);
         for (index, (step, part)) in steps.iter().zip(parts).enumerate() {
-            starts[index] = pos;
-            let rest = bytes.get(pos..)?;
             match (*step, part) {
-                (Step::Literal { optional }, Part::Literal { bytes: literal, .. }) => {
-                    if rest.starts_with(literal) {
-                        values.parts[index].present = true;
-                        pos += literal.len();
-                    } else if !optional || literal.starts_with(rest) {
-                        return None;
-                    }
+                (Step::Literal { optional }, Part::Literal { bytes, .. }) => {
+                    decoder.literal(index, bytes, optional)?
                 }
-                (
-                    Step::Field {
-                        role,
-                        format,
-                        width,
-                        min_width,
-                        optional,
-                        by_length,
-                        checked,
-                        open_digits,
-                    },
-                    Part::Field(field),
-                ) => {
-                    if let Some(presence) = optional {
-                        let &next = rest.first()?;
-                        let present = match presence {
-                            Presence::IfFormatMatches => format.accepts_digit(next),
-                            Presence::IfByteAtMost(limit) => next <= limit,
-                        } || field
-                            .broadcast
-                            .as_ref()
-                            .is_some_and(|b| b.starts_with(next));
-                        if !present {
-                            ends[index] = pos;
-                            continue;
-                        }
-                    }
-                    if open_digits {
-                        let broadcast = field.broadcast.as_ref()?;
-                        let all: &[u8] = &broadcast.all_bytes;
-                        if !all.is_empty() && !rest.is_empty() {
-                            let compared = rest.len().min(all.len());
-                            if rest[..compared] == all[..compared] {
-                                return None;
-                            }
-                        }
-                        if let Some(wildcard) = broadcast.wildcard {
-                            if rest[..rest.len().min(usize::from(width))].contains(&wildcard) {
-                                return None;
-                            }
-                        }
-                    }
-                    let (value, used, slot_width) = match format {
-                        Format::UintBe | Format::UintLe => {
-                            let size = if by_length {
-                                let size = sized[index];
-                                if size == u16::MAX {
-                                    return None;
-                                }
-                                usize::from(size)
-                            } else {
-                                usize::from(width)
-                            };
-                            if size < usize::from(min_width) || size > 4 {
-                                return None;
-                            }
-                            let held = rest.get(..size)?;
-                            let value = if format == Format::UintLe {
-                                held.iter()
-                                    .rev()
-                                    .fold(0u32, |acc, b| (acc << 8) | u32::from(*b))
-                            } else {
-                                held.iter().fold(0u32, |acc, b| (acc << 8) | u32::from(*b))
-                            };
-                            if role == Role::Data {
-                                values.data_size = size as u8;
-                            }
-                            (value, size, size as u8)
-                        }
-                        Format::Decimal | Format::Hex => {
-                            let (value, used) = digits(format, min_width, width, rest)?;
-                            (value, used, used as u8)
-                        }
-                        _ => {
-                            let (value, used) = binary(format, rest)?;
-                            (value, used, 0)
-                        }
-                    };
-                    // A station with the open-digits flag is a broadcast's, never a
-                    // reply's: the interpreter's callers decide about it.
-                    if (checked && !allowed(field, value))
-                        || (role == Role::Address && BroadcastAddress::is_open(value))
-                    {
-                        return None;
-                    }
-                    values.parts[index] = FieldValue {
-                        present: true,
-                        value,
-                        width: slot_width,
-                    };
-                    if let Some(target) = roles.slot(role) {
-                        *target = Some(value);
-                    }
-                    pos += used;
-                }
+                (Step::Field(step), Part::Field(field)) => decoder.field(
+                    index,
+                    step,
+                    &field.allowed,
+                    field.fold_case,
+                    field.broadcast.as_ref(),
+                )?,
                 (Step::Word { format }, Part::Word(word)) => {
-                    let (value, used) = binary(format, rest)?;
-                    for bits in word.fields.iter() {
-                        let field = (value & bits.mask()) >> bits.lsb;
-                        if !bits.allowed.is_empty() && !bits.allowed.contains(&field) {
-                            return None;
-                        }
-                        if let Some(target) = roles.slot(bits.role) {
-                            *target = Some(field);
-                        }
-                    }
-                    values.parts[index] = FieldValue {
-                        present: true,
-                        value,
-                        width: 0,
-                    };
-                    pos += used;
+                    decoder.word(index, format, &word.fields)?
                 }
-                (
-                    Step::Length {
-                        format,
-                        counts,
-                        times,
-                        per,
-                    },
-                    Part::Length(_),
-                ) => {
-                    let (value, used) = binary(format, rest)?;
-                    values.parts[index] = FieldValue {
-                        present: true,
-                        value,
-                        width: 0,
-                    };
-                    pos += used;
-                    let bytes_counted =
-                        value as usize * usize::from(per.max(1)) / usize::from(times.max(1));
-                    match counts {
-                        Counts::DataSize => {
-                            values.data_size = u8::try_from(bytes_counted).unwrap_or(u8::MAX);
-                        }
-                        Counts::Parts { from, through } => {
-                            if usize::from(from) == index + 1
-                                && usize::from(through) + 1 == parts.len()
-                            {
-                                frame_end = pos + bytes_counted;
-                            } else if from == through {
-                                sized[usize::from(from)] =
-                                    u16::try_from(bytes_counted).unwrap_or(u16::MAX - 1);
-                            }
-                        }
-                    }
+                (Step::Length(step), Part::Length(_)) => {
+                    decoder.length(index, step, parts.len())?
                 }
-                (
-                    Step::Checksum {
-                        algorithm,
-                        format,
-                        covers_from,
-                        covers_through,
-                        optional,
-                    },
-                    Part::Checksum(spec),
-                ) => {
-                    let marker: &[u8] = &spec.marker;
-                    if !rest.starts_with(marker) {
-                        if optional && !marker.starts_with(rest) {
-                            ends[index] = pos;
-                            continue;
-                        }
-                        return None;
-                    }
-                    let value_at = pos + marker.len();
-                    let after = &bytes[value_at..];
-                    let (received, used) = if format == Format::Hex {
-                        digits(Format::Hex, 2, 2, after)?
-                    } else {
-                        binary(format, after)?
-                    };
-                    let covered_end =
-                        covers_through.map_or(value_at, |through| starts[usize::from(through) + 1]);
-                    let from = starts[usize::from(covers_from)];
-                    if checksum::compute(algorithm, bytes.get(from..covered_end)?) != received {
-                        return None;
-                    }
-                    values.parts[index] = FieldValue {
-                        present: true,
-                        value: received,
-                        width: 0,
-                    };
-                    pos = value_at + used;
+                (Step::Checksum(step), Part::Checksum(spec)) => {
+                    decoder.checksum(index, step, &spec.marker)?
                 }
                 _ => return None,
             }
-            ends[index] = pos;
-            if pos > frame_end {
-                return None;
-            }
         }
         for (index, step) in steps.iter().enumerate() {
-            if let Step::Length {
-                counts: Counts::Parts { from, through },
-                times,
-                per,
-                ..
-            } = *step
-            {
-                let counted = ends[usize::from(through)] - starts[usize::from(from)];
-                let expected = (counted * usize::from(times) / usize::from(per.max(1))) as u32;
-                if values.parts[index].value != expected {
-                    return None;
-                }
+            if let Step::Length(step) = *step {
+                decoder.check_length(index, step)?;
             }
         }
-        Some(PlannedFrame {
-            values,
-            roles,
-            len: pos,
-        })
+        Some(decoder.finish())
     }
 
     /// Encodes a frame of `layout` (the layout this plan was made from) carrying `roles`,
@@ -510,136 +364,516 @@ impl FramePlan {
         include: &[crate::layout::Text],
         out: &mut [u8],
     ) -> Option<usize> {
+        if let Some(compiled) = &self.compiled {
+            return (compiled.encode)(roles, data_size, include, out);
+        }
+        self.encode_steps(layout, roles, data_size, include, out)
+    }
+
+    /// [`FramePlan::encode`] step by step, without the compiled functions.
+    pub fn encode_steps(
+        &self,
+        layout: &FrameLayout,
+        roles: &Roles,
+        data_size: u8,
+        include: &[crate::layout::Text],
+        out: &mut [u8],
+    ) -> Option<usize> {
         let steps: &[Step] = &self.steps;
         let parts: &[Part] = &layout.parts;
         if steps.len() != parts.len() || steps.len() > MAX_PARTS || data_size > 4 {
             return None;
         }
-        let included = |part: &Part| include.iter().any(|name| name == part.name());
-        let mut starts = [0usize; MAX_PARTS];
-        let mut ends = [0usize; MAX_PARTS];
-        let mut pos = 0usize;
+        let mut encoder = Encoder::new(out);
         for (index, (step, part)) in steps.iter().zip(parts).enumerate() {
-            starts[index] = pos;
+            let included = || included(include, part.name());
             match (*step, part) {
                 (Step::Literal { optional }, Part::Literal { bytes, .. }) => {
-                    if !optional || included(part) {
-                        pos = put(out, pos, bytes)?;
-                    }
+                    encoder.literal(index, bytes, !optional || included())?
                 }
-                (
-                    Step::Field {
-                        role,
-                        format,
-                        width,
-                        optional,
-                        ..
-                    },
-                    Part::Field(field),
-                ) => {
-                    let value = roles.value(role);
-                    if optional.is_some() && value.is_none() && !included(part) {
-                        ends[index] = pos;
-                        continue;
-                    }
-                    let value = value.unwrap_or(0);
-                    let width = match format {
-                        Format::UintBe | Format::UintLe if data_size != 0 => data_size,
-                        _ => width,
-                    };
-                    if field.broadcast.is_some() && BroadcastAddress::is_open(value) {
-                        return None;
-                    }
-                    pos = put_value(out, pos, format, value, width)?;
+                (Step::Field(step), Part::Field(field)) => {
+                    let value = roles.value(step.role);
+                    let present = step.optional.is_none() || value.is_some() || included();
+                    encoder.field(
+                        index,
+                        step,
+                        value,
+                        present,
+                        data_size,
+                        field.broadcast.is_some(),
+                    )?
                 }
                 (Step::Word { format }, Part::Word(word)) => {
-                    let mut value = 0u32;
-                    for bits in word.fields.iter() {
-                        if let Some(field) = roles.value(bits.role) {
-                            value = (value & !bits.mask()) | ((field << bits.lsb) & bits.mask());
-                        }
-                    }
-                    pos = put_value(out, pos, format, value, 0)?;
+                    encoder.word(index, format, &word.fields, roles)?
                 }
-                (Step::Length { format, .. }, Part::Length(_)) => {
-                    pos = put(out, pos, &[0; 4][..usize::from(fixed(format)?)])?;
-                }
-                (
-                    Step::Checksum {
-                        format, optional, ..
-                    },
-                    Part::Checksum(spec),
-                ) => {
-                    if !optional || included(part) {
-                        pos = put(out, pos, &spec.marker)?;
-                        pos = put(out, pos, &[0; 2][..checksum_size(format)])?;
-                    }
+                (Step::Length(step), Part::Length(_)) => encoder.length(index, step.format)?,
+                (Step::Checksum(step), Part::Checksum(spec)) => {
+                    encoder.checksum(index, step, &spec.marker, !step.optional || included())?
                 }
                 _ => return None,
             }
-            ends[index] = pos;
         }
         for (index, step) in steps.iter().enumerate() {
-            if let Step::Length {
-                format,
-                counts,
-                times,
-                per,
-            } = *step
-            {
-                let counted = match counts {
-                    Counts::Parts { from, through } => {
-                        ends[usize::from(through)] - starts[usize::from(from)]
-                    }
-                    Counts::DataSize => usize::from(data_size),
-                };
-                let value = (counted * usize::from(times) / usize::from(per.max(1))) as u32;
-                put_value(out, starts[index], format, value, 0)?;
+            if let Step::Length(step) = *step {
+                encoder.fill_length(index, step, data_size)?;
             }
         }
         for (index, (step, part)) in steps.iter().zip(parts).enumerate() {
-            if let (
-                Step::Checksum {
-                    algorithm,
-                    format,
-                    covers_from,
-                    covers_through,
-                    ..
-                },
-                Part::Checksum(spec),
-            ) = (*step, part)
-            {
-                if ends[index] == starts[index] {
-                    continue;
-                }
-                let value_at = starts[index] + spec.marker.len();
-                let covered_end = covers_through.map_or(value_at, |t| ends[usize::from(t)]);
-                let sum = checksum::compute(
-                    algorithm,
-                    out.get(starts[usize::from(covers_from)]..covered_end)?,
-                );
-                put_value(out, value_at, format, sum, 2)?;
+            if let (Step::Checksum(step), Part::Checksum(spec)) = (*step, part) {
+                encoder.fill_checksum(index, step, spec.marker.len())?;
             }
         }
-        Some(pos)
+        Some(encoder.finish())
     }
 }
 
-/// Whether `field` accepts `value` (its allowed list, folded as it says).
-fn allowed(field: &crate::layout::FieldSpec, value: u32) -> bool {
+/// Whether the part `name` is among the optional parts `include` names.
+#[inline]
+pub fn included(include: &[crate::layout::Text], name: &str) -> bool {
+    include.iter().any(|included| included == name)
+}
+
+/// Decoding state of one frame: what a plan's steps read so far. Each method runs one
+/// step at the current position and returns `None` when the frame is not one the plan
+/// decodes (the interpreter then takes it); a plan run step by step and the generator's
+/// compiled plans call the same methods, so the two decode alike.
+#[derive(Debug)]
+pub struct Decoder<'b> {
+    bytes: &'b [u8],
+    pos: usize,
+    values: FrameValues,
+    roles: Roles,
+    starts: [usize; MAX_PARTS],
+    ends: [usize; MAX_PARTS],
+    sized: [u16; MAX_PARTS],
+    frame_end: usize,
+}
+
+impl<'b> Decoder<'b> {
+    /// Starts decoding a frame at `bytes[0]`.
+    #[inline(always)]
+    pub fn new(bytes: &'b [u8]) -> Decoder<'b> {
+        Decoder {
+            bytes,
+            pos: 0,
+            values: FrameValues::default(),
+            roles: Roles::default(),
+            starts: [0; MAX_PARTS],
+            ends: [0; MAX_PARTS],
+            sized: [u16::MAX; MAX_PARTS],
+            frame_end: usize::MAX,
+        }
+    }
+
+    /// The bytes from the current position.
+    #[inline(always)]
+    fn rest(&self) -> &'b [u8] {
+        self.bytes.get(self.pos..).unwrap_or(&[])
+    }
+
+    /// Ends part `index` at the current position.
+    #[inline(always)]
+    fn end(&mut self, index: usize) -> Option<()> {
+        *self.ends.get_mut(index)? = self.pos;
+        (self.pos <= self.frame_end).then_some(())
+    }
+
+    /// Part `index` is the literal `literal`.
+    #[inline(always)]
+    pub fn literal(&mut self, index: usize, literal: &[u8], optional: bool) -> Option<()> {
+        *self.starts.get_mut(index)? = self.pos;
+        let rest = self.rest();
+        if rest.starts_with(literal) {
+            self.values.parts.get_mut(index)?.present = true;
+            self.pos += literal.len();
+        } else if !optional || literal.starts_with(rest) {
+            return None;
+        }
+        self.end(index)
+    }
+
+    /// Part `index` is a field: `allowed`, `fold_case` and `broadcast` are the part's.
+    #[inline(always)]
+    pub fn field(
+        &mut self,
+        index: usize,
+        step: FieldStep,
+        allowed: &[u32],
+        fold_case: bool,
+        broadcast: Option<&BroadcastAddress>,
+    ) -> Option<()> {
+        *self.starts.get_mut(index)? = self.pos;
+        let rest = self.rest();
+        let format = step.format;
+        if let Some(presence) = step.optional {
+            let &next = rest.first()?;
+            let present = match presence {
+                Presence::IfFormatMatches => format.accepts_digit(next),
+                Presence::IfByteAtMost(limit) => next <= limit,
+            } || broadcast.is_some_and(|b| b.starts_with(next));
+            if !present {
+                return self.end(index);
+            }
+        }
+        if step.open_digits {
+            let broadcast = broadcast?;
+            let all: &[u8] = &broadcast.all_bytes;
+            if !all.is_empty() && !rest.is_empty() {
+                let compared = rest.len().min(all.len());
+                if rest[..compared] == all[..compared] {
+                    return None;
+                }
+            }
+            if let Some(wildcard) = broadcast.wildcard {
+                if rest[..rest.len().min(usize::from(step.width))].contains(&wildcard) {
+                    return None;
+                }
+            }
+        }
+        let (value, used, slot_width) = match format {
+            Format::UintBe | Format::UintLe => {
+                let size = if step.by_length {
+                    let size = *self.sized.get(index)?;
+                    if size == u16::MAX {
+                        return None;
+                    }
+                    usize::from(size)
+                } else {
+                    usize::from(step.width)
+                };
+                if size < usize::from(step.min_width) || size > 4 {
+                    return None;
+                }
+                let held = rest.get(..size)?;
+                let value = if format == Format::UintLe {
+                    held.iter()
+                        .rev()
+                        .fold(0u32, |acc, b| (acc << 8) | u32::from(*b))
+                } else {
+                    held.iter().fold(0u32, |acc, b| (acc << 8) | u32::from(*b))
+                };
+                if step.role == Role::Data {
+                    self.values.data_size = size as u8;
+                }
+                (value, size, size as u8)
+            }
+            Format::Decimal | Format::Hex => {
+                let (value, used) = digits(format, step.min_width, step.width, rest)?;
+                (value, used, used as u8)
+            }
+            _ => {
+                let (value, used) = binary(format, rest)?;
+                (value, used, 0)
+            }
+        };
+        // A station with the open-digits flag is a broadcast's, never a reply's: the
+        // interpreter's callers decide about it.
+        if (step.checked && !allowed_value(allowed, fold_case, value))
+            || (step.role == Role::Address && BroadcastAddress::is_open(value))
+        {
+            return None;
+        }
+        *self.values.parts.get_mut(index)? = FieldValue {
+            present: true,
+            value,
+            width: slot_width,
+        };
+        if let Some(target) = self.roles.slot(step.role) {
+            *target = Some(value);
+        }
+        self.pos += used;
+        self.end(index)
+    }
+
+    /// Part `index` is a word of the bit fields `bits`.
+    #[inline(always)]
+    pub fn word(&mut self, index: usize, format: Format, bits: &[BitsSpec]) -> Option<()> {
+        *self.starts.get_mut(index)? = self.pos;
+        let (value, used) = binary(format, self.rest())?;
+        for bits in bits {
+            let field = (value & bits.mask()) >> bits.lsb;
+            if !bits.allowed.is_empty() && !bits.allowed.contains(&field) {
+                return None;
+            }
+            if let Some(target) = self.roles.slot(bits.role) {
+                *target = Some(field);
+            }
+        }
+        *self.values.parts.get_mut(index)? = FieldValue {
+            present: true,
+            value,
+            width: 0,
+        };
+        self.pos += used;
+        self.end(index)
+    }
+
+    /// Part `index` (of `count` parts) is a length.
+    #[inline(always)]
+    pub fn length(&mut self, index: usize, step: LengthStep, count: usize) -> Option<()> {
+        *self.starts.get_mut(index)? = self.pos;
+        let (value, used) = binary(step.format, self.rest())?;
+        *self.values.parts.get_mut(index)? = FieldValue {
+            present: true,
+            value,
+            width: 0,
+        };
+        self.pos += used;
+        let counted =
+            value as usize * usize::from(step.per.max(1)) / usize::from(step.times.max(1));
+        match step.counts {
+            Counts::DataSize => {
+                self.values.data_size = u8::try_from(counted).unwrap_or(u8::MAX);
+            }
+            Counts::Parts { from, through } => {
+                if usize::from(from) == index + 1 && usize::from(through) + 1 == count {
+                    self.frame_end = self.pos + counted;
+                } else if from == through {
+                    *self.sized.get_mut(usize::from(from))? =
+                        u16::try_from(counted).unwrap_or(u16::MAX - 1);
+                }
+            }
+        }
+        self.end(index)
+    }
+
+    /// Part `index` is a checksum announced by `marker`.
+    #[inline(always)]
+    pub fn checksum(&mut self, index: usize, step: ChecksumStep, marker: &[u8]) -> Option<()> {
+        *self.starts.get_mut(index)? = self.pos;
+        let rest = self.rest();
+        if !rest.starts_with(marker) {
+            if step.optional && !marker.starts_with(rest) {
+                return self.end(index);
+            }
+            return None;
+        }
+        let value_at = self.pos + marker.len();
+        let after = self.bytes.get(value_at..)?;
+        let (received, used) = if step.format == Format::Hex {
+            digits(Format::Hex, 2, 2, after)?
+        } else {
+            binary(step.format, after)?
+        };
+        let covered_end = match step.covers_through {
+            Some(through) => *self.starts.get(usize::from(through) + 1)?,
+            None => value_at,
+        };
+        let from = *self.starts.get(usize::from(step.covers_from))?;
+        if checksum::compute(step.algorithm, self.bytes.get(from..covered_end)?) != received {
+            return None;
+        }
+        *self.values.parts.get_mut(index)? = FieldValue {
+            present: true,
+            value: received,
+            width: 0,
+        };
+        self.pos = value_at + used;
+        self.end(index)
+    }
+
+    /// After the last part: the length at `index` counted what the frame holds.
+    #[inline(always)]
+    pub fn check_length(&self, index: usize, step: LengthStep) -> Option<()> {
+        if let Counts::Parts { from, through } = step.counts {
+            let counted = self
+                .ends
+                .get(usize::from(through))?
+                .checked_sub(*self.starts.get(usize::from(from))?)?;
+            let expected =
+                (counted * usize::from(step.times) / usize::from(step.per.max(1))) as u32;
+            if self.values.parts.get(index)?.value != expected {
+                return None;
+            }
+        }
+        Some(())
+    }
+
+    /// The decoded frame.
+    #[inline(always)]
+    pub fn finish(self) -> PlannedFrame {
+        PlannedFrame {
+            values: self.values,
+            roles: self.roles,
+            len: self.pos,
+        }
+    }
+}
+
+/// Encoding state of one frame: a plan's steps write it part by part, then fill in its
+/// lengths and checksums. Like [`Decoder`], shared by plans run step by step and the
+/// generator's compiled plans; each method returns `None` when the interpreter is to
+/// write the frame instead (a value too wide for its field, `out` too small).
+#[derive(Debug)]
+pub struct Encoder<'o> {
+    out: &'o mut [u8],
+    pos: usize,
+    starts: [usize; MAX_PARTS],
+    ends: [usize; MAX_PARTS],
+}
+
+impl<'o> Encoder<'o> {
+    /// Starts writing a frame into `out`.
+    #[inline(always)]
+    pub fn new(out: &'o mut [u8]) -> Encoder<'o> {
+        Encoder {
+            out,
+            pos: 0,
+            starts: [0; MAX_PARTS],
+            ends: [0; MAX_PARTS],
+        }
+    }
+
+    /// Part `index` spans from `start` to the current position.
+    #[inline(always)]
+    fn span(&mut self, index: usize, start: usize) -> Option<()> {
+        *self.starts.get_mut(index)? = start;
+        *self.ends.get_mut(index)? = self.pos;
+        Some(())
+    }
+
+    /// Part `index` is the literal `bytes`, written when `present`.
+    #[inline(always)]
+    pub fn literal(&mut self, index: usize, bytes: &[u8], present: bool) -> Option<()> {
+        let start = self.pos;
+        if present {
+            self.pos = put(self.out, start, bytes)?;
+        }
+        self.span(index, start)
+    }
+
+    /// Part `index` is a field holding `value` (0 when `None`), written when `present`;
+    /// `broadcast`: the part has broadcast encodings.
+    #[inline(always)]
+    pub fn field(
+        &mut self,
+        index: usize,
+        step: FieldStep,
+        value: Option<u32>,
+        present: bool,
+        data_size: u8,
+        broadcast: bool,
+    ) -> Option<()> {
+        let start = self.pos;
+        if present {
+            let value = value.unwrap_or(0);
+            let width = match step.format {
+                Format::UintBe | Format::UintLe if data_size != 0 => data_size,
+                _ => step.width,
+            };
+            if broadcast && BroadcastAddress::is_open(value) {
+                return None;
+            }
+            self.pos = put_value(self.out, start, step.format, value, width)?;
+        }
+        self.span(index, start)
+    }
+
+    /// Part `index` is a word of the bit fields `bits`, holding the values `roles` gives.
+    #[inline(always)]
+    pub fn word(
+        &mut self,
+        index: usize,
+        format: Format,
+        bits: &[BitsSpec],
+        roles: &Roles,
+    ) -> Option<()> {
+        let start = self.pos;
+        let mut value = 0u32;
+        for bits in bits {
+            if let Some(field) = roles.value(bits.role) {
+                value = (value & !bits.mask()) | ((field << bits.lsb) & bits.mask());
+            }
+        }
+        self.pos = put_value(self.out, start, format, value, 0)?;
+        self.span(index, start)
+    }
+
+    /// Part `index` is a length in `format`, filled in by [`Encoder::fill_length`].
+    #[inline(always)]
+    pub fn length(&mut self, index: usize, format: Format) -> Option<()> {
+        let start = self.pos;
+        self.pos = put(self.out, start, &[0; 4][..usize::from(fixed(format)?)])?;
+        self.span(index, start)
+    }
+
+    /// Part `index` is a checksum announced by `marker`, written when `present` and filled
+    /// in by [`Encoder::fill_checksum`].
+    #[inline(always)]
+    pub fn checksum(
+        &mut self,
+        index: usize,
+        step: ChecksumStep,
+        marker: &[u8],
+        present: bool,
+    ) -> Option<()> {
+        let start = self.pos;
+        if present {
+            self.pos = put(self.out, start, marker)?;
+            self.pos = put(self.out, self.pos, &[0; 2][..checksum_size(step.format)])?;
+        }
+        self.span(index, start)
+    }
+
+    /// Fills in the length at `index`.
+    #[inline(always)]
+    pub fn fill_length(&mut self, index: usize, step: LengthStep, data_size: u8) -> Option<()> {
+        let counted = match step.counts {
+            Counts::Parts { from, through } => self
+                .ends
+                .get(usize::from(through))?
+                .checked_sub(*self.starts.get(usize::from(from))?)?,
+            Counts::DataSize => usize::from(data_size),
+        };
+        let value = (counted * usize::from(step.times) / usize::from(step.per.max(1))) as u32;
+        put_value(self.out, *self.starts.get(index)?, step.format, value, 0).map(|_| ())
+    }
+
+    /// Fills in the checksum at `index`, whose marker is `marker_len` bytes long.
+    #[inline(always)]
+    pub fn fill_checksum(
+        &mut self,
+        index: usize,
+        step: ChecksumStep,
+        marker_len: usize,
+    ) -> Option<()> {
+        let (start, end) = (*self.starts.get(index)?, *self.ends.get(index)?);
+        if start == end {
+            return Some(());
+        }
+        let value_at = start + marker_len;
+        let covered_end = match step.covers_through {
+            Some(through) => *self.ends.get(usize::from(through))?,
+            None => value_at,
+        };
+        let from = *self.starts.get(usize::from(step.covers_from))?;
+        let sum = checksum::compute(step.algorithm, self.out.get(from..covered_end)?);
+        put_value(self.out, value_at, step.format, sum, 2).map(|_| ())
+    }
+
+    /// The frame's length.
+    #[inline(always)]
+    pub fn finish(self) -> usize {
+        self.pos
+    }
+}
+
+/// Whether `value` is among `allowed`, ASCII case folded when `fold_case` says so.
+#[inline(always)]
+fn allowed_value(allowed: &[u32], fold_case: bool, value: u32) -> bool {
     let fold = |v: u32| {
-        if field.fold_case {
+        if fold_case {
             u8::try_from(v).map_or(v, |b| u32::from(b.to_ascii_uppercase()))
         } else {
             v
         }
     };
-    field.allowed.is_empty() || field.allowed.iter().any(|a| fold(*a) == fold(value))
+    allowed.is_empty() || allowed.iter().any(|a| fold(*a) == fold(value))
 }
 
 /// `min_width..=width` digits of `format` at the start of `rest`: the value and the digits
 /// used. `None` when more bytes are needed or too few digits are there.
-#[inline]
+#[inline(always)]
 fn digits(format: Format, min_width: u8, width: u8, rest: &[u8]) -> Option<(u32, usize)> {
     let radix = if format == Format::Hex { 16 } else { 10 };
     let mut value: u32 = 0;
@@ -656,7 +890,7 @@ fn digits(format: Format, min_width: u8, width: u8, rest: &[u8]) -> Option<(u32,
 }
 
 /// A fixed binary value at the start of `rest`: the value and its byte count.
-#[inline]
+#[inline(always)]
 fn binary(format: Format, rest: &[u8]) -> Option<(u32, usize)> {
     Some(match format {
         Format::Char | Format::U8 => (u32::from(*rest.first()?), 1),
@@ -669,7 +903,7 @@ fn binary(format: Format, rest: &[u8]) -> Option<(u32, usize)> {
 }
 
 /// Writes `bytes` at `at`; the position after them.
-#[inline]
+#[inline(always)]
 fn put(out: &mut [u8], at: usize, bytes: &[u8]) -> Option<usize> {
     let end = at + bytes.len();
     out.get_mut(at..end)?.copy_from_slice(bytes);
@@ -678,7 +912,7 @@ fn put(out: &mut [u8], at: usize, bytes: &[u8]) -> Option<usize> {
 
 /// Writes `value` in `format` at `at` (`width`: digits, or bytes of `uint_be`/`uint_le`);
 /// `None` when it does not fit the format or `out`.
-#[inline]
+#[inline(always)]
 fn put_value(out: &mut [u8], at: usize, format: Format, value: u32, width: u8) -> Option<usize> {
     match format {
         Format::Decimal | Format::Hex => {

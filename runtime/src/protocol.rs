@@ -1273,6 +1273,7 @@ impl Protocol {
     /// The values of every role a request of `command` carries, once the request is
     /// checked against the protocol (register, station); what
     /// [`Protocol::request_values_for`] fills the frame values with.
+    #[inline]
     fn request_roles(
         &self,
         command: &CommandSpec,
@@ -1595,7 +1596,7 @@ impl Protocol {
     /// `bytes`, decoded by its reply layout's plan: `Some` only when the plan decodes a
     /// sound, complete reply, which is then the reply [`Protocol::decode_reply`] returns
     /// (see [`crate::plan`]); `None` leaves the bytes to the interpreter.
-    #[inline]
+    #[inline(always)]
     fn planned_reply(&self, wanted: &CommandSpec, bytes: &[u8]) -> Option<Reply<'_>> {
         // `wanted` must be one of this protocol's commands, as the interpreter requires.
         let commands: &[CommandSpec] = &self.commands;
@@ -1605,8 +1606,33 @@ impl Protocol {
         let command = commands.get(offset).filter(|c| std::ptr::eq(*c, wanted))?;
         let plan = command.reply.plan.as_ref()?;
         let frame = plan.decode(&command.reply, bytes)?;
-        self.data_reply_with(command, frame.values, &frame.roles, frame.len)
-            .ok()
+        // What `data_reply_with` makes of it: a plan decodes no open station and no text
+        // field, and the roles are gathered.
+        let roles = &frame.roles;
+        let code = roles.command;
+        if code.is_some_and(|code| !self.reply_code_matches(command, code)) {
+            return None;
+        }
+        Some(Reply::Data {
+            command,
+            code: code.unwrap_or(command.code),
+            address: roles.address.map(|a| a as u8),
+            tripped: code.is_some_and(|code| self.is_tripped(code)),
+            wire_register: roles.register.map(|r| r as u16),
+            index: roles.index.map(|i| i as u16),
+            data: if frame.values.data_size > 4 {
+                0
+            } else {
+                roles.data.unwrap_or(0)
+            },
+            process: match (roles.process_1, roles.process_2) {
+                (Some(first), Some(second)) => Some([first as u16, second as u16]),
+                _ => None,
+            },
+            text: None,
+            values: frame.values,
+            len: frame.len,
+        })
     }
 
     /// `command`'s normal reply with these decoded `values`; an error when the reply
@@ -1620,20 +1646,6 @@ impl Protocol {
         let layout = &command.reply;
         no_open_station(layout, &values)?;
         let roles = values.roles(layout);
-        self.data_reply_with(command, values, &roles, len)
-    }
-
-    /// [`Protocol::data_reply_from`] with the roles of `values` gathered already, and the
-    /// station checked.
-    #[inline]
-    fn data_reply_with<'p>(
-        &'p self,
-        command: &'p CommandSpec,
-        values: FrameValues,
-        roles: &Roles,
-        len: usize,
-    ) -> Result<Reply<'p>, DecodeError> {
-        let layout = &command.reply;
         let code = roles.command;
         if let Some(code) = code.filter(|code| !self.reply_code_matches(command, *code)) {
             return Err(DecodeError::NotAllowed {
