@@ -15,78 +15,9 @@ use crate::layout::{
     FrameLayout, LengthSpec, Part, Presence, Role, SizedBy, WordSpec, MAX_PARTS,
 };
 
-/// The value of one part of a frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct FieldValue {
-    /// Whether the part is in the frame (always true for required parts after decoding).
-    pub present: bool,
-    /// The value: a field's number, a word's bits, a checksum's or length's received
-    /// value, the offset of a bytes field in the frame; 0 for literals.
-    pub value: u32,
-    /// Digits (digit formats) or bytes (variable binary formats) on the wire; 0 means
-    /// the layout's width.
-    pub width: u8,
-}
-
-/// Values of every part of one frame, indexed like the layout's parts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct FrameValues {
-    /// One slot per layout part.
-    pub parts: [FieldValue; MAX_PARTS],
-    /// Size in bytes of the request's data, for length parts that count it (Modbus
-    /// quantity) and for variable-width data fields. Above 4, the data field carries a
-    /// block of registers: its slot holds the block's offset in the frame and its width,
-    /// as a bytes field does ([`FrameValues::bytes`] gives the bytes).
-    pub data_size: u8,
-}
+pub use crate::layout::{FieldValue, FrameValues, Roles};
 
 impl FrameValues {
-    /// Sets the value with `role` (a field or bits of a word) and marks it present.
-    /// Returns false when the layout has no such value.
-    pub fn set(&mut self, layout: &FrameLayout, role: Role, value: u32) -> bool {
-        match layout.locate(role) {
-            Some((index, None)) => {
-                self.parts[index].present = true;
-                self.parts[index].value = value;
-                true
-            }
-            Some((index, Some(bits))) => {
-                let slot = &mut self.parts[index];
-                slot.present = true;
-                slot.value = (slot.value & !bits.mask()) | ((value << bits.lsb) & bits.mask());
-                true
-            }
-            None => false,
-        }
-    }
-
-    /// The value with `role`, when the layout has it and the frame carries it. For a
-    /// bytes field this is the offset of the bytes; see [`FrameValues::bytes`].
-    pub fn get(&self, layout: &FrameLayout, role: Role) -> Option<u32> {
-        let (index, bits) = layout.locate(role)?;
-        let slot = self.parts[index];
-        if !slot.present {
-            return None;
-        }
-        Some(match bits {
-            None => slot.value,
-            Some(bits) => (slot.value & bits.mask()) >> bits.lsb,
-        })
-    }
-
-    /// The bytes of the bytes field with `role` in `frame` (the frame these values were
-    /// decoded from), as they lie on the wire: for an [`Encoding::HexPairs`] layout, the
-    /// hex digits that carry them (two per byte; [`FrameValues::words`] and
-    /// [`FrameValues::data_words`] give their values).
-    pub fn bytes<'f>(&self, layout: &FrameLayout, role: Role, frame: &'f [u8]) -> Option<&'f [u8]> {
-        let index = layout.index_of(role)?;
-        let slot = self.parts[index];
-        let (start, len) = layout.wire_span(slot.value as usize, usize::from(slot.width));
-        slot.present
-            .then(|| frame.get(start..start + len))
-            .flatten()
-    }
-
     /// The 16-bit words of the words field ([`Role::Words`]) in `frame` (the frame these
     /// values were decoded from), each in the field's byte order; empty when the layout has
     /// none or the frame carries none.
@@ -139,15 +70,6 @@ impl FrameValues {
             words.len += 1;
         }
         words
-    }
-
-    /// Marks every optional part named in `names` present (e.g. `["sum", "end"]`).
-    pub fn include(&mut self, layout: &FrameLayout, names: &[&str]) {
-        for (index, part) in layout.parts.iter().enumerate() {
-            if names.iter().any(|name| *name == part.name()) {
-                self.parts[index].present = true;
-            }
-        }
     }
 }
 
@@ -224,123 +146,6 @@ impl Words {
                 }
             })
             .collect()
-    }
-}
-
-/// The values of every role of a frame, gathered in one pass over the layout.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Roles {
-    /// Station address.
-    pub address: Option<u32>,
-    /// Command code.
-    pub command: Option<u32>,
-    /// Register (wire number).
-    pub register: Option<u32>,
-    /// Array index.
-    pub index: Option<u32>,
-    /// Data.
-    pub data: Option<u32>,
-    /// Error code.
-    pub error_code: Option<u32>,
-    /// First process word.
-    pub process_1: Option<u32>,
-    /// Second process word.
-    pub process_2: Option<u32>,
-    /// Decimal places of the data.
-    pub decimals: Option<u32>,
-}
-
-impl Roles {
-    /// The value given for `role`, for the roles this type holds.
-    #[inline]
-    pub fn value(&self, role: Role) -> Option<u32> {
-        match role {
-            Role::Address => self.address,
-            Role::Command => self.command,
-            Role::Register => self.register,
-            Role::Index => self.index,
-            Role::Data => self.data,
-            Role::ErrorCode => self.error_code,
-            Role::Process1 => self.process_1,
-            Role::Process2 => self.process_2,
-            Role::Decimals => self.decimals,
-            Role::Text | Role::Words | Role::ReadCount | Role::WriteStatus | Role::ReplyWait => {
-                None
-            }
-        }
-    }
-
-    #[inline]
-    pub(crate) fn slot(&mut self, role: Role) -> Option<&mut Option<u32>> {
-        match role {
-            Role::Address => Some(&mut self.address),
-            Role::Command => Some(&mut self.command),
-            Role::Register => Some(&mut self.register),
-            Role::Index => Some(&mut self.index),
-            Role::Data => Some(&mut self.data),
-            Role::ErrorCode => Some(&mut self.error_code),
-            Role::Process1 => Some(&mut self.process_1),
-            Role::Process2 => Some(&mut self.process_2),
-            Role::Decimals => Some(&mut self.decimals),
-            Role::Text | Role::Words | Role::ReadCount | Role::WriteStatus | Role::ReplyWait => {
-                None
-            }
-        }
-    }
-}
-
-impl FrameValues {
-    /// Every role's value in one pass (the hot path's alternative to repeated [`FrameValues::get`]).
-    pub fn roles(&self, layout: &FrameLayout) -> Roles {
-        let mut roles = Roles::default();
-        for (index, part) in layout.parts.iter().enumerate() {
-            let slot = self.parts[index];
-            if !slot.present {
-                continue;
-            }
-            match part {
-                Part::Field(field) => {
-                    if let Some(target) = roles.slot(field.role) {
-                        *target = Some(slot.value);
-                    }
-                }
-                Part::Word(word) => {
-                    for bits in word.fields.iter() {
-                        if let Some(target) = roles.slot(bits.role) {
-                            *target = Some((slot.value & bits.mask()) >> bits.lsb);
-                        }
-                    }
-                }
-                _ => {}
-            }
-        }
-        roles
-    }
-
-    /// Sets every role given in `roles` in one pass; roles the layout lacks are ignored.
-    pub fn fill(&mut self, layout: &FrameLayout, roles: &Roles) {
-        let mut roles = *roles;
-        for (index, part) in layout.parts.iter().enumerate() {
-            match part {
-                Part::Field(field) => {
-                    if let Some(Some(value)) = roles.slot(field.role).map(|v| *v) {
-                        self.parts[index].present = true;
-                        self.parts[index].value = value;
-                    }
-                }
-                Part::Word(word) => {
-                    for bits in word.fields.iter() {
-                        if let Some(Some(value)) = roles.slot(bits.role).map(|v| *v) {
-                            let slot = &mut self.parts[index];
-                            slot.present = true;
-                            slot.value =
-                                (slot.value & !bits.mask()) | ((value << bits.lsb) & bits.mask());
-                        }
-                    }
-                }
-                _ => {}
-            }
-        }
     }
 }
 
