@@ -192,7 +192,7 @@ pub fn encode_with_payload(
 }
 
 /// The longest frame, in bytes before hex digits, a [`Encoding::HexPairs`] layout handles.
-const MAX_HEX_FRAME: usize = 300;
+pub(crate) const MAX_HEX_FRAME: usize = 300;
 
 /// Encodes the frame's bytes, then writes those between its verbatim ends as hex digits.
 fn encode_hex_pairs(
@@ -203,14 +203,21 @@ fn encode_hex_pairs(
 ) -> Result<usize, EncodeError> {
     let mut bytes = [0u8; MAX_HEX_FRAME];
     let len = encode_binary(layout, values, payload, &mut bytes)?;
+    hex_expand(layout, &bytes[..len], out).ok_or_else(|| EncodeError::BufferTooSmall {
+        layout: layout.name.clone(),
+        capacity: out.len(),
+    })
+}
+
+/// Writes a [`Encoding::HexPairs`] frame's `bytes` into `out`: the verbatim ends as they
+/// are, every byte between them as two hex digits. `None` when `out` is too small.
+pub(crate) fn hex_expand(layout: &FrameLayout, bytes: &[u8], out: &mut [u8]) -> Option<usize> {
+    let len = bytes.len();
     let (head, tail) = layout.verbatim_ends();
     let middle = &bytes[head.len().min(len)..len.saturating_sub(tail.len()).max(head.len())];
     let needed = head.len() + 2 * middle.len() + tail.len();
     if needed > out.len() {
-        return Err(EncodeError::BufferTooSmall {
-            layout: layout.name.clone(),
-            capacity: out.len(),
-        });
+        return None;
     }
     out[..head.len()].copy_from_slice(head);
     let mut at = head.len();
@@ -220,7 +227,7 @@ fn encode_hex_pairs(
         at += 2;
     }
     out[at..at + tail.len()].copy_from_slice(tail);
-    Ok(needed)
+    Some(needed)
 }
 
 const HEX_DIGITS: &[u8; 16] = b"0123456789ABCDEF";
@@ -234,7 +241,7 @@ fn hex_value(digit: u8) -> Option<u8> {
 /// the first character that is neither (the decoder then reports the byte where the frame
 /// goes wrong). Returns how many bytes were written to `out`, and where in `wire` the tail
 /// begins and ends in both forms, when it was found.
-fn hex_pairs_to_bytes(
+pub(crate) fn hex_pairs_to_bytes(
     layout: &FrameLayout,
     wire: &[u8],
     out: &mut [u8; MAX_HEX_FRAME],
@@ -295,9 +302,9 @@ fn short(layout: &FrameLayout, bytes: &[u8; MAX_HEX_FRAME], frame: &HexFrame) ->
 }
 
 /// Where a [`Encoding::HexPairs`] frame's parts lie, in bytes before hex digits.
-struct HexFrame {
+pub(crate) struct HexFrame {
     /// Bytes recovered.
-    len: usize,
+    pub(crate) len: usize,
     /// Length of the verbatim head.
     head: usize,
     /// Where the verbatim tail begins, once it arrived.
@@ -306,7 +313,7 @@ struct HexFrame {
 
 impl HexFrame {
     /// The wire offset of byte `at` of the recovered frame.
-    fn wire_offset(&self, at: usize) -> usize {
+    pub(crate) fn wire_offset(&self, at: usize) -> usize {
         let middle_end = self.tail_at.unwrap_or(self.len);
         if at <= self.head {
             at

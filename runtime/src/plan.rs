@@ -2,18 +2,20 @@
 //!
 //! The interpreter in [`crate::codec`] handles every layout a description can state, and
 //! explains every frame that does not fit. A [`FramePlan`] covers the layouts most frames
-//! use (binary layouts whose parts are literals, fixed-format or digit fields, words,
-//! lengths and checksums, optional parts included) and only the frames that fit: it returns
-//! `None` for anything else (a frame not complete yet, a wrong byte, a checksum that does
-//! not match, a broadcast station written with open digits, a block of registers), and the
-//! caller then runs the interpreter, which says what is wrong. When a plan does return a
+//! use (layouts whose parts are literals, fixed-format or digit fields, words, lengths and
+//! checksums, optional parts included; binary, or written as hex pairs) and only the frames
+//! that fit: it returns `None` for anything else (a frame not complete yet, a wrong byte, a
+//! checksum that does not match, a broadcast station written with open digits, a block of
+//! registers, text), and the caller then runs the interpreter, which says what is wrong. When a plan does return a
 //! frame, it is the frame the interpreter returns for the same bytes, value for value: the
 //! differential tests (`tests/tests/fast_path.rs`) and the `plan_agreement` fuzz target
 //! hold the two to that.
 //!
 //! The generator computes each layout's plan at build time ([`FramePlan::of`]) and writes it
-//! into the generated layout as const data; a description loaded at run time gets its
-//! plans from the same function. [`crate::Protocol`] uses them in
+//! into the generated layout as const data, with two functions that run its steps through
+//! [`Decoder`] and [`Encoder`] with every argument a constant (so the compiler makes
+//! straight-line code for the layout); a description loaded at run time gets its plans
+//! from the same function and runs their steps one by one through the same methods. [`crate::Protocol`] uses them in
 //! [`crate::Protocol::encode_request`], [`crate::Protocol::decode_reply`],
 //! [`crate::Protocol::find_reply`] and [`crate::Protocol::search_reply`].
 
@@ -48,16 +50,13 @@ fn fixed(format: Format) -> Option<u8> {
 }
 
 impl FramePlan {
-    /// The plan of `layout`, when every part is one a plan handles: a binary encoding, at
-    /// most [`MAX_PARTS`] parts, no text or words fields, no field sized by the rest of the
+    /// The plan of `layout`, when every part is one a plan handles: at most [`MAX_PARTS`]
+    /// parts, no text or words fields, no field sized by the rest of the
     /// frame, lengths and checksums that cover parts before them. `None` otherwise (the
     /// interpreter then handles every frame of the layout). The plan has no compiled
     /// functions: the generator adds them to the layouts it writes.
     pub fn of(layout: &FrameLayout) -> Option<FramePlan> {
-        if layout.encoding != Encoding::Binary
-            || layout.parts.is_empty()
-            || layout.parts.len() > MAX_PARTS
-        {
+        if layout.parts.is_empty() || layout.parts.len() > MAX_PARTS {
             return None;
         }
         let count = layout.parts.len();
@@ -183,14 +182,20 @@ impl FramePlan {
     /// the interpreter returns; `None` for everything else.
     #[inline]
     pub fn decode(&self, layout: &FrameLayout, bytes: &[u8]) -> Option<PlannedFrame> {
-        if let Some(compiled) = &self.compiled {
-            return (compiled.decode)(bytes);
+        match &self.compiled {
+            Some(compiled) => through_hex_pairs(layout, bytes, compiled.decode),
+            None => through_hex_pairs(layout, bytes, |bytes| self.run_decode(layout, bytes)),
         }
-        self.decode_steps(layout, bytes)
     }
 
     /// [`FramePlan::decode`] step by step, without the compiled functions.
     pub fn decode_steps(&self, layout: &FrameLayout, bytes: &[u8]) -> Option<PlannedFrame> {
+        through_hex_pairs(layout, bytes, |bytes| self.run_decode(layout, bytes))
+    }
+
+    /// The steps on the frame's bytes (for [`Encoding::HexPairs`], after the hex digits are
+    /// turned back into bytes).
+    fn run_decode(&self, layout: &FrameLayout, bytes: &[u8]) -> Option<PlannedFrame> {
         let steps: &[Step] = &self.steps;
         let parts: &[Part] = &layout.parts;
         if steps.len() != parts.len() || steps.len() > MAX_PARTS {
@@ -244,14 +249,33 @@ impl FramePlan {
         include: &[crate::layout::Text],
         out: &mut [u8],
     ) -> Option<usize> {
-        if let Some(compiled) = &self.compiled {
-            return (compiled.encode)(roles, data_size, include, out);
+        match &self.compiled {
+            Some(compiled) => in_hex_pairs(layout, out, |out| {
+                (compiled.encode)(roles, data_size, include, out)
+            }),
+            None => in_hex_pairs(layout, out, |out| {
+                self.run_encode(layout, roles, data_size, include, out)
+            }),
         }
-        self.encode_steps(layout, roles, data_size, include, out)
     }
 
     /// [`FramePlan::encode`] step by step, without the compiled functions.
     pub fn encode_steps(
+        &self,
+        layout: &FrameLayout,
+        roles: &Roles,
+        data_size: u8,
+        include: &[crate::layout::Text],
+        out: &mut [u8],
+    ) -> Option<usize> {
+        in_hex_pairs(layout, out, |out| {
+            self.run_encode(layout, roles, data_size, include, out)
+        })
+    }
+
+    /// The steps writing the frame's bytes (for [`Encoding::HexPairs`], before they are
+    /// written as hex digits).
+    fn run_encode(
         &self,
         layout: &FrameLayout,
         roles: &Roles,
@@ -305,6 +329,41 @@ impl FramePlan {
         }
         Some(encoder.finish())
     }
+}
+
+/// `decode` on the frame's bytes: `wire` itself, or for a [`Encoding::HexPairs`] layout the
+/// bytes its hex digits carry, as the interpreter recovers them (the length is then given
+/// on the wire again).
+#[inline(always)]
+fn through_hex_pairs(
+    layout: &FrameLayout,
+    wire: &[u8],
+    decode: impl FnOnce(&[u8]) -> Option<PlannedFrame>,
+) -> Option<PlannedFrame> {
+    if layout.encoding != Encoding::HexPairs {
+        return decode(wire);
+    }
+    let mut bytes = [0u8; crate::codec::MAX_HEX_FRAME];
+    let frame = crate::codec::hex_pairs_to_bytes(layout, wire, &mut bytes).ok()?;
+    let mut planned = decode(&bytes[..frame.len])?;
+    planned.len = frame.wire_offset(planned.len);
+    Some(planned)
+}
+
+/// `encode` into `out`: directly, or for a [`Encoding::HexPairs`] layout into a buffer whose
+/// bytes are then written as the interpreter writes them (verbatim ends, hex digits).
+#[inline(always)]
+fn in_hex_pairs(
+    layout: &FrameLayout,
+    out: &mut [u8],
+    encode: impl FnOnce(&mut [u8]) -> Option<usize>,
+) -> Option<usize> {
+    if layout.encoding != Encoding::HexPairs {
+        return encode(out);
+    }
+    let mut bytes = [0u8; crate::codec::MAX_HEX_FRAME];
+    let len = encode(&mut bytes)?;
+    crate::codec::hex_expand(layout, &bytes[..len], out)
 }
 
 /// Whether the part `name` is among the optional parts `include` names.
