@@ -636,15 +636,17 @@ pub(crate) fn compiled_plan(
                 let baked = step.bake();
                 let allowed = int_slice(&field.allowed);
                 let fold_case = field.fold_case;
+                // The decoder reads the broadcast encodings only to tell whether an optional
+                // station is there and to pass open digits on.
                 let broadcast = match &field.broadcast {
-                    Some(_) => {
+                    Some(_) if step.optional.is_some() || step.open_digits => {
                         let spec = field.bake();
                         quote!({
                             const FIELD: &FieldSpec = &#spec;
                             FIELD.broadcast.as_ref()
                         })
                     }
-                    None => quote!(None),
+                    _ => quote!(None),
                 };
                 decoding.push(quote!(d.field(#at, #baked, #allowed, #fold_case, #broadcast)?;));
                 let role = step.role.bake();
