@@ -9,7 +9,7 @@ use vfd_drives::{fc51, yd1000};
 use vfd_runtime::protocol::Found;
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::Transport;
-use vfd_runtime::{Protocol, Register, RegisterValue, Request};
+use vfd_runtime::{CommandKind, DataType, Protocol, Register, RegisterValue, Request};
 
 struct CountingAllocator;
 
@@ -166,6 +166,81 @@ fn whole_transactions_allocate_nothing() {
             .expect("exchange");
     });
     assert_eq!(count, 0, "Modbus indexed reads");
+}
+
+/// Encodes `request` by wire number and decodes `reply`: the raw data.
+fn raw_round(protocol: &Protocol, request: &Request, address: Option<u8>, reply: &[u8]) -> u32 {
+    let mut out = [0u8; 64];
+    let len = protocol
+        .encode_request(request, address, &mut out)
+        .expect("encodes");
+    assert!(len > 0);
+    let command = protocol.command_for(request.kind, request.space, request.data_type);
+    match protocol.find_reply(command, reply).expect("decodes") {
+        Found::Frame {
+            frame: vfd_runtime::Reply::Data { data, .. },
+            ..
+        } => data,
+        _ => panic!("unexpected reply"),
+    }
+}
+
+/// A request by wire number.
+fn raw(kind: CommandKind, register: u16, data: u32, data_type: DataType) -> Request {
+    Request {
+        wire_register: true,
+        ..Request::raw(kind, register, data).with_data_type(data_type)
+    }
+}
+
+#[test]
+fn the_fast_path_allocates_nothing() {
+    use vfd_drives::{dv1, vf_as1};
+    let modbus = fc51::protocols::MODBUS.protocol();
+    let read = raw(CommandKind::Read, 0x0BD5, 0, DataType::DoubleWord);
+    let write = raw(CommandKind::WriteRam, 0x03F1, 1, DataType::Word);
+    // The benchmarked exchanges go through compiled plans, both ways.
+    for request in [&read, &write] {
+        let command = modbus.command_for_request(request).expect("a command");
+        for layout in [&command.request, &command.reply] {
+            assert!(
+                layout.plan.as_ref().is_some_and(|p| p.compiled.is_some()),
+                "{} has a compiled plan",
+                layout.name
+            );
+        }
+    }
+    let eaton = dv1::protocols::EATON.protocol();
+    let eaton_read = raw(CommandKind::Read, 0x5F, 0, DataType::Word);
+    let eaton_write = raw(CommandKind::WriteRam, 0xDF, 0x1388, DataType::Word);
+    let count = allocations(1000, || {
+        let read_reply = [0x01, 0x03, 0x04, 0x00, 0x00, 0xEA, 0x60, 0xB5, 0x7B];
+        assert_eq!(raw_round(modbus, &read, Some(1), &read_reply), 0xEA60);
+        let write_reply = [0x01, 0x06, 0x03, 0xF1, 0x00, 0x01, 0x19, 0xBD];
+        assert_eq!(raw_round(modbus, &write, Some(1), &write_reply), 1);
+        assert_eq!(
+            raw_round(eaton, &eaton_read, Some(0), b"\x020017702\x0361\r"),
+            0x1770
+        );
+        raw_round(eaton, &eaton_write, Some(0), b"\x0600\r");
+        let register = raw(CommandKind::Read, 0x0000, 0, DataType::Word);
+        raw_round(
+            vf_as1::protocols::ASCII.protocol(),
+            &register,
+            Some(2),
+            b"(02R00000000)\r",
+        );
+        let fd00 = raw(CommandKind::Read, 0xFD00, 0, DataType::Word);
+        let reply = [0x01, 0x03, 0x02, 0x17, 0x70, 0xB6, 0x50];
+        assert_eq!(
+            raw_round(vf_as1::protocols::MODBUS.protocol(), &fd00, Some(1), &reply),
+            0x1770
+        );
+        let c3 = raw(CommandKind::Read, 0x00C3, 0, DataType::Word);
+        let ascii = dv1::protocols::MODBUS_ASCII.protocol();
+        assert_eq!(raw_round(ascii, &c3, Some(1), b":010302177073\r\n"), 0x1770);
+    });
+    assert_eq!(count, 0, "allocations in 1000 rounds of the fast path");
 }
 
 #[test]

@@ -771,6 +771,7 @@ fn value_shown(field: &vfd_runtime::FieldSpec, value: u32) -> String {
         name: "station".into(),
         parts: std::borrow::Cow::Owned(vec![Part::Field(field.clone())]),
         encoding: vfd_runtime::Encoding::Binary,
+        plan: None,
     };
     let values = FrameValues {
         parts: {

@@ -59,3 +59,93 @@ pub fn virtual_drive(data: &[u8]) {
     simulated.advance(std::time::Duration::from_millis(u64::from(selector) * 100));
     let _ = simulated.respond(protocol, frame);
 }
+
+/// Every protocol of every described drive in each of its variants, with the same
+/// protocol without plans (the interpreter alone), built once.
+fn protocol_pairs() -> &'static [(&'static Protocol, Protocol)] {
+    static PAIRS: std::sync::OnceLock<Vec<(&'static Protocol, Protocol)>> =
+        std::sync::OnceLock::new();
+    PAIRS.get_or_init(|| {
+        vfd_drives::ALL_DRIVES
+            .iter()
+            .flat_map(|drive| drive.protocols.iter())
+            .flat_map(|protocol| protocol.all_variants())
+            .map(|protocol| (protocol, protocol.without_plans()))
+            .collect()
+    })
+}
+
+/// The fast path (the layouts' plans) against the interpreter on the same bytes: the first
+/// byte picks the protocol, the second the command; the rest is decoded as a reply and as a
+/// request by both, and a request made from the first bytes is encoded by both. Any
+/// difference panics (a finding), as does a plan that decodes a frame the interpreter
+/// decodes otherwise.
+pub fn plan_agreement(data: &[u8]) {
+    let [selector, pick, rest @ ..] = data else {
+        return;
+    };
+    let pairs = protocol_pairs();
+    let (fast, slow) = &pairs[usize::from(*selector) % pairs.len()];
+    let (fast, slow): (&'static Protocol, &Protocol) = (fast, slow);
+    assert_eq!(fast.decode_request(rest), slow.decode_request(rest));
+    assert_eq!(fast.decode_reply(None, rest), slow.decode_reply(None, rest));
+    assert_eq!(fast.find_reply(None, rest), slow.find_reply(None, rest));
+    if fast.commands.is_empty() {
+        return;
+    }
+    let index = usize::from(*pick) % fast.commands.len();
+    let (a, b) = (&fast.commands[index], &slow.commands[index]);
+    assert_eq!(fast.decode_reply(Some(a), rest), slow.decode_reply(Some(b), rest));
+    assert_eq!(fast.find_reply(Some(a), rest), slow.find_reply(Some(b), rest));
+    assert_eq!(
+        fast.decode_reply_exact(Some(a), rest),
+        slow.decode_reply_exact(Some(b), rest)
+    );
+    let expectation = vfd_runtime::protocol::Expectation::default();
+    assert_eq!(
+        fast.search_reply(a, &expectation, rest),
+        slow.search_reply(b, &expectation, rest)
+    );
+    let layouts = [Some(&a.request), Some(&a.reply), fast.error_reply.as_ref()];
+    for layout in layouts.into_iter().flatten() {
+        let Some(plan) = &layout.plan else { continue };
+        let planned = plan.decode(layout, rest);
+        assert_eq!(planned, plan.decode_steps(layout, rest));
+        if let Some(frame) = planned {
+            assert_eq!(
+                vfd_runtime::codec::decode(layout, rest),
+                Ok(vfd_runtime::codec::DecodeStatus::Complete {
+                    values: frame.values,
+                    len: frame.len
+                })
+            );
+            assert_eq!(frame.roles, frame.values.roles(layout));
+        }
+    }
+    // A request of the picked command, its numbers taken from the bytes.
+    let number = |at: usize| {
+        rest.get(at..at + 4)
+            .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+    };
+    let data_type = a
+        .data_types
+        .get(usize::from(*pick >> 4) % a.data_types.len().max(1))
+        .copied()
+        .unwrap_or(vfd_runtime::DataType::Word);
+    let request = vfd_runtime::Request {
+        wire_register: pick & 0x08 != 0,
+        index: (pick & 0x04 != 0).then_some(number(8) as u16),
+        command: (pick & 0x02 != 0).then_some(a.code),
+        ..vfd_runtime::Request::raw(a.kind, number(0) as u16, number(4))
+            .in_space(a.space)
+            .with_data_type(data_type)
+    };
+    let address = (pick & 0x01 != 0).then(|| rest.first().copied().unwrap_or(0));
+    let size = rest.get(1).map_or(64, |n| usize::from(*n % 64));
+    let (mut x, mut y) = (vec![0u8; size], vec![0u8; size]);
+    let encoded = fast.encode_request(&request, address, &mut x);
+    assert_eq!(encoded, slow.encode_request(&request, address, &mut y));
+    if let Ok(len) = encoded {
+        assert_eq!(x[..len], y[..len]);
+    }
+}

@@ -319,6 +319,7 @@ mod tests {
         FrameLayout {
             name: "test".into(),
             encoding: crate::layout::Encoding::Binary,
+            plan: None,
             parts: std::borrow::Cow::Owned(vec![
                 Part::literal("start", b"("),
                 Part::Field(

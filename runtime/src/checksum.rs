@@ -3,11 +3,13 @@
 use crate::layout::ChecksumAlgorithm;
 
 /// Low byte of the sum of `bytes` (Toshiba-style "SUM").
+#[inline]
 pub fn sum8(bytes: &[u8]) -> u8 {
     bytes.iter().fold(0u8, |sum, byte| sum.wrapping_add(*byte))
 }
 
 /// Exclusive-or of `bytes` (FC-protocol "BCC").
+#[inline]
 pub fn xor8(bytes: &[u8]) -> u8 {
     bytes.iter().fold(0u8, |acc, byte| acc ^ byte)
 }
@@ -34,6 +36,7 @@ const CRC16_MODBUS_TABLE: [u16; 256] = {
 };
 
 /// CRC-16/MODBUS: reflected polynomial A001h, initial value FFFFh (sent low byte first).
+#[inline]
 pub fn crc16_modbus(bytes: &[u8]) -> u16 {
     bytes.iter().fold(0xFFFFu16, |crc, byte| {
         (crc >> 8) ^ CRC16_MODBUS_TABLE[usize::from((crc ^ u16::from(*byte)) as u8)]
@@ -41,11 +44,13 @@ pub fn crc16_modbus(bytes: &[u8]) -> u16 {
 }
 
 /// Modbus ASCII LRC: the two's complement of the byte sum.
+#[inline]
 pub fn lrc8(bytes: &[u8]) -> u8 {
     sum8(bytes).wrapping_neg()
 }
 
 /// Computes `algorithm` over `bytes`.
+#[inline]
 pub fn compute(algorithm: ChecksumAlgorithm, bytes: &[u8]) -> u32 {
     match algorithm {
         ChecksumAlgorithm::Sum8 => u32::from(sum8(bytes)),

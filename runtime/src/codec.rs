@@ -15,78 +15,9 @@ use crate::layout::{
     FrameLayout, LengthSpec, Part, Presence, Role, SizedBy, WordSpec, MAX_PARTS,
 };
 
-/// The value of one part of a frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct FieldValue {
-    /// Whether the part is in the frame (always true for required parts after decoding).
-    pub present: bool,
-    /// The value: a field's number, a word's bits, a checksum's or length's received
-    /// value, the offset of a bytes field in the frame; 0 for literals.
-    pub value: u32,
-    /// Digits (digit formats) or bytes (variable binary formats) on the wire; 0 means
-    /// the layout's width.
-    pub width: u8,
-}
-
-/// Values of every part of one frame, indexed like the layout's parts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct FrameValues {
-    /// One slot per layout part.
-    pub parts: [FieldValue; MAX_PARTS],
-    /// Size in bytes of the request's data, for length parts that count it (Modbus
-    /// quantity) and for variable-width data fields. Above 4, the data field carries a
-    /// block of registers: its slot holds the block's offset in the frame and its width,
-    /// as a bytes field does ([`FrameValues::bytes`] gives the bytes).
-    pub data_size: u8,
-}
+pub use crate::layout::{FieldValue, FrameValues, Roles};
 
 impl FrameValues {
-    /// Sets the value with `role` (a field or bits of a word) and marks it present.
-    /// Returns false when the layout has no such value.
-    pub fn set(&mut self, layout: &FrameLayout, role: Role, value: u32) -> bool {
-        match layout.locate(role) {
-            Some((index, None)) => {
-                self.parts[index].present = true;
-                self.parts[index].value = value;
-                true
-            }
-            Some((index, Some(bits))) => {
-                let slot = &mut self.parts[index];
-                slot.present = true;
-                slot.value = (slot.value & !bits.mask()) | ((value << bits.lsb) & bits.mask());
-                true
-            }
-            None => false,
-        }
-    }
-
-    /// The value with `role`, when the layout has it and the frame carries it. For a
-    /// bytes field this is the offset of the bytes; see [`FrameValues::bytes`].
-    pub fn get(&self, layout: &FrameLayout, role: Role) -> Option<u32> {
-        let (index, bits) = layout.locate(role)?;
-        let slot = self.parts[index];
-        if !slot.present {
-            return None;
-        }
-        Some(match bits {
-            None => slot.value,
-            Some(bits) => (slot.value & bits.mask()) >> bits.lsb,
-        })
-    }
-
-    /// The bytes of the bytes field with `role` in `frame` (the frame these values were
-    /// decoded from), as they lie on the wire: for an [`Encoding::HexPairs`] layout, the
-    /// hex digits that carry them (two per byte; [`FrameValues::words`] and
-    /// [`FrameValues::data_words`] give their values).
-    pub fn bytes<'f>(&self, layout: &FrameLayout, role: Role, frame: &'f [u8]) -> Option<&'f [u8]> {
-        let index = layout.index_of(role)?;
-        let slot = self.parts[index];
-        let (start, len) = layout.wire_span(slot.value as usize, usize::from(slot.width));
-        slot.present
-            .then(|| frame.get(start..start + len))
-            .flatten()
-    }
-
     /// The 16-bit words of the words field ([`Role::Words`]) in `frame` (the frame these
     /// values were decoded from), each in the field's byte order; empty when the layout has
     /// none or the frame carries none.
@@ -139,15 +70,6 @@ impl FrameValues {
             words.len += 1;
         }
         words
-    }
-
-    /// Marks every optional part named in `names` present (e.g. `["sum", "end"]`).
-    pub fn include(&mut self, layout: &FrameLayout, names: &[&str]) {
-        for (index, part) in layout.parts.iter().enumerate() {
-            if names.iter().any(|name| *name == part.name()) {
-                self.parts[index].present = true;
-            }
-        }
     }
 }
 
@@ -227,103 +149,6 @@ impl Words {
     }
 }
 
-/// The values of every role of a frame, gathered in one pass over the layout.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Roles {
-    /// Station address.
-    pub address: Option<u32>,
-    /// Command code.
-    pub command: Option<u32>,
-    /// Register (wire number).
-    pub register: Option<u32>,
-    /// Array index.
-    pub index: Option<u32>,
-    /// Data.
-    pub data: Option<u32>,
-    /// Error code.
-    pub error_code: Option<u32>,
-    /// First process word.
-    pub process_1: Option<u32>,
-    /// Second process word.
-    pub process_2: Option<u32>,
-    /// Decimal places of the data.
-    pub decimals: Option<u32>,
-}
-
-impl Roles {
-    fn slot(&mut self, role: Role) -> Option<&mut Option<u32>> {
-        match role {
-            Role::Address => Some(&mut self.address),
-            Role::Command => Some(&mut self.command),
-            Role::Register => Some(&mut self.register),
-            Role::Index => Some(&mut self.index),
-            Role::Data => Some(&mut self.data),
-            Role::ErrorCode => Some(&mut self.error_code),
-            Role::Process1 => Some(&mut self.process_1),
-            Role::Process2 => Some(&mut self.process_2),
-            Role::Decimals => Some(&mut self.decimals),
-            Role::Text | Role::Words | Role::ReadCount | Role::WriteStatus | Role::ReplyWait => {
-                None
-            }
-        }
-    }
-}
-
-impl FrameValues {
-    /// Every role's value in one pass (the hot path's alternative to repeated [`FrameValues::get`]).
-    pub fn roles(&self, layout: &FrameLayout) -> Roles {
-        let mut roles = Roles::default();
-        for (index, part) in layout.parts.iter().enumerate() {
-            let slot = self.parts[index];
-            if !slot.present {
-                continue;
-            }
-            match part {
-                Part::Field(field) => {
-                    if let Some(target) = roles.slot(field.role) {
-                        *target = Some(slot.value);
-                    }
-                }
-                Part::Word(word) => {
-                    for bits in word.fields.iter() {
-                        if let Some(target) = roles.slot(bits.role) {
-                            *target = Some((slot.value & bits.mask()) >> bits.lsb);
-                        }
-                    }
-                }
-                _ => {}
-            }
-        }
-        roles
-    }
-
-    /// Sets every role given in `roles` in one pass; roles the layout lacks are ignored.
-    pub fn fill(&mut self, layout: &FrameLayout, roles: &Roles) {
-        let mut roles = *roles;
-        for (index, part) in layout.parts.iter().enumerate() {
-            match part {
-                Part::Field(field) => {
-                    if let Some(Some(value)) = roles.slot(field.role).map(|v| *v) {
-                        self.parts[index].present = true;
-                        self.parts[index].value = value;
-                    }
-                }
-                Part::Word(word) => {
-                    for bits in word.fields.iter() {
-                        if let Some(Some(value)) = roles.slot(bits.role).map(|v| *v) {
-                            let slot = &mut self.parts[index];
-                            slot.present = true;
-                            slot.value =
-                                (slot.value & !bits.mask()) | ((value << bits.lsb) & bits.mask());
-                        }
-                    }
-                }
-                _ => {}
-            }
-        }
-    }
-}
-
 /// Outcome of [`decode`] when the bytes are not wrong.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DecodeStatus {
@@ -367,7 +192,7 @@ pub fn encode_with_payload(
 }
 
 /// The longest frame, in bytes before hex digits, a [`Encoding::HexPairs`] layout handles.
-const MAX_HEX_FRAME: usize = 300;
+pub(crate) const MAX_HEX_FRAME: usize = 300;
 
 /// Encodes the frame's bytes, then writes those between its verbatim ends as hex digits.
 fn encode_hex_pairs(
@@ -378,14 +203,21 @@ fn encode_hex_pairs(
 ) -> Result<usize, EncodeError> {
     let mut bytes = [0u8; MAX_HEX_FRAME];
     let len = encode_binary(layout, values, payload, &mut bytes)?;
+    hex_expand(layout, &bytes[..len], out).ok_or_else(|| EncodeError::BufferTooSmall {
+        layout: layout.name.clone(),
+        capacity: out.len(),
+    })
+}
+
+/// Writes a [`Encoding::HexPairs`] frame's `bytes` into `out`: the verbatim ends as they
+/// are, every byte between them as two hex digits. `None` when `out` is too small.
+pub(crate) fn hex_expand(layout: &FrameLayout, bytes: &[u8], out: &mut [u8]) -> Option<usize> {
+    let len = bytes.len();
     let (head, tail) = layout.verbatim_ends();
     let middle = &bytes[head.len().min(len)..len.saturating_sub(tail.len()).max(head.len())];
     let needed = head.len() + 2 * middle.len() + tail.len();
     if needed > out.len() {
-        return Err(EncodeError::BufferTooSmall {
-            layout: layout.name.clone(),
-            capacity: out.len(),
-        });
+        return None;
     }
     out[..head.len()].copy_from_slice(head);
     let mut at = head.len();
@@ -395,7 +227,7 @@ fn encode_hex_pairs(
         at += 2;
     }
     out[at..at + tail.len()].copy_from_slice(tail);
-    Ok(needed)
+    Some(needed)
 }
 
 const HEX_DIGITS: &[u8; 16] = b"0123456789ABCDEF";
@@ -409,7 +241,7 @@ fn hex_value(digit: u8) -> Option<u8> {
 /// the first character that is neither (the decoder then reports the byte where the frame
 /// goes wrong). Returns how many bytes were written to `out`, and where in `wire` the tail
 /// begins and ends in both forms, when it was found.
-fn hex_pairs_to_bytes(
+pub(crate) fn hex_pairs_to_bytes(
     layout: &FrameLayout,
     wire: &[u8],
     out: &mut [u8; MAX_HEX_FRAME],
@@ -470,9 +302,9 @@ fn short(layout: &FrameLayout, bytes: &[u8; MAX_HEX_FRAME], frame: &HexFrame) ->
 }
 
 /// Where a [`Encoding::HexPairs`] frame's parts lie, in bytes before hex digits.
-struct HexFrame {
+pub(crate) struct HexFrame {
     /// Bytes recovered.
-    len: usize,
+    pub(crate) len: usize,
     /// Length of the verbatim head.
     head: usize,
     /// Where the verbatim tail begins, once it arrived.
@@ -481,7 +313,7 @@ struct HexFrame {
 
 impl HexFrame {
     /// The wire offset of byte `at` of the recovered frame.
-    fn wire_offset(&self, at: usize) -> usize {
+    pub(crate) fn wire_offset(&self, at: usize) -> usize {
         let middle_end = self.tail_at.unwrap_or(self.len);
         if at <= self.head {
             at
@@ -1474,6 +1306,7 @@ mod tests {
         FrameLayout {
             name: "read_request".into(),
             encoding: Encoding::Binary,
+            plan: None,
             parts: List::Owned(vec![
                 Part::Literal {
                     name: "start".into(),
@@ -1560,6 +1393,7 @@ mod tests {
         FrameLayout {
             name: "data_reply".into(),
             encoding: Encoding::Binary,
+            plan: None,
             parts: Cow::Owned(vec![
                 Part::Literal {
                     name: "stx".into(),
@@ -1684,6 +1518,7 @@ mod tests {
         FrameLayout {
             name: "block_reply".into(),
             encoding: Encoding::Binary,
+            plan: None,
             parts: List::Owned(vec![
                 Part::literal("start", b"/"),
                 field("command", Role::Command, Format::Char),
@@ -1788,6 +1623,7 @@ mod tests {
         FrameLayout {
             name: "write_register".into(),
             encoding: Encoding::HexPairs,
+            plan: None,
             parts: Cow::Owned(vec![
                 literal("start", b":"),
                 field("address", Role::Address, Format::U8, 1),

@@ -56,7 +56,10 @@ pub type List<T> = Cow<'static, [T]>;
 pub const MAX_PARTS: usize = 16;
 
 /// One frame layout, for example "ASCII read request" or "binary error reply".
-#[derive(Debug, Clone, PartialEq)]
+///
+/// Two layouts are equal when their name, parts and encoding are: the plan is derived
+/// from them.
+#[derive(Debug, Clone)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct FrameLayout {
     /// Name used in error messages, e.g. `read_request`.
@@ -65,6 +68,19 @@ pub struct FrameLayout {
     pub parts: List<Part>,
     /// How the frame's bytes go on the wire.
     pub encoding: Encoding,
+    /// The layout's [`FramePlan`] (its fast encoder and decoder), computed from the parts
+    /// by [`FramePlan::of`] (generated layouts hold it as const data; see
+    /// [`FrameLayout::planned`]); `None`: the interpreter handles every frame. A plan must
+    /// be the one computed from these parts: after changing the parts, call
+    /// [`FrameLayout::planned`] again.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub plan: Option<FramePlan>,
+}
+
+impl PartialEq for FrameLayout {
+    fn eq(&self, other: &FrameLayout) -> bool {
+        self.name == other.name && self.parts == other.parts && self.encoding == other.encoding
+    }
 }
 
 /// How a layout's bytes go on the wire.
@@ -287,11 +303,13 @@ impl Format {
     }
 
     /// Whether the format is made of ASCII digits whose count may vary.
+    #[inline]
     pub const fn is_digits(self) -> bool {
         matches!(self, Format::Decimal | Format::Hex)
     }
 
     /// The fixed byte count of a binary or character format, `None` for digit formats.
+    #[inline]
     pub const fn fixed_len(self) -> Option<usize> {
         match self {
             Format::Char | Format::U8 => Some(1),
@@ -302,6 +320,7 @@ impl Format {
     }
 
     /// Whether `byte` can start a value in this format (used for optional fields).
+    #[inline]
     pub fn accepts_digit(self, byte: u8) -> bool {
         match self {
             Format::Decimal => byte.is_ascii_digit(),
@@ -435,11 +454,13 @@ impl BroadcastAddress {
     }
 
     /// Whether a field value holds open digits.
+    #[inline]
     pub const fn is_open(value: u32) -> bool {
         value & Self::OPEN != 0
     }
 
     /// Whether `byte` can begin a broadcast station field.
+    #[inline]
     pub fn starts_with(&self, byte: u8) -> bool {
         self.all_bytes.first() == Some(&byte)
             || self.wildcard == Some(byte)
@@ -477,6 +498,7 @@ pub struct BitsSpec {
 
 impl BitsSpec {
     /// The bits' mask within the word.
+    #[inline]
     pub const fn mask(&self) -> u32 {
         (((1u64 << self.width) - 1) << self.lsb) as u32
     }
@@ -855,4 +877,325 @@ impl LengthSpec {
         self.per = per;
         self
     }
+}
+
+/// The value of one part of a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FieldValue {
+    /// Whether the part is in the frame (always true for required parts after decoding).
+    pub present: bool,
+    /// The value: a field's number, a word's bits, a checksum's or length's received
+    /// value, the offset of a bytes field in the frame; 0 for literals.
+    pub value: u32,
+    /// Digits (digit formats) or bytes (variable binary formats) on the wire; 0 means
+    /// the layout's width.
+    pub width: u8,
+}
+
+/// Values of every part of one frame, indexed like the layout's parts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FrameValues {
+    /// One slot per layout part.
+    pub parts: [FieldValue; MAX_PARTS],
+    /// Size in bytes of the request's data, for length parts that count it (Modbus
+    /// quantity) and for variable-width data fields. Above 4, the data field carries a
+    /// block of registers: its slot holds the block's offset in the frame and its width,
+    /// as a bytes field does ([`FrameValues::bytes`] gives the bytes).
+    pub data_size: u8,
+}
+
+impl FrameValues {
+    /// Sets the value with `role` (a field or bits of a word) and marks it present.
+    /// Returns false when the layout has no such value.
+    pub fn set(&mut self, layout: &FrameLayout, role: Role, value: u32) -> bool {
+        match layout.locate(role) {
+            Some((index, None)) => {
+                self.parts[index].present = true;
+                self.parts[index].value = value;
+                true
+            }
+            Some((index, Some(bits))) => {
+                let slot = &mut self.parts[index];
+                slot.present = true;
+                slot.value = (slot.value & !bits.mask()) | ((value << bits.lsb) & bits.mask());
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The value with `role`, when the layout has it and the frame carries it. For a
+    /// bytes field this is the offset of the bytes; see [`FrameValues::bytes`].
+    pub fn get(&self, layout: &FrameLayout, role: Role) -> Option<u32> {
+        let (index, bits) = layout.locate(role)?;
+        let slot = self.parts[index];
+        if !slot.present {
+            return None;
+        }
+        Some(match bits {
+            None => slot.value,
+            Some(bits) => (slot.value & bits.mask()) >> bits.lsb,
+        })
+    }
+
+    /// The bytes of the bytes field with `role` in `frame` (the frame these values were
+    /// decoded from), as they lie on the wire: for an [`Encoding::HexPairs`] layout, the
+    /// hex digits that carry them (two per byte; [`FrameValues::words`] and
+    /// [`FrameValues::data_words`] give their values).
+    pub fn bytes<'f>(&self, layout: &FrameLayout, role: Role, frame: &'f [u8]) -> Option<&'f [u8]> {
+        let index = layout.index_of(role)?;
+        let slot = self.parts[index];
+        let (start, len) = layout.wire_span(slot.value as usize, usize::from(slot.width));
+        slot.present
+            .then(|| frame.get(start..start + len))
+            .flatten()
+    }
+    /// Marks every optional part named in `names` present (e.g. `["sum", "end"]`).
+    pub fn include(&mut self, layout: &FrameLayout, names: &[&str]) {
+        for (index, part) in layout.parts.iter().enumerate() {
+            if names.iter().any(|name| *name == part.name()) {
+                self.parts[index].present = true;
+            }
+        }
+    }
+}
+
+/// The values of every role of a frame, gathered in one pass over the layout.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Roles {
+    /// Station address.
+    pub address: Option<u32>,
+    /// Command code.
+    pub command: Option<u32>,
+    /// Register (wire number).
+    pub register: Option<u32>,
+    /// Array index.
+    pub index: Option<u32>,
+    /// Data.
+    pub data: Option<u32>,
+    /// Error code.
+    pub error_code: Option<u32>,
+    /// First process word.
+    pub process_1: Option<u32>,
+    /// Second process word.
+    pub process_2: Option<u32>,
+    /// Decimal places of the data.
+    pub decimals: Option<u32>,
+}
+
+impl Roles {
+    /// The value given for `role`, for the roles this type holds.
+    #[inline]
+    pub fn value(&self, role: Role) -> Option<u32> {
+        match role {
+            Role::Address => self.address,
+            Role::Command => self.command,
+            Role::Register => self.register,
+            Role::Index => self.index,
+            Role::Data => self.data,
+            Role::ErrorCode => self.error_code,
+            Role::Process1 => self.process_1,
+            Role::Process2 => self.process_2,
+            Role::Decimals => self.decimals,
+            Role::Text | Role::Words | Role::ReadCount | Role::WriteStatus | Role::ReplyWait => {
+                None
+            }
+        }
+    }
+
+    #[inline]
+    pub(crate) fn slot(&mut self, role: Role) -> Option<&mut Option<u32>> {
+        match role {
+            Role::Address => Some(&mut self.address),
+            Role::Command => Some(&mut self.command),
+            Role::Register => Some(&mut self.register),
+            Role::Index => Some(&mut self.index),
+            Role::Data => Some(&mut self.data),
+            Role::ErrorCode => Some(&mut self.error_code),
+            Role::Process1 => Some(&mut self.process_1),
+            Role::Process2 => Some(&mut self.process_2),
+            Role::Decimals => Some(&mut self.decimals),
+            Role::Text | Role::Words | Role::ReadCount | Role::WriteStatus | Role::ReplyWait => {
+                None
+            }
+        }
+    }
+}
+
+impl FrameValues {
+    /// Every role's value in one pass (the hot path's alternative to repeated [`FrameValues::get`]).
+    pub fn roles(&self, layout: &FrameLayout) -> Roles {
+        let mut roles = Roles::default();
+        for (index, part) in layout.parts.iter().enumerate() {
+            let slot = self.parts[index];
+            if !slot.present {
+                continue;
+            }
+            match part {
+                Part::Field(field) => {
+                    if let Some(target) = roles.slot(field.role) {
+                        *target = Some(slot.value);
+                    }
+                }
+                Part::Word(word) => {
+                    for bits in word.fields.iter() {
+                        if let Some(target) = roles.slot(bits.role) {
+                            *target = Some((slot.value & bits.mask()) >> bits.lsb);
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        roles
+    }
+
+    /// Sets every role given in `roles` in one pass; roles the layout lacks are ignored.
+    pub fn fill(&mut self, layout: &FrameLayout, roles: &Roles) {
+        let mut roles = *roles;
+        for (index, part) in layout.parts.iter().enumerate() {
+            match part {
+                Part::Field(field) => {
+                    if let Some(Some(value)) = roles.slot(field.role).map(|v| *v) {
+                        self.parts[index].present = true;
+                        self.parts[index].value = value;
+                    }
+                }
+                Part::Word(word) => {
+                    for bits in word.fields.iter() {
+                        if let Some(Some(value)) = roles.slot(bits.role).map(|v| *v) {
+                            let slot = &mut self.parts[index];
+                            slot.present = true;
+                            slot.value =
+                                (slot.value & !bits.mask()) | ((value << bits.lsb) & bits.mask());
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
+/// The steps of one layout, one per part, in wire order (see the module documentation).
+#[derive(Debug, Clone)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct FramePlan {
+    /// One step per part of the layout, at the part's index.
+    pub steps: List<Step>,
+    /// The same steps compiled for this layout alone: functions the generator writes
+    /// for each generated layout, which run the steps one after the other with every
+    /// argument a constant (see [`crate::plan::Decoder`] and [`crate::plan::Encoder`]). `None` for a plan computed at
+    /// run time, which [`FramePlan::decode`] and [`FramePlan::encode`] run step by step.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub compiled: Option<Compiled>,
+}
+
+/// Two plans are equal when their steps are (compiled functions run the same steps).
+impl PartialEq for FramePlan {
+    fn eq(&self, other: &FramePlan) -> bool {
+        self.steps == other.steps
+    }
+}
+
+/// A plan's steps compiled for one layout by the generator.
+#[derive(Debug, Clone, Copy)]
+pub struct Compiled {
+    /// Runs [`FramePlan::decode`]'s steps.
+    pub decode: fn(&[u8]) -> Option<PlannedFrame>,
+    /// Runs [`FramePlan::encode`]'s steps.
+    pub encode: EncodeFn,
+}
+
+/// The signature of a compiled encoder: roles, data size, the protocol's default optional
+/// parts, the output buffer (see [`FramePlan::encode`]).
+pub type EncodeFn = fn(&Roles, u8, &[Text], &mut [u8]) -> Option<usize>;
+
+/// What a plan does for one part. Lists (literal bytes, allowed values, bit fields,
+/// markers) stay in the layout's part; a step holds what the fast path decides on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub enum Step {
+    /// Fixed bytes (the part's).
+    Literal {
+        /// Present on decode only when the next bytes equal them; on encode only when named
+        /// among the protocol's default optional parts.
+        optional: bool,
+    },
+    /// A value field.
+    Field(FieldStep),
+    /// A word of bit fields, in a fixed binary format.
+    Word {
+        /// `u16be`, `u16le`, `u32be` or `u32le`.
+        format: Format,
+    },
+    /// A computed length, in a fixed binary format.
+    Length(LengthStep),
+    /// A checksum over earlier parts.
+    Checksum(ChecksumStep),
+}
+
+/// A value field's step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct FieldStep {
+    /// What it means.
+    pub role: Role,
+    /// Wire format: a digit format, a fixed binary format, or `uint_be`/`uint_le`.
+    pub format: Format,
+    /// Digits or bytes written (and the most digits read).
+    pub width: u8,
+    /// The fewest digits read.
+    pub min_width: u8,
+    /// How a decoder tells it is there, when it may be left out.
+    pub optional: Option<Presence>,
+    /// Sized by the length part that covers it alone (a Modbus byte count).
+    pub by_length: bool,
+    /// The part lists the values it accepts.
+    pub checked: bool,
+    /// The part has broadcast encodings with open digits (`**`, `*9`): frames holding
+    /// one go to the interpreter.
+    pub open_digits: bool,
+}
+
+/// A length's step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct LengthStep {
+    /// `u8` or `u16be`.
+    pub format: Format,
+    /// What it counts.
+    pub counts: Counts,
+    /// See [`crate::LengthSpec::times`].
+    pub times: u8,
+    /// See [`crate::LengthSpec::per`].
+    pub per: u8,
+}
+
+/// A checksum's step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct ChecksumStep {
+    /// The algorithm.
+    pub algorithm: ChecksumAlgorithm,
+    /// `hex` (two digits) or a fixed binary format.
+    pub format: Format,
+    /// First part covered.
+    pub covers_from: u8,
+    /// Last part covered, when coverage stops before the checksum.
+    pub covers_through: Option<u8>,
+    /// May be left out (present when its marker is there).
+    pub optional: bool,
+}
+
+/// A frame decoded by a plan: what [`crate::codec::decode`] returns for it, with its
+/// roles gathered as [`FrameValues::roles`] gathers them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PlannedFrame {
+    /// Every part's value.
+    pub values: FrameValues,
+    /// The values of the roles the frame carries.
+    pub roles: Roles,
+    /// Frame length in bytes.
+    pub len: usize,
 }

@@ -58,6 +58,7 @@ pub mod info;
 pub mod kinds;
 pub mod layout;
 pub mod meaning;
+pub mod plan;
 pub mod prelude;
 pub mod protocol;
 pub mod read_runs;
@@ -88,6 +89,7 @@ pub use layout::{
     BitsSpec, BroadcastAddress, ChecksumAlgorithm, ChecksumSpec, Counts, Encoding, FieldSpec,
     Format, FrameLayout, LengthSpec, Part, Presence, Role, SizedBy, WordSpec,
 };
+pub use plan::FramePlan;
 pub use protocol::{
     AddressMap, BlockChoice, BlockMode, BlockSelection, BlockSelector, BlockSpec, CommandSpec,
     DriveProtocol, PersistenceSelector, PreStep, Protocol, Reply,

@@ -142,7 +142,7 @@ impl FollowUp {
     pub fn recognise(&self, bytes: &[u8]) -> Option<(bool, Option<u8>, usize)> {
         [true, false].into_iter().find_map(|sound| {
             let layout = self.layout(sound);
-            match codec::decode(layout, bytes) {
+            match crate::plan::decode(layout, bytes) {
                 Ok(DecodeStatus::Complete { values, len }) => Some((
                     sound,
                     values
@@ -735,6 +735,31 @@ type Derived = Vec<(&'static Protocol, usize, &'static Protocol)>;
 static DERIVED: std::sync::Mutex<Derived> = std::sync::Mutex::new(Vec::new());
 
 impl Protocol {
+    /// This protocol with no plan in any layout: every frame goes through the interpreter,
+    /// as for a layout no plan covers. For comparing the two paths (the differential tests,
+    /// the `plan_agreement` fuzz target, the codec benchmark); a master or tool has no
+    /// reason to use it.
+    pub fn without_plans(&self) -> Protocol {
+        let commands = self
+            .commands
+            .iter()
+            .map(|command| CommandSpec {
+                request: command.request.clone().unplanned(),
+                reply: command.reply.clone().unplanned(),
+                follow_up: command.follow_up.as_ref().map(|f| FollowUp {
+                    ok: f.ok.clone().unplanned(),
+                    again: f.again.clone().unplanned(),
+                }),
+                ..command.clone()
+            })
+            .collect();
+        Protocol {
+            commands: Cow::Owned(commands),
+            error_reply: self.error_reply.clone().map(FrameLayout::unplanned),
+            ..self.clone()
+        }
+    }
+
     /// The id of the variant this protocol is in (`None`: the protocol has no variants).
     pub fn variant_id(&self) -> Option<&str> {
         self.variants.as_ref()?.current().map(|v| v.id.as_ref())
@@ -1233,6 +1258,7 @@ impl Protocol {
         address: Option<u8>,
     ) -> Result<(&'c FrameLayout, FrameValues), EncodeError> {
         let layout = &command.request;
+        let roles = self.request_roles(command, request, address)?;
         let mut values = FrameValues {
             data_size: request.data_type.size(),
             ..FrameValues::default()
@@ -1240,6 +1266,21 @@ impl Protocol {
         for name in self.default_optional_parts.iter() {
             values.include(layout, &[name]);
         }
+        values.fill(layout, &roles);
+        Ok((layout, values))
+    }
+
+    /// The values of every role a request of `command` carries, once the request is
+    /// checked against the protocol (register, station); what
+    /// [`Protocol::request_values_for`] fills the frame values with.
+    #[inline]
+    fn request_roles(
+        &self,
+        command: &CommandSpec,
+        request: &Request,
+        address: Option<u8>,
+    ) -> Result<Roles, EncodeError> {
+        let layout = &command.request;
         let wire = if request.wire_register {
             Some(request.register)
         } else {
@@ -1286,7 +1327,6 @@ impl Protocol {
             process_2: Some(u32::from(second)),
             decimals: None,
         };
-        values.fill(layout, &roles);
         if let Some(address) = address {
             let (min, max) = self.address_range;
             if address < min || address > max {
@@ -1305,7 +1345,7 @@ impl Protocol {
                 protocol: self.id.clone(),
             });
         }
-        Ok((layout, values))
+        Ok(roles)
     }
 
     /// Encodes `request` for the station `address` (or for whichever drive listens, when
@@ -1316,7 +1356,16 @@ impl Protocol {
         address: Option<u8>,
         out: &mut [u8],
     ) -> Result<usize, EncodeError> {
-        let (layout, values) = self.request_values(request, address)?;
+        let command = self.command_for_request(request)?;
+        if let Some(plan) = &command.request.plan {
+            let roles = self.request_roles(command, request, address)?;
+            let size = request.data_type.size();
+            let optional = &self.default_optional_parts;
+            if let Some(len) = plan.encode(&command.request, &roles, size, optional, out) {
+                return Ok(len);
+            }
+        }
+        let (layout, values) = self.request_values_for(command, request, address)?;
         codec::encode(layout, &values, out)
     }
 
@@ -1387,7 +1436,7 @@ impl Protocol {
         let mut incomplete = false;
         for command in self.commands.iter() {
             let layout = &command.request;
-            match codec::decode(layout, bytes) {
+            match crate::plan::decode(layout, bytes) {
                 Ok(DecodeStatus::Complete { values, len }) => {
                     // Commands may share a layout (W and P): the code decides.
                     if values
@@ -1442,6 +1491,12 @@ impl Protocol {
         expected: Option<&CommandSpec>,
         bytes: &[u8],
     ) -> Result<Found<Reply<'_>>, DecodeError> {
+        if let Some(reply) = expected.and_then(|wanted| self.planned_reply(wanted, bytes)) {
+            return Ok(Found::Frame {
+                frame: reply,
+                skipped: 0,
+            });
+        }
         let mut best: Option<DecodeError> = None;
         let mut incomplete = false;
         if let Some(wanted) = expected {
@@ -1498,7 +1553,7 @@ impl Protocol {
                 }),
             });
         };
-        match codec::decode(layout, bytes)? {
+        match crate::plan::decode(layout, bytes)? {
             DecodeStatus::Incomplete => Ok(None),
             DecodeStatus::Complete { values, len } => {
                 no_open_station(layout, &values)?;
@@ -1529,12 +1584,55 @@ impl Protocol {
         command: &'p CommandSpec,
         bytes: &[u8],
     ) -> Result<Option<Reply<'p>>, DecodeError> {
-        match codec::decode(&command.reply, bytes)? {
+        match crate::plan::decode(&command.reply, bytes)? {
             DecodeStatus::Incomplete => Ok(None),
             DecodeStatus::Complete { values, len } => {
                 self.data_reply_from(command, values, len).map(Some)
             }
         }
+    }
+
+    /// The reply of `wanted` (one of this protocol's commands, by identity) at the start of
+    /// `bytes`, decoded by its reply layout's plan: `Some` only when the plan decodes a
+    /// sound, complete reply, which is then the reply [`Protocol::decode_reply`] returns
+    /// (see [`crate::plan`]); `None` leaves the bytes to the interpreter.
+    #[inline(always)]
+    fn planned_reply(&self, wanted: &CommandSpec, bytes: &[u8]) -> Option<Reply<'_>> {
+        // `wanted` must be one of this protocol's commands, as the interpreter requires.
+        let commands: &[CommandSpec] = &self.commands;
+        let offset = (wanted as *const CommandSpec as usize)
+            .checked_sub(commands.as_ptr() as usize)?
+            / std::mem::size_of::<CommandSpec>().max(1);
+        let command = commands.get(offset).filter(|c| std::ptr::eq(*c, wanted))?;
+        let plan = command.reply.plan.as_ref()?;
+        let frame = plan.decode(&command.reply, bytes)?;
+        // What `data_reply_with` makes of it: a plan decodes no open station and no text
+        // field, and the roles are gathered.
+        let roles = &frame.roles;
+        let code = roles.command;
+        if code.is_some_and(|code| !self.reply_code_matches(command, code)) {
+            return None;
+        }
+        Some(Reply::Data {
+            command,
+            code: code.unwrap_or(command.code),
+            address: roles.address.map(|a| a as u8),
+            tripped: code.is_some_and(|code| self.is_tripped(code)),
+            wire_register: roles.register.map(|r| r as u16),
+            index: roles.index.map(|i| i as u16),
+            data: if frame.values.data_size > 4 {
+                0
+            } else {
+                roles.data.unwrap_or(0)
+            },
+            process: match (roles.process_1, roles.process_2) {
+                (Some(first), Some(second)) => Some([first as u16, second as u16]),
+                _ => None,
+            },
+            text: None,
+            values: frame.values,
+            len: frame.len,
+        })
     }
 
     /// `command`'s normal reply with these decoded `values`; an error when the reply
@@ -1648,6 +1746,14 @@ impl Protocol {
         expected: Option<&CommandSpec>,
         bytes: &[u8],
     ) -> Result<Found<Reply<'_>>, DecodeError> {
+        // The expected reply at offset 0 is what the search below finds first (a frame
+        // may start there: the reply's own start bytes are there, or it has none).
+        if let Some(reply) = expected.and_then(|wanted| self.planned_reply(wanted, bytes)) {
+            return Ok(Found::Frame {
+                frame: reply,
+                skipped: 0,
+            });
+        }
         let mut last_error = None;
         let mut incomplete = false;
         for offset in 0..bytes.len() {
@@ -1943,7 +2049,7 @@ impl Protocol {
             self.error_reply.as_ref().map(|l| (l, false)),
         ];
         for (layout, normal) in layouts.into_iter().flatten() {
-            match codec::decode_prefix(layout, bytes) {
+            match crate::plan::decode_prefix(layout, bytes) {
                 Ok(Progress::Complete { values, len }) => {
                     let reply = if normal {
                         match self.data_reply_from(command, values, len) {

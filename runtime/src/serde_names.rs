@@ -97,6 +97,7 @@ fn layout_data_serialises_with_borrowed_and_owned_lists() {
     let layout = FrameLayout {
         name: "read_request".into(),
         encoding: crate::layout::Encoding::Binary,
+        plan: None,
         parts: vec![
             Part::Literal {
                 name: "start".into(),

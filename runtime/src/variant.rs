@@ -129,10 +129,17 @@ impl Variant {
                 other => other.clone(),
             })
             .collect();
-        FrameLayout {
+        let applied = FrameLayout {
             name: layout.name.clone(),
             parts: Cow::Owned(parts),
             encoding: layout.encoding,
+            plan: None,
+        };
+        // Other literal bytes make another plan (a layout without one stays without).
+        if layout.plan.is_some() {
+            applied.planned()
+        } else {
+            applied
         }
     }
 }
@@ -153,6 +160,7 @@ mod tests {
             name: Cow::Borrowed("request"),
             parts: Cow::Borrowed(&PARTS),
             encoding: Encoding::Binary,
+            plan: None,
         };
         let variant = Variant {
             id: Cow::Borrowed("cr_lf"),

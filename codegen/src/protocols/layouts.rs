@@ -117,7 +117,9 @@ fn lower_layout(
         name: Cow::Owned(name.to_owned()),
         parts: Cow::Owned(parts),
         encoding: file.protocol.encoding,
-    };
+        plan: None,
+    }
+    .planned();
     check_sizes(&layout, source, out).then_some(layout)
 }
 

@@ -1,6 +1,7 @@
 //! Writes the seed corpora: every example frame of every described drive (as printed and as
 //! corrected) into `corpus/<protocol file>_request/` and `_reply/` (requests also, behind a
-//! selector byte, into `corpus/virtual_drive/`), and every drive file and broken-description
+//! selector byte, into `corpus/virtual_drive/`; and behind a protocol and a command byte, into
+//! `corpus/plan_agreement/`), and every drive file and broken-description
 //! fixture into `corpus/description/`. Run from `fuzz/`:
 //! `cargo run --bin seed_corpus`.
 
@@ -53,6 +54,29 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                             dir.join(format!("{}_{}_{selector:02x}", drive.id, example.id)),
                             seed,
                         )?;
+                        written += 1;
+                    }
+                }
+                // The plan-agreement target: a selector byte (the protocol, in the order
+                // of `vfd_drives::ALL_DRIVES` and their variants), a command byte, then the
+                // frame; one seed per command of the protocol.
+                let dir = corpus.join("plan_agreement");
+                fs::create_dir_all(&dir)?;
+                let all = vfd_drives::ALL_DRIVES.iter().flat_map(|d| {
+                    d.protocols
+                        .iter()
+                        .flat_map(|p| p.all_variants())
+                        .map(move |p| (d.id, p))
+                });
+                for (selector, (_, protocol)) in all
+                    .enumerate()
+                    .filter(|(_, (id, p))| *id == drive.id && p.id == example.protocol)
+                {
+                    for pick in 0..protocol.commands.len() {
+                        let mut seed = vec![selector as u8, pick as u8];
+                        seed.extend_from_slice(&frame.bytes);
+                        let name = format!("{}_{}_{side}_{selector}_{pick}", drive.id, example.id);
+                        fs::write(dir.join(name), seed)?;
                         written += 1;
                     }
                 }

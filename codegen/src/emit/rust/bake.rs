@@ -10,6 +10,7 @@
 use proc_macro2::{Literal, TokenStream};
 use quote::{quote, ToTokens};
 use vfd_runtime::meaning::{Direction, FrameMeaning};
+use vfd_runtime::plan::{ChecksumStep, FieldStep, FramePlan, LengthStep, Step};
 use vfd_runtime::serial::Parity;
 use vfd_runtime::units::Unit;
 use vfd_runtime::{
@@ -468,12 +469,257 @@ impl Bake for FrameLayout {
             Encoding::Binary => quote!(Binary),
             Encoding::HexPairs => quote!(HexPairs),
         };
+        let plan = match &self.plan {
+            Some(plan) => {
+                let plan = plan.bake();
+                quote!(Some(#plan))
+            }
+            None => quote!(None),
+        };
         quote!(FrameLayout {
             name: Cow::Borrowed(#name),
             parts: Cow::Borrowed(&[#(#parts),*]),
             encoding: Encoding::#encoding,
+            plan: #plan,
         })
     }
+}
+
+/// A layout's plan, as const data: computed at build time by the runtime's
+/// [`FramePlan::of`]. Its compiled functions are added by [`compiled_plan`].
+impl Bake for FramePlan {
+    fn bake(&self) -> TokenStream {
+        let steps = self.steps.iter().map(Bake::bake);
+        quote!(::vfd_runtime::plan::FramePlan {
+            steps: Cow::Borrowed(&[#(#steps),*]),
+            compiled: None,
+        })
+    }
+}
+
+impl Bake for FieldStep {
+    fn bake(&self) -> TokenStream {
+        let (role, format) = (self.role.bake(), self.format.bake());
+        let (width, min_width) = (int_literal(self.width), int_literal(self.min_width));
+        let optional = match &self.optional {
+            Some(presence) => {
+                let presence = presence.bake();
+                quote!(Some(#presence))
+            }
+            None => quote!(None),
+        };
+        let (by_length, checked, open_digits) = (self.by_length, self.checked, self.open_digits);
+        quote!(::vfd_runtime::plan::FieldStep {
+            role: #role,
+            format: #format,
+            width: #width,
+            min_width: #min_width,
+            optional: #optional,
+            by_length: #by_length,
+            checked: #checked,
+            open_digits: #open_digits,
+        })
+    }
+}
+
+impl Bake for LengthStep {
+    fn bake(&self) -> TokenStream {
+        let (format, counts) = (self.format.bake(), self.counts.bake());
+        let (times, per) = (int_literal(self.times), int_literal(self.per));
+        quote!(::vfd_runtime::plan::LengthStep {
+            format: #format,
+            counts: #counts,
+            times: #times,
+            per: #per,
+        })
+    }
+}
+
+impl Bake for ChecksumStep {
+    fn bake(&self) -> TokenStream {
+        let (algorithm, format) = (self.algorithm.bake(), self.format.bake());
+        let covers_from = int_literal(self.covers_from);
+        let covers_through = match self.covers_through {
+            Some(through) => {
+                let through = int_literal(through);
+                quote!(Some(#through))
+            }
+            None => quote!(None),
+        };
+        let optional = self.optional;
+        quote!(::vfd_runtime::plan::ChecksumStep {
+            algorithm: #algorithm,
+            format: #format,
+            covers_from: #covers_from,
+            covers_through: #covers_through,
+            optional: #optional,
+        })
+    }
+}
+
+impl Bake for Step {
+    fn bake(&self) -> TokenStream {
+        match self {
+            Step::Literal { optional } => {
+                quote!(::vfd_runtime::plan::Step::Literal { optional: #optional })
+            }
+            Step::Field(step) => {
+                let step = step.bake();
+                quote!(::vfd_runtime::plan::Step::Field(#step))
+            }
+            Step::Word { format } => {
+                let format = format.bake();
+                quote!(::vfd_runtime::plan::Step::Word { format: #format })
+            }
+            Step::Length(step) => {
+                let step = step.bake();
+                quote!(::vfd_runtime::plan::Step::Length(#step))
+            }
+            Step::Checksum(step) => {
+                let step = step.bake();
+                quote!(::vfd_runtime::plan::Step::Checksum(#step))
+            }
+        }
+    }
+}
+
+/// The layout `layout` as a const whose plan is compiled: the layout's tokens (its plan
+/// naming the functions `decode` and `encode`) and those two functions, which run the
+/// plan's steps one after the other with constant arguments through the runtime's
+/// [`vfd_runtime::plan::Decoder`] and [`vfd_runtime::plan::Encoder`], so the compiler
+/// makes straight-line code of them. Without a plan, the layout's tokens alone.
+pub(crate) fn compiled_plan(
+    layout: &FrameLayout,
+    decode: &proc_macro2::Ident,
+    encode: &proc_macro2::Ident,
+) -> (TokenStream, TokenStream) {
+    let Some(plan) = &layout.plan else {
+        return (layout.bake(), TokenStream::new());
+    };
+    let name = layout.name.as_ref();
+    let parts = layout.parts.iter().map(Bake::bake);
+    let steps = plan.steps.iter().map(Bake::bake);
+    let encoding = match layout.encoding {
+        Encoding::Binary => quote!(Binary),
+        Encoding::HexPairs => quote!(HexPairs),
+    };
+    let layout_tokens = quote!(FrameLayout {
+        name: Cow::Borrowed(#name),
+        parts: Cow::Borrowed(&[#(#parts),*]),
+        encoding: Encoding::#encoding,
+        plan: Some(::vfd_runtime::plan::FramePlan {
+            steps: Cow::Borrowed(&[#(#steps),*]),
+            compiled: Some(::vfd_runtime::plan::Compiled {
+                decode: #decode,
+                encode: #encode,
+            }),
+        }),
+    });
+    let count = int_literal(layout.parts.len());
+    let mut decoding = Vec::new();
+    let mut encoding_steps = Vec::new();
+    let mut lengths_checked = Vec::new();
+    let mut lengths_filled = Vec::new();
+    let mut sums_filled = Vec::new();
+    for (index, (step, part)) in plan.steps.iter().zip(layout.parts.iter()).enumerate() {
+        let at = int_literal(index);
+        let part_name = part.name();
+        let included = quote!(::vfd_runtime::plan::included(include, #part_name));
+        match (step, part) {
+            (Step::Literal { optional }, Part::Literal { bytes, .. }) => {
+                let bytes = Literal::byte_string(bytes);
+                decoding.push(quote!(d.literal(#at, #bytes, #optional)?;));
+                let present = if *optional { included } else { quote!(true) };
+                encoding_steps.push(quote!(e.literal(#at, #bytes, #present)?;));
+            }
+            (Step::Field(step), Part::Field(field)) => {
+                let baked = step.bake();
+                let allowed = int_slice(&field.allowed);
+                let fold_case = field.fold_case;
+                // The decoder reads the broadcast encodings only to tell whether an optional
+                // station is there and to pass open digits on.
+                let broadcast = match &field.broadcast {
+                    Some(_) if step.optional.is_some() || step.open_digits => {
+                        let spec = field.bake();
+                        quote!({
+                            const FIELD: &FieldSpec = &#spec;
+                            FIELD.broadcast.as_ref()
+                        })
+                    }
+                    _ => quote!(None),
+                };
+                decoding.push(quote!(d.field(#at, #baked, #allowed, #fold_case, #broadcast)?;));
+                let role = step.role.bake();
+                let has_broadcast = field.broadcast.is_some();
+                let present = if step.optional.is_some() {
+                    quote!(roles.value(#role).is_some() || #included)
+                } else {
+                    quote!(true)
+                };
+                encoding_steps.push(quote!(
+                    e.field(#at, #baked, roles.value(#role), #present, data_size, #has_broadcast)?;
+                ));
+            }
+            (Step::Word { format }, Part::Word(word)) => {
+                let format = format.bake();
+                let bits = word.fields.iter().map(Bake::bake);
+                let bits = quote!({
+                    const BITS: &[BitsSpec] = &[#(#bits),*];
+                    BITS
+                });
+                decoding.push(quote!(d.word(#at, #format, #bits)?;));
+                encoding_steps.push(quote!(e.word(#at, #format, #bits, roles)?;));
+            }
+            (Step::Length(step), Part::Length(_)) => {
+                let baked = step.bake();
+                let format = step.format.bake();
+                decoding.push(quote!(d.length(#at, #baked, #count)?;));
+                encoding_steps.push(quote!(e.length(#at, #format)?;));
+                lengths_checked.push(quote!(d.check_length(#at, #baked)?;));
+                lengths_filled.push(quote!(e.fill_length(#at, #baked, data_size)?;));
+            }
+            (Step::Checksum(step), Part::Checksum(spec)) => {
+                let baked = step.bake();
+                let marker = Literal::byte_string(&spec.marker);
+                let marker_len = int_literal(spec.marker.len());
+                decoding.push(quote!(d.checksum(#at, #baked, #marker)?;));
+                let present = if step.optional {
+                    included
+                } else {
+                    quote!(true)
+                };
+                encoding_steps.push(quote!(e.checksum(#at, #baked, #marker, #present)?;));
+                sums_filled.push(quote!(e.fill_checksum(#at, #baked, #marker_len)?;));
+            }
+            // FramePlan::of gives each part the step of its kind.
+            _ => return (layout.bake(), TokenStream::new()),
+        }
+    }
+    let functions = quote! {
+        fn #decode(bytes: &[u8]) -> Option<::vfd_runtime::plan::PlannedFrame> {
+            let mut d = ::vfd_runtime::plan::Decoder::new(bytes);
+            #(#decoding)*
+            #(#lengths_checked)*
+            Some(d.finish())
+        }
+        fn #encode(
+            roles: &::vfd_runtime::Roles,
+            data_size: u8,
+            include: &[Cow<'static, str>],
+            out: &mut [u8],
+        ) -> Option<usize> {
+            let _ = include;
+            if data_size > 4 {
+                return None;
+            }
+            let mut e = ::vfd_runtime::plan::Encoder::new(out);
+            #(#encoding_steps)*
+            #(#lengths_filled)*
+            #(#sums_filled)*
+            Some(e.finish())
+        }
+    };
+    (layout_tokens, functions)
 }
 
 #[cfg(test)]

@@ -19,10 +19,13 @@ pub(crate) fn layouts_module(files: &[&ProtocolFileIr]) -> TokenStream {
         let layouts = file.layouts.iter().map(|layout| {
             let name = ident(&const_name(&layout.name));
             let doc = doc_text(format!("The `{}` layout.", layout.name));
-            let value = layout.bake();
+            let decode = format_ident!("decode_{}", crate::naming::module_name(&layout.name));
+            let encode = format_ident!("encode_{}", crate::naming::module_name(&layout.name));
+            let (value, functions) = super::bake::compiled_plan(layout, &decode, &encode);
             quote! {
                 #[doc = #doc]
                 pub const #name: FrameLayout = #value;
+                #functions
             }
         });
         let imports = layout_imports(file);
