@@ -16,7 +16,7 @@ use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{Direction, Recording, Transport};
 use vfd_runtime::virtual_drive::Simulator;
 use vfd_runtime::{
-    Access, CommandKind, DataType, DriveInfo, EncodeError, Protocol, RegisterInfo, Request, Space,
+    Access, CommandKind, DataType, DriveInfo, Protocol, RegisterInfo, Request, Space,
 };
 
 /// What one backup put on the line.
@@ -80,20 +80,6 @@ pub fn backed_up(protocol: &Protocol, info: &RegisterInfo) -> bool {
             .is_some()
 }
 
-/// No station address where the protocol's frames may leave it out, else its lowest
-/// station (at least 1), as `vfd` addresses a drive by default.
-fn default_address(protocol: &Protocol) -> Option<u8> {
-    let mut frame = [0u8; 256];
-    let needs_one = (1..=16).any(|register| {
-        let probe = Request::raw(CommandKind::Read, register, 0);
-        matches!(
-            protocol.encode_request(&probe, None, &mut frame),
-            Err(EncodeError::AddressRequired { .. })
-        )
-    });
-    needs_one.then_some(protocol.address_range.0.max(1))
-}
-
 /// Reads one register alone: its raw value (`Some(None)` for text), `None` if refused.
 fn read_one<T: Transport>(
     master: &mut Master<T>,
@@ -128,7 +114,7 @@ pub fn backup(
         .filter(|info| backed_up(protocol, info))
         .collect();
     let sim = Simulator::new(drive);
-    let address = default_address(protocol);
+    let address = protocol.default_address();
     sim.lock()
         .set_address(address.unwrap_or(protocol.address_range.0.max(1)));
     // The in-process link answers at once; a fast line keeps the master's frame gaps short

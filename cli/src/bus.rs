@@ -226,7 +226,7 @@ impl Session {
         }
         let address = match args.address {
             Some(address) => Some(address),
-            None => default_address(protocol),
+            None => protocol.default_address(),
         };
         let port = lookup::port(drive, args.port_kind.as_deref())?;
         let master = Master::for_protocol(line, protocol, settings, timing)
@@ -640,21 +640,6 @@ pub fn check_writable(info: &RegisterInfo, persist: bool) -> Result<(), Failure>
         .hint("leave out --persist"));
     }
     Ok(())
-}
-
-/// No station address where the protocol's frames may leave it out, else its lowest
-/// station (at least 1), as the virtual drive answers by default.
-pub fn default_address(protocol: &Protocol) -> Option<u8> {
-    let station = protocol.address_range.0.max(1);
-    let mut frame = [0u8; 256];
-    let needs_one = (1..=16).any(|register| {
-        let probe = Request::raw(CommandKind::Read, register, 0);
-        matches!(
-            protocol.encode_request(&probe, None, &mut frame),
-            Err(EncodeError::AddressRequired { .. })
-        )
-    });
-    needs_one.then_some(station)
 }
 
 /// Opens `port`: a pseudo-terminal (`/dev/pts/N`) as a terminal device, anything else as

@@ -56,7 +56,7 @@ pub fn run(drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
     let sim = Simulator::new(drive);
     let station = protocol.address_range.0.max(1);
     sim.lock().set_address(station);
-    let address = crate::bus::default_address(protocol);
+    let address = protocol.default_address();
     // The virtual drive answers on a pseudo-terminal, as `vfd sim` does, served by a
     // thread of this process (its motor follows the wall clock there).
     let pty = PseudoTerminal::open()

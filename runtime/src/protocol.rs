@@ -674,6 +674,9 @@ pub struct WireNumber {
     pub data: List<u32>,
 }
 
+/// Room for the probe frame [`Protocol::default_address`] encodes.
+const MAX_FRAME_PROBE: usize = 256;
+
 impl Protocol {
     /// The number `command` carries on the wire for register `number`: the register's own
     /// number in this protocol ([`Protocol::wire_numbers`]) for the command's direction,
@@ -1346,6 +1349,21 @@ impl Protocol {
             });
         }
         Ok(roles)
+    }
+
+    /// The station a tool addresses by default: none where the protocol's frames may leave
+    /// the station out, else its lowest station (at least 1, as a drive answers out of the
+    /// box). Found by encoding a probe read without a station.
+    pub fn default_address(&self) -> Option<u8> {
+        let mut frame = [0u8; MAX_FRAME_PROBE];
+        let needs_one = (1..=16).any(|register| {
+            let probe = Request::raw(CommandKind::Read, register, 0);
+            matches!(
+                self.encode_request(&probe, None, &mut frame),
+                Err(EncodeError::AddressRequired { .. })
+            )
+        });
+        needs_one.then_some(self.address_range.0.max(1))
     }
 
     /// Encodes `request` for the station `address` (or for whichever drive listens, when
