@@ -1631,26 +1631,7 @@ impl Protocol {
         if code.is_some_and(|code| !self.reply_code_matches(command, code)) {
             return None;
         }
-        Some(Reply::Data {
-            command,
-            code: code.unwrap_or(command.code),
-            address: roles.address.map(|a| a as u8),
-            tripped: code.is_some_and(|code| self.is_tripped(code)),
-            wire_register: roles.register.map(|r| r as u16),
-            index: roles.index.map(|i| i as u16),
-            data: if frame.values.data_size > 4 {
-                0
-            } else {
-                roles.data.unwrap_or(0)
-            },
-            process: match (roles.process_1, roles.process_2) {
-                (Some(first), Some(second)) => Some([first as u16, second as u16]),
-                _ => None,
-            },
-            text: None,
-            values: frame.values,
-            len: frame.len,
-        })
+        Some(self.data_reply(command, roles, frame.values, frame.len, None))
     }
 
     /// `command`'s normal reply with these decoded `values`; an error when the reply
@@ -1678,7 +1659,22 @@ impl Protocol {
             let slot = values.parts[index];
             (slot.value as usize, usize::from(slot.width))
         });
-        Ok(Reply::Data {
+        Ok(self.data_reply(command, &roles, values, len, text))
+    }
+
+    /// The [`Reply::Data`] of `command` from a sound frame's `roles` and `values`, its
+    /// length and its text field; what the plan and the interpreter both return.
+    #[inline(always)]
+    fn data_reply<'p>(
+        &self,
+        command: &'p CommandSpec,
+        roles: &Roles,
+        values: FrameValues,
+        len: usize,
+        text: Option<(usize, usize)>,
+    ) -> Reply<'p> {
+        let code = roles.command;
+        Reply::Data {
             command,
             code: code.unwrap_or(command.code),
             address: roles.address.map(|a| a as u8),
@@ -1698,7 +1694,7 @@ impl Protocol {
             text,
             values,
             len,
-        })
+        }
     }
 
     fn is_tripped(&self, code: u32) -> bool {
