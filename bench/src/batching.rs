@@ -66,18 +66,11 @@ pub struct BackupComparison {
 /// Whether `info` belongs in a backup over `protocol`, as `vfd backup` decides: a readable
 /// parameter that is not a command (neither write-only nor RAM-only) nor an array.
 pub fn backed_up(protocol: &Protocol, info: &RegisterInfo) -> bool {
-    let kind = if info.data_type == DataType::Text {
-        CommandKind::ReadText
-    } else {
-        CommandKind::Read
-    };
     info.space == Space::Parameter
         && info.access != Access::WriteOnly
         && !info.ram_only
         && info.array_len == 0
-        && protocol
-            .command_for(kind, info.space, info.data_type)
-            .is_some()
+        && protocol.can_read(info)
 }
 
 /// Reads one register alone: its raw value (`Some(None)` for text), `None` if refused.

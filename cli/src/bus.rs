@@ -551,16 +551,9 @@ impl Session {
         )
     }
 
-    /// Whether the protocol has a command to read `info`.
+    /// Whether `info` can be read over the session's protocol ([`Protocol::can_read`]).
     pub fn can_read(&self, info: &RegisterInfo) -> bool {
-        let kind = if info.data_type == DataType::Text {
-            CommandKind::ReadText
-        } else {
-            CommandKind::Read
-        };
-        self.protocol
-            .command_for(kind, info.space, info.data_type)
-            .is_some()
+        self.protocol.can_read(info)
     }
 
     /// For a protocol with variants, the one in use and the others (`, variant cr (the

@@ -1351,6 +1351,20 @@ impl Protocol {
         Ok(roles)
     }
 
+    /// Whether `info` can be read over this protocol: a read command serves its space and
+    /// data type, and the register has a wire number for it (a register the description
+    /// numbers only for other protocols, or whose number the address map cannot carry,
+    /// cannot). What a backup or a watch over this protocol may include.
+    pub fn can_read(&self, info: &crate::info::RegisterInfo) -> bool {
+        let kind = if info.data_type == DataType::Text {
+            CommandKind::ReadText
+        } else {
+            CommandKind::Read
+        };
+        self.command_for(kind, info.space, info.data_type)
+            .is_some_and(|command| self.to_wire(command, info.address).is_some())
+    }
+
     /// The station a tool addresses by default: none where the protocol's frames may leave
     /// the station out, else its lowest station (at least 1, as a drive answers out of the
     /// box). Found by encoding a probe read without a station.

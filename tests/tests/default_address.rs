@@ -1,6 +1,7 @@
 //! `Protocol::default_address`: no station where a protocol's frames may leave it out, the
-//! lowest station (at least 1) where they must carry one; and `read_runs` groups a backup's
-//! registers into block reads only where the protocol has one.
+//! lowest station (at least 1) where they must carry one. `read_runs` groups a backup's
+//! registers into block reads only where the protocol has one. `Protocol::can_read`: a
+//! register the description numbers for other protocols only cannot be read over this one.
 
 use vfd_drives::{dv1, fc51, yd1000};
 use vfd_runtime::read_runs::read_runs;
@@ -37,4 +38,23 @@ fn runs_of_consecutive_addresses_only_where_a_block_read_exists() {
     let eaton = read_runs(&dv1::protocols::EATON, registers);
     assert_eq!(eaton.len(), registers.len(), "no block read: one each");
     assert_eq!(every(&eaton), all);
+}
+
+#[test]
+fn a_register_numbered_for_other_protocols_only_cannot_be_read_over_this_one() {
+    let monitor = dv1::DRIVE
+        .registers
+        .iter()
+        .find(|r| r.address == 0x1014)
+        .expect("DV1 1014h, a Modbus-only monitor");
+    assert!(dv1::protocols::MODBUS.can_read(monitor));
+    assert!(!dv1::protocols::EATON.can_read(monitor));
+    // A paged parameter reads over both.
+    let parameter = dv1::DRIVE
+        .registers
+        .iter()
+        .find(|r| r.code == "02-15")
+        .expect("DV1 02-15");
+    assert!(dv1::protocols::MODBUS.can_read(parameter));
+    assert!(dv1::protocols::EATON.can_read(parameter));
 }
