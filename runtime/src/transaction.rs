@@ -1219,6 +1219,21 @@ impl<T: Transport, D: 'static> Master<T, D> {
         self.last_activity = Some(on_line.min(Instant::now()));
     }
 
+    /// Whether the bytes so far cannot begin the protocol's error reply (a Modbus reply
+    /// whose function code lacks the exception bit), so that only the command's own reply
+    /// can still come: the read-ahead may then wait for all of its bytes. Only on a line
+    /// known not to echo, where the reply starts at the first byte; a wrong guess (noise
+    /// before an error reply) costs at most a longer wait within the deadline, never a
+    /// decision, which is taken on the bytes.
+    fn error_reply_ruled_out(&self, reading: &Collecting<'_>) -> bool {
+        if self.echo != Some(false) || reading.filled == 0 {
+            return false;
+        }
+        self.protocol.error_reply.as_ref().is_some_and(|error| {
+            crate::codec::decode_prefix(error, &self.reply[..reading.filled]).is_err()
+        })
+    }
+
     /// Drops what arrived before the request: what the transport can clear, then whatever
     /// it still holds (a bounded amount, so a line full of noise cannot keep it here).
     fn discard_stale_input(&mut self) -> std::io::Result<()> {
@@ -1437,6 +1452,12 @@ impl<T: Transport, D: 'static> Master<T, D> {
             reading.request_len
         } else {
             0
+        };
+        let shortest = if self.error_reply_ruled_out(reading) {
+            let data = reading.expectation.data_size.map_or(0, usize::from);
+            shortest_frame_holding(&reading.command.reply, data)
+        } else {
+            shortest
         };
         let needed = (shortest + echo).saturating_sub(reading.filled);
         if let Some(wait) =
@@ -1658,11 +1679,19 @@ impl Collecting<'_> {
 /// size depends on the frame counts as none), with every byte between the first and last
 /// part written as two digits in a hex-pairs layout.
 fn shortest_frame(layout: &crate::layout::FrameLayout) -> usize {
+    shortest_frame_holding(layout, 0)
+}
+
+/// [`shortest_frame`], with a data field whose size depends on the frame counted as
+/// `data` bytes (what the request asked for: a Modbus 03 reply to a read of one word
+/// holds 2).
+fn shortest_frame_holding(layout: &crate::layout::FrameLayout, data: usize) -> usize {
+    let data_index = layout.index_of(Role::Data);
     let sizes = || {
-        layout
-            .parts
-            .iter()
-            .map(|part| part.fixed_size().unwrap_or(0))
+        layout.parts.iter().enumerate().map(move |(index, part)| {
+            part.fixed_size()
+                .unwrap_or(if Some(index) == data_index { data } else { 0 })
+        })
     };
     let total: usize = sizes().sum();
     match layout.encoding {
