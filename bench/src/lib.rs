@@ -74,6 +74,44 @@ pub fn percentile(sorted: &[Duration], p: f64) -> Duration {
     sorted[rank.min(sorted.len() - 1)]
 }
 
+/// The arguments of a bench binary taking `[FIRST [BAUD...]]`: `FIRST` (a count or a
+/// duration, `first_default` when absent) must be positive, every baud rate a positive
+/// whole number (`bauds_default` when none is given). `-h`/`--help` prints `usage` and
+/// exits 0; anything else that does not parse prints what is wrong with `usage` and
+/// exits 2, so a mistyped argument never runs a long benchmark with defaults.
+pub fn first_and_bauds<T>(usage: &str, first_default: T, bauds_default: &[u32]) -> (T, Vec<u32>)
+where
+    T: std::str::FromStr + PartialOrd + Default,
+{
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "-h" || a == "--help") {
+        println!("usage: {usage}");
+        std::process::exit(0);
+    }
+    let refuse = |what: &str| -> ! {
+        eprintln!("{what}\nusage: {usage}");
+        std::process::exit(2);
+    };
+    let first = match args.first() {
+        None => first_default,
+        Some(text) => match text.parse::<T>() {
+            Ok(value) if value > T::default() => value,
+            _ => refuse(&format!("`{text}` is not a positive number")),
+        },
+    };
+    let mut bauds = Vec::new();
+    for text in args.iter().skip(1) {
+        match text.parse::<u32>() {
+            Ok(baud) if baud > 0 => bauds.push(baud),
+            _ => refuse(&format!("`{text}` is not a baud rate")),
+        }
+    }
+    if bauds.is_empty() {
+        bauds = bauds_default.to_vec();
+    }
+    (first, bauds)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -218,11 +218,14 @@ impl Row {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let seconds: f64 = args.first().and_then(|a| a.parse().ok()).unwrap_or(4.0);
-    let mut bauds: Vec<u32> = args.iter().skip(1).filter_map(|a| a.parse().ok()).collect();
-    if bauds.is_empty() {
-        bauds = vec![9600, 115_200];
+    let (seconds, bauds) = vfd_bench::first_and_bauds::<f64>(
+        "line-efficiency [SECONDS [BAUD...]] (default 4 s per run at 9600 and 115200)",
+        4.0,
+        &[9600, 115_200],
+    );
+    if !seconds.is_finite() || seconds > 3600.0 {
+        eprintln!("line-efficiency: {seconds} s per run is not a duration to run");
+        std::process::exit(2);
     }
     // LINE_COARSE_TIMERS=1: the relays and the drive keep the default timer slack and
     // scheduling class.

@@ -510,12 +510,11 @@ fn three_clients(
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let count: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(2000);
-    let mut bauds: Vec<u32> = args.iter().skip(1).filter_map(|a| a.parse().ok()).collect();
-    if bauds.is_empty() {
-        bauds = vec![115_200, 921_600];
-    }
+    let (count, bauds) = vfd_bench::first_and_bauds::<usize>(
+        "round-trip [COUNT [BAUD...]] (default 2000 reads per client at 115200 and 921600)",
+        2000,
+        &[115_200, 921_600],
+    );
     if let Err(message) = run(count, &bauds) {
         eprintln!("round-trip: {message}");
         std::process::exit(1);
