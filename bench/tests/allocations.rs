@@ -199,20 +199,35 @@ fn the_fast_path_allocates_nothing() {
     let modbus = fc51::protocols::MODBUS.protocol();
     let read = raw(CommandKind::Read, 0x0BD5, 0, DataType::DoubleWord);
     let write = raw(CommandKind::WriteRam, 0x03F1, 1, DataType::Word);
-    // The benchmarked exchanges go through compiled plans, both ways.
-    for request in [&read, &write] {
-        let command = modbus.command_for_request(request).expect("a command");
+    let eaton = dv1::protocols::EATON.protocol();
+    let eaton_read = raw(CommandKind::Read, 0x5F, 0, DataType::Word);
+    let eaton_write = raw(CommandKind::WriteRam, 0xDF, 0x1388, DataType::Word);
+    let register = raw(CommandKind::Read, 0x0000, 0, DataType::Word);
+    let fd00 = raw(CommandKind::Read, 0xFD00, 0, DataType::Word);
+    let c3 = raw(CommandKind::Read, 0x00C3, 0, DataType::Word);
+    let ascii = dv1::protocols::MODBUS_ASCII.protocol();
+    // Every exchange below goes through compiled plans, both ways (so this counts the fast
+    // path, not the interpreter).
+    let exchanges = [
+        (modbus, &read),
+        (modbus, &write),
+        (eaton, &eaton_read),
+        (eaton, &eaton_write),
+        (vf_as1::protocols::ASCII.protocol(), &register),
+        (vf_as1::protocols::MODBUS.protocol(), &fd00),
+        (ascii, &c3),
+    ];
+    for (protocol, request) in exchanges {
+        let command = protocol.command_for_request(request).expect("a command");
         for layout in [&command.request, &command.reply] {
             assert!(
                 layout.plan.as_ref().is_some_and(|p| p.compiled.is_some()),
-                "{} has a compiled plan",
+                "{}: {} has a compiled plan",
+                protocol.id,
                 layout.name
             );
         }
     }
-    let eaton = dv1::protocols::EATON.protocol();
-    let eaton_read = raw(CommandKind::Read, 0x5F, 0, DataType::Word);
-    let eaton_write = raw(CommandKind::WriteRam, 0xDF, 0x1388, DataType::Word);
     let count = allocations(1000, || {
         let read_reply = [0x01, 0x03, 0x04, 0x00, 0x00, 0xEA, 0x60, 0xB5, 0x7B];
         assert_eq!(raw_round(modbus, &read, Some(1), &read_reply), 0xEA60);
@@ -223,21 +238,20 @@ fn the_fast_path_allocates_nothing() {
             0x1770
         );
         raw_round(eaton, &eaton_write, Some(0), b"\x0600\r");
-        let register = raw(CommandKind::Read, 0x0000, 0, DataType::Word);
-        raw_round(
-            vf_as1::protocols::ASCII.protocol(),
-            &register,
-            Some(2),
-            b"(02R00000000)\r",
+        assert_eq!(
+            raw_round(
+                vf_as1::protocols::ASCII.protocol(),
+                &register,
+                Some(2),
+                b"(02R00000000)\r",
+            ),
+            0
         );
-        let fd00 = raw(CommandKind::Read, 0xFD00, 0, DataType::Word);
         let reply = [0x01, 0x03, 0x02, 0x17, 0x70, 0xB6, 0x50];
         assert_eq!(
             raw_round(vf_as1::protocols::MODBUS.protocol(), &fd00, Some(1), &reply),
             0x1770
         );
-        let c3 = raw(CommandKind::Read, 0x00C3, 0, DataType::Word);
-        let ascii = dv1::protocols::MODBUS_ASCII.protocol();
         assert_eq!(raw_round(ascii, &c3, Some(1), b":010302177073\r\n"), 0x1770);
     });
     assert_eq!(count, 0, "allocations in 1000 rounds of the fast path");

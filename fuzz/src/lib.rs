@@ -94,6 +94,9 @@ pub fn plan_agreement(data: &[u8]) {
         return;
     }
     let index = usize::from(*pick) % fast.commands.len();
+    // The request's flags and data type from what `pick` left after choosing the command,
+    // so that every command meets every flag.
+    let flags = (usize::from(*pick) / fast.commands.len()) as u8;
     let (a, b) = (&fast.commands[index], &slow.commands[index]);
     assert_eq!(fast.decode_reply(Some(a), rest), slow.decode_reply(Some(b), rest));
     assert_eq!(fast.find_reply(Some(a), rest), slow.find_reply(Some(b), rest));
@@ -129,18 +132,18 @@ pub fn plan_agreement(data: &[u8]) {
     };
     let data_type = a
         .data_types
-        .get(usize::from(*pick >> 4) % a.data_types.len().max(1))
+        .get(usize::from(flags >> 4) % a.data_types.len().max(1))
         .copied()
         .unwrap_or(vfd_runtime::DataType::Word);
     let request = vfd_runtime::Request {
-        wire_register: pick & 0x08 != 0,
-        index: (pick & 0x04 != 0).then_some(number(8) as u16),
-        command: (pick & 0x02 != 0).then_some(a.code),
+        wire_register: flags & 0x08 != 0,
+        index: (flags & 0x04 != 0).then_some(number(8) as u16),
+        command: (flags & 0x02 != 0).then_some(a.code),
         ..vfd_runtime::Request::raw(a.kind, number(0) as u16, number(4))
             .in_space(a.space)
             .with_data_type(data_type)
     };
-    let address = (pick & 0x01 != 0).then(|| rest.first().copied().unwrap_or(0));
+    let address = (flags & 0x01 != 0).then(|| rest.first().copied().unwrap_or(0));
     let size = rest.get(1).map_or(64, |n| usize::from(*n % 64));
     let (mut x, mut y) = (vec![0u8; size], vec![0u8; size]);
     let encoded = fast.encode_request(&request, address, &mut x);

@@ -308,11 +308,13 @@ fn generated_layouts_hold_the_plan_of_their_parts_compiled() {
     assert!(compiled > 20, "only {compiled} compiled plans");
     // The Modbus RTU exchanges the codec benchmark measures take the fast path.
     let modbus = vfd_drives::fc51::protocols::MODBUS.protocol();
-    for command in modbus
+    let benchmarked: Vec<_> = modbus
         .commands
         .iter()
         .filter(|c| [0x03, 0x06].contains(&c.code))
-    {
+        .collect();
+    assert_eq!(benchmarked.len(), 2, "Modbus 03 and 06");
+    for command in benchmarked {
         assert!(command
             .request
             .plan
@@ -357,7 +359,8 @@ fn plans_computed_at_run_time_are_the_generated_ones_without_compiled_functions(
 #[test]
 fn requests_encode_alike_through_both_paths() {
     let mut random = Random(0x5EED_0001);
-    let mut fast_encodes = 0;
+    let mut planned_layout_encodes = 0;
+    let mut plan_encodes = 0;
     for (name, fast) in protocols() {
         let slow = fast.without_plans();
         let (min, max) = fast.address_range;
@@ -412,7 +415,7 @@ fn requests_encode_alike_through_both_paths() {
                                 if let Ok(len) = fast_result {
                                     assert_eq!(a[..len], b[..len], "{name}: {request:?}");
                                     if command.request.plan.is_some() {
-                                        fast_encodes += 1;
+                                        planned_layout_encodes += 1;
                                     }
                                 }
                             }
@@ -433,6 +436,7 @@ fn requests_encode_alike_through_both_paths() {
                     let steps = plan.encode_steps(layout, &roles, data_size, include, &mut b);
                     assert_eq!(compiled, steps, "{name}, {}: {roles:?}", layout.name);
                     if let Some(len) = compiled {
+                        plan_encodes += 1;
                         assert_eq!(a[..len], b[..len]);
                         let expected = frames_of(fast, layout, &roles, &[data_size]);
                         assert_eq!(
@@ -446,13 +450,26 @@ fn requests_encode_alike_through_both_paths() {
             }
         }
     }
-    eprintln!("requests encoded through plans: {fast_encodes}");
-    assert!(fast_encodes > 1000, "only {fast_encodes} planned encodings");
+    eprintln!(
+        "requests of planned layouts encoded both ways: {planned_layout_encodes}; \
+         frames the plans encoded alone: {plan_encodes}"
+    );
+    assert!(
+        planned_layout_encodes > 1000,
+        "only {planned_layout_encodes} requests of planned layouts"
+    );
+    // The plans themselves wrote frames (compiled and step by step agreeing with the
+    // interpreter): not a comparison of `None` with `None` only.
+    assert!(
+        plan_encodes > 500,
+        "only {plan_encodes} frames the plans wrote"
+    );
 }
 
 #[test]
 fn replies_decode_alike_through_both_paths() {
     let golden = golden_frames();
+    let mut used_golden = std::collections::BTreeSet::new();
     let mut random = Random(0x5EED_0002);
     let mut planned = 0;
     let mut inputs_tried = 0;
@@ -460,6 +477,9 @@ fn replies_decode_alike_through_both_paths() {
         let slow = fast.without_plans();
         let key = name.split(' ').next().unwrap_or_default().to_owned();
         let mut frames: Vec<Vec<u8>> = golden.get(&key).cloned().unwrap_or_default();
+        if golden.contains_key(&key) {
+            used_golden.insert(key.clone());
+        }
         for command in fast.commands.iter() {
             let sizes: Vec<u8> = data_types(command).iter().map(|t| t.size()).collect();
             for roles in role_sets(fast, command, &mut random) {
@@ -494,6 +514,13 @@ fn replies_decode_alike_through_both_paths() {
     eprintln!("{inputs_tried} inputs; replies decoded by plans: {planned}");
     assert!(inputs_tried > 10_000, "only {inputs_tried} inputs");
     assert!(planned > 1_000, "the plans decoded only {planned} replies");
+    // Every manual's frames were among the inputs (a key that stopped matching would
+    // silently leave them out).
+    let unused: Vec<&String> = golden
+        .keys()
+        .filter(|k| !used_golden.contains(*k))
+        .collect();
+    assert!(unused.is_empty(), "manual frames never tried: {unused:?}");
 }
 
 #[test]
