@@ -1009,7 +1009,7 @@ fn decode_open_digits(
                 }
             }
         };
-        value = value * radix + digit;
+        value = value.wrapping_mul(radix).wrapping_add(digit);
     }
     if shown.len() < width {
         return Ok(Some(PartOutcome::Incomplete));
@@ -1257,7 +1257,7 @@ fn decode_value(
                 let Some(digit) = (byte as char).to_digit(radix) else {
                     break;
                 };
-                value = value * radix + digit;
+                value = value.wrapping_mul(radix).wrapping_add(digit);
                 used += 1;
             }
             if used < usize::from(min_width) {

@@ -822,7 +822,7 @@ fn digits(format: Format, min_width: u8, width: u8, rest: &[u8]) -> Option<(u32,
         let Some(digit) = (byte as char).to_digit(radix) else {
             break;
         };
-        value = value * radix + digit;
+        value = value.wrapping_mul(radix).wrapping_add(digit);
         used += 1;
     }
     (used >= usize::from(min_width)).then_some((value, used))

@@ -1631,11 +1631,7 @@ impl Protocol {
     #[inline(always)]
     fn planned_reply(&self, wanted: &CommandSpec, bytes: &[u8]) -> Option<Reply<'_>> {
         // `wanted` must be one of this protocol's commands, as the interpreter requires.
-        let commands: &[CommandSpec] = &self.commands;
-        let offset = (wanted as *const CommandSpec as usize)
-            .checked_sub(commands.as_ptr() as usize)?
-            / std::mem::size_of::<CommandSpec>().max(1);
-        let command = commands.get(offset).filter(|c| std::ptr::eq(*c, wanted))?;
+        let command = self.commands.iter().find(|c| std::ptr::eq(*c, wanted))?;
         let plan = command.reply.plan.as_ref()?;
         let frame = plan.decode(&command.reply, bytes)?;
         // What `data_reply_with` makes of it: a plan decodes no open station and no text

@@ -1438,10 +1438,13 @@ impl<T: Transport, D: 'static> Master<T, D> {
 
     /// While a reply is incomplete, sleeps until nearly all the bytes it still needs at the
     /// least can have arrived ([`read_ahead_wait`]), so that a line delivering a byte at a
-    /// time (a UART, a paced link) does not wake the master for every byte. No decision is
-    /// delayed by it: neither a reply nor an error reply is shorter than `shortest` (plus
-    /// the echo of the request, where the line is known to echo), bytes cannot cross the
-    /// line faster than one a character time, and the wait ends by the deadline. Not done
+    /// time (a UART, a paced link) does not wake the master for every byte. Neither a reply
+    /// nor an error reply is shorter than `shortest` (plus the echo of the request, where
+    /// the line is known to echo), and bytes cannot cross the line faster than one a
+    /// character time. Once the error reply is ruled out it waits for the reply's expected
+    /// size: a shorter frame (another station's, noise) is then looked at up to that many
+    /// characters later. The wait never passes the deadline and never changes a decision,
+    /// which is taken on the bytes. Not done
     /// on a transport that reports the silence before what it delivers (the master splits
     /// frames at such a silence, which a batch of bytes would hide).
     fn read_ahead(&self, reading: &Collecting<'_>, shortest: usize, deadline: Instant) {
