@@ -1,4 +1,6 @@
-//! Generates the typed API of every drive described in this folder into OUT_DIR. It
+//! Generates the typed API of every drive described in this folder into OUT_DIR, and
+//! `shipped.rs`, the protocol files of `protocols/` as text (what a tool such as `vfd`
+//! carries built in, for drive files that name a family without shipping its file). It
 //! writes nothing else: the reference pages in `generated-docs/` are refreshed by
 //! `cargo run -p vfd-cli -- generate` only, and a test fails when they are stale.
 
@@ -21,4 +23,44 @@ fn main() {
     if let Err(error) = builder.generate() {
         vfd_codegen::fail_build(&error);
     }
+    if let Err(error) = write_shipped(&manifest.join("protocols"), &out_dir.join("shipped.rs")) {
+        panic!("cannot write shipped.rs: {error}");
+    }
+}
+
+/// `PROTOCOL_FILES`: every `protocols/*.yaml` by id, its text included at compile time.
+fn write_shipped(dir: &std::path::Path, out: &std::path::Path) -> std::io::Result<()> {
+    let mut files: Vec<(String, PathBuf)> = std::fs::read_dir(dir)?
+        .filter_map(|entry| entry.ok())
+        .filter_map(|entry| {
+            let path = entry.path();
+            let id = path
+                .file_name()?
+                .to_str()?
+                .strip_suffix(".yaml")?
+                .to_owned();
+            Some((id, path))
+        })
+        .collect();
+    files.sort();
+    let entries: Vec<String> = files
+        .iter()
+        .map(|(id, path)| {
+            format!(
+                "    ({id:?}, include_str!({:?})),",
+                path.display().to_string()
+            )
+        })
+        .collect();
+    let text = format!(
+        "/// The protocol files of `drives/protocols/`, by id and text: the families a tool\n\
+         /// built with this crate knows without a file of its own (see\n\
+         /// `vfd_codegen::compile_with`).\n\
+         pub static PROTOCOL_FILES: [(&str, &str); {}] = [\n{}\n];\n",
+        files.len(),
+        entries.join("\n")
+    );
+    vfd_codegen::write_if_changed(out, &text)
+        .map(|_| ())
+        .map_err(|e| std::io::Error::other(e.to_string()))
 }

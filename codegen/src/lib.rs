@@ -16,7 +16,7 @@
 //! | 4 | decode examples | `frames.rs` | the drive's examples + lowered protocols | every example frame decoded **once** into the runtime's `vfd_runtime::meaning::FrameMeaning` |
 //! | 5 | validate | `validate/` (one file per check) | `validate::Context` (stages 2-4) | problems, or nothing |
 //! | 6 | IR | [`ir`] (`ir/types.rs`, `ir/lower.rs`) | `validate::Context` | [`DriveIr`]: plain, ordered, typed, serialisable; dump it with `vfd generate --dump-ir DRIVE` |
-//! | 7 | emit | `emit/` (`rust/`, `markdown/`, `tests.rs`, `words.rs`) | [`DriveIr`] only | Rust tokens (quote, then prettyplease), Markdown (minijinja), golden tests |
+//! | 7 | emit | `emit/` (`rust/`, `live/`, `markdown/`, `tests.rs`, `words.rs`) | [`DriveIr`] only | Rust tokens (quote, then prettyplease), the same drive as run-time values ([`drive_info`]), Markdown (minijinja), golden tests |
 //!
 //! [`Builder`] (`builder.rs`) runs stages 1-7 for many drives and writes files, and
 //! [`OutputNames`] says how the output names anything outside a description. [`schemas`]
@@ -78,6 +78,7 @@ pub use builder::{
 };
 pub use diagnostics::{Diagnostic, Diagnostics, Position};
 pub use ir::DriveIr;
+pub use load::Shipped;
 pub use output_names::OutputNames;
 pub use schema::{
     key_tables, schemas, with_key_tables, Schemas, DRIVE_SCHEMA_PATH, KEY_TABLES_BEGIN,
@@ -89,10 +90,21 @@ use std::path::{Path, PathBuf};
 /// Reads, validates and lowers one drive file. `protocols_dir` defaults to the
 /// `protocols/` folder next to the drive file.
 pub fn compile(path: &Path, protocols_dir: Option<&Path>) -> Result<DriveIr, Diagnostics> {
+    compile_with(path, protocols_dir, &[])
+}
+
+/// Like [`compile`], and a protocol file found in neither `protocols_dir` nor the default
+/// folder is taken from `shipped` (protocol files a tool carries built in, by id), as the
+/// installed `vfd` finds the protocol families it knows.
+pub fn compile_with(
+    path: &Path,
+    protocols_dir: Option<&Path>,
+    shipped: Shipped,
+) -> Result<DriveIr, Diagnostics> {
     let source = parse::SourceFile::read(path).map_err(|problem| Diagnostics {
         items: vec![problem],
     })?;
-    compile_source(source, protocols_dir)
+    compile_source(source, protocols_dir, shipped)
 }
 
 /// Like [`compile`], for a drive file already in memory.
@@ -101,7 +113,7 @@ pub fn compile_text(
     text: String,
     protocols_dir: Option<&Path>,
 ) -> Result<DriveIr, Diagnostics> {
-    compile_source(parse::SourceFile::from_text(path, text), protocols_dir)
+    compile_source(parse::SourceFile::from_text(path, text), protocols_dir, &[])
 }
 
 /// The pipeline, stage by stage: parse and load, lower protocols, decode examples,
@@ -110,9 +122,10 @@ pub fn compile_text(
 fn compile_source(
     source: parse::SourceFile,
     protocols_dir: Option<&Path>,
+    shipped: Shipped,
 ) -> Result<DriveIr, Diagnostics> {
     let mut diagnostics = Diagnostics::default();
-    let Some(drive) = load::load(source, protocols_dir, &mut diagnostics) else {
+    let Some(drive) = load::load(source, protocols_dir, shipped, &mut diagnostics) else {
         return Err(diagnostics);
     };
     let read_problems = diagnostics.items.len();
@@ -150,6 +163,15 @@ pub fn rust_tokens(drive: &DriveIr) -> proc_macro2::TokenStream {
 pub fn rust_file(drive: &DriveIr, names: &OutputNames) -> Result<String, Error> {
     emit::rust::format_file(&builder::header(&drive.file, names), rust_tokens(drive))
         .map_err(Error::Emit)
+}
+
+/// The drive as the runtime's data, built while the program runs: the same
+/// [`vfd_runtime::DriveInfo`] the generated module's `DRIVE` static holds (a test compares
+/// the two for every drive file of the repository), for tools that load a description
+/// file when they start. The values are leaked (the runtime's types hold `'static`
+/// references): build each drive once per process.
+pub fn drive_info(drive: &DriveIr) -> &'static vfd_runtime::DriveInfo {
+    emit::live::drive_info(drive)
 }
 
 /// One drive's Markdown reference page.

@@ -17,6 +17,7 @@
 #![warn(missing_docs)]
 
 include!(concat!(env!("OUT_DIR"), "/drives.rs"));
+include!(concat!(env!("OUT_DIR"), "/shipped.rs"));
 
 #[doc = include_str!("guide.md")]
 #[doc = "```"]

@@ -1,7 +1,8 @@
 //! Stage 6: emitters. Each reads only the IR ([`crate::ir::DriveIr`]): Rust with `quote!`
-//! and prettyplease ([`rust`]), Markdown with minijinja ([`markdown`]), golden-frame tests
-//! ([`tests`]).
+//! and prettyplease ([`rust`]), the same drive as run-time values ([`live`]), Markdown with
+//! minijinja ([`markdown`]), golden-frame tests ([`tests`]).
 
+pub mod live;
 pub mod markdown;
 pub mod rust;
 pub mod tests;

@@ -9,7 +9,7 @@ use crate::parse::model::{PartRefModel, ProtocolFile};
 use crate::parse::tree::{segments, Segment};
 use crate::parse::SourceFile;
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// What a merged protocol file took from its base, to place diagnostics in the right file.
 #[derive(Debug, Clone)]
@@ -38,14 +38,14 @@ pub(crate) struct Merged {
     pub inherited: Option<Inherited>,
 }
 
-/// Applies the file's `based_on` (reading the base from `dir`), or checks that a file
+/// Applies the file's `based_on` (reading the base from `shelf`), or checks that a file
 /// without one lists its own layouts and commands. Problems go to `out`; files read are
 /// added to `sources`, elements holding placeholders to `incomplete`. `None` when the
 /// protocol cannot be built.
 pub(crate) fn merge(
     source: &SourceFile,
     mut file: ProtocolFile,
-    dir: &Path,
+    shelf: &super::Shelf,
     out: &mut Diagnostics,
     sources: &mut Vec<SourceFile>,
     incomplete: &mut Vec<(PathBuf, String)>,
@@ -84,24 +84,26 @@ pub(crate) fn merge(
         );
         return None;
     }
-    let path = dir.join(format!("{base_id}.yaml"));
-    let Ok(base_source) = SourceFile::read(&path) else {
-        out.push(
-            source
-                .error(
-                    "based_on.protocol",
-                    format!(
-                        "no protocol file `{base_id}` to be based on ({} does not exist)",
-                        path.display()
-                    ),
-                )
-                .hint(format!(
-                    "a base lives in the same folder, {}; available: {}",
-                    dir.display(),
-                    super::available(dir)
-                )),
-        );
-        return None;
+    let base_source = match shelf.read(base_id) {
+        Ok(base_source) => base_source,
+        Err(path) => {
+            out.push(
+                source
+                    .error(
+                        "based_on.protocol",
+                        format!(
+                            "no protocol file `{base_id}` to be based on ({} does not exist)",
+                            path.display()
+                        ),
+                    )
+                    .hint(format!(
+                        "a base is looked up in {}; available: {}",
+                        shelf.describe(),
+                        shelf.available()
+                    )),
+            );
+            return None;
+        }
     };
     if !sources.iter().any(|s| s.path == base_source.path) {
         sources.push(base_source.clone());
@@ -346,6 +348,7 @@ fn render(steps: &[Segment<'_>]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
 
     fn inherited() -> Inherited {
         Inherited {

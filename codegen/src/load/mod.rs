@@ -8,7 +8,10 @@ use crate::parse::SourceFile;
 use std::path::{Path, PathBuf};
 
 pub(crate) mod based_on;
+mod shelf;
 use based_on::Inherited;
+pub(crate) use shelf::Shelf;
+pub use shelf::Shipped;
 
 /// A protocol file as one drive refers to it, parsed but not yet lowered.
 #[derive(Debug, Clone)]
@@ -46,16 +49,21 @@ pub fn default_protocols_dir(drive_path: &Path) -> PathBuf {
         .join("protocols")
 }
 
-/// Parses a drive file and the protocol files it names. Problems go to `out`; `None` when
-/// the drive file itself cannot be parsed.
+/// Parses a drive file and the protocol files it names, looked up in `protocols_dir`
+/// (default: `protocols/` next to the drive file), then among `shipped`. Problems go to
+/// `out`; `None` when the drive file itself cannot be parsed.
 pub(crate) fn load(
     source: SourceFile,
     protocols_dir: Option<&Path>,
+    shipped: Shipped,
     out: &mut Diagnostics,
 ) -> Option<LoadedDrive> {
-    let protocols_dir = protocols_dir
-        .map(Path::to_owned)
-        .unwrap_or_else(|| default_protocols_dir(&source.path));
+    let shelf = Shelf {
+        dir: protocols_dir
+            .map(Path::to_owned)
+            .unwrap_or_else(|| default_protocols_dir(&source.path)),
+        shipped,
+    };
     let read = source.read_model::<DriveFile>();
     read.problems
         .into_iter()
@@ -72,25 +80,27 @@ pub(crate) fn load(
     let mut sources = vec![source.clone()];
     let mut protocol_files = Vec::new();
     for (index, reference) in model.protocols.iter().enumerate() {
-        let path = protocols_dir.join(format!("{}.yaml", reference.uses));
-        let Ok(protocol_source) = SourceFile::read(&path) else {
-            out.push(
-                source
-                    .error(
-                        &format!("protocols[{index}].uses"),
-                        format!(
-                            "no protocol description `{}` ({} does not exist)",
-                            reference.uses,
-                            path.display()
-                        ),
-                    )
-                    .hint(format!(
-                        "protocol files live in {}; available: {}",
-                        protocols_dir.display(),
-                        available(&protocols_dir)
-                    )),
-            );
-            continue;
+        let protocol_source = match shelf.read(&reference.uses) {
+            Ok(protocol_source) => protocol_source,
+            Err(path) => {
+                out.push(
+                    source
+                        .error(
+                            &format!("protocols[{index}].uses"),
+                            format!(
+                                "no protocol description `{}` ({} does not exist)",
+                                reference.uses,
+                                path.display()
+                            ),
+                        )
+                        .hint(format!(
+                            "protocol files are looked up in {}; available: {}",
+                            shelf.describe(),
+                            shelf.available()
+                        )),
+                );
+                continue;
+            }
         };
         sources.push(protocol_source.clone());
         let read = protocol_source.read_model::<ProtocolFile>();
@@ -108,7 +118,7 @@ pub(crate) fn load(
         if let Some(merged) = based_on::merge(
             &protocol_source,
             file,
-            &protocols_dir,
+            &shelf,
             out,
             &mut sources,
             &mut incomplete,
@@ -128,27 +138,4 @@ pub(crate) fn load(
         sources,
         incomplete,
     })
-}
-
-/// The protocol files in `dir`, by id, for a hint.
-pub(crate) fn available(dir: &Path) -> String {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .map(|entries| {
-            entries
-                .filter_map(|e| e.ok())
-                .filter_map(|e| {
-                    e.file_name()
-                        .to_str()
-                        .and_then(|n| n.strip_suffix(".yaml"))
-                        .map(str::to_owned)
-                })
-                .collect()
-        })
-        .unwrap_or_default();
-    names.sort();
-    if names.is_empty() {
-        "none".to_owned()
-    } else {
-        names.join(", ")
-    }
 }

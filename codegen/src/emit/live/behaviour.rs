@@ -1,0 +1,127 @@
+//! The behaviour model as a run-time value: the `vfd_runtime::behaviour::Behaviour` the
+//! virtual drive follows, as `emit/rust/behaviour.rs` writes it.
+
+use super::{list, text, texts};
+use crate::ir::{AmountIr, BehaviourIr, BitRefIr, TripSlotIr};
+use vfd_runtime::behaviour::{
+    Amount, Behaviour, Bit, CommandBehaviour, CurrentBehaviour, FrequencyBehaviour,
+    ModeRequirement, ProcessBehaviour, Refusals, StatusBehaviour, TripBehaviour, TripSlot,
+    WrittenValue,
+};
+
+/// The behaviour model of `b`.
+pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
+    let s = &b.status;
+    Behaviour {
+        source: text(&b.source),
+        command: CommandBehaviour {
+            register: text(&b.command_register),
+            require: bits(&b.command_require),
+            run: bit(&b.run),
+            run_reverse: b.run_reverse.as_ref().map(bit),
+            reverse: b.reverse.as_ref().map(bit),
+            reset: b.reset.as_ref().map(bit),
+            reset_by_write: b.reset_by_write.as_ref().map(written_value),
+            coast: b.coast.as_ref().map(bit),
+            require_mode: b
+                .require_mode
+                .as_ref()
+                .map(|(register, values)| ModeRequirement {
+                    register: text(register),
+                    values: list(values.clone()),
+                }),
+        },
+        frequency: FrequencyBehaviour {
+            command: text(&b.frequency_command),
+            require: bits(&b.frequency_require),
+            acceleration: amount(&b.acceleration),
+            deceleration: amount(&b.deceleration),
+            span: amount(&b.span),
+            output: texts(&b.output),
+            reference: texts(&b.reference),
+        },
+        current: b
+            .current
+            .as_ref()
+            .map(|(registers, at_zero, at_span)| CurrentBehaviour {
+                registers: texts(registers),
+                at_zero: *at_zero,
+                at_span: *at_span,
+            }),
+        status: StatusBehaviour {
+            registers: texts(&b.status_registers),
+            running: bits(&s.running),
+            reverse: bits(&s.reverse),
+            forward: bits(&s.forward),
+            at_reference: bits(&s.at_reference),
+            tripped: bits(&s.tripped),
+            enabled: bits(&s.enabled),
+            always: bits(&s.always),
+        },
+        trip: TripBehaviour {
+            code: texts(&b.trip_code),
+            history: list(
+                b.trip_history
+                    .iter()
+                    .map(|slot| match slot {
+                        TripSlotIr::Register(id) => TripSlot::whole(text(id)),
+                        TripSlotIr::Field { register, mask, .. } => TripSlot {
+                            register: text(register),
+                            mask: *mask,
+                        },
+                    })
+                    .collect(),
+            ),
+            clear_by_write: b.trip_clear_by_write.as_ref().map(written_value),
+        },
+        process: b
+            .process
+            .as_ref()
+            .map(|[control, reference, status, output]| ProcessBehaviour {
+                control: text(control),
+                reference: text(reference),
+                status: text(status),
+                output: text(output),
+            }),
+        refusals: list(
+            b.refusals
+                .iter()
+                .map(|r| Refusals {
+                    protocol: text(&r.protocol),
+                    unknown_register: r.unknown_register,
+                    read_only: r.read_only,
+                    out_of_range: r.out_of_range,
+                    while_running: r.while_running,
+                    bad_checksum: r.bad_checksum,
+                    wrong_mode: r.wrong_mode,
+                })
+                .collect(),
+        ),
+    }
+}
+
+fn bit(bit: &BitRefIr) -> Bit {
+    if bit.active_low {
+        Bit::low(bit.mask)
+    } else {
+        Bit::high(bit.mask)
+    }
+}
+
+fn bits(list_of: &[BitRefIr]) -> &'static [Bit] {
+    list(list_of.iter().map(bit).collect())
+}
+
+fn amount(amount: &AmountIr) -> Amount {
+    match amount {
+        AmountIr::Number(value) => Amount::Value(*value),
+        AmountIr::Register(id) => Amount::Register(text(id)),
+    }
+}
+
+fn written_value((register, value): &(String, u32)) -> WrittenValue {
+    WrittenValue {
+        register: text(register),
+        value: *value,
+    }
+}
