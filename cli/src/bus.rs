@@ -39,7 +39,7 @@ impl From<ParityArg> for Parity {
 /// Which drive, which protocol, and the line settings (defaults: the drive's factory settings).
 #[derive(Debug, Clone, clap::Args)]
 pub struct LineArgs {
-    /// Drive id (`vfd list` shows them).
+    /// Drive id (`vfd list` shows them) or the path of a drive file (./my_drive.yaml).
     #[arg(long, short = 'd', value_name = "DRIVE")]
     pub drive: String,
     /// Protocol id (default: the drive's first protocol).

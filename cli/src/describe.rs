@@ -2,13 +2,43 @@
 //! `DriveInfo` alone.
 
 use crate::out::say;
-use crate::{lookup, values, Failure};
+use crate::{catalogue, lookup, values, Failure};
 use vfd_runtime::info::manual_number;
 use vfd_runtime::{Access, DriveInfo, RegisterInfo, TakesEffect};
 
-/// Every described drive with its protocols and serial defaults.
+/// Every described drive with its protocols and serial defaults: those compiled in, then
+/// the drive files of the search path (a file with problems is named, with the command that
+/// lists them).
 pub fn list() -> Result<(), Failure> {
     for drive in vfd_drives::ALL_DRIVES {
+        list_drive(drive, None);
+    }
+    for found in catalogue::search_path_drives() {
+        match found {
+            catalogue::Found::Drive(file, drive) => {
+                if vfd_drives::ALL_DRIVES.iter().any(|d| d.id == drive.id) {
+                    say!(
+                        "{}: drive {} is also built in; by id, vfd uses the built-in one (name the file by its path to use it)",
+                        file.display(),
+                        drive.id
+                    );
+                } else {
+                    list_drive(drive, Some(&file));
+                }
+            }
+            catalogue::Found::Broken(file, problems) => say!(
+                "{}: not usable, {problems} problem(s) (`vfd check {}` lists them)",
+                file.display(),
+                file.display()
+            ),
+        }
+    }
+    Ok(())
+}
+
+/// One drive of `vfd list`, and the file it comes from when it is not built in.
+fn list_drive(drive: &DriveInfo, file: Option<&std::path::Path>) {
+    {
         let serial = drive.serial.default;
         say!(
             "{:<10} {} {} ({}): {} registers; {} baud, {}{}{}{}",
@@ -42,8 +72,10 @@ pub fn list() -> Result<(), Failure> {
                 protocol.address_range.1
             );
         }
+        if let Some(file) = file {
+            say!("    from {}", file.display());
+        }
     }
-    Ok(())
 }
 
 /// A drive's registers (one line each), or the named ones in full.

@@ -227,7 +227,7 @@ pub fn decode(args: &DecodeArgs) -> Result<(), Failure> {
     let mut bytes = parse_frame(&args.frame)?;
     let drives: Vec<&'static DriveInfo> = match &args.drive {
         Some(id) => vec![lookup::drive(id)?],
-        None => vfd_drives::ALL_DRIVES.to_vec(),
+        None => crate::catalogue::all_drives(),
     };
     if let (Some(id), [drive]) = (&args.protocol, drives.as_slice()) {
         lookup::protocol(drive, Some(id))?;

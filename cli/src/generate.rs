@@ -198,10 +198,10 @@ fn description_format_files(root: &Path) -> Result<Vec<(PathBuf, String)>, Strin
 }
 
 /// `vfd check`: validates drive files and prints every problem.
-pub fn check(files: &[String], protocols: Option<&Path>) -> Result<(), String> {
+pub fn check(files: &[String]) -> Result<(), String> {
     let mut failed = 0;
     for file in files {
-        match vfd_codegen::compile(Path::new(file), protocols) {
+        match crate::catalogue::compile(Path::new(file)) {
             Ok(drive) => say!(
                 "{file}: ok ({} registers, {} examples)",
                 drive.registers.len(),

@@ -1,28 +1,15 @@
 //! Finding what people name on the command line: drives by id, protocols by id, and
 //! registers by manual code (`FA01`, `FH`, `3-03`), alias (`P.195`), address (`0xFA01`,
 //! `FA01h`, `303`), id or English or Chinese name (`最高频率`), case-insensitive. Nothing here names a drive:
-//! everything comes from [`DriveInfo`].
+//! everything comes from [`DriveInfo`], compiled in or loaded from a file ([`crate::catalogue`]).
 
 use crate::Failure;
 use vfd_runtime::info::manual_number;
 use vfd_runtime::{Access, DriveInfo, Port, Protocol, RegisterInfo};
 
-/// The described drive with this id (case-insensitive).
-pub fn drive(id: &str) -> Result<&'static DriveInfo, Failure> {
-    vfd_drives::ALL_DRIVES
-        .iter()
-        .copied()
-        .find(|d| d.id.eq_ignore_ascii_case(id))
-        .ok_or_else(|| {
-            Failure::new(format!("unknown drive `{id}`"))
-                .hint(format!("described drives: {} (`vfd list`)", drive_ids()))
-        })
-}
-
-/// The ids of every described drive, comma-separated.
-pub fn drive_ids() -> String {
-    let ids: Vec<&str> = vfd_drives::ALL_DRIVES.iter().map(|d| d.id).collect();
-    ids.join(", ")
+/// The drive `name` names: an id, or the path of a drive file (see [`crate::catalogue`]).
+pub fn drive(name: &str) -> Result<&'static DriveInfo, Failure> {
+    crate::catalogue::drive(name)
 }
 
 /// The drive's protocol with this id; the first one when `id` is `None`.

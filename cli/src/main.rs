@@ -9,6 +9,7 @@
 mod backup;
 mod block;
 mod bus;
+mod catalogue;
 mod demo;
 mod describe;
 mod frames;
@@ -40,11 +41,21 @@ use vfd_runtime::meaning::Direction;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// A folder of drive files whose drives `vfd list` shows and every command finds by
+    /// id (repeat for several; the VFD_DRIVES environment variable adds more, separated
+    /// as in PATH). A drive file can also be named by its path wherever a drive is asked for.
+    #[arg(long = "drives", value_name = "DIR", global = true)]
+    drives: Vec<PathBuf>,
+    /// The folder of protocol files for drive files (default: `protocols/` next to each
+    /// drive file; the protocol files shipped with vfd are the fallback).
+    #[arg(long, value_name = "DIR", global = true)]
+    protocols: Option<PathBuf>,
 }
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// List the described drives and the protocols each speaks.
+    /// List the described drives (compiled in, and those of --drives folders and
+    /// VFD_DRIVES) and the protocols each speaks.
     List,
     /// Show a drive's registers: unit, range, default, access, RAM or EEPROM, writable
     /// while running, and the manual's text.
@@ -52,7 +63,7 @@ enum Command {
         after_help = "Registers are found by code (FA01, FH, 3-03), address (0xFA01), id, or English or Chinese name (最高频率), without regard to case.\n\nExamples:\n  vfd info yd1000\n  vfd info yd1000 FH FA00\n  vfd info fc51 3-03"
     )]
     Info {
-        /// Drive id (`vfd list`).
+        /// Drive id (`vfd list`) or the path of a drive file.
         drive: String,
         /// Registers to show in full (all, one line each, when none is given).
         registers: Vec<String>,
@@ -178,7 +189,8 @@ Examples:
     /// Show the whole product against the virtual drive on a pseudo-terminal, every frame
     /// printed (no hardware, ~5 s).
     Demo {
-        /// Drive to show (default: the first described drive with a behaviour model).
+        /// Drive to show, by id or the path of a drive file (default: the first described
+        /// drive with a behaviour model).
         #[arg(long)]
         drive: Option<String>,
         /// Seconds to watch the motor ramp.
@@ -190,7 +202,7 @@ Examples:
         after_help = "FRAME is hex (\"2F 52 FD 00 7E\", 2F52FD007E) or text with escapes (\"(RFD00)\\r\", \\x05).\nThe protocol, direction and drive are found when not given. Exit status 0 for a valid frame.\n\nExamples:\n  vfd decode \"2F 52 FD 00 7E\"\n  vfd decode --drive yd1000 --reply \"(RFD00)\\r\"\n  vfd decode yd1000 ascii \"(N0001&5D)\\r\""
     )]
     Decode {
-        /// Drive id.
+        /// Drive id or the path of a drive file.
         #[arg(long, short = 'd')]
         drive: Option<String>,
         /// Protocol id.
@@ -211,7 +223,7 @@ Examples:
     },
     /// Print the request frame for a read or write, by register name with units.
     Encode {
-        /// Drive id.
+        /// Drive id or the path of a drive file.
         drive: String,
         /// Protocol id.
         protocol: String,
@@ -233,7 +245,7 @@ Examples:
     },
     /// List a drive's registers, one line each.
     Registers {
-        /// Drive id.
+        /// Drive id or the path of a drive file.
         drive: String,
     },
     /// Regenerate generated-docs/, drives/schema/ and the key tables in drives/README.md.
@@ -250,9 +262,6 @@ Examples:
     },
     /// Validate drive files and print every problem.
     Check {
-        /// Folder of protocol files (default: protocols/ next to each drive file).
-        #[arg(long, value_name = "DIR")]
-        protocols: Option<PathBuf>,
         /// Drive files.
         #[arg(required = true)]
         files: Vec<String>,
@@ -296,6 +305,7 @@ impl From<String> for Failure {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    catalogue::set_places(cli.drives, cli.protocols);
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
@@ -424,9 +434,7 @@ fn run(command: Command) -> Result<(), Failure> {
             root.as_deref(),
         )
         .map_err(Failure::from),
-        Command::Check { protocols, files } => {
-            generate::check(&files, protocols.as_deref()).map_err(Failure::from)
-        }
+        Command::Check { files } => generate::check(&files).map_err(Failure::from),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "vfd", &mut script);

@@ -15,7 +15,7 @@ use vfd_runtime::Protocol;
 /// Options of `vfd sim`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct SimArgs {
-    /// Drive id (`vfd list`).
+    /// Drive id (`vfd list`) or the path of a drive file (./my_drive.yaml).
     #[arg(long, short = 'd')]
     pub drive: String,
     /// Protocol id (default: the drive's first protocol).

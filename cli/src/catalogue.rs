@@ -1,0 +1,208 @@
+//! The drives `vfd` knows: the ones compiled into it, drive files in the search path
+//! (`--drives DIR`, repeatable, and the `VFD_DRIVES` environment variable), and any drive
+//! file named by its path. A file is compiled when the command starts, its protocol files
+//! found as the generator finds them (`protocols/` next to it, or `--protocols DIR`, then
+//! the protocol files shipped inside `vfd`), with exactly the diagnostics of `vfd check`:
+//! with a problem, the command stops before it opens or sends anything.
+
+use crate::Failure;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+use vfd_runtime::DriveInfo;
+
+/// The environment variable holding more folders of drive files, separated as `PATH` is.
+pub const DRIVES_VARIABLE: &str = "VFD_DRIVES";
+
+/// Where drive and protocol files are looked up, set once from the command line.
+#[derive(Debug, Default)]
+pub struct Places {
+    /// Folders of drive files (`--drives`, then `VFD_DRIVES`).
+    pub drives: Vec<PathBuf>,
+    /// The folder of protocol files (`--protocols`), instead of `protocols/` next to each
+    /// drive file.
+    pub protocols: Option<PathBuf>,
+}
+
+static PLACES: OnceLock<Places> = OnceLock::new();
+
+/// Sets where drive files are looked up: `drives` (from the command line) and then the
+/// folders of `VFD_DRIVES`; `protocols` for every drive file. Called once, at start.
+pub fn set_places(mut drives: Vec<PathBuf>, protocols: Option<PathBuf>) {
+    if let Some(more) = std::env::var_os(DRIVES_VARIABLE) {
+        drives.extend(std::env::split_paths(&more).filter(|p| !p.as_os_str().is_empty()));
+    }
+    let _ = PLACES.set(Places { drives, protocols });
+}
+
+fn places() -> &'static Places {
+    PLACES.get_or_init(Places::default)
+}
+
+/// Compiles the drive file at `path` as `vfd check` does: its protocol files from
+/// `--protocols`, else `protocols/` next to it, then the ones shipped inside `vfd`.
+pub fn compile(path: &Path) -> Result<vfd_codegen::DriveIr, vfd_codegen::Diagnostics> {
+    vfd_codegen::compile_with(
+        path,
+        places().protocols.as_deref(),
+        &vfd_drives::PROTOCOL_FILES,
+    )
+}
+
+/// The drive in the file at `path`, compiled now; a failure carries every diagnostic.
+pub fn load(path: &Path) -> Result<&'static DriveInfo, Failure> {
+    load_file(path).map_err(|diagnostics| {
+        Failure::new(format!(
+            "{} cannot be used: it has {} problem(s)\n{diagnostics}",
+            path.display(),
+            diagnostics.items.len()
+        ))
+        .hint(format!(
+            "fix them and run `vfd check {}`; nothing was opened or sent",
+            path.display()
+        ))
+    })
+}
+
+/// The drive in the file at `path`, compiled once per process.
+fn load_file(path: &Path) -> Result<&'static DriveInfo, vfd_codegen::Diagnostics> {
+    type Loaded = std::sync::Mutex<Vec<(PathBuf, &'static DriveInfo)>>;
+    static LOADED: OnceLock<Loaded> = OnceLock::new();
+    let loaded = LOADED.get_or_init(Default::default);
+    let key = path.canonicalize().unwrap_or_else(|_| path.to_owned());
+    let known = loaded
+        .lock()
+        .ok()
+        .and_then(|list| list.iter().find(|(p, _)| *p == key).map(|(_, d)| *d));
+    if let Some(drive) = known {
+        return Ok(drive);
+    }
+    let drive = vfd_codegen::drive_info(&compile(path)?);
+    if let Ok(mut list) = loaded.lock() {
+        list.push((key, drive));
+    }
+    Ok(drive)
+}
+
+/// Whether `name` names a file rather than a drive id: it has a path separator or a
+/// `.yaml`/`.yml` ending, or a file of that name exists.
+pub fn is_path(name: &str) -> bool {
+    name.contains('/')
+        || name.contains(std::path::MAIN_SEPARATOR)
+        || name.ends_with(".yaml")
+        || name.ends_with(".yml")
+        || Path::new(name).is_file()
+}
+
+/// The drive files in the search path, in folder order then by name.
+pub fn search_path_files() -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for dir in &places().drives {
+        let mut here: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map(|entries| {
+                entries
+                    .filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|p| p.extension().is_some_and(|e| e == "yaml" || e == "yml"))
+                    .collect()
+            })
+            .unwrap_or_default();
+        here.sort();
+        files.extend(here);
+    }
+    files
+}
+
+/// The search path's folders, for a message.
+pub fn search_path() -> &'static [PathBuf] {
+    &places().drives
+}
+
+/// A drive of the search path and what became of it.
+pub enum Found {
+    /// The file compiled.
+    Drive(PathBuf, &'static DriveInfo),
+    /// The file has problems (`vfd check FILE` lists them).
+    Broken(PathBuf, usize),
+}
+
+/// Every drive file of the search path, compiled.
+pub fn search_path_drives() -> Vec<Found> {
+    search_path_files()
+        .into_iter()
+        .map(|file| match load_file(&file) {
+            Ok(drive) => Found::Drive(file, drive),
+            Err(diagnostics) => Found::Broken(file, diagnostics.items.len()),
+        })
+        .collect()
+}
+
+/// The drive `name` names: a drive file by its path, a compiled-in drive by its id
+/// (case-insensitive), or a drive file of the search path by its id (a file named
+/// `<id>.yaml` is tried first).
+pub fn drive(name: &str) -> Result<&'static DriveInfo, Failure> {
+    if is_path(name) {
+        let path = Path::new(name);
+        if !path.is_file() {
+            return Err(Failure::new(format!("no drive file {name}"))
+                .hint("give the path of a drive description (.yaml), or a drive id (`vfd list`)"));
+        }
+        return load(path);
+    }
+    if let Some(drive) = vfd_drives::ALL_DRIVES
+        .iter()
+        .copied()
+        .find(|d| d.id.eq_ignore_ascii_case(name))
+    {
+        return Ok(drive);
+    }
+    let files = search_path_files();
+    let named = |file: &PathBuf| {
+        file.file_stem()
+            .and_then(|s| s.to_str())
+            .is_some_and(|stem| stem.eq_ignore_ascii_case(name))
+    };
+    for file in files.iter().filter(|f| named(f)).chain(files.iter()) {
+        if let Ok(drive) = load_file(file) {
+            if drive.id.eq_ignore_ascii_case(name) {
+                return Ok(drive);
+            }
+        }
+    }
+    Err(
+        Failure::new(format!("unknown drive `{name}`")).hint(format!(
+        "described drives: {}{} (`vfd list`); or give the path of a drive file (./my_drive.yaml)",
+        drive_ids(),
+        if search_path().is_empty() {
+            String::new()
+        } else {
+            format!(
+                "; searched {} too",
+                search_path()
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        }
+    )),
+    )
+}
+
+/// Every drive `vfd` knows without a path: compiled in, then the search path's (a file
+/// whose id is built in is left out: by id, the built-in drive is meant).
+pub fn all_drives() -> Vec<&'static DriveInfo> {
+    let mut all: Vec<&'static DriveInfo> = vfd_drives::ALL_DRIVES.to_vec();
+    for found in search_path_drives() {
+        if let Found::Drive(_, drive) = found {
+            if !all.iter().any(|d| d.id == drive.id) {
+                all.push(drive);
+            }
+        }
+    }
+    all
+}
+
+/// The ids of the compiled-in drives, comma-separated.
+pub fn drive_ids() -> String {
+    let ids: Vec<&str> = vfd_drives::ALL_DRIVES.iter().map(|d| d.id).collect();
+    ids.join(", ")
+}

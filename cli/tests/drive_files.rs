@@ -1,0 +1,201 @@
+//! A drive that is not built into `vfd`, used by its file: named by path wherever a drive
+//! is asked for, found by id through `--drives DIR` and `VFD_DRIVES`, its protocol file
+//! taken from the ones `vfd` ships when the drive's folder has none, and refused with
+//! `vfd check`'s diagnostics (nothing opened) when it has problems. Every run is from a
+//! folder outside the workspace, as from an installed `vfd`.
+
+mod common;
+
+use common::{text, Sim};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A fresh folder outside the workspace holding `pump.yaml`, a copy of the out-of-tree
+/// example crate's drive (id `demo_pump`, the shipped Toshiba-style binary protocol, no
+/// `protocols/` folder beside it).
+fn outside_folder(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("vfd-drive-files-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    let source = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/fixtures/external-crate/demo_pump.yaml");
+    std::fs::copy(source, dir.join("pump.yaml")).expect("the example drive file");
+    dir
+}
+
+/// `vfd ARGS...` run in `dir`, with `VFD_DRIVES` as given (unset when `None`).
+fn vfd_in(dir: &Path, drives_variable: Option<&Path>, args: &[&str]) -> Output {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_vfd"));
+    command.current_dir(dir).args(args).env_remove("VFD_DRIVES");
+    if let Some(folder) = drives_variable {
+        command.env("VFD_DRIVES", folder);
+    }
+    command.output().expect("vfd runs")
+}
+
+#[test]
+fn a_drive_file_is_used_by_its_path() {
+    let dir = outside_folder("path");
+    let check = vfd_in(&dir, None, &["check", "pump.yaml"]);
+    assert!(check.status.success(), "{}", text(&check));
+    assert!(
+        text(&check).contains("pump.yaml: ok (4 registers"),
+        "{}",
+        text(&check)
+    );
+
+    let info = vfd_in(&dir, None, &["info", "./pump.yaml", "ACC"]);
+    assert!(info.status.success(), "{}", text(&info));
+    assert!(text(&info).contains("Acceleration time"), "{}", text(&info));
+
+    let decode = vfd_in(
+        &dir,
+        None,
+        &["decode", "--drive", "pump.yaml", "2F 52 00 10 00 32 C3"],
+    );
+    assert!(decode.status.success(), "{}", text(&decode));
+    assert!(text(&decode).contains("of demo_pump"), "{}", text(&decode));
+    assert!(text(&decode).contains("checksum ok"), "{}", text(&decode));
+
+    let encode = vfd_in(
+        &dir,
+        None,
+        &[
+            "encode",
+            "./pump.yaml",
+            "binary",
+            "write-ram",
+            "FA01",
+            "50Hz",
+        ],
+    );
+    assert!(encode.status.success(), "{}", text(&encode));
+    assert!(
+        text(&encode).contains("2F 50 FA 01 13 88 15"),
+        "the manual's frame: {}",
+        text(&encode)
+    );
+}
+
+#[test]
+fn the_virtual_drive_of_a_drive_file_answers_vfd_by_path() {
+    let dir = outside_folder("sim");
+    let file = dir.join("pump.yaml");
+    let file = file.to_str().expect("a UTF-8 path");
+    let sim = Sim::spawn(&["--drive", file]);
+    let read = sim.vfd(file, "binary", &["read", "ACC", "MODE"]);
+    assert!(read.status.success(), "{}", text(&read));
+    assert!(text(&read).contains("= 5.0 s"), "{}", text(&read));
+    let write = sim.vfd(file, "binary", &["write", "ACC", "12.5s"]);
+    assert!(write.status.success(), "{}", text(&write));
+    let back = sim.vfd(file, "binary", &["read", "ACC"]);
+    assert!(text(&back).contains("= 12.5 s"), "{}", text(&back));
+    // Checked against the file's range before anything is sent.
+    let refused = sim.vfd(file, "binary", &["write", "FA01", "60Hz"]);
+    assert!(!refused.status.success());
+    assert!(
+        text(&refused).contains("nothing was sent"),
+        "{}",
+        text(&refused)
+    );
+}
+
+#[test]
+fn drive_folders_add_drives_to_list_and_to_lookup_by_id() {
+    let dir = outside_folder("search");
+    let elsewhere = outside_folder("search-cwd");
+    let by_option = vfd_in(
+        &elsewhere,
+        None,
+        &["--drives", dir.to_str().unwrap(), "list"],
+    );
+    assert!(by_option.status.success(), "{}", text(&by_option));
+    assert!(
+        text(&by_option).contains("demo_pump"),
+        "{}",
+        text(&by_option)
+    );
+    assert!(
+        text(&by_option).contains("pump.yaml"),
+        "{}",
+        text(&by_option)
+    );
+    assert!(text(&by_option).contains("yd1000"), "built-in drives stay");
+
+    let by_variable = vfd_in(&elsewhere, Some(&dir), &["info", "demo_pump"]);
+    assert!(by_variable.status.success(), "{}", text(&by_variable));
+    assert!(
+        text(&by_variable).contains("Demo DP-1"),
+        "{}",
+        text(&by_variable)
+    );
+
+    let without = vfd_in(&elsewhere, None, &["info", "demo_pump"]);
+    assert!(!without.status.success());
+    assert!(
+        text(&without).contains("unknown drive `demo_pump`"),
+        "{}",
+        text(&without)
+    );
+    assert!(
+        text(&without).contains("path of a drive file"),
+        "{}",
+        text(&without)
+    );
+}
+
+#[test]
+fn a_drive_file_with_problems_stops_the_command_before_the_port_is_opened() {
+    let dir = outside_folder("broken");
+    let good = std::fs::read_to_string(dir.join("pump.yaml")).unwrap();
+    let broken = good.replacen("default: 5.0", "default: 999.0", 1);
+    assert_ne!(good, broken, "the fixture has the default to break");
+    std::fs::write(dir.join("broken.yaml"), broken).unwrap();
+
+    let check = vfd_in(&dir, None, &["check", "broken.yaml"]);
+    assert!(!check.status.success());
+    let read = vfd_in(
+        &dir,
+        None,
+        &[
+            "read",
+            "--drive",
+            "broken.yaml",
+            "--port",
+            "/dev/no-such-port",
+            "ACC",
+        ],
+    );
+    assert!(!read.status.success());
+    let said = text(&read);
+    // Exactly vfd check's diagnostics, and no word about the port: it was never opened.
+    let diagnostics = String::from_utf8_lossy(&check.stdout);
+    let first = diagnostics.lines().next().unwrap_or_default();
+    assert!(first.contains("error"), "check's first line: {diagnostics}");
+    assert!(
+        said.contains(diagnostics.trim()),
+        "{said}\n--- check said\n{diagnostics}"
+    );
+    assert!(said.contains("nothing was opened or sent"), "{said}");
+    assert!(!said.contains("no-such-port"), "{said}");
+
+    let list = vfd_in(&dir, Some(&dir), &["list"]);
+    assert!(list.status.success(), "{}", text(&list));
+    assert!(
+        text(&list).contains("broken.yaml: not usable"),
+        "{}",
+        text(&list)
+    );
+}
+
+#[test]
+fn a_missing_drive_file_is_named() {
+    let dir = outside_folder("missing");
+    let info = vfd_in(&dir, None, &["info", "./nothere.yaml"]);
+    assert!(!info.status.success());
+    assert!(
+        text(&info).contains("no drive file ./nothere.yaml"),
+        "{}",
+        text(&info)
+    );
+}
