@@ -17,6 +17,7 @@
 //! | 5 | validate | `validate/` (one file per check) | `validate::Context` (stages 2-4) | problems, or nothing |
 //! | 6 | IR | [`ir`] (`ir/types.rs`, `ir/lower.rs`) | `validate::Context` | [`DriveIr`]: plain, ordered, typed, serialisable; dump it with `vfd generate --dump-ir DRIVE` |
 //! | 7 | emit | `emit/` (`rust/`, `live/`, `markdown/`, `tests.rs`, `words.rs`) | [`DriveIr`] only | Rust tokens (quote, then prettyplease), the same drive as run-time values ([`drive_info`]), Markdown (minijinja), golden tests |
+//! | 8 | rehearse | `rehearse.rs` | [`DriveIr`] and the drive file | each example's request played to the virtual drive built from the IR (stage 7's run-time values): its reply must be the example's, byte for byte, or the example says why not (`not_simulated:`) |
 //!
 //! [`Builder`] (`builder.rs`) runs stages 1-7 for many drives and writes files, and
 //! [`OutputNames`] says how the output names anything outside a description. [`schemas`]
@@ -70,6 +71,7 @@ mod naming;
 mod output_names;
 mod parse;
 mod protocols;
+mod rehearse;
 mod schema;
 mod validate;
 
@@ -139,7 +141,7 @@ fn compile_source(
     };
     validate::check(&context, &mut diagnostics);
     diagnostics.leave_out_consequences(read_problems, &drive.incomplete);
-    if !diagnostics.is_empty() {
+    let attach = |diagnostics: &mut Diagnostics| {
         diagnostics.attach_sources(|path| {
             drive
                 .sources
@@ -147,9 +149,18 @@ fn compile_source(
                 .find(|file| file.path == path)
                 .map(|file| file.text.as_str())
         });
+    };
+    if !diagnostics.is_empty() {
+        attach(&mut diagnostics);
         return Err(diagnostics);
     }
-    Ok(ir::lower(&context))
+    let ir = ir::lower(&context);
+    rehearse::examples(&context.source, &context.model, &ir, &mut diagnostics);
+    if !diagnostics.is_empty() {
+        attach(&mut diagnostics);
+        return Err(diagnostics);
+    }
+    Ok(ir)
 }
 
 /// One drive's Rust module as tokens, holding its own frame layouts: what

@@ -848,6 +848,7 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                         (code, *value)
                     })
                     .collect(),
+                not_simulated: example.not_simulated.clone(),
             }
         })
         .collect()

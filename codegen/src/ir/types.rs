@@ -1016,6 +1016,9 @@ pub struct ExampleIr {
     /// The drive settings the frames assume: (register code, value in its unit).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub settings: Vec<(String, f64)>,
+    /// Why the virtual drive cannot give the example's reply, when it cannot.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub not_simulated: Option<String>,
 }
 
 /// A multi-step example: one call of the master and every frame it puts on the line.

@@ -1368,9 +1368,16 @@ pub struct ExampleModel {
     pub value: Option<f64>,
     /// The drive settings the frames assume, where the frames depend on more than their
     /// bytes (a block transfer's selectors): register (code or id) -> value, in the
-    /// register's unit (a code for code tables), as `default` is written.
+    /// register's unit (a code for code tables), as `default` is written; the virtual drive
+    /// built from the description holds them as set before power-on when `vfd check` plays
+    /// the example to it.
     #[serde(default)]
     pub settings: BTreeMap<String, f64>,
+    /// Why the virtual drive built from this description cannot give the example's reply
+    /// to its request (a state its behaviour model does not reach, such as a trip). Without
+    /// it, `vfd check` plays the request to the virtual drive, under `settings`, and requires
+    /// the example's reply byte for byte.
+    pub not_simulated: Option<String>,
 }
 
 /// A register's own numbers on the wire in one protocol (`registers[].wire_numbers`).

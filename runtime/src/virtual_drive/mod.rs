@@ -245,6 +245,20 @@ impl VirtualDrive {
         true
     }
 
+    /// Sets a register as it stood at power-on (no checks): in RAM and EEPROM and in effect
+    /// at once, as a setting made on the panel before the drive was switched on (a setting
+    /// that takes effect after a reset has taken it). Returns false when there is no such
+    /// register.
+    pub fn preset(&mut self, name: &str, raw: u32) -> bool {
+        let Some(info) = self.drive.register(name) else {
+            return false;
+        };
+        self.storage.set(info, 0, raw, true);
+        self.storage.take_effect(std::slice::from_ref(&info));
+        self.refresh();
+        true
+    }
+
     /// Sets the register that selects `variant`'s variant of its protocol (the one it is
     /// in, [`Protocol::variant`]) to the value that selects it, in RAM and EEPROM and in
     /// effect at once, as if set on the panel before power-on. Returns false, changing

@@ -1,0 +1,126 @@
+//! Stage 8: rehearsal. Each example's request is played to the virtual drive built from the
+//! description itself (its run-time values, [`crate::emit::live`]), at the request's
+//! station and under the example's `settings`; the virtual drive must answer with the
+//! example's reply, byte for byte, unless the example says why it cannot
+//! (`not_simulated:`). So whatever `vfd check` accepts, `vfd sim` answers as the manual
+//! prints it, or the description says where and why it does not.
+
+use crate::diagnostics::Diagnostics;
+use crate::ir::{DriveIr, ExampleIr, FrameIr};
+use crate::parse::model::DriveFile;
+use crate::parse::SourceFile;
+use vfd_runtime::virtual_drive::{Outcome, VirtualDrive};
+use vfd_runtime::{DriveInfo, RegisterInfo};
+
+/// Plays every example with a request and the reply that answers it; problems go to `out`.
+pub(crate) fn examples(
+    source: &SourceFile,
+    model: &DriveFile,
+    ir: &DriveIr,
+    out: &mut Diagnostics,
+) {
+    if !ir.examples.iter().any(|e| e.answers) {
+        return;
+    }
+    let drive = crate::emit::live::drive_info(ir);
+    for example in &ir.examples {
+        let Some(index) = model.examples.iter().position(|e| e.id == example.id) else {
+            continue;
+        };
+        let base = format!("examples[{index}]");
+        let heard = match rehearse(drive, example) {
+            Some(heard) => heard,
+            None => continue,
+        };
+        let Some(reply) = &example.reply else {
+            continue;
+        };
+        let same = matches!(&heard, Outcome::Reply(bytes) if *bytes == reply.bytes);
+        match (same, &example.not_simulated) {
+            (true, None) | (false, Some(_)) => {}
+            (true, Some(_)) => out.push(
+                source
+                    .error(
+                        &format!("{base}.not_simulated"),
+                        "the virtual drive gives this example's reply, byte for byte, although `not_simulated` says it cannot",
+                    )
+                    .hint("remove `not_simulated`"),
+            ),
+            (false, None) => out.push(
+                source
+                    .error(
+                        &format!("{base}.reply"),
+                        format!(
+                            "the virtual drive built from this file {}, not with the example's reply {}",
+                            match &heard {
+                                Outcome::Reply(bytes) => format!("answers the request with {}", shown(reply, bytes)),
+                                Outcome::Silent(why) => format!("stays silent ({why})"),
+                            },
+                            shown(reply, &reply.bytes)
+                        ),
+                    )
+                    .hint(
+                        "where the reply reads a parameter set otherwise than its default, give its value in the example's `settings:`; where a register's storage, access or range makes the drive refuse, check them against the manual; where the virtual drive cannot reach the state, say why in `not_simulated:`",
+                    ),
+            ),
+        }
+    }
+}
+
+/// What the virtual drive answers to the example's request; `None` when the example has no
+/// request, no reply, or a reply that does not answer its request.
+fn rehearse(drive: &'static DriveInfo, example: &ExampleIr) -> Option<Outcome> {
+    let (request, reply) = (example.request.as_ref()?, example.reply.as_ref()?);
+    if !example.answers {
+        return None;
+    }
+    let protocol = drive.protocol(&example.protocol)?;
+    let mut virtual_drive = VirtualDrive::new(drive);
+    // A broadcast is answered by the station the reply names.
+    let station = match request.meaning.broadcast {
+        Some(_) => reply.meaning.address,
+        None => request.meaning.address,
+    };
+    if let Some(station) = station {
+        virtual_drive.set_address(station);
+    }
+    for (code, value) in &example.settings {
+        if let Some(info) = drive.register(code) {
+            virtual_drive.preset(code, raw_of(info, *value));
+        }
+    }
+    Some(virtual_drive.respond(protocol, &request.bytes))
+}
+
+/// The raw word for `value` in `info`'s unit (a code for code tables), as the panel would
+/// set it; negative values of signed registers in two's complement.
+fn raw_of(info: &RegisterInfo, value: f64) -> u32 {
+    if info.codes.is_some() || info.scale == 0.0 {
+        return value as u32;
+    }
+    let raw = (value / info.scale).round() as i64;
+    match (raw < 0, info.data_type) {
+        (true, vfd_runtime::DataType::DoubleWord) => raw as i32 as u32,
+        (true, _) => u32::from(raw as i16 as u16),
+        (false, _) => raw as u32,
+    }
+}
+
+/// `bytes` as the example writes its frame: text with escapes, or hex pairs.
+fn shown(like: &FrameIr, bytes: &[u8]) -> String {
+    if like.text {
+        let text: String = bytes
+            .iter()
+            .map(|&b| match b {
+                b'\r' => "\\r".to_owned(),
+                b'\n' => "\\n".to_owned(),
+                0x20..=0x7E => (b as char).to_string(),
+                other => format!("\\x{other:02X}"),
+            })
+            .collect();
+        format!("\"{text}\"")
+    } else {
+        let hex: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
+        format!("\"{}\"", hex.join(" "))
+    }
+}
