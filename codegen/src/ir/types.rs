@@ -874,6 +874,25 @@ pub struct SpecialValueIr {
 }
 
 impl RegisterIr {
+    /// The register as one of its scale choices makes it (`scale_by`): that choice's scale
+    /// and raw range, the same bounding registers, and no default (the default is given in
+    /// the register's own scale).
+    pub fn with_scale_choice(&self, choice: &ScaleChoiceIr) -> RegisterIr {
+        let mut chosen = self.clone();
+        chosen.scale = choice.scale;
+        chosen.scale_by = None;
+        chosen.default = None;
+        chosen.min = Some(BoundIr {
+            raw: choice.raw_min,
+            register: self.min.as_ref().and_then(|b| b.register.clone()),
+        });
+        chosen.max = Some(BoundIr {
+            raw: choice.raw_max,
+            register: self.max.as_ref().and_then(|b| b.register.clone()),
+        });
+        chosen
+    }
+
     /// Whether the register may be written (text is read only, whatever `access` says).
     pub fn writable(&self) -> bool {
         self.access != Access::ReadOnly && self.data_type != DataType::Text

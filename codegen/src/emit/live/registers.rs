@@ -158,19 +158,7 @@ fn bound_register(bound: Option<&BoundIr>) -> Option<&'static str> {
 fn scale_by(ir: &DriveIr, register: &RegisterIr, tables: &Tables) -> Option<ScaleBy> {
     let scale_by = register.scale_by.as_ref()?;
     let info_of = |choice: &crate::ir::ScaleChoiceIr| {
-        let mut chosen = register.clone();
-        chosen.scale = choice.scale;
-        chosen.scale_by = None;
-        chosen.default = None;
-        chosen.min = Some(BoundIr {
-            raw: choice.raw_min,
-            register: register.min.as_ref().and_then(|b| b.register.clone()),
-        });
-        chosen.max = Some(BoundIr {
-            raw: choice.raw_max,
-            register: register.max.as_ref().and_then(|b| b.register.clone()),
-        });
-        &*leak(info(ir, &chosen, tables))
+        &*leak(info(ir, &register.with_scale_choice(choice), tables))
     };
     Some(ScaleBy {
         register: text(&scale_by.register),

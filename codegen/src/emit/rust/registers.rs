@@ -292,21 +292,8 @@ fn scale_by_item(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
     };
     let name = scale_by_const(register);
     let selector = str_literal(&scale_by.register);
-    let info_of = |choice: &crate::ir::ScaleChoiceIr| {
-        let mut chosen = register.clone();
-        chosen.scale = choice.scale;
-        chosen.scale_by = None;
-        chosen.default = None;
-        chosen.min = Some(crate::ir::BoundIr {
-            raw: choice.raw_min,
-            register: register.min.as_ref().and_then(|b| b.register.clone()),
-        });
-        chosen.max = Some(crate::ir::BoundIr {
-            raw: choice.raw_max,
-            register: register.max.as_ref().and_then(|b| b.register.clone()),
-        });
-        info_chain(drive, &chosen)
-    };
+    let info_of =
+        |choice: &crate::ir::ScaleChoiceIr| info_chain(drive, &register.with_scale_choice(choice));
     let choices = scale_by.choices.iter().map(|choice| {
         let info = info_of(choice);
         let value = int_literal(choice.value);
