@@ -285,7 +285,8 @@ pub fn restore(
     let blocked: Vec<&'static RegisterInfo> = writes
         .iter()
         .map(|(info, _, _)| *info)
-        .filter(|info| !info.writable_while_running)
+        // `unknown` registers are attempted: a refusal is reported with the other failures.
+        .filter(|info| !info.writable_while_running && !info.while_running_unknown)
         .collect();
     if !blocked.is_empty() && is_running(&mut session)? {
         if !stop_first {

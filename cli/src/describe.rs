@@ -167,6 +167,8 @@ fn summary_line(r: &RegisterInfo) -> String {
     }
     if r.writable_while_running {
         flags.push("run-writable");
+    } else if r.while_running_unknown {
+        flags.push("run-unknown");
     }
     if r.takes_effect == TakesEffect::AfterReset {
         flags.push("after-reset");
@@ -267,6 +269,8 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
         "  while run   {}",
         if r.writable_while_running {
             "writable while the motor runs"
+        } else if r.while_running_unknown {
+            "not stated by the manual (a write while running is attempted; a refusal is reported)"
         } else {
             "not writable while the motor runs"
         }

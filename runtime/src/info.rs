@@ -48,8 +48,12 @@ pub struct RegisterInfo {
     pub access: Access,
     /// Writes go to RAM only; a persistent (EEPROM) write is not allowed.
     pub ram_only: bool,
-    /// May be written while the motor runs.
+    /// May be written while the motor runs (false when the manual does not say).
     pub writable_while_running: bool,
+    /// The manual does not say whether it may be written while running (its table has no
+    /// such column): a master attempts the write while the motor runs and reports the
+    /// drive's refusal if one comes; the virtual drive accepts it.
+    pub while_running_unknown: bool,
     /// Only effective when set from the operator panel.
     pub panel_only: bool,
     /// When a written value takes effect.
@@ -207,6 +211,12 @@ impl RegisterInfo {
         self
     }
 
+    /// The manual does not say whether it may be written while running.
+    pub const fn with_while_running_unknown(mut self) -> Self {
+        self.while_running_unknown = true;
+        self
+    }
+
     /// Only effective when set from the operator panel.
     pub const fn with_panel_only(mut self) -> Self {
         self.panel_only = true;
@@ -337,6 +347,7 @@ impl RegisterInfo {
         access: Access::ReadWrite,
         ram_only: false,
         writable_while_running: false,
+        while_running_unknown: false,
         panel_only: false,
         takes_effect: TakesEffect::Immediately,
         default_raw: None,

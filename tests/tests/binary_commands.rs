@@ -122,13 +122,14 @@ mod g_command {
     fn the_virtual_drive_answers_g_with_g_and_g_lower_case_when_tripped() {
         let sim = Simulator::new(&vf_as1::DRIVE);
         let mut master = sim.master(&vf_as1::protocols::BINARY);
+        let reading = master.read_using::<OutputFrequency>(G).unwrap();
+        assert!(!reading.tripped);
+        assert_eq!(master.last_reply()[..3], [0x2F, 1, b'G'], "station 1, G");
+        // FE03 follows FD03 between trips and holds its value while tripped: set it then.
+        sim.inject_trip(0x18);
         assert!(sim.lock().set_raw("FE03", 0x077B));
         let reading = master.read_using::<OutputCurrentAtTrip>(G).unwrap();
         assert_eq!(reading, Percent(19.15));
-        assert!(!reading.tripped);
-        assert_eq!(master.last_reply()[..3], [0x2F, 1, b'G'], "station 1, G");
-        sim.inject_trip(0x18);
-        let reading = master.read_using::<OutputFrequency>(G).unwrap();
         assert!(reading.tripped, "g: the drive is tripped");
         assert_eq!(master.last_reply()[..3], [0x2F, 1, b'g']);
     }
@@ -137,12 +138,13 @@ mod g_command {
     fn the_dummy_data_may_be_any_value() {
         let protocol = &vf_as1::protocols::BINARY;
         let mut sim = vfd_runtime::virtual_drive::VirtualDrive::new(&vf_as1::DRIVE);
-        sim.set_raw("FE03", 0x077B);
-        // 2F 47 FE 03 12 34 + sum.
-        let frame = with_sum("2F 47 FE 03 12 34");
+        // FE35 (RR/S4 input) holds what the panel sets; FE03 would follow FD03 (0 at rest).
+        sim.set_raw("FE35", 0x077B);
+        // 2F 47 FE 35 12 34 + sum.
+        let frame = with_sum("2F 47 FE 35 12 34");
         match sim.respond(protocol, &frame) {
             vfd_runtime::virtual_drive::Outcome::Reply(bytes) => {
-                assert_eq!(bytes, hex("2F 47 FE 03 07 7B F9"));
+                assert_eq!(bytes, with_sum("2F 47 FE 35 07 7B"));
             }
             other => panic!("expected the G reply, got {other:?}"),
         }

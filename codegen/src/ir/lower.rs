@@ -305,7 +305,8 @@ fn lower_register(
         default: register.default,
         access: register.access.unwrap_or(Access::ReadWrite),
         ram_only: register.ram_only,
-        writable_while_running: register.writable_while_running,
+        writable_while_running: register.writable_while_running.writable(),
+        while_running_unknown: register.writable_while_running.is_unknown(),
         panel_only: register.panel_only,
         takes_effect: register.takes_effect.unwrap_or(TakesEffect::Immediately),
         data_type,
@@ -314,7 +315,7 @@ fn lower_register(
         value,
         code_table: register.code_table.clone(),
         source: register.source.clone(),
-        inferred: register.inferred.clone(),
+        inferred: inferred_facts(register),
         warnings: register.warnings.clone(),
         no_reply: register.no_reply,
         held_at_trip_of: register
@@ -891,4 +892,14 @@ fn lower_frame(
         meaning,
         printed,
     })
+}
+
+/// The register's inferred facts as the page marks them: an `unknown` while-running flag
+/// is shown as the library's assumption (not writable), so it is marked like a reading.
+fn inferred_facts(register: &RegisterModel) -> Vec<InferredFact> {
+    let mut facts = register.inferred.clone();
+    if register.writable_while_running.is_unknown() {
+        facts.push(InferredFact::WritableWhileRunning);
+    }
+    facts
 }

@@ -812,8 +812,11 @@ pub struct RegisterIr {
     pub access: Access,
     /// Writes go to RAM only.
     pub ram_only: bool,
-    /// May be written while the motor runs.
+    /// May be written while the motor runs (false when the manual does not say).
     pub writable_while_running: bool,
+    /// The manual does not say whether it may be written while running (`unknown`): a
+    /// master attempts the write and reports a refusal; the virtual drive accepts it.
+    pub while_running_unknown: bool,
     /// Only effective when set from the panel.
     pub panel_only: bool,
     /// When a written value takes effect.

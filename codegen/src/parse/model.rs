@@ -618,6 +618,69 @@ pub enum TimingField {
     ProcessingAllowanceMs,
 }
 
+/// Whether a register may be written while the motor runs, as the manual gives it: `true`,
+/// `false`, or `unknown` where its table has no such column (the VF-AS1's section 7 table).
+#[derive(Debug, Clone, Copy, JsonSchema, Serialize, PartialEq, Eq)]
+#[serde(untagged)]
+pub enum WhileRunning {
+    /// Stated by the manual (or inferred, and then listed in `inferred`).
+    Known(bool),
+    /// `unknown`: the manual does not say. A master attempts the write and reports the
+    /// drive's refusal; the virtual drive accepts it.
+    Unknown(UnknownWord),
+}
+
+impl Default for WhileRunning {
+    fn default() -> Self {
+        WhileRunning::Known(false)
+    }
+}
+
+impl WhileRunning {
+    /// Known to be writable while running.
+    pub fn writable(self) -> bool {
+        self == WhileRunning::Known(true)
+    }
+
+    /// The manual does not say.
+    pub fn is_unknown(self) -> bool {
+        matches!(self, WhileRunning::Unknown(_))
+    }
+}
+
+impl<'de> Deserialize<'de> for WhileRunning {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = WhileRunning;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("true, false or unknown")
+            }
+            fn visit_bool<E: serde::de::Error>(self, value: bool) -> Result<WhileRunning, E> {
+                Ok(WhileRunning::Known(value))
+            }
+            fn visit_str<E: serde::de::Error>(self, value: &str) -> Result<WhileRunning, E> {
+                match value {
+                    "unknown" => Ok(WhileRunning::Unknown(UnknownWord::Unknown)),
+                    other => Err(E::invalid_value(
+                        serde::de::Unexpected::Str(other),
+                        &"true, false or unknown",
+                    )),
+                }
+            }
+        }
+        deserializer.deserialize_any(Visitor)
+    }
+}
+
+/// The word `unknown`: a fact the manual leaves open.
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum UnknownWord {
+    /// `unknown`.
+    Unknown,
+}
+
 /// A register fact that can be marked as inferred (the description's reading, not the
 /// manual's statement).
 #[derive(Debug, Clone, Copy, Deserialize, JsonSchema, Serialize, PartialEq, Eq)]
@@ -1195,9 +1258,10 @@ pub struct RegisterModel {
     /// No persistent (EEPROM) write is generated.
     #[serde(default)]
     pub ram_only: bool,
-    /// May be written while the motor runs.
+    /// May be written while the motor runs: `true`, `false` (default) or `unknown` (the
+    /// manual's table has no such column).
     #[serde(default)]
-    pub writable_while_running: bool,
+    pub writable_while_running: WhileRunning,
     /// Only effective when set from the panel.
     #[serde(default)]
     pub panel_only: bool,

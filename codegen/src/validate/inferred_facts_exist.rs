@@ -5,7 +5,7 @@ use crate::parse::model::InferredFact;
 use crate::validate::Context;
 
 /// Every `inferred` entry names a fact the register has (a unit, scale, range or default
-/// that is given), and no entry is repeated.
+/// that is given, a while-running flag that is not `unknown`), and no entry is repeated.
 pub fn inferred_facts_exist(drive: &Context, out: &mut Diagnostics) {
     for (index, register) in drive.model.registers.iter().enumerate() {
         for (position, fact) in register.inferred.iter().enumerate() {
@@ -17,7 +17,22 @@ pub fn inferred_facts_exist(drive: &Context, out: &mut Diagnostics) {
                 InferredFact::Default => register.default.is_none().then_some("default"),
                 _ => None,
             };
-            if let Some(key) = missing {
+            if *fact == InferredFact::WritableWhileRunning
+                && register.writable_while_running.is_unknown()
+            {
+                out.push(
+                    drive
+                        .source
+                        .error(
+                            &path,
+                            format!(
+                                "`{}` marks writable_while_running as inferred but gives it as `unknown`",
+                                register.code
+                            ),
+                        )
+                        .hint("an unknown is not a reading: give `true` or `false` and keep the entry, or keep `unknown` and drop the entry"),
+                );
+            } else if let Some(key) = missing {
                 out.push(
                     drive
                         .source
@@ -56,6 +71,27 @@ mod tests {
         let yaml = valid_with(&[(
             "unit: s, scale: 0.1,",
             "unit: s, scale: 0.1, inferred: [unit, scale, writable_while_running],",
+        )]);
+        assert!(check_yaml(check, &yaml).is_empty());
+    }
+
+    #[test]
+    fn reports_an_unknown_marked_as_inferred() {
+        let yaml = valid_with(&[(
+            "unit: s, scale: 0.1,",
+            "unit: s, scale: 0.1, writable_while_running: unknown, inferred: [writable_while_running],",
+        )]);
+        let found = check_yaml(check, &yaml);
+        assert_at(
+            only(&found),
+            &yaml,
+            "registers[0].inferred[0]",
+            "`Acc` marks writable_while_running as inferred but gives it as `unknown`",
+            "code: Acc,",
+        );
+        let yaml = valid_with(&[(
+            "unit: s, scale: 0.1,",
+            "unit: s, scale: 0.1, writable_while_running: unknown,",
         )]);
         assert!(check_yaml(check, &yaml).is_empty());
     }

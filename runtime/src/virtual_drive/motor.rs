@@ -346,5 +346,27 @@ impl VirtualDrive {
                 self.storage.set(info, 0, word, false);
             }
         }
+        if !tripped {
+            self.follow_live_registers();
+        }
+    }
+
+    /// Copies each live register into its held copy where the copy is also marked live
+    /// except while tripped (`held_at_trip_of` with `live_except_while_tripped`): such a
+    /// copy follows its live register between trips and keeps the trip's value while tripped.
+    fn follow_live_registers(&mut self) {
+        for held in self.drive.registers {
+            if !held.live_except_while_tripped {
+                continue;
+            }
+            let Some(live) = held
+                .held_at_trip_of
+                .and_then(|code| self.drive.register(code))
+            else {
+                continue;
+            };
+            let raw = self.storage.get(live, 0);
+            self.storage.set(held, 0, raw, false);
+        }
     }
 }

@@ -859,7 +859,9 @@ impl VirtualDrive {
         if !self.in_required_mode(info) {
             return Err(Refusal::WrongMode);
         }
-        if !info.writable_while_running && self.is_running() {
+        // `unknown` (the manual has no while-running column): accepted, since refusing would
+        // invent a rule the manual does not state.
+        if !info.writable_while_running && !info.while_running_unknown && self.is_running() {
             return Err(Refusal::WhileRunning);
         }
         let signed = if info.signed {

@@ -103,6 +103,7 @@ fn info(ir: &DriveIr, register: &RegisterIr, tables: &Tables) -> RegisterInfo {
     info.signed = register.signed;
     info.ram_only = register.ram_only;
     info.writable_while_running = register.writable_while_running;
+    info.while_running_unknown = register.while_running_unknown;
     info.panel_only = register.panel_only;
     info.no_reply = register.no_reply;
     info.live_except_while_tripped = register.live_except_while_tripped;

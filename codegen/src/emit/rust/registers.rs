@@ -36,6 +36,8 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
     }
     facts.push(if register.writable_while_running {
         "writable while running".into()
+    } else if register.while_running_unknown {
+        "the manual does not say whether it may be written while running (the write is attempted; a refusal is reported)".into()
     } else {
         "not writable while running".into()
     });
@@ -207,6 +209,9 @@ fn info_chain(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
     }
     if register.writable_while_running {
         chain.extend(quote!(.with_writable_while_running()));
+    }
+    if register.while_running_unknown {
+        chain.extend(quote!(.with_while_running_unknown()));
     }
     if register.panel_only {
         chain.extend(quote!(.with_panel_only()));
