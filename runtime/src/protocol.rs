@@ -1477,6 +1477,10 @@ impl Protocol {
                     {
                         continue;
                     }
+                    if let Err(error) = self.station_in_range(layout, &values) {
+                        best = Some(furthest(best, error));
+                        continue;
+                    }
                     let wire = values.get(layout, Role::Register).map(|r| r as u16);
                     let station = values.get(layout, Role::Address);
                     let broadcast = station.and_then(|value| {
@@ -1589,9 +1593,43 @@ impl Protocol {
             DecodeStatus::Incomplete => Ok(None),
             DecodeStatus::Complete { values, len } => {
                 no_open_station(layout, &values)?;
+                self.station_in_range(layout, &values)?;
                 Ok(Some(self.error_reply_from(layout, values, len)))
             }
         }
+    }
+
+    /// Refuses a frame whose station field holds one station outside the protocol's
+    /// station range (the description's `addressing`), as [`Protocol::encode_request`]
+    /// refuses to address it: a YD1000 frame from station 64 (range 0-63) is no frame of
+    /// the drive. A broadcast encoding in the field (Modbus 0, `**`, FFh) is no station.
+    fn station_in_range(
+        &self,
+        layout: &FrameLayout,
+        values: &FrameValues,
+    ) -> Result<(), DecodeError> {
+        let Some((index, None)) = layout.locate(Role::Address) else {
+            return Ok(());
+        };
+        let slot = values.parts[index];
+        let Part::Field(field) = &layout.parts[index] else {
+            return Ok(());
+        };
+        if !slot.present || broadcasts::from_field_value(field, slot.value).is_some() {
+            return Ok(());
+        }
+        let (min, max) = self.address_range;
+        if (u32::from(min)..=u32::from(max)).contains(&slot.value) {
+            return Ok(());
+        }
+        Err(DecodeError::StationOutOfRange {
+            layout: layout.name.clone(),
+            part: field.name.clone(),
+            offset: layout.wire_span(part_offset(layout, values, index), 0).0,
+            station: slot.value,
+            min,
+            max,
+        })
     }
 
     /// The error reply with these decoded `values`.
@@ -1641,6 +1679,14 @@ impl Protocol {
         if code.is_some_and(|code| !self.reply_code_matches(command, code)) {
             return None;
         }
+        // A station outside the range: the interpreter says so.
+        if roles.address.is_some()
+            && self
+                .station_in_range(&command.reply, &frame.values)
+                .is_err()
+        {
+            return None;
+        }
         Some(self.data_reply(command, roles, frame.values, frame.len, None))
     }
 
@@ -1654,6 +1700,7 @@ impl Protocol {
     ) -> Result<Reply<'p>, DecodeError> {
         let layout = &command.reply;
         no_open_station(layout, &values)?;
+        self.station_in_range(layout, &values)?;
         let roles = values.roles(layout);
         let code = roles.command;
         if let Some(code) = code.filter(|code| !self.reply_code_matches(command, *code)) {
@@ -2084,7 +2131,9 @@ impl Protocol {
                             }
                         }
                     } else {
-                        if let Err(error) = no_open_station(layout, &values) {
+                        if let Err(error) = no_open_station(layout, &values)
+                            .and_then(|()| self.station_in_range(layout, &values))
+                        {
                             best = Some(furthest(best, error));
                             continue;
                         }
@@ -2144,6 +2193,21 @@ fn no_open_station(layout: &FrameLayout, values: &FrameValues) -> Result<(), Dec
     }
 }
 
+/// Where the part at `index` of `layout` begins in a frame, counting the fixed sizes of
+/// the parts before it (an optional part counted when present, digits by the count read);
+/// the station field follows only fixed parts in every layout.
+fn part_offset(layout: &FrameLayout, values: &FrameValues, index: usize) -> usize {
+    layout.parts[..index]
+        .iter()
+        .zip(values.parts.iter())
+        .map(|(part, slot)| match part {
+            Part::Literal { bytes, .. } if slot.present => bytes.len(),
+            Part::Field(_) if slot.width > 0 => usize::from(slot.width),
+            part => part.fixed_size().unwrap_or(0),
+        })
+        .sum()
+}
+
 fn is_optional(part: &Part) -> bool {
     match part {
         Part::Field(field) => field.optional.is_some(),
@@ -2172,7 +2236,12 @@ fn settle<'p>(
 
 /// Keeps the error that got further into the frame: it names the most telling problem.
 fn furthest(best: Option<DecodeError>, error: DecodeError) -> DecodeError {
+    // A whole frame from a station the drive cannot have says more than a layout that
+    // failed further on.
+    let whole = |e: &DecodeError| matches!(e, DecodeError::StationOutOfRange { .. });
     match best {
+        Some(best) if whole(&best) && !whole(&error) => best,
+        Some(_) if whole(&error) => error,
         Some(best) if best.offset() >= error.offset() => best,
         _ => error,
     }
