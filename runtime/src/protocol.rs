@@ -586,6 +586,12 @@ pub struct Protocol {
     /// terminator) and which one this protocol is in; `None`: it has none. See
     /// [`Protocol::variant`].
     pub variants: Option<Variants>,
+    /// The error code the drive answers a well-formed request with when its function
+    /// (command code) is not one of [`Protocol::commands`] (DV1 and VF-AS1 Modbus:
+    /// exception 01); the reply carries the request's function marked as every command's
+    /// error code marks it ([`Protocol::error_code_of_function`]). `None`: the manual does
+    /// not say, and the virtual drive stays silent.
+    pub unsupported_function: Option<u16>,
 }
 
 /// A register of the drive whose value chooses where parameter writes over the link go
@@ -761,6 +767,22 @@ impl Protocol {
             error_reply: self.error_reply.clone().map(FrameLayout::unplanned),
             ..self.clone()
         }
+    }
+
+    /// The code an error reply carries for a request with the function `code`, when every
+    /// command's error code is its own code moved by one offset (Modbus: function + 80h),
+    /// which then holds for any function; `None` when the commands have no error codes or
+    /// no common offset.
+    pub fn error_code_of_function(&self, code: u32) -> Option<u32> {
+        let mut offsets = self.commands.iter().map(|command| {
+            command
+                .error_code
+                .map(|error| error.wrapping_sub(command.code))
+        });
+        let first = offsets.next()??;
+        offsets
+            .all(|offset| offset == Some(first))
+            .then(|| code.wrapping_add(first))
     }
 
     /// The id of the variant this protocol is in (`None`: the protocol has no variants).
