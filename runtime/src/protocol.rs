@@ -1616,6 +1616,7 @@ impl Protocol {
             DecodeStatus::Complete { values, len } => {
                 no_open_station(layout, &values)?;
                 self.station_in_range(layout, &values)?;
+                self.error_function_known(layout, &values)?;
                 Ok(Some(self.error_reply_from(layout, values, len)))
             }
         }
@@ -1652,6 +1653,43 @@ impl Protocol {
             min,
             max,
         })
+    }
+
+    /// Refuses an error reply whose function code is the error code of none of the drive's
+    /// commands, when each of them names one (Modbus: a drive without function 08 sends
+    /// no 88h, although the shared protocol file's layout allows it).
+    fn error_function_known(
+        &self,
+        layout: &FrameLayout,
+        values: &FrameValues,
+    ) -> Result<(), DecodeError> {
+        let Some(code) = values.get(layout, Role::Command) else {
+            return Ok(());
+        };
+        let codes: Option<Vec<u32>> = self.commands.iter().map(|c| c.error_code).collect();
+        match codes {
+            Some(codes) if !codes.is_empty() && !codes.contains(&code) => {
+                Err(DecodeError::NotAllowed {
+                    layout: layout.name.clone(),
+                    part: layout
+                        .index_of(Role::Command)
+                        .map_or(Cow::Borrowed("command"), |i| {
+                            layout.parts[i].name().to_owned().into()
+                        }),
+                    offset: layout
+                        .wire_span(
+                            layout
+                                .index_of(Role::Command)
+                                .map_or(0, |i| part_offset(layout, values, i)),
+                            0,
+                        )
+                        .0,
+                    value: code,
+                    format: Format::U8,
+                })
+            }
+            _ => Ok(()),
+        }
     }
 
     /// The error reply with these decoded `values`.
@@ -2155,6 +2193,7 @@ impl Protocol {
                     } else {
                         if let Err(error) = no_open_station(layout, &values)
                             .and_then(|()| self.station_in_range(layout, &values))
+                            .and_then(|()| self.error_function_known(layout, &values))
                         {
                             best = Some(furthest(best, error));
                             continue;

@@ -11,7 +11,7 @@ use crate::emit::words::{
 use crate::ir::*;
 use serde::Serialize;
 use vfd_runtime::serial::SerialSettings;
-use vfd_runtime::{PreStep, Role, Space};
+use vfd_runtime::{FrameLayout, Part, PreStep, Role, Space};
 
 #[derive(Serialize)]
 pub(super) struct DriveView<'a> {
@@ -1033,16 +1033,43 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
         layouts: names
             .into_iter()
             .filter_map(layout)
-            .map(|layout| LayoutView {
-                name: layout.name.to_string(),
-                parts: layout
-                    .parts
-                    .iter()
-                    .map(|part| part_view(part, &layout.parts))
-                    .collect(),
+            .map(|layout| {
+                let parts = drive_error_functions(protocol, layout);
+                LayoutView {
+                    name: layout.name.to_string(),
+                    parts: parts.iter().map(|part| part_view(part, &parts)).collect(),
+                }
             })
             .collect(),
     }
+}
+
+/// `layout`'s parts as this drive sends them: in the error reply, the function field
+/// allows only the error codes of the drive's own commands (the FC 51 sends no 88h: it has
+/// no function 08), when each command names one; as the protocol file gives them otherwise.
+fn drive_error_functions(protocol: &ProtocolIr, layout: &FrameLayout) -> Vec<Part> {
+    let mut parts = layout.parts.to_vec();
+    if protocol.error_reply.as_deref() != Some(layout.name.as_ref()) {
+        return parts;
+    }
+    let codes: Option<Vec<u32>> = protocol.commands.iter().map(|c| c.error_code).collect();
+    let Some(codes) = codes.filter(|codes| !codes.is_empty()) else {
+        return parts;
+    };
+    for part in &mut parts {
+        if let Part::Field(field) = part {
+            if field.role == Role::Command && !field.allowed.is_empty() {
+                let kept: Vec<u32> = field
+                    .allowed
+                    .iter()
+                    .copied()
+                    .filter(|code| codes.contains(code))
+                    .collect();
+                field.allowed = std::borrow::Cow::Owned(kept);
+            }
+        }
+    }
+    parts
 }
 
 /// One sentence per line rule the drive states for `protocol`.
