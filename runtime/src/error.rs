@@ -108,6 +108,23 @@ pub enum DecodeError {
         /// Extra bytes.
         extra: usize,
     },
+    /// The station field holds a station outside the protocol's station range (the
+    /// drive's `addressing`), which the encoder refuses as well.
+    #[error("{layout}: station {station} in `{part}` at byte {offset} is outside the drive's station range {min}..={max}, which the encoder refuses too; check the station number, or the drive the frame is decoded for")]
+    StationOutOfRange {
+        /// Layout name.
+        layout: Text,
+        /// Part name.
+        part: Text,
+        /// Byte offset of the field.
+        offset: usize,
+        /// The station the frame carries.
+        station: u32,
+        /// Lowest station of the drive.
+        min: u8,
+        /// Highest station of the drive.
+        max: u8,
+    },
     /// No layout of the protocol matches the frame.
     #[error("{protocol}: no {what} layout matches; the closest attempt failed with: {closest}")]
     NoLayoutMatches {
@@ -191,7 +208,9 @@ impl DecodeError {
     pub fn kind(&self) -> DecodeErrorKind {
         match self {
             DecodeError::UnexpectedByte { .. } => DecodeErrorKind::UnexpectedByte,
-            DecodeError::NotAllowed { .. } => DecodeErrorKind::NotAllowed,
+            DecodeError::NotAllowed { .. } | DecodeError::StationOutOfRange { .. } => {
+                DecodeErrorKind::NotAllowed
+            }
             DecodeError::ChecksumMismatch { .. } => DecodeErrorKind::ChecksumMismatch,
             DecodeError::LengthMismatch { .. } => DecodeErrorKind::LengthMismatch,
             DecodeError::Truncated { .. } => DecodeErrorKind::Truncated,
@@ -205,6 +224,7 @@ impl DecodeError {
         match self {
             DecodeError::UnexpectedByte { offset, .. }
             | DecodeError::NotAllowed { offset, .. }
+            | DecodeError::StationOutOfRange { offset, .. }
             | DecodeError::ChecksumMismatch { offset, .. }
             | DecodeError::LengthMismatch { offset, .. } => *offset,
             DecodeError::Truncated { len, .. } | DecodeError::TrailingBytes { len, .. } => *len,
@@ -218,6 +238,7 @@ impl DecodeError {
         match &mut self {
             DecodeError::UnexpectedByte { offset, .. }
             | DecodeError::NotAllowed { offset, .. }
+            | DecodeError::StationOutOfRange { offset, .. }
             | DecodeError::ChecksumMismatch { offset, .. }
             | DecodeError::LengthMismatch { offset, .. } => *offset = map(*offset),
             DecodeError::Truncated { len, .. } | DecodeError::TrailingBytes { len, .. } => {

@@ -586,6 +586,12 @@ pub struct Protocol {
     /// terminator) and which one this protocol is in; `None`: it has none. See
     /// [`Protocol::variant`].
     pub variants: Option<Variants>,
+    /// The error code the drive answers a well-formed request with when its function
+    /// (command code) is not one of [`Protocol::commands`] (DV1 and VF-AS1 Modbus:
+    /// exception 01); the reply carries the request's function marked as every command's
+    /// error code marks it ([`Protocol::error_code_of_function`]). `None`: the manual does
+    /// not say, and the virtual drive stays silent.
+    pub unsupported_function: Option<u16>,
 }
 
 /// A register of the drive whose value chooses where parameter writes over the link go
@@ -761,6 +767,22 @@ impl Protocol {
             error_reply: self.error_reply.clone().map(FrameLayout::unplanned),
             ..self.clone()
         }
+    }
+
+    /// The code an error reply carries for a request with the function `code`, when every
+    /// command's error code is its own code moved by one offset (Modbus: function + 80h),
+    /// which then holds for any function; `None` when the commands have no error codes or
+    /// no common offset.
+    pub fn error_code_of_function(&self, code: u32) -> Option<u32> {
+        let mut offsets = self.commands.iter().map(|command| {
+            command
+                .error_code
+                .map(|error| error.wrapping_sub(command.code))
+        });
+        let first = offsets.next()??;
+        offsets
+            .all(|offset| offset == Some(first))
+            .then(|| code.wrapping_add(first))
     }
 
     /// The id of the variant this protocol is in (`None`: the protocol has no variants).
@@ -1477,6 +1499,10 @@ impl Protocol {
                     {
                         continue;
                     }
+                    if let Err(error) = self.station_in_range(layout, &values) {
+                        best = Some(furthest(best, error));
+                        continue;
+                    }
                     let wire = values.get(layout, Role::Register).map(|r| r as u16);
                     let station = values.get(layout, Role::Address);
                     let broadcast = station.and_then(|value| {
@@ -1589,8 +1615,80 @@ impl Protocol {
             DecodeStatus::Incomplete => Ok(None),
             DecodeStatus::Complete { values, len } => {
                 no_open_station(layout, &values)?;
+                self.station_in_range(layout, &values)?;
+                self.error_function_known(layout, &values)?;
                 Ok(Some(self.error_reply_from(layout, values, len)))
             }
+        }
+    }
+
+    /// Refuses a frame whose station field holds one station outside the protocol's
+    /// station range (the description's `addressing`), as [`Protocol::encode_request`]
+    /// refuses to address it: a YD1000 frame from station 64 (range 0-63) is no frame of
+    /// the drive. A broadcast encoding in the field (Modbus 0, `**`, FFh) is no station.
+    fn station_in_range(
+        &self,
+        layout: &FrameLayout,
+        values: &FrameValues,
+    ) -> Result<(), DecodeError> {
+        let Some((index, None)) = layout.locate(Role::Address) else {
+            return Ok(());
+        };
+        let slot = values.parts[index];
+        let Part::Field(field) = &layout.parts[index] else {
+            return Ok(());
+        };
+        if !slot.present || broadcasts::from_field_value(field, slot.value).is_some() {
+            return Ok(());
+        }
+        let (min, max) = self.address_range;
+        if (u32::from(min)..=u32::from(max)).contains(&slot.value) {
+            return Ok(());
+        }
+        Err(DecodeError::StationOutOfRange {
+            layout: layout.name.clone(),
+            part: field.name.clone(),
+            offset: layout.wire_span(part_offset(layout, values, index), 0).0,
+            station: slot.value,
+            min,
+            max,
+        })
+    }
+
+    /// Refuses an error reply whose function code is the error code of none of the drive's
+    /// commands, when each of them names one (Modbus: a drive without function 08 sends
+    /// no 88h, although the shared protocol file's layout allows it).
+    fn error_function_known(
+        &self,
+        layout: &FrameLayout,
+        values: &FrameValues,
+    ) -> Result<(), DecodeError> {
+        let Some(code) = values.get(layout, Role::Command) else {
+            return Ok(());
+        };
+        let codes: Option<Vec<u32>> = self.commands.iter().map(|c| c.error_code).collect();
+        match codes {
+            Some(codes) if !codes.is_empty() && !codes.contains(&code) => {
+                Err(DecodeError::NotAllowed {
+                    layout: layout.name.clone(),
+                    part: layout
+                        .index_of(Role::Command)
+                        .map_or(Cow::Borrowed("command"), |i| {
+                            layout.parts[i].name().to_owned().into()
+                        }),
+                    offset: layout
+                        .wire_span(
+                            layout
+                                .index_of(Role::Command)
+                                .map_or(0, |i| part_offset(layout, values, i)),
+                            0,
+                        )
+                        .0,
+                    value: code,
+                    format: Format::U8,
+                })
+            }
+            _ => Ok(()),
         }
     }
 
@@ -1641,6 +1739,14 @@ impl Protocol {
         if code.is_some_and(|code| !self.reply_code_matches(command, code)) {
             return None;
         }
+        // A station outside the range: the interpreter says so.
+        if roles.address.is_some()
+            && self
+                .station_in_range(&command.reply, &frame.values)
+                .is_err()
+        {
+            return None;
+        }
         Some(self.data_reply(command, roles, frame.values, frame.len, None))
     }
 
@@ -1654,6 +1760,7 @@ impl Protocol {
     ) -> Result<Reply<'p>, DecodeError> {
         let layout = &command.reply;
         no_open_station(layout, &values)?;
+        self.station_in_range(layout, &values)?;
         let roles = values.roles(layout);
         let code = roles.command;
         if let Some(code) = code.filter(|code| !self.reply_code_matches(command, *code)) {
@@ -2084,7 +2191,10 @@ impl Protocol {
                             }
                         }
                     } else {
-                        if let Err(error) = no_open_station(layout, &values) {
+                        if let Err(error) = no_open_station(layout, &values)
+                            .and_then(|()| self.station_in_range(layout, &values))
+                            .and_then(|()| self.error_function_known(layout, &values))
+                        {
                             best = Some(furthest(best, error));
                             continue;
                         }
@@ -2144,6 +2254,21 @@ fn no_open_station(layout: &FrameLayout, values: &FrameValues) -> Result<(), Dec
     }
 }
 
+/// Where the part at `index` of `layout` begins in a frame, counting the fixed sizes of
+/// the parts before it (an optional part counted when present, digits by the count read);
+/// the station field follows only fixed parts in every layout.
+fn part_offset(layout: &FrameLayout, values: &FrameValues, index: usize) -> usize {
+    layout.parts[..index]
+        .iter()
+        .zip(values.parts.iter())
+        .map(|(part, slot)| match part {
+            Part::Literal { bytes, .. } if slot.present => bytes.len(),
+            Part::Field(_) if slot.width > 0 => usize::from(slot.width),
+            part => part.fixed_size().unwrap_or(0),
+        })
+        .sum()
+}
+
 fn is_optional(part: &Part) -> bool {
     match part {
         Part::Field(field) => field.optional.is_some(),
@@ -2172,7 +2297,12 @@ fn settle<'p>(
 
 /// Keeps the error that got further into the frame: it names the most telling problem.
 fn furthest(best: Option<DecodeError>, error: DecodeError) -> DecodeError {
+    // A whole frame from a station the drive cannot have says more than a layout that
+    // failed further on.
+    let whole = |e: &DecodeError| matches!(e, DecodeError::StationOutOfRange { .. });
     match best {
+        Some(best) if whole(&best) && !whole(&error) => best,
+        Some(_) if whole(&error) => error,
         Some(best) if best.offset() >= error.offset() => best,
         _ => error,
     }

@@ -10,6 +10,9 @@ The plan is a JSON list of operations:
   {"op": "write_coil", "address": A, "value": true|false}  function 05
   {"op": "write_coils", "address": A, "values": [true|false, ...]}  function 15
   {"op": "echo", "value": V}                      function 08, sub-function 0000h (V echoed)
+  {"op": "read_discrete", "address": A, "count": N}  function 02
+  {"op": "read_input", "address": A, "count": N}  function 04
+  {"op": "device_info"}                           function 2Bh / 0Eh, basic identification
   {"op": "sleep", "seconds": S}
 One JSON line is printed per operation: {"ok": true, "values": [...]} or
 {"ok": false, "exception": CODE} for a Modbus exception reply, or {"ok": false, "error": TEXT}.
@@ -54,6 +57,15 @@ def run_pymodbus(port, station, plan, mode):
             elif op == "echo":
                 r = client.diag_query_data(step["value"].to_bytes(2, "big"), device_id=station)
                 result = answer(r, lambda r: [int.from_bytes(r.message, "big")])
+            elif op == "read_discrete":
+                r = client.read_discrete_inputs(step["address"], count=step["count"], device_id=station)
+                result = answer(r, lambda r: [int(b) for b in r.bits[: step["count"]]])
+            elif op == "read_input":
+                r = client.read_input_registers(step["address"], count=step["count"], device_id=station)
+                result = answer(r, lambda r: list(r.registers))
+            elif op == "device_info":
+                r = client.read_device_information(read_code=1, object_id=0, device_id=station)
+                result = answer(r, lambda r: [])
             elif op == "read_coils":
                 r = client.read_coils(step["address"], count=step["count"], device_id=station)
                 result = answer(r, lambda r: [int(b) for b in r.bits[: step["count"]]])
@@ -107,6 +119,15 @@ def run_minimalmodbus(port, station, plan, mode):
                 sent = b"\x00\x00" + step["value"].to_bytes(2, "big")
                 back = instrument._perform_command(8, sent)
                 values = [int.from_bytes(back[2:4], "big")] if back[:2] == b"\x00\x00" else []
+            elif op == "read_discrete":
+                values = instrument.read_bits(step["address"], step["count"], functioncode=2)
+            elif op == "read_input":
+                values = instrument.read_registers(step["address"], step["count"], functioncode=4)
+            elif op == "device_info":
+                # minimalmodbus has no call for 2Bh: its generic command, MEI type 0Eh,
+                # basic identification (01), object 00.
+                instrument._perform_command(0x2B, b"\x0e\x01\x00")
+                values = []
             elif op == "read_coils":
                 values = instrument.read_bits(step["address"], step["count"], functioncode=1)
             elif op == "write_coil":

@@ -14,6 +14,10 @@
 //!   exception 03 for thirteen, exception 02 for an address with no register and
 //!   function 08's echo (manual 5.8.1).
 //!
+//! - Functions a drive lacks (02, 04, 2Bh): the DV1 and the VF-AS1 answer exception 01
+//!   (illegal function) as their manuals say; the FC 51, whose manual does not say, stays
+//!   silent.
+//!
 //! Needs `pip install -r tests/python/requirements.txt` (.ci/run does it). Without the
 //! packages the test says SKIPPED, except under CI, where it fails.
 
@@ -410,4 +414,108 @@ fn minimalmodbus_talks_to_our_virtual_dv1_in_modbus_rtu() {
 #[test]
 fn minimalmodbus_talks_to_our_virtual_dv1_in_modbus_ascii() {
     check_dv1("minimalmodbus", "ascii");
+}
+
+/// Functions the drive lacks: 02 (read discrete inputs), 04 (read input registers) and
+/// 2Bh / 0Eh (read device identification), then a read of `register` that the drive has,
+/// which must still be answered.
+fn lacking_plan(register: u16) -> serde_json::Value {
+    serde_json::json!([
+        { "op": "read_discrete", "address": 0, "count": 8 },
+        { "op": "read_input", "address": register, "count": 1 },
+        { "op": "device_info" },
+        { "op": "read", "address": register, "count": 1 },
+    ])
+}
+
+/// The drive answers each function it lacks with exception 01 (illegal function) at once,
+/// as its manual's error table says (DV1 l. 487; VF-AS1 5.3), and goes on answering.
+fn check_illegal_function(
+    client: &str,
+    sim: Simulator,
+    protocol: &'static Protocol,
+    framing: &str,
+    register: u16,
+) {
+    let Some(answers) = run_framed(client, sim, protocol, framing, lacking_plan(register)) else {
+        return;
+    };
+    for (step, answer) in answers.iter().take(3).enumerate() {
+        assert_eq!(
+            answer["exception"], 1,
+            "{client} {framing} step {step}: IllegalFunction, not a time-out: {answer}"
+        );
+    }
+    assert_eq!(answers[3]["ok"], true, "{client} {framing}: {}", answers[3]);
+}
+
+fn dv1_register() -> u16 {
+    dv1::DRIVE
+        .register("parameter_02_15")
+        .expect("02-15")
+        .address
+}
+
+fn vf_as1_register() -> u16 {
+    vf_as1::DRIVE
+        .register("output_frequency")
+        .expect("FD00")
+        .address
+}
+
+#[test]
+fn pymodbus_gets_illegal_function_from_our_virtual_dv1() {
+    for (framing, protocol) in [
+        ("rtu", dv1::protocols::MODBUS.protocol()),
+        ("ascii", dv1::protocols::MODBUS_ASCII.protocol()),
+    ] {
+        let sim = Simulator::new(&dv1::DRIVE);
+        check_illegal_function("pymodbus", sim, protocol, framing, dv1_register());
+    }
+}
+
+#[test]
+fn minimalmodbus_gets_illegal_function_from_our_virtual_dv1() {
+    for (framing, protocol) in [
+        ("rtu", dv1::protocols::MODBUS.protocol()),
+        ("ascii", dv1::protocols::MODBUS_ASCII.protocol()),
+    ] {
+        let sim = Simulator::new(&dv1::DRIVE);
+        check_illegal_function("minimalmodbus", sim, protocol, framing, dv1_register());
+    }
+}
+
+#[test]
+fn pymodbus_gets_illegal_function_from_our_virtual_vf_as1() {
+    let sim = Simulator::new(&vf_as1::DRIVE);
+    let protocol = vf_as1::protocols::MODBUS.protocol();
+    check_illegal_function("pymodbus", sim, protocol, "rtu", vf_as1_register());
+}
+
+#[test]
+fn minimalmodbus_gets_illegal_function_from_our_virtual_vf_as1() {
+    let sim = Simulator::new(&vf_as1::DRIVE);
+    let protocol = vf_as1::protocols::MODBUS.protocol();
+    check_illegal_function("minimalmodbus", sim, protocol, "rtu", vf_as1_register());
+}
+
+/// The FC 51's manual does not say what a function it lacks gets: the virtual drive stays
+/// silent (the page says so), and answers the next request it has.
+#[test]
+fn pymodbus_gets_no_answer_to_a_function_the_fc51_manual_is_silent_on() {
+    let sim = Simulator::new(&fc51::DRIVE);
+    let plan = serde_json::json!([
+        { "op": "read_input", "address": parameter("maximum_reference"), "count": 2 },
+        { "op": "read", "address": parameter("maximum_reference"), "count": 2 },
+    ]);
+    let Some(answers) = run("pymodbus", sim, fc51::protocols::MODBUS.protocol(), plan) else {
+        return;
+    };
+    assert_eq!(answers[0]["ok"], false, "{}", answers[0]);
+    assert!(
+        answers[0]["exception"].is_null(),
+        "no exception reply: {}",
+        answers[0]
+    );
+    assert_eq!(answers[1]["ok"], true, "{}", answers[1]);
 }

@@ -723,6 +723,18 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
             ))
         },
         variants: runtime.variants.clone(),
+        unsupported_function: runtime.unsupported_function.and_then(|error_code| {
+            let entry = model
+                .protocols
+                .iter()
+                .find(|p| p.id == protocol.id)?
+                .unsupported_function
+                .as_ref()?;
+            Some(UnsupportedFunctionIr {
+                error_code,
+                source: entry.source.clone(),
+            })
+        }),
     }
 }
 

@@ -511,6 +511,19 @@ pub struct ProtocolIr {
     /// The protocol's variants, the register selecting one and the mismatch error.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub variants: Option<vfd_runtime::variant::Variants>,
+    /// The error code the drive answers a function it lacks with, and where the manual
+    /// says so (`protocols[].unsupported_function`); `None`: the manual does not say.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unsupported_function: Option<UnsupportedFunctionIr>,
+}
+
+/// What a drive answers to a function it lacks.
+#[derive(Debug, Clone, Serialize)]
+pub struct UnsupportedFunctionIr {
+    /// The error code of the reply.
+    pub error_code: u16,
+    /// The manual section saying so.
+    pub source: String,
 }
 
 /// Where a protocol's error replies take their meaning from.

@@ -877,6 +877,23 @@ pub struct ProtocolRef {
     /// frame in another variant's form with (`{ register: 07-06, mismatch_error:
     /// protocol_error }`). Left out: the drive speaks the first variant.
     pub variant: Option<VariantRuleModel>,
+    /// What the drive answers to a well-formed request with a function (command code) it
+    /// does not carry out, where its manual says (`{ error_code: 0x01, source: "..." }`:
+    /// the error reply with exception 01). Left out: the manual does not say, and the
+    /// virtual drive stays silent, so a master waits for its time-out.
+    pub unsupported_function: Option<UnsupportedFunctionModel>,
+}
+
+/// What a drive answers to a function it lacks (`protocols[].unsupported_function`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct UnsupportedFunctionModel {
+    /// The error code its error reply carries: one of the protocol's error codes (the
+    /// reply's function code is the request's, marked as the commands' error codes are:
+    /// Modbus function + 80h).
+    pub error_code: u16,
+    /// Where the manual says so.
+    pub source: String,
 }
 
 /// A protocol's parameter pages (`protocols[].pages`): which register numbers lie on which

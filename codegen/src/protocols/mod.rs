@@ -19,6 +19,7 @@ mod pages;
 mod parts;
 mod pre_steps;
 mod text;
+mod unsupported_function;
 mod variants;
 
 use crate::diagnostics::Diagnostics;
@@ -175,7 +176,10 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         paging,
         persistence: persistence(input.drive),
         variants: None,
+        unsupported_function: None,
     };
+    protocol.unsupported_function =
+        unsupported_function::unsupported_function(input, &protocol, &protocol.error_codes, out);
     protocol.variants = variants::lower_variants(input, &protocol, out);
     (out.items.len() == before).then_some(protocol)
 }

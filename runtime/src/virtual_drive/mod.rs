@@ -25,6 +25,7 @@ mod pages;
 mod respond;
 mod serve;
 mod storage;
+mod unsupported;
 
 pub use faults::Fault;
 pub use link::SimLink;
@@ -607,10 +608,21 @@ impl VirtualDrive {
                     let outcome = self.refuse(protocol, None, Refusal::BadChecksum);
                     (outcome, input.len().min(start.len().max(1)))
                 }
-                Ok(Err(_)) => (
-                    Outcome::Silent("framing error"),
-                    if start.is_empty() { input.len() } else { 1 },
-                ),
+                Ok(Err(_)) => match unsupported::lacking(protocol, input, settled) {
+                    unsupported::Lacking::Wait => break,
+                    unsupported::Lacking::Frame {
+                        len,
+                        address,
+                        function,
+                    } => {
+                        self.requests += 1;
+                        (self.answer_lacking(protocol, address, function), len)
+                    }
+                    unsupported::Lacking::No => (
+                        Outcome::Silent("framing error"),
+                        if start.is_empty() { input.len() } else { 1 },
+                    ),
+                },
             };
             let request: Vec<u8> = input.drain(..used).collect();
             if self.noise {

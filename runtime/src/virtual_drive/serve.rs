@@ -59,15 +59,19 @@ pub fn serve<T: Transport>(
             last_byte = now;
         } else {
             let quiet = now - last_byte;
-            if quiet >= settle {
+            let dropped_by_gap = !gap.is_zero() && quiet >= gap;
+            let dropped_inside = !inner_gap.is_zero() && quiet >= inner_gap;
+            let abandoned = !timing.frame_abandon.is_zero() && quiet >= timing.frame_abandon;
+            let dropped = dropped_by_gap || dropped_inside || abandoned;
+            // The bytes before a silence are read as a whole first (a frame that only the
+            // silence ends: a request of a function the drive lacks), even when the
+            // silence is one that drops an unfinished frame.
+            if quiet >= settle || dropped {
                 transmissions = simulator
                     .lock()
                     .receive_before_silence(protocol, &mut input);
             }
-            let dropped_by_gap = !gap.is_zero() && quiet >= gap;
-            let dropped_inside = !inner_gap.is_zero() && quiet >= inner_gap;
-            let abandoned = !timing.frame_abandon.is_zero() && quiet >= timing.frame_abandon;
-            if dropped_by_gap || dropped_inside || abandoned {
+            if dropped {
                 input.clear();
                 simulator.lock().line_silent();
             }

@@ -49,6 +49,7 @@ pub(super) fn protocol(ir: &DriveIr, protocol: &ProtocolIr) -> Protocol {
         paging: protocol.paging.clone(),
         persistence: protocol.persistence.clone(),
         variants: protocol.variants.clone(),
+        unsupported_function: protocol.unsupported_function.as_ref().map(|u| u.error_code),
     }
 }
 

@@ -11,7 +11,7 @@ use crate::emit::words::{
 use crate::ir::*;
 use serde::Serialize;
 use vfd_runtime::serial::SerialSettings;
-use vfd_runtime::{PreStep, Role, Space};
+use vfd_runtime::{FrameLayout, Part, PreStep, Role, Space};
 
 #[derive(Serialize)]
 pub(super) struct DriveView<'a> {
@@ -1033,16 +1033,43 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
         layouts: names
             .into_iter()
             .filter_map(layout)
-            .map(|layout| LayoutView {
-                name: layout.name.to_string(),
-                parts: layout
-                    .parts
-                    .iter()
-                    .map(|part| part_view(part, &layout.parts))
-                    .collect(),
+            .map(|layout| {
+                let parts = drive_error_functions(protocol, layout);
+                LayoutView {
+                    name: layout.name.to_string(),
+                    parts: parts.iter().map(|part| part_view(part, &parts)).collect(),
+                }
             })
             .collect(),
     }
+}
+
+/// `layout`'s parts as this drive sends them: in the error reply, the function field
+/// allows only the error codes of the drive's own commands (the FC 51 sends no 88h: it has
+/// no function 08), when each command names one; as the protocol file gives them otherwise.
+fn drive_error_functions(protocol: &ProtocolIr, layout: &FrameLayout) -> Vec<Part> {
+    let mut parts = layout.parts.to_vec();
+    if protocol.error_reply.as_deref() != Some(layout.name.as_ref()) {
+        return parts;
+    }
+    let codes: Option<Vec<u32>> = protocol.commands.iter().map(|c| c.error_code).collect();
+    let Some(codes) = codes.filter(|codes| !codes.is_empty()) else {
+        return parts;
+    };
+    for part in &mut parts {
+        if let Part::Field(field) = part {
+            if field.role == Role::Command && !field.allowed.is_empty() {
+                let kept: Vec<u32> = field
+                    .allowed
+                    .iter()
+                    .copied()
+                    .filter(|code| codes.contains(code))
+                    .collect();
+                field.allowed = std::borrow::Cow::Owned(kept);
+            }
+        }
+    }
+    parts
 }
 
 /// One sentence per line rule the drive states for `protocol`.
@@ -1110,7 +1137,57 @@ fn link_rules(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
     if let Some(variants) = &protocol.variants {
         rules.push(variants_rule(drive, protocol, variants));
     }
+    rules.extend(unsupported_function_rule(drive, protocol));
     rules
+}
+
+/// One sentence on what the drive answers to a function it lacks, for protocols whose
+/// error replies mark the request's function one way for every command (Modbus: function
+/// + 80h): the manual's error code, or that the manual does not say.
+fn unsupported_function_rule(drive: &DriveIr, protocol: &ProtocolIr) -> Option<String> {
+    let mut offsets = protocol
+        .commands
+        .iter()
+        .map(|c| c.error_code.map(|e| e.wrapping_sub(c.code)));
+    let offset = offsets.next()??;
+    if protocol.error_reply.is_none() || !offsets.all(|o| o == Some(offset)) {
+        return None;
+    }
+    let codes: Vec<String> = protocol
+        .commands
+        .iter()
+        .map(|c| format!("`{}`", vfd_runtime::protocol::code_label(c.code)))
+        .collect();
+    let lacked = format!(
+        "a well-formed request with a function the drive does not carry out (any but {})",
+        codes.join(", ")
+    );
+    let sentence = |rest: String| format!("A{} {rest}", &lacked[1..]);
+    Some(match &protocol.unsupported_function {
+        Some(entry) => {
+            let table = match &protocol.error_table {
+                ErrorTableIr::Drive => &drive.error_codes.codes,
+                ErrorTableIr::Protocol(table) => &table.codes,
+            };
+            let name = table
+                .iter()
+                .find(|c| c.code == entry.error_code)
+                .map_or_else(String::new, |c| {
+                    if c.name_zh.is_empty() {
+                        format!(" ({})", c.name)
+                    } else {
+                        format!(" ({}, {})", c.name, c.name_zh)
+                    }
+                });
+            sentence(format!(
+                "gets an error reply: the function + {offset:02X}h and error code {:02X}h{name} ({}).",
+                entry.error_code, entry.source
+            ))
+        }
+        None => sentence(
+            "gets no answer from the library's virtual drive, so a master waits for its time-out: the manual does not say what the drive does with one.".to_owned(),
+        ),
+    })
 }
 
 /// One sentence on a protocol's variants: each with its bytes, the register selecting one

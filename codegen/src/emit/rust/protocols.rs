@@ -341,6 +341,13 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
         None => quote!(None),
     };
     let variants = variants_tokens(protocol.variants.as_ref());
+    let unsupported_function = match &protocol.unsupported_function {
+        Some(entry) => {
+            let code = int_literal(entry.error_code);
+            quote!(Some(#code))
+        }
+        None => quote!(None),
+    };
     let doc = doc_text(format!(
         "{}, from the protocol file `{}`; manual section {}.",
         protocol.name, protocol.uses, protocol.source
@@ -394,6 +401,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             paging: #paging,
             persistence: #persistence,
             variants: #variants,
+            unsupported_function: #unsupported_function,
         };
     }
 }
