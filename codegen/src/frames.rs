@@ -6,6 +6,7 @@
 
 use crate::parse::model::{BytesModel, DriveFile, ExampleModel, FrameModel, RegisterModel};
 use crate::protocols::LoweredProtocol;
+use vfd_runtime::layout::Role;
 use vfd_runtime::meaning::{decode_meaning, Direction, FrameMeaning};
 use vfd_runtime::protocol::NotAnAnswer;
 use vfd_runtime::{DecodeError, Space};
@@ -27,6 +28,9 @@ pub(crate) struct DecodedExample {
     pub printed_answers: Option<Result<(), NotAnAnswer>>,
     /// A request the drive does not answer (`unanswered_request`), decoded.
     pub unanswered: Option<PrintedFrame>,
+    /// Values the example states for fields of its request's layout beyond its meaning
+    /// (see [`stated_fields`]): the golden checks re-encode the request with them.
+    pub stated: Vec<(Role, u32)>,
 }
 
 impl DecodedExample {
@@ -133,7 +137,16 @@ fn decode_example(example: &ExampleModel, protocols: &[LoweredProtocol]) -> Deco
         ),
         request,
         reply,
+        stated: stated_fields(example),
     }
+}
+
+/// The values an example states for fields of its request's layout beyond its meaning
+/// (a reply-wait digit): the one place the re-encode of `vfd check` and of the golden
+/// tests takes them from. The format has no key for them yet, so there are none.
+pub(crate) fn stated_fields(example: &ExampleModel) -> Vec<(Role, u32)> {
+    let _ = example;
+    Vec::new()
 }
 
 /// The bytes a frame holds (`ascii:` text or `hex:` pairs), or a message saying why there

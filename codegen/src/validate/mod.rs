@@ -13,6 +13,7 @@ mod bit_fields_do_not_overlap;
 mod code_values_are_unique;
 mod defaults_are_in_range;
 mod examples_decode;
+mod examples_re_encode;
 mod identifiers_are_snake_case;
 mod inferred_facts_exist;
 mod line_formats_resolve;
@@ -52,7 +53,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 22] = [
+    let checks: [fn(&Context, &mut Diagnostics); 23] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -68,6 +69,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         serial_settings_are_consistent::serial_settings_are_consistent,
         examples_decode::examples_decode,
         replies_answer_requests::replies_answer_requests,
+        examples_re_encode::examples_re_encode,
         value_examples_match::value_examples_match,
         bit_examples_match::bit_examples_match,
         reference_scaling_resolves::reference_scaling_resolves,
