@@ -253,6 +253,9 @@ Examples:
         /// Folder of protocol files (default: protocols/ next to each drive file).
         #[arg(long, value_name = "DIR")]
         protocols: Option<PathBuf>,
+        /// Fail (exit 1) when there are warnings, as when there are errors.
+        #[arg(long)]
+        deny_warnings: bool,
         /// Drive files.
         #[arg(required = true)]
         files: Vec<String>,
@@ -424,9 +427,11 @@ fn run(command: Command) -> Result<(), Failure> {
             root.as_deref(),
         )
         .map_err(Failure::from),
-        Command::Check { protocols, files } => {
-            generate::check(&files, protocols.as_deref()).map_err(Failure::from)
-        }
+        Command::Check {
+            protocols,
+            deny_warnings,
+            files,
+        } => generate::check(&files, protocols.as_deref(), deny_warnings).map_err(Failure::from),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "vfd", &mut script);

@@ -25,6 +25,9 @@
 //! Where to go for common changes:
 //! - **A new check**: a file in `validate/` with its own tests, added to the list in
 //!   `validate/mod.rs`; a fixture pair in `tests/fixtures/broken/`.
+//! - **A new warning**: a file in `validate/` whose function pushes diagnostics made with
+//!   `SourceFile::warning`, named once in the `warnings!` list in `validate/mod.rs`; a
+//!   fixture pair in `tests/fixtures/warnings/`.
 //! - **A new key in drive files**: `parse/model.rs` (an enum if its values are enumerated;
 //!   a `///` comment, which becomes the key's schema description; a new type derives
 //!   `JsonSchema`), then `ir/types.rs` + `ir/lower.rs`, then the emitters that show it;
@@ -76,7 +79,7 @@ mod validate;
 pub use builder::{
     fail_build, golden_tests_file, write_if_changed, Builder, Error, Generated, GeneratedDrive,
 };
-pub use diagnostics::{Diagnostic, Diagnostics, Position};
+pub use diagnostics::{Diagnostic, Diagnostics, Position, Severity};
 pub use ir::DriveIr;
 pub use output_names::OutputNames;
 pub use schema::{
@@ -87,12 +90,10 @@ pub use schema::{
 use std::path::{Path, PathBuf};
 
 /// Reads, validates and lowers one drive file. `protocols_dir` defaults to the
-/// `protocols/` folder next to the drive file.
+/// `protocols/` folder next to the drive file. Warnings are left out: see
+/// [`compile_with_warnings`].
 pub fn compile(path: &Path, protocols_dir: Option<&Path>) -> Result<DriveIr, Diagnostics> {
-    let source = parse::SourceFile::read(path).map_err(|problem| Diagnostics {
-        items: vec![problem],
-    })?;
-    compile_source(source, protocols_dir)
+    compile_with_warnings(path, protocols_dir).drive
 }
 
 /// Like [`compile`], for a drive file already in memory.
@@ -101,19 +102,42 @@ pub fn compile_text(
     text: String,
     protocols_dir: Option<&Path>,
 ) -> Result<DriveIr, Diagnostics> {
-    compile_source(parse::SourceFile::from_text(path, text), protocols_dir)
+    compile_source(parse::SourceFile::from_text(path, text), protocols_dir).drive
+}
+
+/// A drive file compiled (or refused), with the warnings its description earns.
+#[derive(Debug, Clone)]
+pub struct Compiled {
+    /// The drive's IR, or its errors.
+    pub drive: Result<DriveIr, Diagnostics>,
+    /// Warnings: things that are valid but do not do what they seem to. They never stop
+    /// generation; `vfd check --deny-warnings` fails on them. Printed after the errors.
+    pub warnings: Diagnostics,
+}
+
+/// Like [`compile`], keeping the warnings: what `vfd check` prints.
+pub fn compile_with_warnings(path: &Path, protocols_dir: Option<&Path>) -> Compiled {
+    match parse::SourceFile::read(path) {
+        Ok(source) => compile_source(source, protocols_dir),
+        Err(problem) => Compiled {
+            drive: Err(Diagnostics {
+                items: vec![problem],
+            }),
+            warnings: Diagnostics::default(),
+        },
+    }
 }
 
 /// The pipeline, stage by stage: parse and load, lower protocols, decode examples,
-/// validate, lower to the IR. Every problem of every stage is collected; the IR is built
-/// only from a description without problems.
-fn compile_source(
-    source: parse::SourceFile,
-    protocols_dir: Option<&Path>,
-) -> Result<DriveIr, Diagnostics> {
+/// validate (errors, then warnings), lower to the IR. Every problem of every stage is
+/// collected; the IR is built only from a description without errors.
+fn compile_source(source: parse::SourceFile, protocols_dir: Option<&Path>) -> Compiled {
     let mut diagnostics = Diagnostics::default();
     let Some(drive) = load::load(source, protocols_dir, &mut diagnostics) else {
-        return Err(diagnostics);
+        return Compiled {
+            drive: Err(diagnostics),
+            warnings: Diagnostics::default(),
+        };
     };
     let read_problems = diagnostics.items.len();
     let protocols = protocols::lower(&drive, &mut diagnostics);
@@ -125,18 +149,26 @@ fn compile_source(
         frames,
     };
     validate::check(&context, &mut diagnostics);
+    validate::warn(&context, &mut diagnostics);
     diagnostics.leave_out_consequences(read_problems, &drive.incomplete);
+    diagnostics.attach_sources(|path| {
+        drive
+            .sources
+            .iter()
+            .find(|file| file.path == path)
+            .map(|file| file.text.as_str())
+    });
+    let warnings = diagnostics.take_warnings();
     if !diagnostics.is_empty() {
-        diagnostics.attach_sources(|path| {
-            drive
-                .sources
-                .iter()
-                .find(|file| file.path == path)
-                .map(|file| file.text.as_str())
-        });
-        return Err(diagnostics);
+        return Compiled {
+            drive: Err(diagnostics),
+            warnings,
+        };
     }
-    Ok(ir::lower(&context))
+    Compiled {
+        drive: Ok(ir::lower(&context)),
+        warnings,
+    }
 }
 
 /// One drive's Rust module as tokens, holding its own frame layouts: what

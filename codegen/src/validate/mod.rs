@@ -2,7 +2,8 @@
 //!
 //! Each check is a pass in its own file, over the [`Context`] (the parsed drive, its
 //! lowered protocols and its decoded example frames); [`check`] runs them all in order.
-//! Nothing is generated from a description that has problems.
+//! Nothing is generated from a description that has problems. [`warn`] then runs the
+//! warnings, one file each too: things that are valid but do not do what they seem to.
 
 pub(crate) mod formula;
 pub(crate) mod ranges;
@@ -81,6 +82,27 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
     for check in checks {
         check(drive, out);
     }
+}
+
+/// Declares the warning checks, one file each named after its function, and [`warn`],
+/// which runs them in the order listed. Adding a warning: a file in `validate/` whose
+/// `pub fn <file name>(&Context, &mut Diagnostics)` pushes `source.warning(..)`
+/// diagnostics, and its name in this list.
+macro_rules! warnings {
+    ($($check:ident),* $(,)?) => {
+        $(mod $check;)*
+
+        /// Runs every warning check, in a fixed order.
+        pub(crate) fn warn(drive: &Context, out: &mut Diagnostics) {
+            $($check::$check(drive, out);)*
+        }
+    };
+}
+
+warnings! {
+    behaviour_is_described,
+    examples_are_accepted,
+    settings_change_something,
 }
 
 /// Decimal places a scale implies (0.01 -> 2).
