@@ -373,3 +373,92 @@ pub fn printed_means_otherwise(
     }
     Ok(())
 }
+
+/// The drive's side of a manual's multi-step example, as a transport: every frame the
+/// master sends moves the script past the master's step, and the drive's frames that
+/// follow it are then received. [`Script::assert_followed`] compares what the master sent
+/// with the manual's frames.
+#[derive(Debug)]
+pub struct Script {
+    /// The manual's frames in order: `true` for the master's, `false` for the drive's.
+    steps: Vec<(bool, Vec<u8>)>,
+    /// The next step.
+    at: usize,
+    /// The drive's bytes not yet received.
+    pending: std::collections::VecDeque<u8>,
+    /// What the master sent, frame by frame.
+    sent: Vec<Vec<u8>>,
+}
+
+impl Script {
+    /// A script of `steps`: `(true, bytes)` for the master's frames, `(false, bytes)` for
+    /// the drive's, in the manual's order.
+    pub fn new(steps: &[(bool, &[u8])]) -> Script {
+        Script {
+            steps: steps
+                .iter()
+                .map(|(master, bytes)| (*master, bytes.to_vec()))
+                .collect(),
+            at: 0,
+            pending: std::collections::VecDeque::new(),
+            sent: Vec::new(),
+        }
+    }
+
+    /// Panics unless the master sent exactly the manual's frames, in order, and received
+    /// all of the drive's.
+    #[track_caller]
+    pub fn assert_followed(&self) {
+        if let Err(mismatch) = self.followed() {
+            panic!("{mismatch}");
+        }
+    }
+
+    /// Whether the master sent exactly the manual's frames, in order, and received all of
+    /// the drive's; the first difference if not.
+    pub fn followed(&self) -> Result<(), Mismatch> {
+        let expected: Vec<String> = self
+            .steps
+            .iter()
+            .filter(|(master, _)| *master)
+            .map(|(_, bytes)| hex(bytes))
+            .collect();
+        let sent: Vec<String> = self.sent.iter().map(|b| hex(b)).collect();
+        if sent != expected {
+            return Err(Mismatch::new(format!(
+                "the master's frames differ from the manual's: it sent [{}], the manual shows [{}]",
+                sent.join("], ["),
+                expected.join("], [")
+            )));
+        }
+        if self.at != self.steps.len() || !self.pending.is_empty() {
+            return Err(Mismatch::new(format!(
+                "the drive's frames from step {} on were never asked for",
+                self.at + 1
+            )));
+        }
+        Ok(())
+    }
+}
+
+impl crate::transport::Transport for Script {
+    fn send(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        self.sent.push(bytes.to_vec());
+        if self.steps.get(self.at).is_some_and(|(master, _)| *master) {
+            self.at += 1;
+        }
+        while let Some((false, reply)) = self.steps.get(self.at) {
+            self.pending.extend(reply);
+            self.at += 1;
+        }
+        Ok(())
+    }
+
+    fn receive(&mut self, buf: &mut [u8], _deadline: std::time::Instant) -> std::io::Result<usize> {
+        let n = buf.len().min(self.pending.len());
+        for (slot, byte) in buf.iter_mut().zip(self.pending.drain(..n)) {
+            *slot = byte;
+        }
+        Ok(n)
+    }
+}

@@ -27,6 +27,7 @@ mod relations_resolve;
 mod replies_answer_requests;
 mod rust_names_are_unique;
 mod scales_are_positive;
+mod sequences_replay;
 mod sequences_resolve;
 mod serial_settings_are_consistent;
 mod units_are_known;
@@ -54,7 +55,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 23] = [
+    let checks: [fn(&Context, &mut Diagnostics); 24] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -77,6 +78,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         behaviour_resolves::behaviour_resolves,
         relations_resolve::relations_resolve,
         sequences_resolve::sequences_resolve,
+        sequences_replay::sequences_replay,
         line_formats_resolve::line_formats_resolve,
     ];
     for check in checks {
