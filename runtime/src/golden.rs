@@ -1,5 +1,5 @@
 //! Golden-frame checks as results: what the generated golden tests assert
-//! ([`crate::testing`] panics with these) and what `vfd check` reports before any test
+//! (`vfd_runtime::testing`, feature `testing`, panics with these) and what `vfd check` reports before any test
 //! runs (the code generator calls them on the protocols it lowers), so the two cannot
 //! drift.
 //!
