@@ -1,7 +1,7 @@
-//! Golden-frame checks as results: what the generated golden tests assert
-//! (`vfd_runtime::testing`, feature `testing`, panics with these) and what `vfd check` reports before any test
-//! runs (the code generator calls them on the protocols it lowers), so the two cannot
-//! drift.
+//! Golden-frame checks as results: what the generated golden tests assert (the
+//! `vfd_runtime::testing` module, feature `testing`, panics with these) and what
+//! `vfd check` reports before any test runs (the code generator calls them on the
+//! protocols it lowers), so the two cannot drift.
 //!
 //! Each check takes the manual's bytes and what the description says about them, and
 //! returns a [`Mismatch`] naming the first difference and, where it can, its cause: the
