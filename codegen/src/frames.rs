@@ -149,6 +149,24 @@ pub(crate) fn stated_fields(example: &ExampleModel) -> Vec<(Role, u32)> {
     Vec::new()
 }
 
+/// The command a golden test builds through a register's typed API for an example's
+/// request of `kind` (`None`: it builds none): a RAM write of a writable register, a
+/// persistent write of a persistable one, a read. `vfd check` (validate) and the emitted
+/// golden tests both decide with this.
+pub(crate) fn typed_request_kind(
+    kind: Option<vfd_runtime::CommandKind>,
+    writable: bool,
+    persistable: bool,
+) -> Option<vfd_runtime::CommandKind> {
+    use vfd_runtime::CommandKind;
+    match kind? {
+        CommandKind::WriteRam if writable => Some(CommandKind::WriteRam),
+        CommandKind::WritePersistent if persistable => Some(CommandKind::WritePersistent),
+        CommandKind::Read => Some(CommandKind::Read),
+        _ => None,
+    }
+}
+
 /// The bytes a frame holds (`ascii:` text or `hex:` pairs), or a message saying why there
 /// are none.
 pub(crate) fn frame_bytes(ascii: &Option<String>, hex: &Option<String>) -> Result<Vec<u8>, String> {

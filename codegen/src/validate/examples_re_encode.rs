@@ -4,7 +4,7 @@
 //! values.
 
 use crate::diagnostics::Diagnostics;
-use crate::frames::{register_of, space_of, DecodedFrame};
+use crate::frames::{register_of, space_of, typed_request_kind, DecodedFrame};
 use crate::validate::Context;
 use vfd_runtime::golden::{self, Mismatch};
 use vfd_runtime::{Access, CommandKind, DataType, Protocol, Request};
@@ -84,14 +84,10 @@ fn typed_request(
     let meaning = decoded.request.as_ref()?.decoded()?;
     let data_type = register.data_type.unwrap_or(DataType::Word);
     let writable = register.access != Some(Access::ReadOnly) && data_type != DataType::Text;
-    let kind = match meaning.kind? {
-        CommandKind::WriteRam if writable => CommandKind::WriteRam,
-        CommandKind::WritePersistent if writable && !register.ram_only => {
-            CommandKind::WritePersistent
-        }
+    let kind = match typed_request_kind(meaning.kind, writable, writable && !register.ram_only)? {
+        // `Request::read` reads text with its own command.
         CommandKind::Read if data_type == DataType::Text => CommandKind::ReadText,
-        CommandKind::Read => CommandKind::Read,
-        _ => return None,
+        kind => kind,
     };
     let data = match kind {
         CommandKind::WriteRam | CommandKind::WritePersistent => decoded
