@@ -40,7 +40,7 @@ fn places() -> &'static Places {
 
 /// Compiles the drive file at `path` as `vfd check` does: its protocol files from
 /// `--protocols`, else `protocols/` next to it, then the ones shipped inside `vfd`.
-pub fn compile(path: &Path) -> Result<vfd_codegen::DriveIr, vfd_codegen::Diagnostics> {
+pub fn compile(path: &Path) -> vfd_codegen::Compiled {
     vfd_codegen::compile_with(
         path,
         places().protocols.as_deref(),
@@ -48,13 +48,19 @@ pub fn compile(path: &Path) -> Result<vfd_codegen::DriveIr, vfd_codegen::Diagnos
     )
 }
 
-/// The drive in the file at `path`, compiled now; a failure carries every diagnostic.
+/// The drive in the file at `path`, compiled now; a failure carries every diagnostic, the
+/// errors and then the warnings, as `vfd check` prints them. (A file without errors is
+/// used as it is; its warnings are `vfd check`'s to show.)
 pub fn load(path: &Path) -> Result<&'static DriveInfo, Failure> {
-    load_file(path).map_err(|diagnostics| {
+    load_file(path).map_err(|refused| {
+        let mut text = refused.errors.to_string();
+        if !refused.warnings.items.is_empty() {
+            text = format!("{text}\n{}", refused.warnings);
+        }
         Failure::new(format!(
-            "{} cannot be used: it has {} problem(s)\n{diagnostics}",
+            "{} cannot be used: it has {} problem(s)\n{text}",
             path.display(),
-            diagnostics.items.len()
+            refused.errors.items.len()
         ))
         .hint(format!(
             "fix them and run `vfd check {}`; nothing was opened or sent",
@@ -63,8 +69,14 @@ pub fn load(path: &Path) -> Result<&'static DriveInfo, Failure> {
     })
 }
 
+/// Why a drive file cannot be used: its errors, and the warnings it also earns.
+struct Refused {
+    errors: vfd_codegen::Diagnostics,
+    warnings: vfd_codegen::Diagnostics,
+}
+
 /// The drive in the file at `path`, compiled once per process.
-fn load_file(path: &Path) -> Result<&'static DriveInfo, vfd_codegen::Diagnostics> {
+fn load_file(path: &Path) -> Result<&'static DriveInfo, Refused> {
     type Loaded = std::sync::Mutex<Vec<(PathBuf, &'static DriveInfo)>>;
     static LOADED: OnceLock<Loaded> = OnceLock::new();
     let loaded = LOADED.get_or_init(Default::default);
@@ -76,7 +88,12 @@ fn load_file(path: &Path) -> Result<&'static DriveInfo, vfd_codegen::Diagnostics
     if let Some(drive) = known {
         return Ok(drive);
     }
-    let drive = vfd_codegen::drive_info(&compile(path)?);
+    let compiled = compile(path);
+    let ir = compiled.drive.map_err(|errors| Refused {
+        errors,
+        warnings: compiled.warnings,
+    })?;
+    let drive = vfd_codegen::drive_info(&ir);
     if let Ok(mut list) = loaded.lock() {
         list.push((key, drive));
     }
@@ -130,7 +147,7 @@ pub fn search_path_drives() -> Vec<Found> {
         .into_iter()
         .map(|file| match load_file(&file) {
             Ok(drive) => Found::Drive(file, drive),
-            Err(diagnostics) => Found::Broken(file, diagnostics.items.len()),
+            Err(refused) => Found::Broken(file, refused.errors.items.len()),
         })
         .collect()
 }

@@ -144,6 +144,11 @@ pub fn generate(
             drive.rust.lines().count()
         );
     }
+    // Warnings do not stop generation; they are printed after the summary, as `vfd check`
+    // prints them after the errors.
+    for drive in generated.drives.iter().filter(|d| !d.warnings.is_empty()) {
+        say!("{}", drive.warnings);
+    }
     match (check_only, described_changed.is_empty()) {
         (_, true) => {
             say!("drives/schema/ and the key tables in drives/README.md are up to date")
@@ -197,26 +202,45 @@ fn description_format_files(root: &Path) -> Result<Vec<(PathBuf, String)>, Strin
     Ok(files)
 }
 
-/// `vfd check`: validates drive files and prints every problem.
-pub fn check(files: &[String]) -> Result<(), String> {
+/// `vfd check`: validates drive files and prints every problem, errors first, then
+/// warnings; with `deny_warnings` a file with warnings fails as one with errors does.
+/// Protocol files are found as every command finds them ([`crate::catalogue::compile`]).
+pub fn check(files: &[String], deny_warnings: bool) -> Result<(), String> {
     let mut failed = 0;
     for file in files {
-        match crate::catalogue::compile(Path::new(file)) {
+        let compiled = crate::catalogue::compile(Path::new(file));
+        let warnings = compiled.warnings.items.len();
+        let valid = compiled.drive.is_ok();
+        match compiled.drive {
             Ok(drive) => say!(
-                "{file}: ok ({} registers, {} examples)",
+                "{file}: ok ({} registers, {} examples{})",
                 drive.registers.len(),
-                drive.examples.len()
+                drive.examples.len(),
+                match warnings {
+                    0 => String::new(),
+                    1 => ", 1 warning".to_owned(),
+                    n => format!(", {n} warnings"),
+                }
             ),
             Err(diagnostics) => {
                 failed += 1;
                 say!("{diagnostics}");
             }
         }
+        if warnings > 0 {
+            say!("{}", compiled.warnings);
+            if deny_warnings && valid {
+                failed += 1;
+            }
+        }
     }
-    if failed == 0 {
-        Ok(())
-    } else {
-        Err(format!("{failed} of {} file(s) have problems", files.len()))
+    match (failed, deny_warnings) {
+        (0, _) => Ok(()),
+        (failed, false) => Err(format!("{failed} of {} file(s) have problems", files.len())),
+        (failed, true) => Err(format!(
+            "{failed} of {} file(s) have problems or warnings (--deny-warnings)",
+            files.len()
+        )),
     }
 }
 

@@ -262,6 +262,9 @@ Examples:
     },
     /// Validate drive files and print every problem.
     Check {
+        /// Fail (exit 1) when there are warnings, as when there are errors.
+        #[arg(long)]
+        deny_warnings: bool,
         /// Drive files.
         #[arg(required = true)]
         files: Vec<String>,
@@ -434,7 +437,10 @@ fn run(command: Command) -> Result<(), Failure> {
             root.as_deref(),
         )
         .map_err(Failure::from),
-        Command::Check { files } => generate::check(&files).map_err(Failure::from),
+        Command::Check {
+            deny_warnings,
+            files,
+        } => generate::check(&files, deny_warnings).map_err(Failure::from),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "vfd", &mut script);

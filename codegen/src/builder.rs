@@ -5,7 +5,7 @@
 use crate::diagnostics::Diagnostics;
 use crate::ir::{DriveIr, ProtocolFileIr};
 use crate::output_names::OutputNames;
-use crate::{compile, emit, inputs_of, load};
+use crate::{compile_with_warnings, emit, inputs_of, load};
 use std::path::{Path, PathBuf};
 
 /// Everything generated for one drive.
@@ -21,6 +21,8 @@ pub struct GeneratedDrive {
     pub golden_tests: Option<String>,
     /// Files the output depends on.
     pub inputs: Vec<PathBuf>,
+    /// The description's warnings (they do not stop generation).
+    pub warnings: Diagnostics,
 }
 
 /// Everything generated in one run.
@@ -263,8 +265,9 @@ impl Builder {
         let mut diagnostics = Diagnostics::default();
         let mut irs = Vec::new();
         for path in &self.drives {
-            match compile(path, self.protocols_dir.as_deref()) {
-                Ok(ir) => irs.push(ir),
+            let compiled = compile_with_warnings(path, self.protocols_dir.as_deref());
+            match compiled.drive {
+                Ok(ir) => irs.push((ir, compiled.warnings)),
                 Err(more) => diagnostics.items.extend(more.items),
             }
         }
@@ -272,7 +275,7 @@ impl Builder {
             return Err(Error::Invalid(diagnostics));
         }
         let mut drives = Vec::new();
-        for mut ir in irs {
+        for (mut ir, warnings) in irs {
             let inputs = inputs_of(&ir, self.protocols_dir.as_deref());
             let names = OutputNames {
                 protocols_location: self.protocols_location(Path::new(&ir.file)),
@@ -303,6 +306,7 @@ impl Builder {
                 markdown,
                 golden_tests,
                 inputs,
+                warnings,
             });
         }
         let irs: Vec<DriveIr> = drives.iter().map(|d| d.ir.clone()).collect();

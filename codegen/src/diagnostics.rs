@@ -13,9 +13,33 @@ pub struct Position {
     pub column: usize,
 }
 
+/// How serious a diagnostic is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Severity {
+    /// The description is wrong: nothing is generated from it.
+    #[default]
+    Error,
+    /// The description is valid but says something that does not do what it seems to
+    /// (a setting that changes nothing, an example the virtual drive refuses): generation
+    /// goes on; `vfd check --deny-warnings` fails on it.
+    Warning,
+}
+
+impl Severity {
+    /// `error` or `warning`, as printed.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        }
+    }
+}
+
 /// One problem in a drive or protocol file.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Diagnostic {
+    /// An error, or a warning.
+    pub severity: Severity,
     /// The file, as given to the generator.
     pub file: PathBuf,
     /// Where in the file.
@@ -39,6 +63,7 @@ impl Diagnostic {
         message: impl Into<String>,
     ) -> Self {
         Diagnostic {
+            severity: Severity::Error,
             file: file.to_owned(),
             position,
             path: path.into(),
@@ -54,6 +79,17 @@ impl Diagnostic {
         self
     }
 
+    /// Makes it a warning.
+    pub fn warning(mut self) -> Self {
+        self.severity = Severity::Warning;
+        self
+    }
+
+    /// Whether it is a warning.
+    pub fn is_warning(&self) -> bool {
+        self.severity == Severity::Warning
+    }
+
     /// `file:line:column`.
     pub fn location(&self) -> String {
         format!(
@@ -67,7 +103,7 @@ impl Diagnostic {
 
 impl fmt::Display for Diagnostic {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "error: {}", self.message)?;
+        writeln!(f, "{}: {}", self.severity.as_str(), self.message)?;
         writeln!(f, "  --> {}", self.location())?;
         if let Some(line) = &self.source_line {
             let number = self.position.line.to_string();
@@ -122,6 +158,20 @@ impl Diagnostics {
     /// Whether there are none.
     pub fn is_empty(&self) -> bool {
         self.items.is_empty()
+    }
+
+    /// Whether any is an error.
+    pub fn has_errors(&self) -> bool {
+        self.items.iter().any(|item| !item.is_warning())
+    }
+
+    /// Moves the warnings out, leaving the errors.
+    pub fn take_warnings(&mut self) -> Diagnostics {
+        let (warnings, errors) = std::mem::take(&mut self.items)
+            .into_iter()
+            .partition(Diagnostic::is_warning);
+        self.items = errors;
+        Diagnostics { items: warnings }
     }
 
     /// Leaves out the problems found after the first `keep` that are at, under, or refer
@@ -184,12 +234,19 @@ impl fmt::Display for Diagnostics {
         for item in &self.items {
             writeln!(f, "{item}")?;
         }
-        write!(
-            f,
-            "{} problem{} found",
-            self.items.len(),
-            if self.items.len() == 1 { "" } else { "s" }
-        )
+        let plural = |n: usize| if n == 1 { "" } else { "s" };
+        let warnings = self.items.iter().filter(|item| item.is_warning()).count();
+        let errors = self.items.len() - warnings;
+        match (errors, warnings) {
+            (errors, 0) => write!(f, "{errors} problem{} found", plural(errors)),
+            (0, warnings) => write!(f, "{warnings} warning{}", plural(warnings)),
+            (errors, warnings) => write!(
+                f,
+                "{errors} problem{} and {warnings} warning{} found",
+                plural(errors),
+                plural(warnings)
+            ),
+        }
     }
 }
 

@@ -6,6 +6,7 @@
 
 use crate::parse::model::{BytesModel, DriveFile, ExampleModel, FrameModel, RegisterModel};
 use crate::protocols::LoweredProtocol;
+use vfd_runtime::layout::Role;
 use vfd_runtime::meaning::{decode_meaning, Direction, FrameMeaning};
 use vfd_runtime::protocol::NotAnAnswer;
 use vfd_runtime::{DecodeError, Space};
@@ -27,6 +28,9 @@ pub(crate) struct DecodedExample {
     pub printed_answers: Option<Result<(), NotAnAnswer>>,
     /// A request the drive does not answer (`unanswered_request`), decoded.
     pub unanswered: Option<PrintedFrame>,
+    /// Values the example states for fields of its request's layout beyond its meaning
+    /// (see [`stated_fields`]): the golden checks re-encode the request with them.
+    pub stated: Vec<(Role, u32)>,
 }
 
 impl DecodedExample {
@@ -133,6 +137,33 @@ fn decode_example(example: &ExampleModel, protocols: &[LoweredProtocol]) -> Deco
         ),
         request,
         reply,
+        stated: stated_fields(example),
+    }
+}
+
+/// The values an example states for fields of its request's layout beyond its meaning
+/// (a reply-wait digit): the one place the re-encode of `vfd check` and of the golden
+/// tests takes them from. The format has no key for them yet, so there are none.
+pub(crate) fn stated_fields(example: &ExampleModel) -> Vec<(Role, u32)> {
+    let _ = example;
+    Vec::new()
+}
+
+/// The command a golden test builds through a register's typed API for an example's
+/// request of `kind` (`None`: it builds none): a RAM write of a writable register, a
+/// persistent write of a persistable one, a read. `vfd check` (validate) and the emitted
+/// golden tests both decide with this.
+pub(crate) fn typed_request_kind(
+    kind: Option<vfd_runtime::CommandKind>,
+    writable: bool,
+    persistable: bool,
+) -> Option<vfd_runtime::CommandKind> {
+    use vfd_runtime::CommandKind;
+    match kind? {
+        CommandKind::WriteRam if writable => Some(CommandKind::WriteRam),
+        CommandKind::WritePersistent if persistable => Some(CommandKind::WritePersistent),
+        CommandKind::Read => Some(CommandKind::Read),
+        _ => None,
     }
 }
 

@@ -26,6 +26,9 @@
 //! Where to go for common changes:
 //! - **A new check**: a file in `validate/` with its own tests, added to the list in
 //!   `validate/mod.rs`; a fixture pair in `tests/fixtures/broken/`.
+//! - **A new warning**: a file in `validate/` whose function pushes diagnostics made with
+//!   `SourceFile::warning`, named once in the `warnings!` list in `validate/mod.rs`; a
+//!   fixture pair in `tests/fixtures/warnings/`.
 //! - **A new key in drive files**: `parse/model.rs` (an enum if its values are enumerated;
 //!   a `///` comment, which becomes the key's schema description; a new type derives
 //!   `JsonSchema`), then `ir/types.rs` + `ir/lower.rs`, then the emitters that show it;
@@ -78,7 +81,7 @@ mod validate;
 pub use builder::{
     fail_build, golden_tests_file, write_if_changed, Builder, Error, Generated, GeneratedDrive,
 };
-pub use diagnostics::{Diagnostic, Diagnostics, Position};
+pub use diagnostics::{Diagnostic, Diagnostics, Position, Severity};
 pub use ir::DriveIr;
 pub use load::Shipped;
 pub use output_names::OutputNames;
@@ -90,23 +93,30 @@ pub use schema::{
 use std::path::{Path, PathBuf};
 
 /// Reads, validates and lowers one drive file. `protocols_dir` defaults to the
-/// `protocols/` folder next to the drive file.
+/// `protocols/` folder next to the drive file. Warnings are left out: see
+/// [`compile_with_warnings`].
 pub fn compile(path: &Path, protocols_dir: Option<&Path>) -> Result<DriveIr, Diagnostics> {
+    compile_with(path, protocols_dir, &[]).drive
+}
+
+/// Like [`compile`], keeping the warnings: what `vfd check` prints.
+pub fn compile_with_warnings(path: &Path, protocols_dir: Option<&Path>) -> Compiled {
     compile_with(path, protocols_dir, &[])
 }
 
-/// Like [`compile`], and a protocol file found in neither `protocols_dir` nor the default
-/// folder is taken from `shipped` (protocol files a tool carries built in, by id), as the
-/// installed `vfd` finds the protocol families it knows.
-pub fn compile_with(
-    path: &Path,
-    protocols_dir: Option<&Path>,
-    shipped: Shipped,
-) -> Result<DriveIr, Diagnostics> {
-    let source = parse::SourceFile::read(path).map_err(|problem| Diagnostics {
-        items: vec![problem],
-    })?;
-    compile_source(source, protocols_dir, shipped)
+/// Like [`compile_with_warnings`], and a protocol file found in neither `protocols_dir`
+/// nor the default folder is taken from `shipped` (protocol files a tool carries built in,
+/// by id), as the installed `vfd` finds the protocol families it knows.
+pub fn compile_with(path: &Path, protocols_dir: Option<&Path>, shipped: Shipped) -> Compiled {
+    match parse::SourceFile::read(path) {
+        Ok(source) => compile_source(source, protocols_dir, shipped),
+        Err(problem) => Compiled {
+            drive: Err(Diagnostics {
+                items: vec![problem],
+            }),
+            warnings: Diagnostics::default(),
+        },
+    }
 }
 
 /// Like [`compile`], for a drive file already in memory.
@@ -115,20 +125,34 @@ pub fn compile_text(
     text: String,
     protocols_dir: Option<&Path>,
 ) -> Result<DriveIr, Diagnostics> {
-    compile_source(parse::SourceFile::from_text(path, text), protocols_dir, &[])
+    compile_source(parse::SourceFile::from_text(path, text), protocols_dir, &[]).drive
+}
+
+/// A drive file compiled (or refused), with the warnings its description earns.
+#[derive(Debug, Clone)]
+pub struct Compiled {
+    /// The drive's IR, or its errors.
+    pub drive: Result<DriveIr, Diagnostics>,
+    /// Warnings: things that are valid but do not do what they seem to. They never stop
+    /// generation; `vfd check --deny-warnings` fails on them. Printed after the errors.
+    pub warnings: Diagnostics,
 }
 
 /// The pipeline, stage by stage: parse and load, lower protocols, decode examples,
-/// validate, lower to the IR. Every problem of every stage is collected; the IR is built
-/// only from a description without problems.
+/// validate (errors, then warnings), lower to the IR, rehearse the examples against the
+/// virtual drive. Every problem of every stage is collected; the IR is built only from a
+/// description without errors.
 fn compile_source(
     source: parse::SourceFile,
     protocols_dir: Option<&Path>,
     shipped: Shipped,
-) -> Result<DriveIr, Diagnostics> {
+) -> Compiled {
     let mut diagnostics = Diagnostics::default();
     let Some(drive) = load::load(source, protocols_dir, shipped, &mut diagnostics) else {
-        return Err(diagnostics);
+        return Compiled {
+            drive: Err(diagnostics),
+            warnings: Diagnostics::default(),
+        };
     };
     let read_problems = diagnostics.items.len();
     let protocols = protocols::lower(&drive, &mut diagnostics);
@@ -140,6 +164,7 @@ fn compile_source(
         frames,
     };
     validate::check(&context, &mut diagnostics);
+    validate::warn(&context, &mut diagnostics);
     diagnostics.leave_out_consequences(read_problems, &drive.incomplete);
     let attach = |diagnostics: &mut Diagnostics| {
         diagnostics.attach_sources(|path| {
@@ -150,17 +175,27 @@ fn compile_source(
                 .map(|file| file.text.as_str())
         });
     };
+    attach(&mut diagnostics);
+    let warnings = diagnostics.take_warnings();
     if !diagnostics.is_empty() {
-        attach(&mut diagnostics);
-        return Err(diagnostics);
+        return Compiled {
+            drive: Err(diagnostics),
+            warnings,
+        };
     }
     let ir = ir::lower(&context);
     rehearse::examples(&context.source, &context.model, &ir, &mut diagnostics);
     if !diagnostics.is_empty() {
         attach(&mut diagnostics);
-        return Err(diagnostics);
+        return Compiled {
+            drive: Err(diagnostics),
+            warnings,
+        };
     }
-    Ok(ir)
+    Compiled {
+        drive: Ok(ir),
+        warnings,
+    }
 }
 
 /// One drive's Rust module as tokens, holding its own frame layouts: what

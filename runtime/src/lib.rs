@@ -54,6 +54,7 @@ pub mod combination;
 pub mod conversion;
 pub mod drive;
 pub mod error;
+pub mod golden;
 pub mod info;
 pub mod kinds;
 pub mod layout;

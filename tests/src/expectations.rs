@@ -88,10 +88,30 @@ pub fn render(case: &Case) -> String {
     }
 }
 
+/// The warnings the generator prints for `case` (a valid description), after its errors
+/// if it has any, as `vfd check` prints them.
+pub fn render_warnings(case: &Case) -> String {
+    let compiled = vfd_codegen::compile_with_warnings(&case.drive, case.protocols.as_deref());
+    let errors = match compiled.drive {
+        Ok(_) => String::new(),
+        Err(diagnostics) => format!("{diagnostics}\n"),
+    };
+    if compiled.warnings.is_empty() {
+        return format!("{errors}{} has no warnings\n", case.drive.display());
+    }
+    format!("{errors}{}\n", compiled.warnings)
+}
+
 /// Checks every case against its expectation file (or rewrites them all under
 /// `UPDATE_EXPECT=1`) and reports every difference at once.
 #[track_caller]
 pub fn check_all(cases: &[Case]) {
+    check_all_rendered(cases, render);
+}
+
+/// [`check_all`] with the messages `render` gives (such as [`render_warnings`]).
+#[track_caller]
+pub fn check_all_rendered(cases: &[Case], render: fn(&Case) -> String) {
     let files: Vec<(PathBuf, String)> = cases
         .iter()
         .map(|case| (case.expected.clone(), render(case)))

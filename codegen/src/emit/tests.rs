@@ -285,11 +285,16 @@ fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> Token
         });
         if let Some(request) = &example.request {
             let bytes = bytes_tokens(&request.bytes);
-            let build = match request.meaning.kind {
-                Some(CommandKind::WriteRam) if described.writable() => Some(quote! {
+            let typed = crate::frames::typed_request_kind(
+                request.meaning.kind,
+                described.writable(),
+                described.persistable(),
+            );
+            let build = match typed {
+                Some(CommandKind::WriteRam) => Some(quote! {
                     let request = #root::registers::#register::write_ram(#construct).expect("the manual's value is within range");
                 }),
-                Some(CommandKind::WritePersistent) if described.persistable() => Some(quote! {
+                Some(CommandKind::WritePersistent) => Some(quote! {
                     let request = #root::registers::#register::write_persistent(#construct).expect("the manual's value is within range");
                 }),
                 Some(CommandKind::Read) => Some(quote! {

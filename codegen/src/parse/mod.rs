@@ -80,6 +80,11 @@ impl SourceFile {
         Diagnostic::new(&self.path, self.position(path), path, message)
     }
 
+    /// A warning at the node `path`: valid, but not doing what it seems to.
+    pub fn warning(&self, path: &str, message: impl Into<String>) -> Diagnostic {
+        self.error(path, message).warning()
+    }
+
     /// Reads the whole file as `T`, reporting every problem rather than the first.
     pub fn read_model<T: DeserializeOwned + JsonSchema>(&self) -> Read<T> {
         let tree = match self.tree.as_ref() {

@@ -16,6 +16,8 @@ pub(super) struct LoweredCommand {
     pub index: usize,
     /// The runtime command.
     pub spec: CommandSpec,
+    /// Whether the file gives it a code (without one, `spec.code` is 0).
+    pub has_code: bool,
 }
 
 impl LoweredCommand {
@@ -37,7 +39,11 @@ pub(super) fn lower_commands(
         .enumerate()
         .filter_map(|(index, command)| {
             let spec = lower_command(index, command, input, layouts, out)?;
-            Some(LoweredCommand { index, spec })
+            Some(LoweredCommand {
+                index,
+                spec,
+                has_code: command.code.is_some(),
+            })
         })
         .collect()
 }
@@ -553,7 +559,10 @@ fn check_block_fields(command: &LoweredCommand, source: &SourceFile, out: &mut D
     }
 }
 
-/// No earlier command has the same code, kind, space and data types.
+/// No earlier command has the same code, kind, space and data types. Two commands without
+/// a code (their layouts have no command field) are not "the same command": nothing
+/// tells them apart, so a request of their kind always takes the first; the message says
+/// so instead of showing the code 00h neither has.
 fn check_not_repeated(
     command: &LoweredCommand,
     earlier: &[LoweredCommand],
@@ -568,21 +577,49 @@ fn check_not_repeated(
             && other.space == spec.space
             && other.data_types == spec.data_types
     });
-    if let Some(first) = first {
-        out.push(
-            source
-                .error(
-                    &command.path(),
-                    format!(
-                        "the same command as {} (code {}, {})",
-                        first.path(),
-                        spec.code_label(),
-                        spec.kind.as_str()
-                    ),
-                )
-                .hint("remove one of them"),
-        );
-    }
+    let Some(first) = first else {
+        return;
+    };
+    let diagnostic = if !command.has_code && !first.has_code {
+        let data_types = match spec.data_types.as_ref() {
+            [] => "any data type".to_owned(),
+            types => types
+                .iter()
+                .map(|t| t.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+        };
+        source
+            .error(
+                &command.path(),
+                format!(
+                    "nothing tells this command from {}: neither has a code, and both are {} commands of the {} space carrying {data_types} (layouts `{}` and `{}`)",
+                    first.path(),
+                    spec.kind.as_str(),
+                    spec.space.as_str(),
+                    first.spec.request.name,
+                    spec.request.name,
+                ),
+            )
+            .hint(format!(
+                "a command without a code is chosen by its kind, space and data types alone, so a {} request always goes out as {}; give them different `data_types` where the type of their data tells them apart, or keep one",
+                spec.kind.as_str(),
+                first.path()
+            ))
+    } else {
+        source
+            .error(
+                &command.path(),
+                format!(
+                    "the same command as {} (code {}, {})",
+                    first.path(),
+                    spec.code_label(),
+                    spec.kind.as_str()
+                ),
+            )
+            .hint("remove one of them")
+    };
+    out.push(diagnostic);
 }
 
 #[cfg(test)]

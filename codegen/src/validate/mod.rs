@@ -2,7 +2,8 @@
 //!
 //! Each check is a pass in its own file, over the [`Context`] (the parsed drive, its
 //! lowered protocols and its decoded example frames); [`check`] runs them all in order.
-//! Nothing is generated from a description that has problems.
+//! Nothing is generated from a description that has problems. [`warn`] then runs the
+//! warnings, one file each too: things that are valid but do not do what they seem to.
 
 pub(crate) mod formula;
 pub(crate) mod ranges;
@@ -13,6 +14,7 @@ mod bit_fields_do_not_overlap;
 mod code_values_are_unique;
 mod defaults_are_in_range;
 mod examples_decode;
+mod examples_re_encode;
 mod identifiers_are_snake_case;
 mod inferred_facts_exist;
 mod line_formats_resolve;
@@ -25,6 +27,7 @@ mod relations_resolve;
 mod replies_answer_requests;
 mod rust_names_are_unique;
 mod scales_are_positive;
+mod sequences_replay;
 mod sequences_resolve;
 mod serial_settings_are_consistent;
 mod units_are_known;
@@ -52,7 +55,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 22] = [
+    let checks: [fn(&Context, &mut Diagnostics); 24] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -68,17 +71,40 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         serial_settings_are_consistent::serial_settings_are_consistent,
         examples_decode::examples_decode,
         replies_answer_requests::replies_answer_requests,
+        examples_re_encode::examples_re_encode,
         value_examples_match::value_examples_match,
         bit_examples_match::bit_examples_match,
         reference_scaling_resolves::reference_scaling_resolves,
         behaviour_resolves::behaviour_resolves,
         relations_resolve::relations_resolve,
         sequences_resolve::sequences_resolve,
+        sequences_replay::sequences_replay,
         line_formats_resolve::line_formats_resolve,
     ];
     for check in checks {
         check(drive, out);
     }
+}
+
+/// Declares the warning checks, one file each named after its function, and [`warn`],
+/// which runs them in the order listed. Adding a warning: a file in `validate/` whose
+/// `pub fn <file name>(&Context, &mut Diagnostics)` pushes `source.warning(..)`
+/// diagnostics, and its name in this list.
+macro_rules! warnings {
+    ($($check:ident),* $(,)?) => {
+        $(mod $check;)*
+
+        /// Runs every warning check, in a fixed order.
+        pub(crate) fn warn(drive: &Context, out: &mut Diagnostics) {
+            $($check::$check(drive, out);)*
+        }
+    };
+}
+
+warnings! {
+    behaviour_is_described,
+    examples_are_accepted,
+    settings_change_something,
 }
 
 /// Decimal places a scale implies (0.01 -> 2).
@@ -247,7 +273,7 @@ examples:
         let protocols_dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../drives/protocols"));
         let source = SourceFile::from_text(Path::new(FILE), yaml.to_owned());
         let mut earlier = Diagnostics::default();
-        let drive = crate::load::load(source, Some(protocols_dir), &mut earlier);
+        let drive = crate::load::load(source, Some(protocols_dir), &[], &mut earlier);
         let Some(drive) = drive else {
             panic!("the test drive does not parse:\n{earlier}");
         };
