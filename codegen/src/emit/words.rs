@@ -178,14 +178,15 @@ pub fn shown_bytes(bytes: &[u8]) -> String {
     }
 }
 
-/// What a frame means, in one line (`` `R` (read), station 1, register FA01, data 1770h ``).
-pub fn meaning_text(drive: &DriveIr, frame: &FrameIr) -> String {
+/// What a frame means, in one line (`` `R` (read), station 1, register FA01, data 1770h ``);
+/// an error code is written with `error_digits` hex digits, as its table writes it.
+pub fn meaning_text(drive: &DriveIr, frame: &FrameIr, error_digits: usize) -> String {
     let meaning = &frame.meaning;
     let label = vfd_runtime::protocol::code_label;
     if let Some(code) = meaning.error_code {
         let entry = drive.error_codes.codes.iter().find(|c| c.code == code);
         return format!(
-            "error reply{}: error {code}{}",
+            "error reply{}: error {code:0error_digits$X}h{}",
             meaning
                 .code
                 .map(|c| format!(" `{}`", label(c)))
@@ -227,7 +228,9 @@ pub fn meaning_text(drive: &DriveIr, frame: &FrameIr) -> String {
             ));
         }
         (Some(register), _, _) => parts.push(format!("register {}", address_label(register))),
-        (None, Some(register), _) => parts.push(format!("register {register}")),
+        (None, Some(register), _) => {
+            parts.push(format!("register {register:04X}h (none described there)"))
+        }
         (None, None, Some(wire)) => parts.push(format!("wire register {wire:04X}h")),
         _ => {}
     }
