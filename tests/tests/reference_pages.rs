@@ -310,6 +310,8 @@ fn error_codes_are_hex_as_wide_as_the_protocols_error_field() {
     assert!(dv1.contains("error 0Ch Data range error"));
     let (_, vf_as1) = shipped_page("vf-as1");
     assert!(vf_as1.contains("| 01h | Command code error |"));
+    // A Modbus exception in an example is named from the Modbus table, not the drive's.
+    assert!(vf_as1.contains("error reply `83h`: error 03h Data range error"));
 }
 
 #[test]

@@ -741,15 +741,16 @@ impl<'a> DriveView<'a> {
                 .iter()
                 .map(|example| {
                     let described = example.register.as_deref().and_then(register);
-                    let error_digits = drive
-                        .protocols
-                        .iter()
-                        .find(|p| p.id == example.protocol)
-                        .map_or(4, |p| error_code_digits(drive, p));
+                    let protocol = drive.protocols.iter().find(|p| p.id == example.protocol);
+                    let error_digits = protocol.map_or(4, |p| error_code_digits(drive, p));
+                    let errors = match protocol.map(|p| &p.error_table) {
+                        Some(ErrorTableIr::Protocol(table)) => table,
+                        _ => &drive.error_codes,
+                    };
                     let frame = |frame: &'a Option<FrameIr>| {
                         frame.as_ref().map(|frame| FrameView {
                             shown: shown(&frame.bytes),
-                            meaning: meaning_text(drive, frame, error_digits),
+                            meaning: meaning_text(drive, frame, errors, error_digits),
                             printed: frame.printed.as_ref().map(|printed| PrintedView {
                                 printed,
                                 shown: if printed.written.is_empty() {
