@@ -3,8 +3,8 @@
 //! The IR holds facts only; every sentence is built here or in the templates.
 
 use crate::ir::{
-    BitOrder, DriveIr, Duplex, FrameIr, InferredFact, RegisterIr, Synchronisation, Topology,
-    WarningIr,
+    BitOrder, DriveIr, Duplex, ErrorCodesIr, FrameIr, InferredFact, RegisterIr, Synchronisation,
+    Topology, WarningIr,
 };
 use vfd_runtime::units::decimals_of;
 use vfd_runtime::Space;
@@ -178,14 +178,21 @@ pub fn shown_bytes(bytes: &[u8]) -> String {
     }
 }
 
-/// What a frame means, in one line (`` `R` (read), station 1, register FA01, data 1770h ``).
-pub fn meaning_text(drive: &DriveIr, frame: &FrameIr) -> String {
+/// What a frame means, in one line (`` `R` (read), station 1, register FA01, data 1770h ``);
+/// an error code is written with `error_digits` hex digits and named from `errors`, the
+/// table of the frame's protocol.
+pub fn meaning_text(
+    drive: &DriveIr,
+    frame: &FrameIr,
+    errors: &ErrorCodesIr,
+    error_digits: usize,
+) -> String {
     let meaning = &frame.meaning;
     let label = vfd_runtime::protocol::code_label;
     if let Some(code) = meaning.error_code {
-        let entry = drive.error_codes.codes.iter().find(|c| c.code == code);
+        let entry = errors.codes.iter().find(|c| c.code == code);
         return format!(
-            "error reply{}: error {code}{}",
+            "error reply{}: error {code:0error_digits$X}h{}",
             meaning
                 .code
                 .map(|c| format!(" `{}`", label(c)))
@@ -227,7 +234,9 @@ pub fn meaning_text(drive: &DriveIr, frame: &FrameIr) -> String {
             ));
         }
         (Some(register), _, _) => parts.push(format!("register {}", address_label(register))),
-        (None, Some(register), _) => parts.push(format!("register {register}")),
+        (None, Some(register), _) => {
+            parts.push(format!("register {register:04X}h (none described there)"))
+        }
         (None, None, Some(wire)) => parts.push(format!("wire register {wire:04X}h")),
         _ => {}
     }

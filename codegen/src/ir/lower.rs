@@ -894,6 +894,12 @@ fn lower_frame(
                 erratum: model.erratum.clone().unwrap_or_default(),
                 rejected_as,
                 rejection,
+                written: model
+                    .printed
+                    .as_ref()
+                    .and_then(|p| p.hex.as_deref())
+                    .map(|hex| hex.split_whitespace().collect::<Vec<_>>().join(" "))
+                    .unwrap_or_default(),
             })
         }
         _ => None,

@@ -1161,4 +1161,8 @@ pub struct PrintedIr {
     pub rejected_as: PrintedRejection,
     /// The decoder's message.
     pub rejection: String,
+    /// The printed bytes as the description writes them (`2F 52 00 10 0064 FA`, the
+    /// manual's spacing), for the page; not part of the snapshot.
+    #[serde(skip)]
+    pub written: String,
 }

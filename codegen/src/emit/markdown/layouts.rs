@@ -22,8 +22,10 @@ pub(super) struct PartView {
     pub notes: String,
 }
 
-/// One part of a layout, in words.
-pub(super) fn part_view(part: &Part, parts: &[Part]) -> PartView {
+/// One part of a layout, in words. `used`: the command codes the drive's commands put in
+/// this layout (empty: unknown, every code the layout allows is shown); a command field
+/// lists only those, so a shared layout does not offer functions the drive lacks.
+pub(super) fn part_view(part: &Part, parts: &[Part], used: &[u32]) -> PartView {
     match part {
         Part::Literal {
             name,
@@ -62,6 +64,7 @@ pub(super) fn part_view(part: &Part, parts: &[Part]) -> PartView {
             let allowed: Vec<String> = field
                 .allowed
                 .iter()
+                .filter(|v| field.role != Role::Command || used.is_empty() || used.contains(v))
                 .map(|v| match char::from_u32(*v) {
                     // Letters are shown as letters; binary codes (Modbus 01h) as hex.
                     Some(letter) if field.format == Format::Char && letter.is_ascii_graphic() => {

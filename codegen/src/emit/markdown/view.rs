@@ -11,7 +11,7 @@ use crate::emit::words::{
 use crate::ir::*;
 use serde::Serialize;
 use vfd_runtime::serial::SerialSettings;
-use vfd_runtime::{FrameLayout, Part, PreStep, Role, Space};
+use vfd_runtime::{PreStep, Role, Space};
 
 #[derive(Serialize)]
 pub(super) struct DriveView<'a> {
@@ -38,6 +38,27 @@ pub(super) struct DriveView<'a> {
     held_pairs: Vec<HeldPairView>,
     /// The manual's formulas.
     conversions: Vec<ConversionView<'a>>,
+    /// What the virtual drive does and assumes.
+    virtual_drive: VirtualDriveView<'a>,
+    /// The registers other registers' ranges name (`FH`, `UL`), each once.
+    bound_registers: Vec<String>,
+    /// Some register has a fact the description infers.
+    any_inferred: bool,
+    /// The character format per protocol, where the drive's code tables say which format
+    /// a protocol speaks; empty when the table's one format holds for every protocol.
+    line_formats: Vec<(String, String)>,
+}
+
+#[derive(Serialize)]
+struct VirtualDriveView<'a> {
+    /// The description's behaviour model, when it has one.
+    behaviour: Option<&'a BehaviourIr>,
+    /// Lines on what drives the simulated motor (command word, frequency, ramps).
+    model_lines: Vec<String>,
+    /// The refusals the model tells apart, as column titles.
+    refusal_names: Vec<&'static str>,
+    /// Per protocol: its id and the answer to each refusal, in the columns' order.
+    refusals: Vec<(String, Vec<String>)>,
 }
 
 #[derive(Serialize)]
@@ -142,7 +163,10 @@ struct ProtocolErrorsView<'a> {
     table: ErrorCodesView<'a>,
 }
 
-fn error_codes_view(table: &ErrorCodesIr) -> ErrorCodesView<'_> {
+/// The error codes of `table`, each written with `digits` hex digits (the width of the
+/// error-code field of the protocols it serves: `01h` for a Modbus byte, `0001h` for a
+/// four-digit word).
+fn error_codes_view(table: &ErrorCodesIr, digits: usize) -> ErrorCodesView<'_> {
     ErrorCodesView {
         error_codes: table,
         codes: table
@@ -150,7 +174,7 @@ fn error_codes_view(table: &ErrorCodesIr) -> ErrorCodesView<'_> {
             .iter()
             .map(|code| ErrorCodeView {
                 code,
-                code_hex: format!("{:04X}h", code.code),
+                code_hex: format!("{:0digits$X}h", code.code),
             })
             .collect(),
         protocols_display: table
@@ -202,6 +226,8 @@ struct BitView<'a> {
     field: &'a BitIr,
     bits_label: String,
     name: &'a str,
+    /// For a multi-bit field, the link to the code table naming its values (empty: none).
+    values: String,
 }
 
 #[derive(Serialize)]
@@ -280,7 +306,11 @@ struct FrameView<'a> {
 struct PrintedView<'a> {
     #[serde(flatten)]
     printed: &'a PrintedIr,
+    /// The bytes as the manual prints them (its spacing, for hex frames).
     shown: String,
+    /// Which layout the decoder took the printed bytes for, and why, when their command
+    /// code chose another command's layout (empty otherwise).
+    read_as: String,
 }
 
 #[derive(Serialize)]
@@ -390,6 +420,22 @@ impl<'a> DriveView<'a> {
                     })
                     .collect(),
             },
+            virtual_drive: virtual_drive_view(drive),
+            bound_registers: {
+                let mut codes: Vec<String> = Vec::new();
+                for r in &drive.registers {
+                    for bound in [&r.min, &r.max].into_iter().flatten() {
+                        if let Some(code) = &bound.register {
+                            if !codes.contains(code) {
+                                codes.push(code.clone());
+                            }
+                        }
+                    }
+                }
+                codes
+            },
+            any_inferred: drive.registers.iter().any(|r| !r.inferred.is_empty()),
+            line_formats: line_formats(drive),
             warning_lines: drive
                 .warnings
                 .iter()
@@ -415,7 +461,16 @@ impl<'a> DriveView<'a> {
                 .iter()
                 .map(|p| protocol_view(drive, p))
                 .collect(),
-            error_codes: error_codes_view(&drive.error_codes),
+            error_codes: error_codes_view(
+                &drive.error_codes,
+                drive
+                    .protocols
+                    .iter()
+                    .filter(|p| drive.error_codes.protocols.contains(&p.id))
+                    .map(|p| error_code_digits(drive, p))
+                    .max()
+                    .unwrap_or(4),
+            ),
             protocol_error_tables: drive
                 .protocols
                 .iter()
@@ -424,7 +479,7 @@ impl<'a> DriveView<'a> {
                     ErrorTableIr::Protocol(table) => Some(ProtocolErrorsView {
                         id: &p.id,
                         name: &p.name,
-                        table: error_codes_view(table),
+                        table: error_codes_view(table, error_code_digits(drive, p)),
                     }),
                 })
                 .collect(),
@@ -436,7 +491,10 @@ impl<'a> DriveView<'a> {
                     address_display: address_label(register),
                     address_hex: format!("{:04X}", register.address),
                     scale_display: format!("{}", register.scale),
-                    range_display: range_text(register),
+                    range_display: match code_table_link(drive, register.code_table.as_deref()) {
+                        Some(link) => format!("codes: {link}"),
+                        None => range_text(register),
+                    },
                     default_display: default_text(register),
                     value_type_display: format!("`{}`", value_type_text(register)),
                     inferred_display: inferred_text(&register.inferred),
@@ -468,6 +526,12 @@ impl<'a> DriveView<'a> {
                                 "Reserved"
                             } else {
                                 &field.name
+                            },
+                            values: if field.width > 1 {
+                                code_table_link(drive, field.code_table.as_deref())
+                                    .map_or_else(String::new, |link| format!("values: {link}"))
+                            } else {
+                                String::new()
                             },
                         })
                         .collect(),
@@ -587,7 +651,7 @@ impl<'a> DriveView<'a> {
                             let name = row
                                 .first()
                                 .and_then(|code| drive.registers.iter().find(|r| &r.code == code))
-                                .map_or_else(String::new, |r| r.name.clone());
+                                .map_or_else(String::new, |r| without_port(&r.name, ports));
                             (name, row.clone())
                         })
                         .collect(),
@@ -642,11 +706,24 @@ impl<'a> DriveView<'a> {
                         .examples
                         .iter()
                         .map(|(inputs, result, source)| {
+                            // An input read from a register is given as the register's
+                            // value; scaled first, the formula's own input follows, so
+                            // the example computes as written.
                             let args: Vec<String> = conversion
                                 .inputs
                                 .iter()
                                 .zip(inputs)
-                                .map(|(input, value)| format!("{} = {value}", input.name))
+                                .map(|(input, value)| match &input.register {
+                                    Some(code) if (input.times - 1.0).abs() > f64::EPSILON => {
+                                        format!(
+                                            "{code} = {value}, so `{}` = {}",
+                                            input.name,
+                                            trimmed(value * input.times)
+                                        )
+                                    }
+                                    Some(code) => format!("{code} = {value}"),
+                                    None => format!("`{}` = {value}", input.name),
+                                })
                                 .collect();
                             format!("{} → {result} ({source})", args.join(", "))
                         })
@@ -664,13 +741,24 @@ impl<'a> DriveView<'a> {
                 .iter()
                 .map(|example| {
                     let described = example.register.as_deref().and_then(register);
+                    let protocol = drive.protocols.iter().find(|p| p.id == example.protocol);
+                    let error_digits = protocol.map_or(4, |p| error_code_digits(drive, p));
+                    let errors = match protocol.map(|p| &p.error_table) {
+                        Some(ErrorTableIr::Protocol(table)) => table,
+                        _ => &drive.error_codes,
+                    };
                     let frame = |frame: &'a Option<FrameIr>| {
                         frame.as_ref().map(|frame| FrameView {
                             shown: shown(&frame.bytes),
-                            meaning: meaning_text(drive, frame),
+                            meaning: meaning_text(drive, frame, errors, error_digits),
                             printed: frame.printed.as_ref().map(|printed| PrintedView {
                                 printed,
-                                shown: shown(&printed.bytes),
+                                shown: if printed.written.is_empty() {
+                                    shown(&printed.bytes)
+                                } else {
+                                    format!("`{}`", printed.written)
+                                },
+                                read_as: printed_read_as(drive, example, frame, printed),
                             }),
                         })
                     };
@@ -703,6 +791,271 @@ impl<'a> DriveView<'a> {
                 .collect(),
         }
     }
+}
+
+/// How many hex digits an error code of `protocol` is written with: two when its error
+/// reply carries the code in one byte (or two digits), else four.
+fn error_code_digits(drive: &DriveIr, protocol: &ProtocolIr) -> usize {
+    use vfd_runtime::layout::{Format, Part};
+    let layout = protocol.error_reply.as_deref().and_then(|name| {
+        drive
+            .protocol_files
+            .iter()
+            .find(|f| f.id == protocol.uses)
+            .and_then(|f| f.layouts.iter().find(|l| l.name == name))
+    });
+    let one_byte = layout.is_some_and(|layout| {
+        layout.parts.iter().any(|part| {
+            matches!(part, Part::Field(field) if field.role == Role::ErrorCode
+                && (matches!(field.format, Format::U8 | Format::Char)
+                    || (field.format.is_digits() && field.width <= 2)))
+        })
+    });
+    if one_byte {
+        2
+    } else {
+        4
+    }
+}
+
+/// What the virtual drive built from the description does: its behaviour model's parts in
+/// words and each protocol's answers to refused requests.
+fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
+    let Some(behaviour) = &drive.behaviour else {
+        return VirtualDriveView {
+            behaviour: None,
+            model_lines: Vec::new(),
+            refusal_names: Vec::new(),
+            refusals: Vec::new(),
+        };
+    };
+    let code = |id: &str| {
+        drive
+            .register(id)
+            .map_or_else(|| id.to_owned(), |r| r.code.clone())
+    };
+    let codes = |ids: &[String]| ids.iter().map(|id| code(id)).collect::<Vec<_>>().join(", ");
+    let amount = |a: &AmountIr, unit: &str| match a {
+        AmountIr::Number(n) => format!("{} {unit}", trimmed(*n)),
+        AmountIr::Register(id) => code(id),
+    };
+    let mut model_lines = vec![format!(
+        "Commands: the command word is {}{}; the frequency command is {}.",
+        code(&behaviour.command_register),
+        match &behaviour.require_mode {
+            Some((register, values)) => format!(
+                ", taken only while {} = {}",
+                code(register),
+                values
+                    .iter()
+                    .map(|v| v.to_string())
+                    .collect::<Vec<_>>()
+                    .join(" or ")
+            ),
+            None => String::new(),
+        },
+        code(&behaviour.frequency_command)
+    )];
+    model_lines.push(format!(
+        "Ramps: acceleration {}, deceleration {}, each for a change of {}.",
+        amount(&behaviour.acceleration, "s"),
+        amount(&behaviour.deceleration, "s"),
+        amount(&behaviour.span, "Hz")
+    ));
+    if !behaviour.output.is_empty() {
+        model_lines.push(format!(
+            "Monitors following the output: {}.",
+            codes(&behaviour.output)
+        ));
+    }
+    if !behaviour.status_registers.is_empty() {
+        model_lines.push(format!(
+            "Status words: {}.",
+            codes(&behaviour.status_registers)
+        ));
+    }
+    let answer = |protocol: &ProtocolIr, code: Option<u16>| match code {
+        Some(code) => format!("{:0w$X}h", code, w = error_code_digits(drive, protocol)),
+        None => "no reply".to_owned(),
+    };
+    let mut refusal_names = vec![
+        "Unknown register",
+        "Read-only register",
+        "Out of range",
+        "While running",
+        "Bad checksum",
+    ];
+    if behaviour.require_mode.is_some() {
+        refusal_names.push("Outside the required mode");
+    }
+    let refusals = drive
+        .protocols
+        .iter()
+        .map(|protocol| {
+            let entry = behaviour
+                .refusals
+                .iter()
+                .find(|r| r.protocol == protocol.id);
+            let mut cells: Vec<String> = match entry {
+                Some(r) => [
+                    r.unknown_register,
+                    r.read_only,
+                    r.out_of_range,
+                    r.while_running,
+                    r.bad_checksum,
+                    r.wrong_mode,
+                ]
+                .into_iter()
+                .map(|code| answer(protocol, code))
+                .collect(),
+                None => vec!["no reply".to_owned(); 6],
+            };
+            cells.truncate(refusal_names.len());
+            (protocol.id.clone(), cells)
+        })
+        .collect();
+    VirtualDriveView {
+        behaviour: Some(behaviour),
+        model_lines,
+        refusal_names,
+        refusals,
+    }
+}
+
+/// The character format each protocol speaks, from the code tables whose values choose a
+/// protocol and set the line, with the format of the selecting register's factory value;
+/// empty when no code table says.
+fn line_formats(drive: &DriveIr) -> Vec<(String, String)> {
+    let format = |(data_bits, parity, stop_bits): (u8, vfd_runtime::serial::Parity, u8)| {
+        let parity = match parity {
+            vfd_runtime::serial::Parity::None => 'N',
+            vfd_runtime::serial::Parity::Even => 'E',
+            vfd_runtime::serial::Parity::Odd => 'O',
+        };
+        format!("{data_bits}{parity}{stop_bits}")
+    };
+    let mut rows = Vec::new();
+    for protocol in &drive.protocols {
+        for table in &drive.code_tables {
+            let values: Vec<&CodeValueIr> = table
+                .values
+                .iter()
+                .filter(|v| v.line.is_some() && v.protocol.as_deref() == Some(&protocol.id))
+                .collect();
+            if values.is_empty() {
+                continue;
+            }
+            let Some(selector) = drive
+                .registers
+                .iter()
+                .find(|r| r.code_table.as_deref() == Some(&table.id))
+            else {
+                continue;
+            };
+            let factory = selector.default.map(|d| d as u16);
+            let choices: Vec<String> = values
+                .iter()
+                .filter_map(|v| {
+                    let line = format(v.line?);
+                    Some(if Some(v.value) == factory {
+                        format!(
+                            "**{line}** ({} = {}, the factory setting)",
+                            selector.code, v.value
+                        )
+                    } else {
+                        format!("{line} ({} = {})", selector.code, v.value)
+                    })
+                })
+                .collect();
+            rows.push((protocol.id.clone(), choices.join(", ")));
+        }
+    }
+    rows
+}
+
+/// When the decoder read printed bytes with the layout of another command than the
+/// corrected frame's (their command code chose it), a sentence saying so: the rejection
+/// then follows from that layout, not from the mistake the erratum names.
+fn printed_read_as(
+    drive: &DriveIr,
+    example: &ExampleIr,
+    frame: &FrameIr,
+    printed: &PrintedIr,
+) -> String {
+    let Some(protocol) = drive.protocols.iter().find(|p| p.id == example.protocol) else {
+        return String::new();
+    };
+    let Some(rest) = printed.rejection.split("failed with: ").nth(1) else {
+        return String::new();
+    };
+    let Some(layout) = rest.split(':').next() else {
+        return String::new();
+    };
+    let Some(command) = protocol
+        .commands
+        .iter()
+        .find(|c| c.request == layout || c.reply == layout)
+    else {
+        return String::new();
+    };
+    let file = drive.protocol_files.iter().find(|f| f.id == protocol.uses);
+    let has_command = file
+        .and_then(|f| f.layouts.iter().find(|l| l.name == layout))
+        .is_some_and(|l| l.has(Role::Command));
+    let Some(corrected) = frame.meaning.code else {
+        return String::new();
+    };
+    // The corrected frame's own command uses the layout too: the command code did not
+    // choose another layout.
+    let same_layout = protocol.commands.iter().any(|c| {
+        (c.request == layout || c.reply == layout)
+            && (c.code == corrected || c.reply_codes.contains(&corrected))
+    });
+    if !has_command || same_layout {
+        return String::new();
+    }
+    let label = vfd_runtime::protocol::code_label(command.code);
+    let code = if label.len() == 1 {
+        format!("`{label}` ({:02X}h)", command.code)
+    } else {
+        format!("`{label}`")
+    };
+    let stop = if printed.rejection.ends_with('.') {
+        ""
+    } else {
+        "."
+    };
+    format!(
+        "{stop} The decoder chooses a layout by the command code: the printed {code} is the {} command's, so the bytes are read as `{layout}`, and that layout's check fails.",
+        command.kind.as_str()
+    )
+}
+
+/// A link to the code table `id` on the page (`[Trip codes](#code-table-trip_code)`), when
+/// the drive has it.
+fn code_table_link(drive: &DriveIr, id: Option<&str>) -> Option<String> {
+    let table = drive
+        .code_tables
+        .iter()
+        .find(|t| Some(t.id.as_str()) == id)?;
+    Some(format!("[{}](#code-table-{})", table.name, table.id))
+}
+
+/// A register's name without the port it names at its end (`Command word 1 (2-wire
+/// RS-485)` → `Command word 1`), for the table of per-port copies.
+fn without_port(name: &str, ports: &PortsIr) -> String {
+    ports
+        .ports
+        .iter()
+        .find_map(|port| name.strip_suffix(&format!(" ({})", port.name)))
+        .unwrap_or(name)
+        .to_owned()
+}
+
+/// A number without float noise (`4`, `6000`, `0.5`).
+fn trimmed(value: f64) -> String {
+    let text = format!("{value:.6}");
+    text.trim_end_matches('0').trim_end_matches('.').to_owned()
 }
 
 /// Whether the request `frame` of `example` is never answered: its command says so, or it
@@ -760,6 +1113,12 @@ fn command_notes(drive: &DriveIr, command: &CommandIr) -> String {
                 .to_owned(),
         );
     }
+    if command.space == Space::Coil && coil_data_low_byte_first(drive, command) {
+        notes.push(
+            "coil data: the first coil is the lowest bit of the first byte, so 16 coils read as a word arrive low byte first"
+                .to_owned(),
+        );
+    }
     if command.lowercase_means_sender_tripped {
         notes.push("lower case: the sender (master) has tripped".to_owned());
     }
@@ -773,6 +1132,21 @@ fn command_notes(drive: &DriveIr, command: &CommandIr) -> String {
         ));
     }
     notes.join("; ")
+}
+
+/// Whether a coil command's data travels low byte first (`uint_le`) in its request or
+/// reply, as the protocol file lays it out.
+fn coil_data_low_byte_first(drive: &DriveIr, command: &CommandIr) -> bool {
+    use vfd_runtime::layout::{Format, Part};
+    drive
+        .protocol_files
+        .iter()
+        .flat_map(|f| f.layouts.iter())
+        .filter(|l| l.name == command.request || l.name == command.reply)
+        .flat_map(|l| l.parts.iter())
+        .any(|part| {
+            matches!(part, Part::Field(field) if field.role == Role::Data && field.format == Format::UintLe)
+        })
 }
 
 /// What the block transfer writes and reads, one line each, registers by code.
@@ -1034,42 +1408,45 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
             .into_iter()
             .filter_map(layout)
             .map(|layout| {
-                let parts = drive_error_functions(protocol, layout);
+                let used = codes_in_layout(protocol, &layout.name);
                 LayoutView {
                     name: layout.name.to_string(),
-                    parts: parts.iter().map(|part| part_view(part, &parts)).collect(),
+                    parts: layout
+                        .parts
+                        .iter()
+                        .map(|part| part_view(part, &layout.parts, &used))
+                        .collect(),
                 }
             })
             .collect(),
     }
 }
 
-/// `layout`'s parts as this drive sends them: in the error reply, the function field
-/// allows only the error codes of the drive's own commands (the FC 51 sends no 88h: it has
-/// no function 08), when each command names one; as the protocol file gives them otherwise.
-fn drive_error_functions(protocol: &ProtocolIr, layout: &FrameLayout) -> Vec<Part> {
-    let mut parts = layout.parts.to_vec();
-    if protocol.error_reply.as_deref() != Some(layout.name.as_ref()) {
-        return parts;
-    }
-    let codes: Option<Vec<u32>> = protocol.commands.iter().map(|c| c.error_code).collect();
-    let Some(codes) = codes.filter(|codes| !codes.is_empty()) else {
-        return parts;
-    };
-    for part in &mut parts {
-        if let Part::Field(field) = part {
-            if field.role == Role::Command && !field.allowed.is_empty() {
-                let kept: Vec<u32> = field
-                    .allowed
-                    .iter()
-                    .copied()
-                    .filter(|code| codes.contains(code))
-                    .collect();
-                field.allowed = std::borrow::Cow::Owned(kept);
+/// The command codes the drive's commands of `protocol` put in the layout `name`: their
+/// own codes in their requests, their reply codes in their replies, their error codes in
+/// the error reply. Empty when one of them leaves its code unknown (then the layout's own
+/// list stands).
+fn codes_in_layout(protocol: &ProtocolIr, name: &str) -> Vec<u32> {
+    let mut used = Vec::new();
+    for command in &protocol.commands {
+        if command.request == name {
+            used.push(command.code);
+        }
+        if command.reply == name && !command.no_reply {
+            if command.reply_codes.is_empty() {
+                used.push(command.code);
+            } else {
+                used.extend(command.reply_codes.iter().copied());
+            }
+        }
+        if protocol.error_reply.as_deref() == Some(name) {
+            match command.error_code {
+                Some(code) => used.push(code),
+                None => return Vec::new(),
             }
         }
     }
-    parts
+    used
 }
 
 /// One sentence per line rule the drive states for `protocol`.
@@ -1081,11 +1458,45 @@ fn link_rules(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
         text.trim_end_matches('0').trim_end_matches('.').to_owned()
     };
     let mut rules = Vec::new();
-    if !timing.frame_gap_min.is_zero() {
-        rules.push(format!(
+    let chars = protocol.frame_gap_chars;
+    match (chars > 0.0, timing.frame_gap_min.is_zero()) {
+        (true, true) => rules.push(format!(
+            "Frames are separated by {chars} character times of silence (derived from the baud rate)."
+        )),
+        (false, false) => rules.push(format!(
             "The silence between frames is at least {} ms whatever the baud rate.",
             ms(timing.frame_gap_min)
-        ));
+        )),
+        (true, false) => {
+            // Which of the two rules is the longer, at the baud rates the drive offers.
+            let chars_time = |baud: u32| {
+                SerialSettings {
+                    baud,
+                    data_bits: drive.serial.default_data_bits,
+                    parity: drive.serial.default_parity,
+                    stop_bits: drive.serial.default_stop_bits,
+                }
+                .char_time()
+                .mul_f32(chars)
+            };
+            let floor_everywhere = drive
+                .serial
+                .baud_rates
+                .iter()
+                .all(|baud| chars_time(*baud) <= timing.frame_gap_min);
+            rules.push(if floor_everywhere {
+                format!(
+                    "Frames are separated by at least {} ms of silence whatever the baud rate: longer than the protocol's {chars} character times at every baud rate the drive offers.",
+                    ms(timing.frame_gap_min)
+                )
+            } else {
+                format!(
+                    "Frames are separated by {chars} character times of silence (derived from the baud rate), and by at least {} ms whatever the baud rate: the longer of the two applies.",
+                    ms(timing.frame_gap_min)
+                )
+            });
+        }
+        (false, true) => {}
     }
     if timing.max_inner_gap_chars > 0.0 {
         rules.push(format!(
@@ -1093,11 +1504,16 @@ fn link_rules(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
             timing.max_inner_gap_chars
         ));
     }
-    if timing.before_start == BeforeStart::Reject {
-        rules.push(
-            "Bytes before a frame's start sequence reject the frame (it is not answered)."
-                .to_owned(),
-        );
+    if begins_with_literal(drive, protocol) {
+        rules.push(match timing.before_start {
+            BeforeStart::Reject => {
+                "Bytes before a frame's start sequence reject the frame (it is not answered)."
+            }
+            BeforeStart::Skip => {
+                "Bytes before a frame's start sequence are skipped: the frame begins at its start."
+            }
+        }
+        .to_owned());
     }
     if let Some(delay) = &timing.reply_delay {
         let names: Vec<String> = delay
@@ -1130,8 +1546,13 @@ fn link_rules(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
             }
         };
         rules.push(format!(
-            "Broadcasts: {} may be sent to every station (or a group, where the station field has a wildcard); {answered}.",
-            codes.join(", ")
+            "Broadcasts: {} may be sent to every station{}; {answered}.",
+            codes.join(", "),
+            if station_wildcard(drive, protocol) {
+                " or to a group of stations (`*` for an open digit of the station number)"
+            } else {
+                ""
+            }
         ));
     }
     if let Some(variants) = &protocol.variants {
@@ -1187,6 +1608,40 @@ fn unsupported_function_rule(drive: &DriveIr, protocol: &ProtocolIr) -> Option<S
         None => sentence(
             "gets no answer from the library's virtual drive, so a master waits for its time-out: the manual does not say what the drive does with one.".to_owned(),
         ),
+    })
+}
+
+/// The layouts of the protocol's requests, from its protocol file.
+fn request_layouts<'a>(
+    drive: &'a DriveIr,
+    protocol: &'a ProtocolIr,
+) -> impl Iterator<Item = &'a vfd_runtime::FrameLayout> + 'a {
+    let file = drive.protocol_files.iter().find(|f| f.id == protocol.uses);
+    protocol.commands.iter().filter_map(move |command| {
+        file.and_then(|f| f.layouts.iter().find(|l| l.name == command.request))
+    })
+}
+
+/// Whether the protocol's requests begin with a start sequence (a literal).
+fn begins_with_literal(drive: &DriveIr, protocol: &ProtocolIr) -> bool {
+    let mut layouts = request_layouts(drive, protocol).peekable();
+    layouts.peek().is_some()
+        && layouts.all(|l| {
+            matches!(
+                l.parts.first(),
+                Some(vfd_runtime::layout::Part::Literal { .. })
+            )
+        })
+}
+
+/// Whether a request's station field takes a wildcard digit (group broadcasts).
+fn station_wildcard(drive: &DriveIr, protocol: &ProtocolIr) -> bool {
+    request_layouts(drive, protocol).any(|layout| {
+        layout.parts.iter().any(|part| {
+            matches!(part, vfd_runtime::layout::Part::Field(field)
+                if field.role == Role::Address
+                    && field.broadcast.as_ref().is_some_and(|b| b.wildcard.is_some()))
+        })
     })
 }
 
