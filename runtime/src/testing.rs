@@ -72,7 +72,7 @@ pub fn request_round_trips(protocol: &'static Protocol, bytes: &[u8], expect: &F
         info: None,
         command: expect.code,
     };
-    encodes_like(protocol, &decoded, &request, bytes);
+    encodes_like(protocol, &decoded, &request, expect.reply_wait, bytes);
 }
 
 /// A request built through the typed API encodes to the manual's `bytes` (with the
@@ -87,7 +87,10 @@ pub fn typed_request_encodes(protocol: &'static Protocol, request: &Request, byt
         process: decoded.process,
         ..*request
     };
-    encodes_like(protocol, &decoded, &request, bytes);
+    let reply_wait = decoded
+        .values
+        .get(&decoded.command.request, Role::ReplyWait);
+    encodes_like(protocol, &decoded, &request, reply_wait, bytes);
 }
 
 #[track_caller]
@@ -95,6 +98,7 @@ fn encodes_like(
     protocol: &'static Protocol,
     decoded: &DecodedRequest<'_>,
     request: &Request,
+    reply_wait: Option<u32>,
     bytes: &[u8],
 ) {
     let address = decoded
@@ -104,6 +108,11 @@ fn encodes_like(
         .request_values_for(decoded.command, request, address)
         .unwrap_or_else(|e| panic!("cannot build the request: {e}"));
     adopt_presentation(layout, &mut values, &decoded.values);
+    // The reply-wait field as the example states it (a master sets it with
+    // `Master::with_reply_wait`; the encoder's default is 0).
+    if let Some(wait) = reply_wait {
+        values.set(layout, Role::ReplyWait, wait);
+    }
     // A block transfer: the count asked back and the words written, as the manual's.
     if let Some(count) = decoded.values.get(layout, Role::ReadCount) {
         values.set(layout, Role::ReadCount, count);

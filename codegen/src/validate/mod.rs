@@ -27,6 +27,7 @@ mod rust_names_are_unique;
 mod scales_are_positive;
 mod sequences_resolve;
 mod serial_settings_are_consistent;
+mod storage_rules_are_consistent;
 mod units_are_known;
 mod value_examples_match;
 
@@ -52,7 +53,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 22] = [
+    let checks: [fn(&Context, &mut Diagnostics); 23] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -75,6 +76,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         relations_resolve::relations_resolve,
         sequences_resolve::sequences_resolve,
         line_formats_resolve::line_formats_resolve,
+        storage_rules_are_consistent::storage_rules_are_consistent,
     ];
     for check in checks {
         check(drive, out);

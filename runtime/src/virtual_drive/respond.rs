@@ -501,7 +501,7 @@ impl VirtualDrive {
                 self.selected_index.min(u16::from(info.array_len) - 1)
             };
             self.storage
-                .set(info, index, raw, persistent && !info.ram_only);
+                .set(info, index, raw, persistent && !info.stored_in_ram_only());
             if command_register == Some(info.id) {
                 self.command_written(raw);
             }
@@ -817,14 +817,14 @@ impl VirtualDrive {
             let index = if info.array_len == 0 { 0 } else { index };
             let persistent = match selected {
                 Some((selector, to_eeprom))
-                    if selector.governs(info.space, info.address, info.ram_only) =>
+                    if selector.governs(info.space, info.address, info.stored_in_ram_only()) =>
                 {
                     to_eeprom
                 }
                 _ => persistent,
             };
             self.storage
-                .set(info, index, raw, persistent && !info.ram_only);
+                .set(info, index, raw, persistent && !info.stored_in_ram_only());
             self.value_written(info, raw);
         }
         self.refresh();

@@ -187,6 +187,7 @@ impl Bake for FrameMeaning {
         );
         field("read_count", int(self.read_count));
         field("write_status", int(self.write_status));
+        field("reply_wait", int(self.reply_wait));
         if self.tripped {
             fields.push(quote!(tripped: true));
         }
