@@ -10,6 +10,7 @@ pub(crate) mod ranges;
 mod behaviour_resolves;
 mod bit_examples_match;
 mod bit_fields_do_not_overlap;
+mod byte_registers_have_commands;
 mod code_values_are_unique;
 mod defaults_are_in_range;
 mod examples_decode;
@@ -53,7 +54,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 23] = [
+    let checks: [fn(&Context, &mut Diagnostics); 24] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -77,6 +78,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         sequences_resolve::sequences_resolve,
         line_formats_resolve::line_formats_resolve,
         storage_rules_are_consistent::storage_rules_are_consistent,
+        byte_registers_have_commands::byte_registers_have_commands,
     ];
     for check in checks {
         check(drive, out);

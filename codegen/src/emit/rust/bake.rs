@@ -69,7 +69,8 @@ bake_unit_enum!(DataType {
     Word,
     DoubleWord,
     Bit,
-    Text
+    Text,
+    Byte
 });
 bake_unit_enum!(Space { Parameter, Coil });
 bake_unit_enum!(TakesEffect {
