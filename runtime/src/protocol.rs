@@ -168,6 +168,10 @@ pub struct Paging {
     pub select_read: Option<u16>,
     /// The page register's number in write requests.
     pub select_write: u16,
+    /// The page register's data type: the page switch goes out with the write command that
+    /// carries it (a byte command's narrower layout where the drive takes two data digits),
+    /// and the virtual drive answers a read of the page with the read that carries it.
+    pub select_data_type: DataType,
     /// The ranges of register numbers laid out on pages.
     pub ranges: List<PageRange>,
     /// Registers whose write makes the drive forget its page (a reset): the master selects

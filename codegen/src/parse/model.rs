@@ -832,6 +832,11 @@ pub struct PagesModel {
     /// The page register's numbers on the wire: `{ read: 0x7F, write: 0xFF }` (`read` may
     /// be left out when it cannot be read back).
     pub select: WireNumberModel,
+    /// The page register's data type: `byte` where the page switch carries a narrower data
+    /// field than a word's (two hex digits where words take four), so that it goes out with
+    /// the protocol's write command that carries bytes, in that command's own layout.
+    /// Default `word`.
+    pub data_type: Option<DataType>,
     /// The ranges of register numbers laid out on pages.
     pub ranges: Vec<PageRangeModel>,
     /// Codes or ids of registers whose write resets the drive's page (an inverter reset):
