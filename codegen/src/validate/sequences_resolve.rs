@@ -155,7 +155,7 @@ pub fn sequences_resolve(drive: &Context, out: &mut Diagnostics) {
                     let stated = u32::from(sequence.reply_wait.unwrap_or(0));
                     if let Some(printed) = printed.filter(|printed| *printed != stated) {
                         error(
-                            &format!("{key}"),
+                            &key,
                             format!(
                                 "the request's reply-wait field is {printed}, the sequence states {stated}"
                             ),
