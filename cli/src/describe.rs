@@ -165,6 +165,9 @@ fn summary_line(r: &RegisterInfo) -> String {
     if r.ram_only {
         flags.push("RAM");
     }
+    if r.persistent_write_to_ram {
+        flags.push("persist-to-RAM");
+    }
     if r.writable_while_running {
         flags.push("run-writable");
     } else if r.while_running_unknown {
@@ -259,6 +262,8 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
         "  storage     {}",
         if r.ram_only {
             "RAM only (no persistent write)"
+        } else if r.persistent_write_to_ram {
+            "RAM only (a persistent write is accepted, kept in RAM)"
         } else if r.access == Access::ReadOnly {
             "—"
         } else {

@@ -199,3 +199,57 @@ fn a_missing_drive_file_is_named() {
         text(&info)
     );
 }
+
+/// The made-up drive of a new family (`tests/fixtures/computer-link/`: its own protocol
+/// file in `protocols/` next to it) served by `vfd sim --drive FILE`: a raw client writes
+/// the example frames and reads back the printed replies, byte for byte, in the default
+/// variant (CR) and, with `--variant`, in CR LF and with no terminator.
+#[test]
+fn vfd_sim_answers_a_new_family_drive_file_byte_for_byte() {
+    use std::time::{Duration, Instant};
+    use vfd_runtime::transport::{PtyTransport, Transport};
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/fixtures/computer-link/heron_hl7.yaml")
+        .canonicalize()
+        .expect("the fixture drive");
+    let file = file.to_str().expect("a UTF-8 path");
+    let cases: [(&[&str], &[(&[u8], &[u8])]); 3] = [
+        (
+            &[],
+            &[
+                (b"\x0501423FA\r", b"\x02010064\x032B\r"),
+                (b"\x0501C101194D4\r", b"\x0601\r"),
+                (b"\x0501700F8\r", b"\x020104\x03C5\r"),
+                (b"\x0501F00066D\r", b"\x0601\r"),
+            ],
+        ),
+        (
+            &["--variant", "cr_lf"],
+            &[(b"\x0501410F6\r\n", b"\x02011388\x0335\r\n")],
+        ),
+        (&["--variant", "none"], &[(b"\x0501C20012CDC", b"\x0601")]),
+    ];
+    for (extra, exchanges) in cases {
+        let mut args = vec!["--drive", file];
+        args.extend_from_slice(extra);
+        let sim = Sim::spawn(&args);
+        let mut line = PtyTransport::open_path(Path::new(&sim.port)).expect("the device opens");
+        for (request, reply) in exchanges {
+            line.send(request).expect("sent");
+            let mut heard = Vec::new();
+            let deadline = Instant::now() + Duration::from_secs(3);
+            let mut buf = [0u8; 64];
+            while heard.len() < reply.len() && Instant::now() < deadline {
+                let n = line.receive(&mut buf, deadline).unwrap_or(0);
+                heard.extend_from_slice(&buf[..n]);
+            }
+            assert_eq!(
+                heard,
+                reply.to_vec(),
+                "{extra:?}: the reply to {:?}",
+                String::from_utf8_lossy(request)
+            );
+            std::thread::sleep(Duration::from_millis(30));
+        }
+    }
+}

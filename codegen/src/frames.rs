@@ -82,7 +82,16 @@ pub(crate) fn decode_examples(
 
 fn decode_example(example: &ExampleModel, protocols: &[LoweredProtocol]) -> DecodedExample {
     let protocol = protocols.iter().position(|p| p.id == example.protocol);
-    let runtime = protocol.map(|index| &protocols[index].runtime);
+    // In a named variant, the frames decode in that variant's bytes; an unknown variant
+    // leaves nothing to decode with (reported by validation).
+    let in_variant = match (protocol, &example.variant) {
+        (Some(index), Some(variant)) => Some(in_variant(&protocols[index].runtime, variant)),
+        _ => None,
+    };
+    let runtime = match &in_variant {
+        Some(found) => found.as_ref(),
+        None => protocol.map(|index| &protocols[index].runtime),
+    };
     let frame = |direction: Direction, model: &Option<FrameModel>| {
         model.as_ref().map(|model| {
             let bytes = frame_bytes(&model.ascii, &model.hex);
@@ -142,11 +151,16 @@ fn decode_example(example: &ExampleModel, protocols: &[LoweredProtocol]) -> Deco
 }
 
 /// The values an example states for fields of its request's layout beyond its meaning
-/// (a reply-wait digit): the one place the re-encode of `vfd check` and of the golden
-/// tests takes them from. The format has no key for them yet, so there are none.
+/// (a reply-wait digit, `expect: { reply_wait: N }`): the one place the re-encode of
+/// `vfd check` takes them from; the golden tests take the same value from the request's
+/// meaning.
 pub(crate) fn stated_fields(example: &ExampleModel) -> Vec<(Role, u32)> {
-    let _ = example;
-    Vec::new()
+    example
+        .request
+        .as_ref()
+        .and_then(|request| request.expect.reply_wait)
+        .map(|wait| vec![(Role::ReplyWait, wait)])
+        .unwrap_or_default()
 }
 
 /// The command a golden test builds through a register's typed API for an example's
@@ -165,6 +179,44 @@ pub(crate) fn typed_request_kind(
         CommandKind::Read => Some(CommandKind::Read),
         _ => None,
     }
+}
+
+/// `protocol` in its variant called `id`, if it has one.
+pub(crate) fn in_variant(
+    protocol: &vfd_runtime::Protocol,
+    id: &str,
+) -> Option<vfd_runtime::Protocol> {
+    let index = protocol.variants.as_ref()?.index_of(id)?;
+    protocol.in_variant(index)
+}
+
+/// The ids of the variants `protocol` has, other than the one it is in, in which `bytes`
+/// decode going in `direction`.
+pub(crate) fn other_variants_decoding(
+    protocol: &vfd_runtime::Protocol,
+    direction: Direction,
+    bytes: &[u8],
+) -> Vec<String> {
+    other_variants_where(protocol, |other| {
+        decode_meaning(other, direction, bytes).is_ok()
+    })
+}
+
+/// The ids of the variants `protocol` has, other than the one it is in, for which
+/// `accepts` holds.
+pub(crate) fn other_variants_where(
+    protocol: &vfd_runtime::Protocol,
+    accepts: impl Fn(&vfd_runtime::Protocol) -> bool,
+) -> Vec<String> {
+    let Some(variants) = protocol.variants.as_ref() else {
+        return Vec::new();
+    };
+    (0..variants.choices.len())
+        .filter(|index| *index != usize::from(variants.current))
+        .filter_map(|index| protocol.in_variant(index))
+        .filter(|other| accepts(other))
+        .filter_map(|other| other.variants.as_ref()?.current().map(|v| v.id.to_string()))
+        .collect()
 }
 
 /// The bytes a frame holds (`ascii:` text or `hex:` pairs), or a message saying why there

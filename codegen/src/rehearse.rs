@@ -1,6 +1,6 @@
 //! Stage 8: rehearsal. Each example's request is played to the virtual drive built from the
 //! description itself (its run-time values, [`crate::emit::live`]), at the request's
-//! station and under the example's `settings`; the virtual drive must answer with the
+//! station, set to the example's protocol variant and under its `settings`; the virtual drive must answer with the
 //! example's reply, byte for byte, unless the example says why it cannot
 //! (`not_simulated:`). So whatever `vfd check` accepts, `vfd sim` answers as the manual
 //! prints it, or the description says where and why it does not.
@@ -74,8 +74,17 @@ fn rehearse(drive: &'static DriveInfo, example: &ExampleIr) -> Option<Outcome> {
     if !example.answers {
         return None;
     }
-    let protocol = drive.protocol(&example.protocol)?;
+    let lowered = drive.protocol(&example.protocol)?;
+    // In a named variant, the drive is set to it, as on its panel before power-on.
+    let in_variant = example.variant.as_deref().and_then(|id| {
+        let index = lowered.variants.as_ref()?.index_of(id)?;
+        lowered.in_variant(index)
+    });
+    let protocol = in_variant.as_ref().unwrap_or(lowered);
     let mut virtual_drive = VirtualDrive::new(drive);
+    if in_variant.is_some() {
+        virtual_drive.select_variant(protocol);
+    }
     // A broadcast is answered by the station the reply names.
     let station = match request.meaning.broadcast {
         Some(_) => reply.meaning.address,

@@ -118,7 +118,14 @@ pub fn request_round_trips(
     }
     let decoded = decoded_request(protocol, bytes)?;
     let request = request_from_meaning(&decoded, expect);
-    encodes_like(protocol, &decoded, &request, stated, bytes)
+    // A reply-wait digit the meaning states is a stated value like any other.
+    let mut stated = stated.to_vec();
+    if let Some(wait) = expect.reply_wait {
+        if !stated.iter().any(|(role, _)| *role == Role::ReplyWait) {
+            stated.push((Role::ReplyWait, wait));
+        }
+    }
+    encodes_like(protocol, &decoded, &request, &stated, bytes)
 }
 
 /// A request built through the typed API encodes to the manual's `bytes` (with the

@@ -48,6 +48,10 @@ pub struct RegisterInfo {
     pub access: Access,
     /// Writes go to RAM only; a persistent (EEPROM) write is not allowed.
     pub ram_only: bool,
+    /// A persistent (EEPROM) write is accepted, but the value is stored in RAM only (lost
+    /// at power-off): a storage rule of its own, distinct from [`RegisterInfo::ram_only`]'s
+    /// refusal.
+    pub persistent_write_to_ram: bool,
     /// May be written while the motor runs (false when the manual does not say).
     pub writable_while_running: bool,
     /// The manual does not say whether it may be written while running (its table has no
@@ -205,6 +209,18 @@ impl RegisterInfo {
         self
     }
 
+    /// A persistent write is accepted but stored in RAM only.
+    pub const fn with_persistent_write_to_ram(mut self) -> Self {
+        self.persistent_write_to_ram = true;
+        self
+    }
+
+    /// Whether a value written to it stays in RAM only, whatever the command (RAM only, or
+    /// a persistent write stored in RAM).
+    pub const fn stored_in_ram_only(&self) -> bool {
+        self.ram_only || self.persistent_write_to_ram
+    }
+
     /// May be written while the motor runs.
     pub const fn with_writable_while_running(mut self) -> Self {
         self.writable_while_running = true;
@@ -346,6 +362,7 @@ impl RegisterInfo {
         max_bound: None,
         access: Access::ReadWrite,
         ram_only: false,
+        persistent_write_to_ram: false,
         writable_while_running: false,
         while_running_unknown: false,
         panel_only: false,

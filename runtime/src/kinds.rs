@@ -120,15 +120,20 @@ pub enum DataType {
     Bit,
     /// Text (read as bytes).
     Text,
+    /// 8 bits: a register whose frames carry a narrower data field than a word's (two hex
+    /// digits where the protocol's words take four), served by the commands that list
+    /// `byte` among their `data_types`.
+    Byte,
 }
 
 impl DataType {
     /// Every data type.
-    pub const ALL: [DataType; 4] = [
+    pub const ALL: [DataType; 5] = [
         DataType::Word,
         DataType::DoubleWord,
         DataType::Bit,
         DataType::Text,
+        DataType::Byte,
     ];
 
     /// Name as written in description files.
@@ -138,15 +143,18 @@ impl DataType {
             DataType::DoubleWord => "double_word",
             DataType::Bit => "bit",
             DataType::Text => "text",
+            DataType::Byte => "byte",
         }
     }
 
     /// The lowest and highest raw values a value of this shape can hold, signed
-    /// (two's complement) or not: a word's, or a double word's.
+    /// (two's complement) or not: a word's, a double word's or a byte's.
     pub const fn raw_limits(self, signed: bool) -> (i64, i64) {
         match (self, signed) {
             (DataType::DoubleWord, true) => (i32::MIN as i64, i32::MAX as i64),
             (DataType::DoubleWord, false) => (0, u32::MAX as i64),
+            (DataType::Byte, true) => (i8::MIN as i64, i8::MAX as i64),
+            (DataType::Byte, false) => (0, u8::MAX as i64),
             (_, true) => (i16::MIN as i64, i16::MAX as i64),
             (_, false) => (0, u16::MAX as i64),
         }
@@ -158,6 +166,7 @@ impl DataType {
             DataType::Word | DataType::Bit => 2,
             DataType::DoubleWord => 4,
             DataType::Text => 0,
+            DataType::Byte => 1,
         }
     }
 }

@@ -74,6 +74,10 @@ pub struct FrameMeaning {
     /// A block-transfer reply's write status (bit `n`: word `n` not written).
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
     pub write_status: Option<u32>,
+    /// The value of a request's reply-wait field (the Eaton-style wait digit: tens of
+    /// milliseconds the drive waits before it answers), where its layout has one.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub reply_wait: Option<u32>,
     /// The drive answered with a lower-case command: it is tripped. In a request: the
     /// sender says it has tripped (a command whose lower case means so, see
     /// [`crate::protocol::CommandSpec::lowercase_means_sender_tripped`]).
@@ -109,6 +113,7 @@ pub fn decode_meaning(
                     .then(|| request.words.as_slice().to_vec()),
                 read_count: request.values.get(&command.request, Role::ReadCount),
                 write_status: None,
+                reply_wait: request.values.get(&command.request, Role::ReplyWait),
                 tripped: request.sender_tripped(),
             })
         }
@@ -147,6 +152,7 @@ pub fn decode_meaning(
                     .then(|| values.words(&command.reply, bytes).as_slice().to_vec()),
                 read_count: values.get(&command.reply, Role::ReadCount),
                 write_status: values.get(&command.reply, Role::WriteStatus),
+                reply_wait: None,
                 tripped,
             }),
             Reply::Error {

@@ -168,6 +168,10 @@ pub struct Paging {
     pub select_read: Option<u16>,
     /// The page register's number in write requests.
     pub select_write: u16,
+    /// The page register's data type: the page switch goes out with the write command that
+    /// carries it (a byte command's narrower layout where the drive takes two data digits),
+    /// and the virtual drive answers a read of the page with the read that carries it.
+    pub select_data_type: DataType,
     /// The ranges of register numbers laid out on pages.
     pub ranges: List<PageRange>,
     /// Registers whose write makes the drive forget its page (a reset): the master selects
@@ -2023,13 +2027,36 @@ impl Protocol {
         let request = self
             .decode_request_exact(request)
             .map_err(NotAnAnswer::Request)?;
-        let expectation = Expectation::answering(&request);
-        let search = self.search_reply(request.command, &expectation, reply);
-        match (search.found, search.foreign) {
-            (Some((frame, 0)), _) if frame.len() == reply.len() => Ok(()),
-            (_, Some(difference)) => Err(NotAnAnswer::Differs(difference)),
-            _ => Err(NotAnAnswer::NotAReply(search.last_error)),
+        // The decoded command, or one whose request is alike (a read of a byte where the
+        // decoder found the read of a word): the reply tells them apart.
+        let mut first = None;
+        for command in self.alike_commands(request.command) {
+            let request = DecodedRequest { command, ..request };
+            let expectation = Expectation::answering(&request);
+            let search = self.search_reply(command, &expectation, reply);
+            let outcome = match (search.found, search.foreign) {
+                (Some((frame, 0)), _) if frame.len() == reply.len() => return Ok(()),
+                (_, Some(difference)) => NotAnAnswer::Differs(difference),
+                _ => NotAnAnswer::NotAReply(search.last_error),
+            };
+            first.get_or_insert(outcome);
         }
+        Err(first.expect("a command is alike to itself"))
+    }
+
+    /// `command`, then the other commands of its kind and space whose requests have the
+    /// same layout (they differ in the data types they carry, and so in their replies'
+    /// data width): a request alone does not say which of them it is.
+    pub fn alike_commands<'p>(
+        &'p self,
+        command: &'p CommandSpec,
+    ) -> impl Iterator<Item = &'p CommandSpec> + 'p {
+        std::iter::once(command).chain(self.commands.iter().filter(move |other| {
+            !std::ptr::eq(*other, command)
+                && other.kind == command.kind
+                && other.space == command.space
+                && other.request.parts == command.request.parts
+        }))
     }
 }
 

@@ -189,6 +189,10 @@ pub struct SerialSpec {
     pub stop_bits_sent: u8,
     /// Stop bits the drive needs to receive.
     pub stop_bits_received: u8,
+    /// The stop bits the drive can be set to, when they are its choice ("1 or 2": `[1, 2]`;
+    /// it then sends and needs what it is set to, `stop_bits_sent` and
+    /// `stop_bits_received` being the factory setting); empty: fixed.
+    pub stop_bits: &'static [u8],
     /// Timing facts.
     pub timing: DriveTiming,
 }

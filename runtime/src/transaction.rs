@@ -1082,9 +1082,21 @@ impl<T: Transport, D: 'static> Master<T, D> {
         if self.broadcast_to.is_none() && self.known_page(self.address) == Some(page) {
             return None;
         }
+        // The page register's own type picks the command (a byte command's narrower layout
+        // where the drive takes two data digits): its plain write, else its only write.
+        let data_type = paging.select_data_type;
+        let kind = [CommandKind::WriteRam, CommandKind::WritePersistent]
+            .into_iter()
+            .find(|kind| {
+                self.protocol
+                    .command_for(*kind, Space::Parameter, data_type)
+                    .is_some()
+            })
+            .unwrap_or(CommandKind::WriteRam);
         let step = Request {
             wire_register: true,
-            ..Request::raw(CommandKind::WriteRam, paging.select_write, u32::from(page))
+            data_type,
+            ..Request::raw(kind, paging.select_write, u32::from(page))
         };
         Some((step, page))
     }

@@ -28,10 +28,11 @@ pub fn scaled_to_raw(value: f64, info: &'static RegisterInfo) -> Result<u32, Val
             max: rounded(info.raw_max as f64 * info.scale, info),
         });
     }
-    // The range check above keeps `raw` within the register's word or double word.
+    // The range check above keeps `raw` within the register's byte, word or double word.
     let raw = raw as i64;
     Ok(match (info.signed, info.data_type) {
         (true, DataType::DoubleWord) => raw as i32 as u32,
+        (true, DataType::Byte) => u32::from(raw as i8 as u8),
         (true, _) => u32::from(raw as i16 as u16),
         (false, _) => raw as u32,
     })
@@ -43,10 +44,11 @@ fn rounded(value: f64, info: &RegisterInfo) -> f64 {
 }
 
 /// A raw value as a number: two's complement when `signed`, over 32 bits for double
-/// words and 16 bits otherwise.
+/// words, 8 bits for bytes and 16 bits otherwise.
 pub fn raw_to_number(raw: u32, signed: bool, data_type: DataType) -> f64 {
     match (signed, data_type) {
         (true, DataType::DoubleWord) => f64::from(raw as i32),
+        (true, DataType::Byte) => f64::from(raw as u8 as i8),
         (true, _) => f64::from(raw as u16 as i16),
         (false, _) => f64::from(raw),
     }

@@ -15,6 +15,13 @@ vfd_macros::include_drive!(
     protocols = "../drives/protocols"
 );
 
+mod computer_link_fixture {
+    vfd_macros::include_drive!(
+        "fixtures/computer-link/heron_hl7.yaml",
+        protocols = "fixtures/computer-link/protocols"
+    );
+}
+
 mod error_tables_fixture {
     vfd_macros::include_drive!(
         "fixtures/error-tables/drive.yaml",
@@ -29,6 +36,11 @@ fn drives() -> Vec<(&'static str, Option<&'static str>, &'static DriveInfo)> {
             "fixtures/external-crate/demo_pump.yaml",
             Some("../drives/protocols"),
             &demo_pump::DRIVE,
+        ),
+        (
+            "fixtures/computer-link/heron_hl7.yaml",
+            Some("fixtures/computer-link/protocols"),
+            &computer_link_fixture::heron_hl7::DRIVE,
         ),
         (
             "fixtures/error-tables/drive.yaml",
@@ -123,7 +135,7 @@ fn every_drive_file_is_the_same_drive_compiled_in_and_loaded_at_run_time() {
         frames_decode_alike(file, &ir, compiled, live);
         compared += 1;
     }
-    assert!(compared >= 6, "compared {compared} drive files");
+    assert!(compared >= 7, "compared {compared} drive files");
 }
 
 /// Every example's and sequence's frames decode to the same outcome through both paths.

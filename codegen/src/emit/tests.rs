@@ -236,7 +236,13 @@ fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> Token
         .find(|p| p.id == example.protocol)
         .map(|p| Ident::new(&p.const_name, Span::call_site()))
         .unwrap_or_else(|| Ident::new("UNKNOWN_PROTOCOL", Span::call_site()));
-    let protocol = quote!(&#root::protocols::#protocol_name);
+    // In a named variant: the protocol with that variant's bytes (`Protocol::variant`).
+    let protocol = match &example.variant {
+        Some(variant) => {
+            quote!(#root::protocols::#protocol_name.protocol().variant(#variant).expect("the example's variant"))
+        }
+        None => quote!(&#root::protocols::#protocol_name),
+    };
     let mut body = Vec::new();
     if let Some(frame) = &example.request {
         body.push(frame_checks(&protocol, frame, Direction::Request, None));
@@ -439,6 +445,21 @@ fn sequence_test(drive: &DriveIr, root: &syn::Path, sequence: &SequenceIr) -> To
             }
         }
     };
+    let protocol = match &sequence.variant {
+        Some(variant) => quote! {
+            ::std::boxed::Box::leak(::std::boxed::Box::new(
+                #root::protocols::#protocol_name.variant(#variant).expect("the sequence's variant"),
+            ))
+        },
+        None => quote!(&#root::protocols::#protocol_name),
+    };
+    let reply_wait = match sequence.reply_wait {
+        Some(wait) if wait > 0 => {
+            let millis = int_literal(u32::from(wait) * 10);
+            quote!(.with_reply_wait(::std::time::Duration::from_millis(#millis)))
+        }
+        _ => quote!(),
+    };
     let given = match sequence.selector_given {
         Some(value) => {
             let value = int_literal(value);
@@ -458,11 +479,12 @@ fn sequence_test(drive: &DriveIr, root: &syn::Path, sequence: &SequenceIr) -> To
             let script = ::vfd_runtime::testing::Script::new(&[#(#steps),*]);
             let mut master = ::vfd_runtime::transaction::Master::new(
                 script,
-                &#root::protocols::#protocol_name,
+                #protocol,
                 #root::DRIVE.serial.default,
                 #root::DRIVE.serial.timing,
             )
-            .with_address(#address);
+            .with_address(#address)
+            #reply_wait;
             #given
             #call
             master.transport().assert_followed();

@@ -39,8 +39,12 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             baud_rates: serial.baud_rates.clone(),
             parities: serial.parities.clone(),
             data_bits: serial.data_bits,
-            stop_bits_sent: serial.stop_bits_sent,
-            stop_bits_received: serial.stop_bits_received,
+            // The drive's choice: it sends and needs what it is set to (the factory setting).
+            stop_bits_sent: serial.stop_bits_sent.unwrap_or(serial.default.stop_bits),
+            stop_bits_received: serial
+                .stop_bits_received
+                .unwrap_or(serial.default.stop_bits),
+            stop_bits: serial.stop_bits.clone(),
             default_baud: serial.default.baud,
             default_parity: serial.default.parity,
             default_data_bits: serial.default.data_bits,
@@ -305,6 +309,7 @@ fn lower_register(
         default: register.default,
         access: register.access.unwrap_or(Access::ReadWrite),
         ram_only: register.ram_only,
+        persistent_write_to_ram: register.persistent_write_to_ram,
         writable_while_running: register.writable_while_running.writable(),
         while_running_unknown: register.writable_while_running.is_unknown(),
         panel_only: register.panel_only,
@@ -796,6 +801,8 @@ fn lower_sequences(drive: &Context, registers: &[RegisterIr]) -> Vec<SequenceIr>
                 selector_given: sequence.given.values().next().copied(),
                 result,
                 steps,
+                variant: sequence.variant.clone(),
+                reply_wait: sequence.reply_wait,
             })
         })
         .collect()
@@ -862,6 +869,7 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                     })
                     .collect(),
                 not_simulated: example.not_simulated.clone(),
+                variant: example.variant.clone(),
             }
         })
         .collect()

@@ -387,6 +387,9 @@ pub struct SerialIr {
     pub stop_bits_sent: u8,
     /// Stop bits the drive needs.
     pub stop_bits_received: u8,
+    /// The stop bits the drive can be set to, when they are its choice (`[1, 2]`); empty:
+    /// fixed as `stop_bits_sent` and `stop_bits_received`.
+    pub stop_bits: Vec<u8>,
     /// Factory baud rate.
     pub default_baud: u32,
     /// Factory parity.
@@ -825,6 +828,8 @@ pub struct RegisterIr {
     pub access: Access,
     /// Writes go to RAM only.
     pub ram_only: bool,
+    /// A persistent write is accepted but stored in RAM only.
+    pub persistent_write_to_ram: bool,
     /// May be written while the motor runs (false when the manual does not say).
     pub writable_while_running: bool,
     /// The manual does not say whether it may be written while running (`unknown`): a
@@ -1054,6 +1059,9 @@ pub struct ExampleIr {
     /// Why the virtual drive cannot give the example's reply, when it cannot.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub not_simulated: Option<String>,
+    /// The protocol variant the frames are in (`None`: the first).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub variant: Option<String>,
 }
 
 /// A multi-step example: one call of the master and every frame it puts on the line.
@@ -1084,6 +1092,12 @@ pub struct SequenceIr {
     pub result: SequenceResultIr,
     /// The frames, in order.
     pub steps: Vec<SequenceStepIr>,
+    /// The protocol variant the frames are in (`None`: the first).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub variant: Option<String>,
+    /// The reply-wait field's value in the master's requests (0 when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reply_wait: Option<u8>,
 }
 
 /// The call of a sequence.

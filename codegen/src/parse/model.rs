@@ -745,10 +745,16 @@ pub struct SerialModel {
     pub parities: Vec<Parity>,
     /// Data bits per character.
     pub data_bits: u8,
-    /// Stop bits the drive sends.
-    pub stop_bits_sent: u8,
-    /// Stop bits the drive needs to receive.
-    pub stop_bits_received: u8,
+    /// Stop bits the drive sends, when fixed; left out with `stop_bits`.
+    pub stop_bits_sent: Option<u8>,
+    /// Stop bits the drive needs to receive, when fixed; left out with `stop_bits`.
+    pub stop_bits_received: Option<u8>,
+    /// The stop bits the drive can be set to (`[1, 2]`: "1 or 2", the drive's choice, a
+    /// setting): it then sends and needs the stop bits it is set to, the factory setting
+    /// being `default.stop_bits`. Give this or both `stop_bits_sent` and
+    /// `stop_bits_received`.
+    #[serde(default)]
+    pub stop_bits: Vec<u8>,
     /// The factory setting.
     pub default: SerialDefaultModel,
     /// How long the drive takes to be ready, to give up a frame and to answer.
@@ -906,6 +912,11 @@ pub struct PagesModel {
     /// The page register's numbers on the wire: `{ read: 0x7F, write: 0xFF }` (`read` may
     /// be left out when it cannot be read back).
     pub select: WireNumberModel,
+    /// The page register's data type: `byte` where the page switch carries a narrower data
+    /// field than a word's (two hex digits where words take four), so that it goes out with
+    /// the protocol's write command that carries bytes, in that command's own layout.
+    /// Default `word`.
+    pub data_type: Option<DataType>,
     /// The ranges of register numbers laid out on pages.
     pub ranges: Vec<PageRangeModel>,
     /// Codes or ids of registers whose write resets the drive's page (an inverter reset):
@@ -1272,9 +1283,14 @@ pub struct RegisterModel {
     /// `read-only`, `read-write` (default) or `write-only`.
     #[serde(default)]
     pub access: Option<Access>,
-    /// No persistent (EEPROM) write is generated.
+    /// No persistent (EEPROM) write is generated: the drive refuses the persistent command.
     #[serde(default)]
     pub ram_only: bool,
+    /// The drive accepts the persistent (EEPROM) command for this register but keeps the
+    /// value in RAM only (lost at power-off), as a manual's own example shows it accepted;
+    /// unlike `ram_only`, which refuses it. Not with `ram_only`.
+    #[serde(default)]
+    pub persistent_write_to_ram: bool,
     /// May be written while the motor runs: `true`, `false` (default) or `unknown` (the
     /// manual's table has no such column).
     #[serde(default)]
@@ -1431,6 +1447,9 @@ pub struct ExampleModel {
     pub id: String,
     /// A protocol id of this drive (`protocols[].id`).
     pub protocol: String,
+    /// The protocol file's variant the frames are in (`cr_lf`: the terminator is CR LF);
+    /// left out: the first variant, the one the layouts are written in.
+    pub variant: Option<String>,
     /// The manual section with the frame.
     pub source: String,
     /// What the exchange does, in English.
@@ -1523,6 +1542,13 @@ pub struct SequenceModel {
     pub id: String,
     /// Id of the protocol (within this drive file).
     pub protocol: String,
+    /// The protocol file's variant the frames are in (`cr_lf`); left out: the first.
+    pub variant: Option<String>,
+    /// The value of the reply-wait field in the master's requests (the wait digit of the
+    /// computer-link family, tens of milliseconds: `3` asks for 30 ms), as the frames
+    /// print it; the test's master asks for that wait (`Master::with_reply_wait`).
+    /// Left out: 0.
+    pub reply_wait: Option<u8>,
     /// The manual section (and lines) the steps come from.
     pub source: String,
     /// What the sequence does, in the manual's words.
@@ -1701,6 +1727,10 @@ pub struct ExpectModel {
     pub read_count: Option<u32>,
     /// A block-transfer reply's write status.
     pub write_status: Option<u32>,
+    /// A request's reply-wait field (the wait digit of the computer-link family: tens of
+    /// milliseconds before the drive answers), as printed; the golden test encodes with it.
+    /// Left out: not checked, and the frame's digit is used.
+    pub reply_wait: Option<u32>,
     /// The reply says the drive has tripped.
     #[serde(default)]
     pub tripped: bool,

@@ -9,7 +9,7 @@ use super::Input;
 use crate::diagnostics::Diagnostics;
 use std::borrow::Cow;
 use vfd_runtime::protocol::{PageRange, Paging};
-use vfd_runtime::Role;
+use vfd_runtime::{DataType, Role};
 
 /// The protocol's pages, or `None` when the drive gives none (or they have problems,
 /// reported to `out`).
@@ -47,6 +47,26 @@ pub(super) fn paging(
             format!("{base}.select"),
             "the page register has no write number".into(),
             "pages are switched by writing the page register: select: { read: 0x7F, write: 0xFF }",
+        );
+    }
+    // The page switch goes out with a write command that carries the page register's type.
+    let select_data_type = model.data_type.unwrap_or(DataType::Word);
+    let carries = |write: bool| {
+        commands.iter().any(|c| {
+            c.spec.kind.is_write() == write
+                && c.spec.space == vfd_runtime::Space::Parameter
+                && c.spec.carries(select_data_type)
+        })
+    };
+    if !carries(true) || (model.select.read.is_some() && !carries(false)) {
+        error(
+            out,
+            format!("{base}.data_type"),
+            format!(
+                "no command of the protocol carries a page register of type `{}`",
+                select_data_type.as_str()
+            ),
+            "list the type in the `data_types` of a write command (and of a read, where the page can be read back), or leave `data_type` out for a word",
         );
     }
     if model.ranges.is_empty() {
@@ -167,6 +187,7 @@ pub(super) fn paging(
         let paging = Paging {
             select_read,
             select_write: select_write.unwrap_or(0),
+            select_data_type,
             ranges: Cow::Owned(ranges.clone()),
             forgotten_after: Cow::Owned(Vec::new()),
             initial: 0,
@@ -208,6 +229,7 @@ pub(super) fn paging(
     Some(Paging {
         select_read,
         select_write: select_write?,
+        select_data_type,
         ranges: Cow::Owned(ranges),
         forgotten_after: Cow::Owned(forgotten_after),
         initial: model.initial,

@@ -178,7 +178,8 @@ fn literal_bytes(part: &PartModel) -> Option<Result<Vec<u8>, String>> {
     }
 }
 
-/// A variant's bytes for a literal: exactly one of `literal` and `literal_hex`, not empty.
+/// A variant's bytes for a literal: exactly one of `literal` and `literal_hex`; empty
+/// (`{ literal: "" }`) where the variant leaves the part out (no terminator).
 fn variant_bytes(
     model: &VariantLiteralModel,
     path: &str,
@@ -191,16 +192,7 @@ fn variant_bytes(
         _ => Err("give exactly one of `literal` and `literal_hex`".to_owned()),
     };
     match bytes {
-        Ok(bytes) if !bytes.is_empty() => Some(bytes),
-        Ok(_) => {
-            out.push(
-                input
-                    .source
-                    .error(path, "a literal has at least one byte")
-                    .hint("e.g. { literal_hex: \"0D 0A\" }"),
-            );
-            None
-        }
+        Ok(bytes) => Some(bytes),
         Err(message) => {
             out.push(
                 input
@@ -213,7 +205,8 @@ fn variant_bytes(
     }
 }
 
-/// Every variant's frames of a fixed size fit `max_frame_len`.
+/// Every variant's frames of a fixed size fit `max_frame_len`, and none starts with an
+/// empty literal.
 fn check_sizes(input: &Input<'_>, base: &Protocol, variants: &Variants, out: &mut Diagnostics) {
     let with_variants = Protocol {
         variants: Some(variants.clone()),
@@ -230,6 +223,25 @@ fn check_sizes(input: &Input<'_>, base: &Protocol, variants: &Variants, out: &mu
             .flat_map(|c| [&c.request, &c.reply])
             .chain(protocol.error_reply.as_ref());
         for layout in layouts {
+            // A variant may leave a literal out (no terminator), but not a frame's start:
+            // a receiver finds a frame by it.
+            if let Some(Part::Literal { name, bytes, .. }) = layout.parts.first() {
+                if bytes.is_empty() {
+                    out.push(
+                        input
+                            .source
+                            .error(
+                                &format!("variants[{index}].literals"),
+                                format!(
+                                    "variant `{}` leaves out `{name}`, the start of layout `{}`",
+                                    variants.choices[index].id, layout.name
+                                ),
+                            )
+                            .hint("only a literal that does not start a frame may be empty (a terminator: `{ literal: \"\" }`)"),
+                    );
+                    return;
+                }
+            }
             let fixed: Option<usize> = layout.parts.iter().map(Part::fixed_size).sum();
             if let Some(size) = fixed.filter(|size| *size > max) {
                 out.push(

@@ -5,7 +5,7 @@ use crate::diagnostics::Diagnostics;
 use crate::frames::{register_of, DecodedExample, DecodedFrame};
 use crate::parse::model::{ExpectModel, FrameModel, PrintedRejection};
 use crate::validate::{decimals, ranges, with_unit, Context};
-use vfd_runtime::meaning::FrameMeaning;
+use vfd_runtime::meaning::{Direction, FrameMeaning};
 use vfd_runtime::protocol::NotAnAnswer;
 use vfd_runtime::{DecodeError, DecodeErrorKind};
 
@@ -54,6 +54,21 @@ pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
             );
         }
         let decoded = &drive.frames[index];
+        // The protocol the frames are meant in (its first variant, the one the layouts are
+        // written in, unless the example names another).
+        let runtime = decoded.protocol.map(|at| &drive.protocols[at].runtime);
+        if let (Some(runtime), Some(variant)) = (runtime, &example.variant) {
+            if crate::frames::in_variant(runtime, variant).is_none() {
+                out.push(unknown_variant(
+                    drive,
+                    &format!("{base}.variant"),
+                    runtime,
+                    variant,
+                ));
+                continue;
+            }
+        }
+        let written_in = runtime.filter(|_| example.variant.is_none());
         if let (Some(model), Some(frame)) = (&example.unanswered_request, &decoded.unanswered) {
             check_unanswered(
                 drive,
@@ -79,6 +94,7 @@ pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
                     model,
                     frame,
                     printed_answers,
+                    written_in.map(|runtime| (runtime, direction_of(key))),
                     out,
                 );
             }
@@ -133,12 +149,58 @@ fn check_settings(
     }
 }
 
+/// The direction of an example's frame by its key (`request` or `reply`).
+fn direction_of(key: &str) -> Direction {
+    if key == "request" {
+        Direction::Request
+    } else {
+        Direction::Reply
+    }
+}
+
+/// The id of a protocol's first variant, shown after a space, or nothing.
+pub(crate) fn protocol_variant_label(protocol: Option<&vfd_runtime::Protocol>) -> String {
+    protocol
+        .and_then(|p| p.variants.as_ref())
+        .and_then(|v| v.choices.first())
+        .map(|first| format!(" `{}`", first.id))
+        .unwrap_or_default()
+}
+
+/// An example or sequence names a variant its protocol does not have.
+pub(crate) fn unknown_variant(
+    drive: &Context,
+    path: &str,
+    protocol: &vfd_runtime::Protocol,
+    variant: &str,
+) -> crate::diagnostics::Diagnostic {
+    let known: Vec<String> = protocol
+        .variants
+        .as_ref()
+        .map(|v| v.choices.iter().map(|c| c.id.to_string()).collect())
+        .unwrap_or_default();
+    let hint = if known.is_empty() {
+        "the protocol has no `variants:`; leave `variant` out".to_owned()
+    } else {
+        format!("use one of the protocol's variants: {}", known.join(", "))
+    };
+    drive
+        .source
+        .error(path, format!("unknown variant `{variant}`"))
+        .hint(hint)
+}
+
+/// `written_in`: the protocol in the variant its layouts are written in, and the frame's
+/// direction, when the example names no variant (a frame that decodes only in another
+/// variant is then reported as such, not as a manual mistake).
+#[allow(clippy::too_many_arguments)]
 fn check_frame(
     drive: &Context,
     path: &str,
     model: &FrameModel,
     frame: &DecodedFrame,
     printed_answers: Option<&Result<(), NotAnAnswer>>,
+    written_in: Option<(&vfd_runtime::Protocol, Direction)>,
     out: &mut Diagnostics,
 ) {
     if let Err(message) = &frame.bytes {
@@ -166,8 +228,32 @@ fn check_frame(
         },
         None => None,
     };
+    let other_variants = match (&frame.meaning, &frame.bytes, written_in) {
+        (Some(Err(_)), Ok(bytes), Some((protocol, direction))) => {
+            crate::frames::other_variants_decoding(protocol, direction, bytes)
+        }
+        _ => Vec::new(),
+    };
     match &frame.meaning {
         None => {}
+        Some(Err(error)) if !other_variants.is_empty() => {
+            let first = protocol_variant_label(written_in.map(|(p, _)| p));
+            out.push(
+                drive
+                    .source
+                    .error(
+                        path,
+                        format!(
+                            "the frame is in variant `{}` of the protocol, not in its first variant{first} (in which it does not decode: {error})",
+                            other_variants.join("` or `")
+                        ),
+                    )
+                    .hint(format!(
+                        "not a manual mistake: state the variant on the example, `variant: {}`",
+                        other_variants[0]
+                    )),
+            )
+        }
         Some(Err(error)) => out.push(
             drive
                 .source
@@ -335,6 +421,15 @@ fn mismatches(
         ("error_code", expect.error_code, wide(decoded.error_code)),
         ("read_count", expect.read_count, decoded.read_count),
         ("write_status", expect.write_status, decoded.write_status),
+        (
+            "reply_wait",
+            expect.reply_wait,
+            if expect.reply_wait.is_some() {
+                decoded.reply_wait
+            } else {
+                None
+            },
+        ),
         (
             "address",
             expect.address.map(u32::from),

@@ -17,9 +17,15 @@ const REBUILT: &str = "the golden test builds the request from the example's mea
 /// Every decoded example frame re-encodes to the printed bytes.
 pub fn examples_re_encode(drive: &Context, out: &mut Diagnostics) {
     for (index, (example, decoded)) in drive.model.examples.iter().zip(&drive.frames).enumerate() {
-        let Some(protocol) = decoded.protocol.map(|at| &drive.protocols[at].runtime) else {
+        let Some(lowered) = decoded.protocol.map(|at| &drive.protocols[at].runtime) else {
             continue;
         };
+        // In a named variant, the golden test re-encodes in that variant's bytes.
+        let in_variant = example
+            .variant
+            .as_deref()
+            .and_then(|id| crate::frames::in_variant(lowered, id));
+        let protocol = in_variant.as_ref().unwrap_or(lowered);
         let stated = &decoded.stated;
         let base = format!("examples[{index}]");
         let mut report = |key: &str, mismatch: Mismatch, tail: &str| {

@@ -11,6 +11,7 @@ pub(crate) mod ranges;
 mod behaviour_resolves;
 mod bit_examples_match;
 mod bit_fields_do_not_overlap;
+mod byte_registers_have_commands;
 mod code_values_are_unique;
 mod defaults_are_in_range;
 mod examples_decode;
@@ -30,6 +31,7 @@ mod scales_are_positive;
 mod sequences_replay;
 mod sequences_resolve;
 mod serial_settings_are_consistent;
+mod storage_rules_are_consistent;
 mod units_are_known;
 mod value_examples_match;
 
@@ -55,7 +57,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 24] = [
+    let checks: [fn(&Context, &mut Diagnostics); 26] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -80,6 +82,8 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         sequences_resolve::sequences_resolve,
         sequences_replay::sequences_replay,
         line_formats_resolve::line_formats_resolve,
+        storage_rules_are_consistent::storage_rules_are_consistent,
+        byte_registers_have_commands::byte_registers_have_commands,
     ];
     for check in checks {
         check(drive, out);

@@ -23,10 +23,10 @@ pub fn ranges_resolve(drive: &Context, out: &mut Diagnostics) {
             match registers.resolve_bound(bound, end) {
                 Ok(value) => {
                     let (word_min, word_max) = ranges::word_limits(register);
-                    let word = if register.data_type == Some(vfd_runtime::DataType::DoubleWord) {
-                        "32-bit double word"
-                    } else {
-                        "16-bit word"
+                    let word = match register.data_type {
+                        Some(vfd_runtime::DataType::DoubleWord) => "32-bit double word",
+                        Some(vfd_runtime::DataType::Byte) => "8-bit byte",
+                        _ => "16-bit word",
                     };
                     match ranges::to_raw(register, value) {
                         None => out.push(drive.source.error(&path, format!("bound {} is not a whole number of {} steps", with_unit(register, value.to_string()), with_unit(register, ranges::scale_of(register).to_string()))).hint("check the scale, or the bound's decimals")),

@@ -98,8 +98,14 @@ fn replay(
     };
     let request = Request::for_register(kind, info, data);
     let steps: Vec<(bool, &[u8])> = steps.iter().map(|(m, b)| (*m, b.as_slice())).collect();
-    // The master holds its protocol for as long as it lives: a copy for this replay.
-    let protocol: &'static Protocol = Box::leak(Box::new(protocol.clone()));
+    // The master holds its protocol for as long as it lives: a copy for this replay, in the
+    // sequence's variant when it names one.
+    let in_variant = sequence
+        .variant
+        .as_deref()
+        .and_then(|id| crate::frames::in_variant(protocol, id));
+    let protocol: &'static Protocol =
+        Box::leak(Box::new(in_variant.unwrap_or_else(|| protocol.clone())));
     let serial = &drive.model.serial;
     let settings = SerialSettings {
         baud: serial.default.baud,
@@ -114,6 +120,10 @@ fn replay(
     };
     let mut master = Master::for_protocol(Script::new(&steps), protocol, settings, timing)
         .with_address(sequence.address);
+    if let Some(wait) = sequence.reply_wait {
+        // The reply-wait digit counts tens of milliseconds, as the golden test asks for it.
+        master = master.with_reply_wait(Duration::from_millis(10 * u64::from(wait)));
+    }
     if let Some(value) = sequence.given.values().next() {
         master.assume_persistence_selector(*value);
     }

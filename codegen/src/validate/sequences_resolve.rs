@@ -7,7 +7,7 @@ use crate::diagnostics::Diagnostics;
 use crate::frames::frame_bytes;
 use crate::parse::model::{Sender, SequenceModel};
 use crate::validate::{ranges, Context};
-use vfd_runtime::Protocol;
+use vfd_runtime::{Protocol, Role};
 
 /// Every sequence resolves and its frames decode.
 pub fn sequences_resolve(drive: &Context, out: &mut Diagnostics) {
@@ -36,6 +36,31 @@ pub fn sequences_resolve(drive: &Context, out: &mut Diagnostics) {
             }
             continue;
         };
+        // The frames are in the variant the sequence names (the first when it names none).
+        let in_variant = match &sequence.variant {
+            Some(variant) => match crate::frames::in_variant(&protocol.runtime, variant) {
+                Some(found) => Some(found),
+                None => {
+                    out.push(crate::validate::examples_decode::unknown_variant(
+                        drive,
+                        &format!("{base}.variant"),
+                        &protocol.runtime,
+                        variant,
+                    ));
+                    continue;
+                }
+            },
+            None => None,
+        };
+        let mut error = |key: &str, message: String, hint: &str| {
+            out.push(
+                drive
+                    .source
+                    .error(&format!("{base}{key}"), message)
+                    .hint(hint.to_owned()),
+            );
+        };
+        let runtime = in_variant.as_ref().unwrap_or(&protocol.runtime);
         check_call(drive, sequence, &mut error);
         if sequence.given.len() > 1 {
             error(
@@ -63,7 +88,7 @@ pub fn sequences_resolve(drive: &Context, out: &mut Diagnostics) {
                 );
             }
         }
-        check_result(sequence, &protocol.runtime, &mut error);
+        check_result(sequence, runtime, &mut error);
         if sequence
             .steps
             .first()
@@ -91,12 +116,53 @@ pub fn sequences_resolve(drive: &Context, out: &mut Diagnostics) {
                     continue;
                 }
             };
-            if let Err(message) = carried(&protocol.runtime, step.from, &bytes) {
-                error(
-                    &key,
-                    message,
-                    "a master sends requests and follow-ups, a drive replies",
-                );
+            if let Err(message) = carried(runtime, step.from, &bytes) {
+                let others = if sequence.variant.is_none() {
+                    crate::frames::other_variants_where(runtime, |other| {
+                        carried(other, step.from, &bytes).is_ok()
+                    })
+                } else {
+                    Vec::new()
+                };
+                if others.is_empty() {
+                    error(
+                        &key,
+                        message,
+                        "a master sends requests and follow-ups, a drive replies",
+                    );
+                } else {
+                    error(
+                        &key,
+                        format!(
+                            "the frame is in variant `{}` of the protocol, not in its first variant{} ({message})",
+                            others.join("` or `"),
+                            crate::validate::examples_decode::protocol_variant_label(Some(runtime)),
+                        ),
+                        &format!(
+                            "not a manual mistake: state the variant on the sequence, `variant: {}`",
+                            others[0]
+                        ),
+                    );
+                }
+                continue;
+            }
+            // The master's requests carry the wait the sequence states (0 when it states none).
+            if step.from == Sender::Master {
+                if let Ok(request) = runtime.decode_request_exact(&bytes) {
+                    let printed = request
+                        .values
+                        .get(&request.command.request, Role::ReplyWait);
+                    let stated = u32::from(sequence.reply_wait.unwrap_or(0));
+                    if let Some(printed) = printed.filter(|printed| *printed != stated) {
+                        error(
+                            &key,
+                            format!(
+                                "the request's reply-wait field is {printed}, the sequence states {stated}"
+                            ),
+                            &format!("state the wait the frames print on the sequence: `reply_wait: {printed}`"),
+                        );
+                    }
+                }
             }
         }
     }

@@ -46,12 +46,68 @@ pub fn serial_settings_are_consistent(drive: &Context, out: &mut Diagnostics) {
                 .hint("check section 2 of the manual"),
         );
     }
+    stop_bits(drive, out);
     if drive.model.addressing.min > drive.model.addressing.max {
         out.push(
             drive
                 .source
                 .error("addressing", "addressing.min is above addressing.max")
                 .hint("swap them"),
+        );
+    }
+}
+
+/// Stop bits are fixed (`stop_bits_sent` and `stop_bits_received`) or the drive's choice
+/// (`stop_bits: [1, 2]`, which holds the factory setting), not both.
+fn stop_bits(drive: &Context, out: &mut Diagnostics) {
+    let serial = &drive.model.serial;
+    let fixed = [
+        ("stop_bits_sent", serial.stop_bits_sent),
+        ("stop_bits_received", serial.stop_bits_received),
+    ];
+    if serial.stop_bits.is_empty() {
+        for (key, value) in fixed {
+            if value.is_none() {
+                out.push(
+                    drive
+                        .source
+                        .error("serial", format!("`{key}` is missing"))
+                        .hint("give the stop bits the drive sends and needs (`stop_bits_sent: 1`, `stop_bits_received: 1`), or, when they are a setting of the drive, the ones it can be set to: `stop_bits: [1, 2]`"),
+                );
+            }
+        }
+        return;
+    }
+    for (key, value) in fixed {
+        if value.is_some() {
+            out.push(
+                drive
+                    .source
+                    .error(&format!("serial.{key}"), format!("`{key}` with `stop_bits`"))
+                    .hint("with `stop_bits: [1, 2]` the drive sends and needs the stop bits it is set to: leave the fixed values out"),
+            );
+        }
+    }
+    if let Some(bad) = serial.stop_bits.iter().find(|b| !(1..=2).contains(*b)) {
+        out.push(
+            drive
+                .source
+                .error("serial.stop_bits", format!("{bad} stop bits"))
+                .hint("a character has 1 or 2 stop bits"),
+        );
+    }
+    if !serial.stop_bits.contains(&serial.default.stop_bits) {
+        out.push(
+            drive
+                .source
+                .error(
+                    "serial.default.stop_bits",
+                    format!(
+                        "default stop bits {} are not in `stop_bits`",
+                        serial.default.stop_bits
+                    ),
+                )
+                .hint("the factory setting is one of the stop bits the drive can be set to"),
         );
     }
 }

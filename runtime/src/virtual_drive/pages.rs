@@ -46,6 +46,25 @@ impl VirtualDrive {
         });
         if selects {
             if !writing {
+                // Answered by the read that carries the page register's type (a byte
+                // read's two data digits), where the request alone does not say which.
+                let carrying = protocol.commands.iter().find(|c| {
+                    c.kind == command.kind
+                        && c.space == command.space
+                        && c.carries(paging.select_data_type)
+                        && c.request.parts == command.request.parts
+                });
+                let carried;
+                let request = match carrying {
+                    Some(command) => {
+                        carried = DecodedRequest {
+                            command,
+                            ..*request
+                        };
+                        &carried
+                    }
+                    None => request,
+                };
                 let page = self.page.unwrap_or(paging.initial);
                 return Paged::Done(self.reply(protocol, request, u32::from(page), 0));
             }

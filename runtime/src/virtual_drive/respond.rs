@@ -117,6 +117,17 @@ impl VirtualDrive {
             }
             super::pages::Paged::Done(outcome) => return outcome,
         };
+        let narrowed;
+        let request = match self.command_carrying(protocol, request) {
+            Some(command) => {
+                narrowed = DecodedRequest {
+                    command,
+                    ..*request
+                };
+                &narrowed
+            }
+            None => request,
+        };
         if request.command.no_reply {
             self.unanswered(protocol, request);
             return Outcome::Silent("the command is never answered");
@@ -501,7 +512,7 @@ impl VirtualDrive {
                 self.selected_index.min(u16::from(info.array_len) - 1)
             };
             self.storage
-                .set(info, index, raw, persistent && !info.ram_only);
+                .set(info, index, raw, persistent && !info.stored_in_ram_only());
             if command_register == Some(info.id) {
                 self.command_written(raw);
             }
@@ -658,6 +669,28 @@ impl VirtualDrive {
             self.storage.set(info, 0, control, false);
         }
         self.command_written(control);
+    }
+
+    /// Of commands whose requests are alike (a read of a word and a read of a byte, told
+    /// apart only by their replies' data width), the one that carries the data type of the
+    /// register the request names, where the decoded command does not: its reply has the
+    /// register's width. `None`: the decoded command answers.
+    fn command_carrying<'p>(
+        &self,
+        protocol: &'p Protocol,
+        request: &DecodedRequest<'_>,
+    ) -> Option<&'p CommandSpec> {
+        let decoded = request.command;
+        let info = self.target_of(request).ok()?;
+        if decoded.carries(info.data_type) {
+            return None;
+        }
+        protocol.commands.iter().find(|c| {
+            c.kind == decoded.kind
+                && c.space == decoded.space
+                && c.carries(info.data_type)
+                && c.request.parts == decoded.request.parts
+        })
     }
 
     /// The register a request names, in the command's space (of two sharing the number,
@@ -817,14 +850,14 @@ impl VirtualDrive {
             let index = if info.array_len == 0 { 0 } else { index };
             let persistent = match selected {
                 Some((selector, to_eeprom))
-                    if selector.governs(info.space, info.address, info.ram_only) =>
+                    if selector.governs(info.space, info.address, info.stored_in_ram_only()) =>
                 {
                     to_eeprom
                 }
                 _ => persistent,
             };
             self.storage
-                .set(info, index, raw, persistent && !info.ram_only);
+                .set(info, index, raw, persistent && !info.stored_in_ram_only());
             self.value_written(info, raw);
         }
         self.refresh();

@@ -64,6 +64,7 @@ fn serial(ir: &DriveIr) -> SerialSpec {
         },
         stop_bits_sent: serial.stop_bits_sent,
         stop_bits_received: serial.stop_bits_received,
+        stop_bits: list(serial.stop_bits.clone()),
         timing: DriveTiming {
             startup_delay: std::time::Duration::from_millis(serial.startup_delay_ms),
             processing_allowance: std::time::Duration::from_millis(serial.processing_allowance_ms),

@@ -69,7 +69,8 @@ bake_unit_enum!(DataType {
     Word,
     DoubleWord,
     Bit,
-    Text
+    Text,
+    Byte
 });
 bake_unit_enum!(Space { Parameter, Coil });
 bake_unit_enum!(TakesEffect {
@@ -187,6 +188,7 @@ impl Bake for FrameMeaning {
         );
         field("read_count", int(self.read_count));
         field("write_status", int(self.write_status));
+        field("reply_wait", int(self.reply_wait));
         if self.tripped {
             fields.push(quote!(tripped: true));
         }

@@ -199,6 +199,7 @@ fn serial_spec(drive: &DriveIr) -> TokenStream {
         int_literal(serial.stop_bits_sent),
         int_literal(serial.stop_bits_received),
     );
+    let stop_choices = serial.stop_bits.iter().map(|b| int_literal(*b));
     let (startup, allowance, abandon) = (
         int_literal(serial.startup_delay_ms),
         int_literal(serial.processing_allowance_ms),
@@ -226,6 +227,7 @@ fn serial_spec(drive: &DriveIr) -> TokenStream {
                 },
                 stop_bits_sent: #sent,
                 stop_bits_received: #received,
+                stop_bits: &[#(#stop_choices),*],
                 timing: DriveTiming {
                     startup_delay: Duration::from_millis(#startup),
                     processing_allowance: Duration::from_millis(#allowance),

@@ -303,9 +303,11 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             });
             let forgotten = paging.forgotten_after.iter().map(|n| int_literal(*n));
             let initial = int_literal(paging.initial);
+            let data_type = paging.select_data_type.bake();
             quote!(Some(::vfd_runtime::protocol::Paging {
                 select_read: #read,
                 select_write: #write,
+                select_data_type: ::vfd_runtime::#data_type,
                 ranges: Cow::Borrowed(&[#(#ranges),*]),
                 forgotten_after: Cow::Borrowed(&[#(#forgotten),*]),
                 initial: #initial,

@@ -34,6 +34,9 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
     if register.ram_only {
         facts.push("RAM only (no persistent write)".into());
     }
+    if register.persistent_write_to_ram {
+        facts.push("a persistent write is accepted but stored in RAM only".into());
+    }
     facts.push(if register.writable_while_running {
         "writable while running".into()
     } else if register.while_running_unknown {
@@ -206,6 +209,9 @@ fn info_chain(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
     }
     if register.ram_only {
         chain.extend(quote!(.with_ram_only()));
+    }
+    if register.persistent_write_to_ram {
+        chain.extend(quote!(.with_persistent_write_to_ram()));
     }
     if register.writable_while_running {
         chain.extend(quote!(.with_writable_while_running()));
