@@ -200,6 +200,9 @@ fn a_missing_drive_file_is_named() {
     );
 }
 
+/// A request frame and the reply the manual prints for it.
+type Exchange = (&'static [u8], &'static [u8]);
+
 /// The made-up drive of a new family (`tests/fixtures/computer-link/`: its own protocol
 /// file in `protocols/` next to it) served by `vfd sim --drive FILE`: a raw client writes
 /// the example frames and reads back the printed replies, byte for byte, in the default
@@ -213,7 +216,7 @@ fn vfd_sim_answers_a_new_family_drive_file_byte_for_byte() {
         .canonicalize()
         .expect("the fixture drive");
     let file = file.to_str().expect("a UTF-8 path");
-    let cases: [(&[&str], &[(&[u8], &[u8])]); 3] = [
+    let cases: [(&[&str], &[Exchange]); 3] = [
         (
             &[],
             &[

@@ -31,15 +31,12 @@ pub fn drive_info(ir: &DriveIr) -> &'static DriveInfo {
         protocols: list(
             ir.protocols
                 .iter()
-                .map(|p| &*leak(protocols::protocol(ir, p)))
+                .map(|p| leak(protocols::protocol(ir, p)))
                 .collect(),
         ),
         registers,
-        behaviour: ir
-            .behaviour
-            .as_ref()
-            .map(|b| &*leak(behaviour::behaviour(b))),
-        ports: ir.ports.as_ref().map(|p| &*leak(relations::ports(p))),
+        behaviour: ir.behaviour.as_ref().map(|b| leak(behaviour::behaviour(b))),
+        ports: ir.ports.as_ref().map(|p| leak(relations::ports(p))),
         conversions: list(ir.conversions.iter().map(relations::conversion).collect()),
         forbidden: list(
             ir.forbidden_combinations

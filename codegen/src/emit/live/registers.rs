@@ -34,7 +34,7 @@ pub(super) fn registers(ir: &DriveIr) -> &'static [&'static RegisterInfo] {
                 if let Some(scale_by) = scale_by(ir, register, &tables) {
                     info = info.with_scale_by(leak(scale_by));
                 }
-                &*leak(info)
+                leak(info)
             })
             .collect(),
     )
@@ -160,7 +160,7 @@ fn bound_register(bound: Option<&BoundIr>) -> Option<&'static str> {
 fn scale_by(ir: &DriveIr, register: &RegisterIr, tables: &Tables) -> Option<ScaleBy> {
     let scale_by = register.scale_by.as_ref()?;
     let info_of = |choice: &crate::ir::ScaleChoiceIr| {
-        &*leak(info(ir, &register.with_scale_choice(choice), tables))
+        leak(info(ir, &register.with_scale_choice(choice), tables))
     };
     Some(ScaleBy {
         register: text(&scale_by.register),
