@@ -144,21 +144,20 @@ fn decode_example(example: &ExampleModel, protocols: &[LoweredProtocol]) -> Deco
                 .and_then(|r| r.printed.as_ref())
                 .map(|p| &p.bytes),
         ),
+        stated: stated_fields(request.as_ref().and_then(DecodedFrame::decoded)),
         request,
         reply,
-        stated: stated_fields(example),
     }
 }
 
 /// The values an example states for fields of its request's layout beyond its meaning
-/// (a reply-wait digit, `expect: { reply_wait: N }`): the one place the re-encode of
-/// `vfd check` takes them from; the golden tests take the same value from the request's
-/// meaning.
-pub(crate) fn stated_fields(example: &ExampleModel) -> Vec<(Role, u32)> {
-    example
-        .request
-        .as_ref()
-        .and_then(|request| request.expect.reply_wait)
+/// (a reply-wait digit): the re-encode of `vfd check` takes them from here, and the golden
+/// tests (`emit/tests.rs`) state the same value, the reply wait of the request's meaning.
+pub(crate) fn stated_fields(
+    request: Option<&vfd_runtime::meaning::FrameMeaning>,
+) -> Vec<(Role, u32)> {
+    request
+        .and_then(|meaning| meaning.reply_wait)
         .map(|wait| vec![(Role::ReplyWait, wait)])
         .unwrap_or_default()
 }

@@ -139,7 +139,7 @@ fn the_vf_as1_page_marks_the_unknown_flags_and_shows_the_new_errata() {
         .lines()
         .find(|l| l.starts_with("| `0800` | F800 |"))
         .expect("F800 row");
-    assert!(f800.contains("| no † |"), "{f800}");
+    assert!(f800.contains("| unknown (not in the manual) |"), "{f800}");
     for text in [
         "(F803) (F804) (F808)",
         "设定为 5（2 线制 RS485 通信输入）或 6",

@@ -4,8 +4,9 @@
 //! `tests/fixtures/external-crate/*.yaml`), a file `compile` accepts has every example and
 //! sequence golden-tested by a suite that runs (`tests/golden.rs` for `drives/`,
 //! `tests/external_crate.rs` for the outside crate), so "ok" implies those tests passed.
-//! `fixtures/broken/example_reply_wait.yaml` and `sequence_replay.yaml` show files whose
-//! golden tests would fail being refused.
+//! `fixtures/broken/sequence_replay.yaml` shows a file whose golden test would fail being
+//! refused (and `example_not_simulated.yaml` one whose virtual drive would not answer as
+//! printed).
 
 use std::path::{Path, PathBuf};
 use vfd_codegen::{DriveIr, OutputNames};
@@ -88,16 +89,10 @@ fn every_outside_drive_that_checks_ok_is_golden_tested_by_the_outside_crate() {
 
 #[test]
 fn a_drive_whose_golden_test_would_fail_is_refused_at_the_example() {
-    for (file, message) in [
-        (
-            "fixtures/broken/example_reply_wait.yaml",
-            "the printed frame carries 3 in the reply_wait field `wait`",
-        ),
-        (
-            "fixtures/broken/sequence_replay.yaml",
-            "the call reads 60 (raw 1770h), not 50",
-        ),
-    ] {
+    for (file, message) in [(
+        "fixtures/broken/sequence_replay.yaml",
+        "the call reads 60 (raw 1770h), not 50",
+    )] {
         let refused = vfd_codegen::compile(Path::new(file), Some(Path::new("../drives/protocols")))
             .expect_err(file);
         let shown = refused.to_string();

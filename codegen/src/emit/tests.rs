@@ -334,13 +334,29 @@ fn example_test(drive: &DriveIr, root: &syn::Path, example: &ExampleIr) -> Token
                 }
                 None => quote!(),
             };
+            // The reply-wait digit the request carries is stated, as `vfd check` states it
+            // (`frames::stated_fields`): the typed API has no reply wait of its own.
+            let check = match request.meaning.reply_wait {
+                Some(wait) => {
+                    let wait = int_literal(wait);
+                    quote!(::vfd_runtime::testing::typed_request_encodes_stating(
+                        #protocol,
+                        &request,
+                        &[(::vfd_runtime::Role::ReplyWait, #wait)],
+                        #bytes,
+                    );)
+                }
+                None => {
+                    quote!(::vfd_runtime::testing::typed_request_encodes(#protocol, &request, #bytes);)
+                }
+            };
             if let Some(build) = build {
                 body.push(quote! {
                     {
                         #build
                         #using
                         #at_index
-                        ::vfd_runtime::testing::typed_request_encodes(#protocol, &request, #bytes);
+                        #check
                     }
                 });
             }
