@@ -256,3 +256,44 @@ fn vfd_sim_answers_a_new_family_drive_file_byte_for_byte() {
         }
     }
 }
+
+#[test]
+fn a_local_copy_of_a_shipped_protocol_file_that_differs_is_warned_about() {
+    let dir = outside_folder("local-protocol");
+    std::fs::create_dir_all(dir.join("protocols")).unwrap();
+    let shipped = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../drives/protocols/toshiba-binary.yaml"),
+    )
+    .unwrap();
+    let local = dir.join("protocols/toshiba-binary.yaml");
+
+    std::fs::write(&local, &shipped).unwrap();
+    let same = vfd_in(&dir, None, &["check", "--deny-warnings", "pump.yaml"]);
+    assert!(
+        !text(&same).contains("differs from the protocol file"),
+        "an identical copy: {}",
+        text(&same)
+    );
+
+    std::fs::write(&local, format!("{shipped}# an older copy\n")).unwrap();
+    let differs = vfd_in(&dir, None, &["check", "pump.yaml"]);
+    assert!(
+        differs.status.success(),
+        "a warning only: {}",
+        text(&differs)
+    );
+    let said = text(&differs);
+    assert!(
+        said.contains("warning: protocols/toshiba-binary.yaml differs from the protocol file `toshiba-binary` shipped with the tool; the local file is used"),
+        "{said}"
+    );
+    assert!(said.contains("= at: protocols[0].uses"), "{said}");
+    assert!(
+        said.contains(
+            "hint: an older copy is the likely cause: delete protocols/toshiba-binary.yaml"
+        ),
+        "{said}"
+    );
+    let denied = vfd_in(&dir, None, &["check", "--deny-warnings", "pump.yaml"]);
+    assert!(!denied.status.success(), "{}", text(&denied));
+}

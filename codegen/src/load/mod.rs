@@ -102,6 +102,17 @@ pub(crate) fn load(
                 continue;
             }
         };
+        if let Some(warning) = shelf.differs_from_shipped(&reference.uses, &protocol_source) {
+            out.push(
+                source
+                    .warning(&format!("protocols[{index}].uses"), warning)
+                    .hint(format!(
+                        "an older copy is the likely cause: delete {} to use the shipped file; a file that changes the family on purpose takes an id of its own (with `based_on: {}` it keeps the shipped layouts)",
+                        protocol_source.path.display(),
+                        reference.uses
+                    )),
+            );
+        }
         sources.push(protocol_source.clone());
         let read = protocol_source.read_model::<ProtocolFile>();
         read.problems

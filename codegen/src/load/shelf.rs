@@ -32,6 +32,21 @@ impl Shelf {
         }
     }
 
+    /// Why `read`, the file `id` as found in the folder, deserves a warning: it differs from
+    /// the file of the same id the tool ships (a drive-local copy of an older version reads
+    /// silently otherwise). `None` when it is the shipped file, equal to it, or the tool
+    /// ships none of that id.
+    pub fn differs_from_shipped(&self, id: &str, read: &SourceFile) -> Option<String> {
+        let shipped = self.shipped_text(id)?;
+        if read.path == shipped_path(id) || read.text == shipped {
+            return None;
+        }
+        Some(format!(
+            "{} differs from the protocol file `{id}` shipped with the tool; the local file is used",
+            read.path.display()
+        ))
+    }
+
     /// The path of `id` in the folder.
     pub fn path_of(&self, id: &str) -> PathBuf {
         self.dir.join(format!("{id}.yaml"))
