@@ -89,18 +89,17 @@ fn every_outside_drive_that_checks_ok_is_golden_tested_by_the_outside_crate() {
 
 #[test]
 fn a_drive_whose_golden_test_would_fail_is_refused_at_the_example() {
-    for (file, message) in [(
-        "fixtures/broken/sequence_replay.yaml",
-        "the call reads 60 (raw 1770h), not 50",
-    )] {
-        let refused = vfd_codegen::compile(Path::new(file), Some(Path::new("../drives/protocols")))
-            .expect_err(file);
-        let shown = refused.to_string();
-        assert!(shown.contains("its golden test would fail"), "{shown}");
-        assert!(shown.contains(message), "{shown}");
-        assert!(
-            refused.items.iter().all(|d| d.position.line > 1),
-            "each points into the file: {shown}"
-        );
-    }
+    let file = "fixtures/broken/sequence_replay.yaml";
+    let refused = vfd_codegen::compile(Path::new(file), Some(Path::new("../drives/protocols")))
+        .expect_err(file);
+    let shown = refused.to_string();
+    assert!(shown.contains("its golden test would fail"), "{shown}");
+    assert!(
+        shown.contains("the call reads 60 (raw 1770h), not 50"),
+        "{shown}"
+    );
+    assert!(
+        refused.items.iter().all(|d| d.position.line > 1),
+        "each points into the file: {shown}"
+    );
 }
