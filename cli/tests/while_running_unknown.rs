@@ -33,7 +33,8 @@ fn info_says_when_the_manual_does_not_state_the_while_running_flag() {
 
 #[test]
 fn restore_writes_an_unknown_value_while_running_and_reports_the_answer() {
-    let dir = std::env::temp_dir().join(format!("vfd-while-running-unknown-{}", std::process::id()));
+    let dir =
+        std::env::temp_dir().join(format!("vfd-while-running-unknown-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("vf-as1.yaml");
     let file_arg = file.to_str().unwrap();
