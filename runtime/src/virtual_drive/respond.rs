@@ -367,7 +367,7 @@ impl VirtualDrive {
         let mut word = 0usize;
         let mut found = 0usize;
         while word < words {
-            let info = u16::try_from(usize::from(wire) + word)
+            let info = u16::try_from(usize::from(wire) + word * word_step(command.space))
                 .ok()
                 .and_then(|at| protocol.from_wire(command, at, None))
                 .and_then(|number| self.drive.register_for(command.space, number, false))
@@ -532,7 +532,7 @@ impl VirtualDrive {
         at: usize,
         words: &[u16],
     ) -> (Result<(&'static RegisterInfo, u32), Refusal>, usize) {
-        let info = u16::try_from(usize::from(wire) + at)
+        let info = u16::try_from(usize::from(wire) + at * word_step(command.space))
             .ok()
             .and_then(|number| protocol.from_wire(command, number, Some(u32::from(words[at]))))
             .filter(|number| command.serves_register(*number))
@@ -1018,5 +1018,16 @@ pub(super) fn encode_with(
             Outcome::Reply(out)
         }
         Err(_) => Outcome::Silent("the reply cannot be encoded"),
+    }
+}
+
+/// How far apart the numbers of consecutive words of a block are: one register number in
+/// the parameter space, 16 coils in coil space (a 16-coil word, as [`VirtualDrive`]'s
+/// single-register requests count them too).
+fn word_step(space: Space) -> usize {
+    if space == Space::Coil {
+        16
+    } else {
+        1
     }
 }
