@@ -53,7 +53,11 @@ pub(crate) fn examples(
                         format!(
                             "the virtual drive built from this file {}, not with the example's reply {}",
                             match &heard {
-                                Outcome::Reply(bytes) => format!("answers the request with {}", shown(reply, bytes)),
+                                Outcome::Reply(bytes) => format!(
+                                    "answers the request with {}{}",
+                                    shown(reply, bytes),
+                                    refusal(drive, example, bytes)
+                                ),
                                 Outcome::Silent(why) => format!("stays silent ({why})"),
                             },
                             shown(reply, &reply.bytes)
@@ -112,6 +116,33 @@ fn raw_of(info: &RegisterInfo, value: f64) -> u32 {
         (true, vfd_runtime::DataType::DoubleWord) => raw as i32 as u32,
         (true, _) => u32::from(raw as i16 as u16),
         (false, _) => raw as u32,
+    }
+}
+
+/// `, an error reply: code 0002h (Unknown register: meaning)` when the virtual drive's
+/// answer is an error reply its protocol names; empty otherwise.
+fn refusal(drive: &DriveInfo, example: &ExampleIr, bytes: &[u8]) -> String {
+    let Some(protocol) = drive.protocol(&example.protocol) else {
+        return String::new();
+    };
+    match protocol.decode_reply(None, bytes) {
+        Ok(vfd_runtime::protocol::Found::Frame {
+            frame: vfd_runtime::Reply::Error { error, .. },
+            ..
+        }) => match protocol.error_code(error) {
+            Some(info) => format!(
+                ", an error reply: code {error:04X}h ({}{}: {})",
+                info.name,
+                if info.name_zh.is_empty() {
+                    String::new()
+                } else {
+                    format!(" / {}", info.name_zh)
+                },
+                info.meaning
+            ),
+            None => format!(", an error reply: code {error:04X}h"),
+        },
+        _ => String::new(),
     }
 }
 
