@@ -10,6 +10,7 @@ pub mod expectations;
 pub mod fault_cases;
 pub mod masters;
 pub mod module_graph;
+pub mod out_of_tree;
 pub mod outcomes;
 pub mod random;
 pub mod scripted_peer;

@@ -7,7 +7,7 @@
 //! workspace's target directory, kept between runs.
 
 use std::path::Path;
-use std::process::Command;
+use vfd_tests::out_of_tree::{cargo_test, Passed};
 
 /// One golden test per example frame (3), bit-field example (1) and value example (1) of
 /// `fixtures/external-crate/demo_pump.yaml`.
@@ -15,27 +15,15 @@ const GOLDEN_TESTS: usize = 5;
 
 #[test]
 fn an_outside_crate_generates_builds_and_passes_its_golden_tests() {
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/external-crate/Cargo.toml");
-    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("external-crate");
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
     let started = std::time::Instant::now();
-    let output = Command::new(cargo)
-        .args(["test", "--locked", "--offline", "--manifest-path"])
-        .arg(&manifest)
-        .env("CARGO_TARGET_DIR", &target)
-        .env_remove("OUT_DIR")
-        .output()
-        .expect("cargo runs");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
+    let Passed { stdout, stderr } = cargo_test(
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+        Path::new(env!("CARGO_TARGET_TMPDIR")),
+        "external-crate",
+    );
     eprintln!(
         "cargo test in the outside crate took {:.1?}",
         started.elapsed()
-    );
-    assert!(
-        output.status.success(),
-        "`cargo test` failed in {}:\n{stderr}\n{stdout}\n(after dependency changes, refresh its Cargo.lock as its Cargo.toml says)",
-        manifest.display()
     );
     let passed: Vec<&str> = stdout
         .lines()

@@ -12,7 +12,7 @@
 //! workspace's target directory, kept between runs.
 
 use std::path::Path;
-use std::process::Command;
+use vfd_tests::out_of_tree::cargo_test;
 
 /// One golden test per example (6) and sequence (2) of `heron_hl7.yaml`.
 const GOLDEN_TESTS: [&str; 8] = [
@@ -40,23 +40,12 @@ const VIRTUAL_DRIVE_TESTS: [&str; 8] = [
 
 #[test]
 fn a_made_up_computer_link_drive_passes_its_golden_and_virtual_drive_tests_out_of_tree() {
-    let manifest = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/computer-link/Cargo.toml");
-    let target = Path::new(env!("CARGO_TARGET_TMPDIR")).join("computer-link");
-    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let output = Command::new(cargo)
-        .args(["test", "--locked", "--offline", "--manifest-path"])
-        .arg(&manifest)
-        .env("CARGO_TARGET_DIR", &target)
-        .env_remove("OUT_DIR")
-        .output()
-        .expect("cargo runs");
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(
-        output.status.success(),
-        "`cargo test` failed in {}:\n{stderr}\n{stdout}\n(after dependency changes, refresh its Cargo.lock as its Cargo.toml says)",
-        manifest.display()
-    );
+    let stdout = cargo_test(
+        Path::new(env!("CARGO_MANIFEST_DIR")),
+        Path::new(env!("CARGO_TARGET_TMPDIR")),
+        "computer-link",
+    )
+    .stdout;
     for name in GOLDEN_TESTS.iter().chain(&VIRTUAL_DRIVE_TESTS) {
         assert!(
             stdout.contains(&format!("test {name} ... ok")),
