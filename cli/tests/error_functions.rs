@@ -2,6 +2,9 @@
 //! has no Modbus function 08, so 88h is no reply of it (its manual lists 81h, 83h, 85h,
 //! 86h, 8Fh and 90h), while the DV1, which has 08, sends 88h.
 
+mod common;
+
+use common::text;
 use std::process::{Command, Output};
 
 fn decode(drive: &str, frame: &str) -> Output {
@@ -9,14 +12,6 @@ fn decode(drive: &str, frame: &str) -> Output {
         .args(["decode", "-d", drive, "-p", "modbus", "--reply", frame])
         .output()
         .expect("vfd runs")
-}
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
 }
 
 #[test]

@@ -2,6 +2,9 @@
 //! `addressing`): a YD1000 frame naming station 64 (range 0-63, manual l. 118, 149) is
 //! refused by both, in either direction and either protocol; station 63 is accepted.
 
+mod common;
+
+use common::text;
 use std::process::{Command, Output};
 
 fn vfd(args: &[&str]) -> Output {
@@ -9,14 +12,6 @@ fn vfd(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("vfd runs")
-}
-
-fn text(output: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
-    )
 }
 
 #[test]
