@@ -7,6 +7,8 @@
 use std::io;
 use std::time::{Duration, Instant};
 
+#[cfg(feature = "tokio")]
+mod asynchronous;
 mod memory;
 #[cfg(all(unix, feature = "pty"))]
 mod pty;
@@ -14,6 +16,8 @@ mod recording;
 #[cfg(feature = "serial")]
 mod serial_port;
 
+#[cfg(feature = "tokio")]
+pub use asynchronous::AsyncTransport;
 pub use memory::{memory_pair, MemoryTransport};
 #[cfg(all(unix, feature = "pty"))]
 pub use pty::{PseudoTerminal, PtyTransport};
@@ -45,6 +49,13 @@ pub trait Transport {
     fn last_gap(&self) -> Option<Duration> {
         None
     }
+
+    /// Time this transport adds to every reply beyond the line's: a network between the
+    /// master and a serial device server (RTU over TCP). The master adds it to each reply
+    /// timeout; a local port adds nothing (the default).
+    fn allowance(&self) -> Duration {
+        Duration::ZERO
+    }
 }
 
 impl<T: Transport + ?Sized> Transport for &mut T {
@@ -59,5 +70,8 @@ impl<T: Transport + ?Sized> Transport for &mut T {
     }
     fn last_gap(&self) -> Option<Duration> {
         (**self).last_gap()
+    }
+    fn allowance(&self) -> Duration {
+        (**self).allowance()
     }
 }
