@@ -1415,6 +1415,18 @@ impl Protocol {
         out: &mut [u8],
     ) -> Result<usize, EncodeError> {
         let command = self.command_for_request(request)?;
+        self.encode_request_for(command, request, address, out)
+    }
+
+    /// Like [`Protocol::encode_request`] with the command already chosen (by
+    /// [`Protocol::command_for_request`]), so that a request is looked up once.
+    pub fn encode_request_for(
+        &self,
+        command: &CommandSpec,
+        request: &Request,
+        address: Option<u8>,
+        out: &mut [u8],
+    ) -> Result<usize, EncodeError> {
         if let Some(plan) = &command.request.plan {
             let roles = self.request_roles(command, request, address)?;
             let size = request.data_type.size();
@@ -1447,6 +1459,18 @@ impl Protocol {
         request: &Request,
         to: &Broadcast,
     ) -> Result<(&FrameLayout, FrameValues), EncodeError> {
+        let command = self.command_for_request(request)?;
+        self.broadcast_values_for(command, request, to)
+    }
+
+    /// Like [`Protocol::broadcast_values`] with the command already chosen (by
+    /// [`Protocol::command_for_request`]).
+    pub fn broadcast_values_for<'c>(
+        &self,
+        command: &'c CommandSpec,
+        request: &Request,
+        to: &Broadcast,
+    ) -> Result<(&'c FrameLayout, FrameValues), EncodeError> {
         let refuse = |reason: &'static str| EncodeError::NoBroadcast {
             protocol: self.id.clone(),
             kind: request.kind,
@@ -1461,7 +1485,6 @@ impl Protocol {
             .broadcast
             .as_ref()
             .ok_or_else(|| refuse("the drive takes no broadcasts over this protocol"))?;
-        let command = self.command_for_request(request)?;
         if !rule.commands.contains(&command.code) {
             return Err(refuse(
                 "the drive does not carry out this command when broadcast",

@@ -2,12 +2,17 @@
 //! allows it. Whether a station answers depends on the installation (a VF-AS1 network
 //! answers only if it has the station the rule names), so the caller states it.
 
-use super::{Answer, Master, TransactionError, TransactionErrorKind};
+use super::answer::Answer;
+use super::error::{TransactionError, TransactionErrorKind};
+use super::exchange::{Exchange, ExchangeKind};
+use super::line::Line;
+use super::prepare::{prepare, Station};
+use super::script::step_request;
+use super::session::Session;
 use crate::broadcast::{self as broadcasts, Broadcast, BroadcastAnswer};
 use crate::error::EncodeError;
 use crate::layout::Role;
-use crate::register::{Persistable, RegisterValue, Request, Writable};
-use crate::transport::Transport;
+use crate::register::Request;
 use std::time::Instant;
 
 /// Whether a broadcast gets an answer on this installation: the caller knows which
@@ -22,23 +27,12 @@ pub enum BroadcastReply {
     From(u8),
 }
 
-impl<T: Transport, D: 'static> Master<T, D> {
-    /// Broadcasts `request` (a write) to the stations `to` addresses. With
-    /// [`BroadcastReply::From`], waits for that station's reply as for any request and
-    /// returns what it says; with [`BroadcastReply::None`], returns `Ok(None)` after the
-    /// request's wire time and the frame gap, so that the next frame cannot run into it.
-    ///
-    /// Refused before anything is sent (an [`EncodeError::NoBroadcast`]): a request that
-    /// reads, a protocol the drive takes no broadcasts over, a command its rule does not
-    /// list, a group the station field cannot carry, a request that needs a step first
-    /// (array index, RAM/EEPROM selection), a reply from a station the broadcast does not
-    /// address, and any reply where the description says none comes (Modbus).
-    ///
-    /// Where the description says a station may answer but the caller says none does, a
-    /// reply may still come: the next exchange waits out the reply window first and drops
-    /// it, so that it is not taken for the next reply.
-    pub fn broadcast(
+impl Session {
+    /// Broadcasts `request` (a write) to the stations `to` addresses (see
+    /// [`super::Master::broadcast`]).
+    pub(crate) async fn broadcast(
         &mut self,
+        line: &mut impl Line,
         request: &Request,
         to: Broadcast,
         reply: BroadcastReply,
@@ -54,15 +48,22 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 }),
             )
         };
-        let len = protocol
-            .encode_broadcast(request, &to, &mut self.request)
-            .map_err(|error| {
-                TransactionError::new(Some(request), TransactionErrorKind::Encode(error))
-            })?;
+        // The reply, where one comes, is from the station named to answer.
+        let station = Station {
+            address: match reply {
+                BroadcastReply::From(station) => Some(station),
+                BroadcastReply::None => self.address,
+            },
+            ..self.station()
+        };
+        let exchange = Exchange::new(*request, ExchangeKind::Broadcast(to));
+        let prepared = prepare(protocol, &exchange, &station).map_err(|error| {
+            TransactionError::new(Some(request), TransactionErrorKind::Encode(error))
+        })?;
         if protocol
             .pre_steps
             .iter()
-            .any(|step| super::step_request(step, request).is_some())
+            .any(|step| step_request(step, request).is_some())
         {
             return Err(refuse(
                 "it needs a step first (index or RAM/EEPROM selection), which cannot be broadcast",
@@ -81,10 +82,10 @@ impl<T: Transport, D: 'static> Master<T, D> {
             .broadcast
             .as_ref()
             .ok_or_else(|| refuse("no rule"))?;
-        let radix = protocol
-            .command_for_request(request)
-            .ok()
-            .and_then(|command| command.request.field(Role::Address))
+        let radix = prepared
+            .command()
+            .request
+            .field(Role::Address)
             .map_or(10, broadcasts::field_radix);
         match reply {
             BroadcastReply::From(station) => {
@@ -98,63 +99,22 @@ impl<T: Transport, D: 'static> Master<T, D> {
                         "the station named to answer is not among the stations addressed",
                     ));
                 }
-                let own = self.address;
-                self.address = Some(station);
-                self.broadcast_to = Some(to);
-                let outcome = self.exchange_once(request, false);
-                self.broadcast_to = None;
-                self.address = own;
-                outcome.map(Some)
+                // A broadcast may reset drives or switch their pages: which, is not known.
+                self.pages.clear();
+                self.exchange_once(line, &prepared, false).await.map(Some)
             }
             BroadcastReply::None => {
-                self.keep_frame_gap();
-                let io =
-                    |error| TransactionError::new(Some(request), TransactionErrorKind::Io(error));
-                self.discard_stale_input().map_err(io)?;
-                self.transport.send(&self.request[..len]).map_err(io)?;
-                // The frame is on the line once its bytes have gone out; the next one
-                // follows after the gap.
-                std::thread::sleep(self.settings.wire_time(len) + self.frame_gap());
-                let now = Instant::now();
-                self.last_activity = Some(now);
+                let len = prepared.bytes().len();
+                self.pages.clear();
+                self.exchange_once(line, &prepared.unanswered(), false)
+                    .await?;
                 if rule.answered_by != BroadcastAnswer::None {
                     // A station may answer although the caller says none exists: the next
                     // exchange drops what comes within the reply window.
-                    self.late_reply_until = Some(now + self.reply_timeout(len));
+                    self.late_reply_until = Some(Instant::now() + self.reply_timeout(len));
                 }
                 Ok(None)
             }
         }
-    }
-
-    /// Broadcasts a RAM write of `value` to register `R` (see [`Master::broadcast`]).
-    /// Returns the value the answering station reports written, if one answers and its
-    /// reply carries one.
-    pub fn broadcast_write_ram<R: Writable<Drive = D>>(
-        &mut self,
-        value: R::Value,
-        to: Broadcast,
-        reply: BroadcastReply,
-    ) -> Result<Option<R::Value>, TransactionError> {
-        let answer = self.broadcast(&Request::write_ram::<R>(value)?, to, reply)?;
-        Ok(answer
-            .and_then(|answer| answer.data)
-            .map(|data| R::Value::from_raw(data, R::INFO))
-            .transpose()?)
-    }
-
-    /// Broadcasts a persistent (RAM and EEPROM) write of `value` to register `R` (see
-    /// [`Master::broadcast`]); EEPROM wears out on every drive addressed.
-    pub fn broadcast_write_persistent<R: Persistable<Drive = D>>(
-        &mut self,
-        value: R::Value,
-        to: Broadcast,
-        reply: BroadcastReply,
-    ) -> Result<Option<R::Value>, TransactionError> {
-        let answer = self.broadcast(&Request::write_persistent::<R>(value)?, to, reply)?;
-        Ok(answer
-            .and_then(|answer| answer.data)
-            .map(|data| R::Value::from_raw(data, R::INFO))
-            .transpose()?)
     }
 }

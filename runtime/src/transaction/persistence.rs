@@ -21,69 +21,45 @@
 //!   writing the old value back: the caller chose the new one.
 //!
 //! The master assumes it is the only one changing the selector while it runs
-//! ([`Master::forget_persistence_selector`] makes it look again). A power cycle keeps a
+//! ([`super::Master::forget_persistence_selector`] makes it look again). A power cycle keeps a
 //! remembered `ram` right (the EEPROM holds it, see above); a remembered `persistent` is
 //! read again before each persistent write. Broadcasts are sent as they are.
 
-use super::{Answer, Master, TransactionError, TransactionErrorKind};
+use super::answer::Answer;
+use super::error::{ReplyField, TransactionError, TransactionErrorKind};
+use super::exchange::Exchange;
+use super::line::Line;
+use super::prepare::prepare;
+use super::session::Session;
 use crate::kinds::CommandKind;
 use crate::protocol::PersistenceSelector;
 use crate::register::Request;
-use crate::transport::Transport;
 
 /// What the master knows about the drive's persistence selector.
 #[derive(Debug, Clone, Copy, Default)]
-pub(super) struct SelectorState {
+pub(crate) struct SelectorState {
     /// The selector's value in the drive's RAM, when known.
     pub value: Option<u32>,
-    /// A governed write is under way: its own requests go straight through.
-    pub busy: bool,
-    /// The caller stated the value ([`Master::assume_persistence_selector`]): the next
-    /// persistent write trusts it without reading the selector.
+    /// The caller stated the value: the next persistent write trusts it without reading
+    /// the selector.
     pub assumed: bool,
 }
 
-impl<T: Transport, D: 'static> Master<T, D> {
-    /// The value the master believes the drive's persistence selector (the description's
-    /// `persistence.selector`, DV1 07-11) holds in RAM; `None` when it does not know (at
-    /// first, after a failed write it governs, after [`Master::forget_persistence_selector`]).
-    pub fn persistence_selector(&self) -> Option<u32> {
-        self.selector.value
-    }
-
-    /// Tells the master that the persistence selector holds `value` in the drive's RAM
-    /// (set on the operator panel, or known from an earlier read), so that the next
-    /// governed write neither reads nor sets it when it already chooses what the write
-    /// asks for (a remembered `persistent` is otherwise read again before each persistent
-    /// write, since a power cycle may have brought back another value).
-    pub fn assume_persistence_selector(&mut self, value: u32) {
-        self.selector.value = Some(value);
-        self.selector.assumed = true;
-    }
-
-    /// Forgets the persistence selector's value, so that the next governed write reads or
-    /// sets it again (after another master or the operator panel may have changed it).
-    pub fn forget_persistence_selector(&mut self) {
-        self.selector.value = None;
-        self.selector.assumed = false;
-    }
-
-    /// The drive's persistence selector, when `request` is a write it governs and no
-    /// governed write is under way.
-    pub(super) fn governing_selector(
+impl Session {
+    /// The drive's persistence selector, when `request` is a write it governs.
+    pub(crate) fn governing_selector(
         &self,
         request: &Request,
     ) -> Option<&'static PersistenceSelector> {
-        let protocol = self.protocol;
-        let selector = protocol.persistence.as_ref()?;
-        (!self.selector.busy && self.broadcast_to.is_none() && selector.governs_request(request))
-            .then_some(selector)
+        let selector = self.protocol.persistence.as_ref()?;
+        selector.governs_request(request).then_some(selector)
     }
 
     /// Runs the governed write `request` with the selector set around it (see the module
     /// documentation); forgets the selector's value when anything fails.
-    pub(super) fn transact_governed(
+    pub(crate) async fn transact_governed(
         &mut self,
+        line: &mut impl Line,
         request: &Request,
         selector: &PersistenceSelector,
     ) -> Result<Answer, TransactionError> {
@@ -93,11 +69,11 @@ impl<T: Transport, D: 'static> Master<T, D> {
             ..*request
         };
         for step in [main, selector.write(selector.ram), selector.read()] {
-            self.check_encodes(&step, request)?;
+            prepare(self.protocol, &Exchange::single(step), &self.station()).map_err(|error| {
+                TransactionError::new(Some(request), TransactionErrorKind::Encode(error))
+            })?;
         }
-        self.selector.busy = true;
-        let outcome = self.governed(request, selector);
-        self.selector.busy = false;
+        let outcome = self.governed(line, request, selector).await;
         if outcome.is_err() {
             self.selector.value = None;
             self.selector.assumed = false;
@@ -105,8 +81,9 @@ impl<T: Transport, D: 'static> Master<T, D> {
         outcome
     }
 
-    fn governed(
+    async fn governed(
         &mut self,
+        line: &mut impl Line,
         request: &Request,
         selector: &PersistenceSelector,
     ) -> Result<Answer, TransactionError> {
@@ -118,9 +95,9 @@ impl<T: Transport, D: 'static> Master<T, D> {
         };
         if request.kind != CommandKind::WritePersistent {
             if self.selector.value != Some(selector.ram) {
-                self.set_selector(selector, selector.ram)?;
+                self.set_selector(line, selector, selector.ram).await?;
             }
-            let answer = self.transact(&main)?;
+            let answer = self.transact_plain(line, &main).await?;
             if own {
                 self.selector.value = Some(request.data);
             }
@@ -128,18 +105,19 @@ impl<T: Transport, D: 'static> Master<T, D> {
         }
         let assumed = std::mem::take(&mut self.selector.assumed);
         if self.selector.value != Some(selector.ram) && !assumed {
-            self.read_selector(selector)?;
+            self.read_selector(line, selector).await?;
         }
         let before = self.selector.value.unwrap_or(selector.ram);
         if before == selector.persistent {
-            let answer = self.transact(&main)?;
+            let answer = self.transact_plain(line, &main).await?;
             if own {
                 self.selector.value = Some(request.data);
             }
             return Ok(answer);
         }
-        self.set_selector(selector, selector.persistent)?;
-        let answer = self.transact(&main);
+        self.set_selector(line, selector, selector.persistent)
+            .await?;
+        let answer = self.transact_plain(line, &main).await;
         if own {
             self.selector.value = answer.as_ref().ok().map(|_| request.data);
             return answer;
@@ -152,7 +130,7 @@ impl<T: Transport, D: 'static> Master<T, D> {
                 kind: TransactionErrorKind::Rejected { .. },
                 ..
             }) => {
-                self.set_selector(selector, before)?;
+                self.set_selector(line, selector, before).await?;
             }
             Err(_) => {}
         }
@@ -160,26 +138,31 @@ impl<T: Transport, D: 'static> Master<T, D> {
     }
 
     /// Writes `value` to the selector and remembers it.
-    fn set_selector(
+    async fn set_selector(
         &mut self,
+        line: &mut impl Line,
         selector: &PersistenceSelector,
         value: u32,
     ) -> Result<(), TransactionError> {
         self.selector.value = None;
-        self.transact(&selector.write(value))?;
+        self.transact_plain(line, &selector.write(value)).await?;
         self.selector.value = Some(value);
         Ok(())
     }
 
     /// Reads the selector and remembers its value.
-    fn read_selector(&mut self, selector: &PersistenceSelector) -> Result<(), TransactionError> {
+    async fn read_selector(
+        &mut self,
+        line: &mut impl Line,
+        selector: &PersistenceSelector,
+    ) -> Result<(), TransactionError> {
         let read = selector.read();
-        let answer = self.transact(&read)?;
+        let answer = self.transact_plain(line, &read).await?;
         let value = answer.data.ok_or_else(|| {
             TransactionError::new(
                 Some(&read),
                 TransactionErrorKind::Mismatch {
-                    field: super::ReplyField::Data,
+                    field: ReplyField::Data,
                     expected: 1,
                     found: 0,
                 },
