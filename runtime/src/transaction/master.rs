@@ -28,13 +28,13 @@ pub enum AnyDrive {}
 /// Typed reads and writes take only registers of `D` (`R: Register<Drive = D>`), so a
 /// register of another drive does not compile. Buffers are fixed arrays, so a transaction
 /// makes no heap allocation unless it fails.
-pub struct Master<T: Transport, D: 'static = AnyDrive> {
-    transport: T,
-    session: Session,
+pub struct Master<T, D: 'static = AnyDrive> {
+    pub(super) transport: T,
+    pub(super) session: Session,
     drive: PhantomData<fn() -> D>,
 }
 
-impl<T: Transport> Master<T, AnyDrive> {
+impl<T> Master<T, AnyDrive> {
     /// A master for an untyped `protocol` (from a [`crate::DriveInfo`], for tools that work
     /// with any drive): it runs raw requests with [`Master::transact`].
     pub fn for_protocol(
@@ -47,7 +47,7 @@ impl<T: Transport> Master<T, AnyDrive> {
     }
 }
 
-impl<T: Transport, D: 'static> Master<T, D> {
+impl<T, D: 'static> Master<T, D> {
     /// A master for drive `D`'s `protocol` over `transport`, with the line `settings` and
     /// the drive's `timing` (all from the generated drive module).
     pub fn new(
@@ -173,13 +173,6 @@ impl<T: Transport, D: 'static> Master<T, D> {
         self.session.last_reply()
     }
 
-    /// The reply timeout for a request of `request_len` bytes: both frames' wire time, the
-    /// drive's processing time, its wait before replying ([`Master::reply_delay`]) and the
-    /// host latency.
-    pub fn reply_timeout(&self, request_len: usize) -> Duration {
-        self.session.reply_timeout(request_len) + self.transport.allowance()
-    }
-
     /// Asks the drive to wait `wait` before each reply, in protocols whose requests carry
     /// a wait ([`crate::layout::Role::ReplyWait`], in tens of milliseconds: the Eaton protocol's wait-time
     /// digit, 0-150 ms; some RS-485 converters need the line turned round slowly). It is
@@ -258,6 +251,13 @@ impl<T: Transport, D: 'static> Master<T, D> {
 
 /// The requests: each runs the shared engine over the transport to its end.
 impl<T: Transport, D: 'static> Master<T, D> {
+    /// The reply timeout for a request of `request_len` bytes: both frames' wire time, the
+    /// drive's processing time, its wait before replying ([`Master::reply_delay`]), the
+    /// host latency and what the transport adds ([`Transport::allowance`]: a network).
+    pub fn reply_timeout(&self, request_len: usize) -> Duration {
+        self.session.reply_timeout(request_len) + self.transport.allowance()
+    }
+
     /// Reads the protocol's reply-delay registers (allowing the longest wait they can set
     /// while reading them) and from then on allows for the longest value read. Returns it;
     /// zero, without an exchange, when the protocol has no such register.

@@ -26,6 +26,8 @@
 //! frame's wire time and the frame gap, looks for nothing and never repeats it.
 
 mod answer;
+#[cfg(feature = "tokio")]
+mod asynchronous;
 mod blocks;
 mod broadcast;
 mod engine;
@@ -43,6 +45,8 @@ mod session;
 mod typed;
 
 pub use answer::Answer;
+#[cfg(feature = "tokio")]
+pub use asynchronous::{Async, AsyncMaster};
 pub use blocks::{block_word, BlockTransfer};
 pub use broadcast::BroadcastReply;
 pub use error::{ReplyField, TransactionError, TransactionErrorKind};
