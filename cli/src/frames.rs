@@ -9,6 +9,7 @@ use vfd_runtime::error::DecodeError;
 use vfd_runtime::layout::{FrameLayout, Part, Role};
 use vfd_runtime::meaning::{decode_meaning, Direction, FrameMeaning};
 use vfd_runtime::protocol::{code_label, Reply};
+use vfd_runtime::transaction::{script, Exchange, Station};
 use vfd_runtime::{CommandKind, DataType, DriveInfo, Protocol, Request, Space};
 
 /// What `vfd encode` builds.
@@ -75,11 +76,20 @@ pub fn encode(
         Some(code) => request.using(code),
         None => request,
     };
-    let mut frame = [0u8; 256];
-    let len = protocol
-        .encode_request(&request, address, &mut frame)
+    // The frames a master sends for it, built as the master builds them: any step the
+    // protocol needs first (array index, RAM/EEPROM, a page switch), then the request.
+    let station = Station {
+        address,
+        reply_wait: 0,
+    };
+    let script = script(protocol, &Exchange::single(request), &station, None)
         .map_err(|e| Failure::new(e.to_string()))?;
-    print_frame(&frame[..len]);
+    let steps = script.steps.iter().flatten();
+    for step in steps.chain(script.page.as_ref().map(|(page, _)| page)) {
+        say!("first: {}", step.request().describe());
+        print_frame(step.bytes());
+    }
+    print_frame(script.main.bytes());
     say!("{}", request.describe());
     Ok(())
 }
