@@ -310,18 +310,30 @@ fn encode_shows_the_frames_a_master_sends_first() {
     // A persistent parameter write over the FC 51's Modbus sets coil 65 first (its
     // `persistence` step); a DV1 Eaton read of a paged parameter switches the page first.
     let output = vfd(&[
-        "encode", "fc51", "modbus", "write-persistent", "202", "5", "--address", "1",
+        "encode",
+        "fc51",
+        "modbus",
+        "write-persistent",
+        "202",
+        "5",
+        "--address",
+        "1",
     ]);
     assert!(output.status.success(), "{}", stderr(&output));
     let text = stdout(&output);
-    let step = text.find("first: RAM write of FF00h to coil 65").expect(&text);
+    let step = text
+        .find("first: RAM write of FF00h to coil 65")
+        .expect(&text);
     let step_frame = text.find("hex:   01 05 00 40 FF 00 8D EE").expect(&text);
     let main_frame = text.find("hex:   01 06 07 E3 00 05 B9 4B").expect(&text);
     assert!(step < step_frame && step_frame < main_frame, "{text}");
     let output = vfd(&["encode", "dv1", "eaton", "read", "02-15", "--address", "1"]);
     assert!(output.status.success(), "{}", stderr(&output));
     let text = stdout(&output);
-    assert!(text.contains("first: RAM write of 0001h to register 00FF"), "{text}");
+    assert!(
+        text.contains("first: RAM write of 0001h to register 00FF"),
+        "{text}"
+    );
     assert_eq!(text.matches("hex:").count(), 2, "{text}");
 }
 

@@ -185,6 +185,7 @@ pub fn encode_with_payload(
     payload: &[u8],
     out: &mut [u8],
 ) -> Result<usize, EncodeError> {
+    crate::tally::encoding();
     if layout.encoding == Encoding::HexPairs {
         return encode_hex_pairs(layout, values, payload, out);
     }

@@ -68,6 +68,7 @@ pub mod scaling;
 #[cfg(all(test, feature = "serde"))]
 mod serde_names;
 pub mod serial;
+pub mod tally;
 #[cfg(feature = "testing")]
 pub mod testing;
 pub mod transaction;

@@ -1236,6 +1236,7 @@ impl Protocol {
 
     /// The command that carries `request`, or the typed reason there is none.
     pub fn command_for_request(&self, request: &Request) -> Result<&CommandSpec, EncodeError> {
+        crate::tally::lookup();
         if let Some(code) = request.command {
             return self
                 .commands
@@ -1432,6 +1433,7 @@ impl Protocol {
             let size = request.data_type.size();
             let optional = &self.default_optional_parts;
             if let Some(len) = plan.encode(&command.request, &roles, size, optional, out) {
+                crate::tally::encoding();
                 return Ok(len);
             }
         }

@@ -54,4 +54,8 @@ impl<T: Transport> Transport for Watched<T> {
     fn last_gap(&self) -> Option<Duration> {
         self.inner.last_gap()
     }
+
+    fn allowance(&self) -> Duration {
+        self.inner.allowance()
+    }
 }
