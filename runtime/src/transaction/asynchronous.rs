@@ -42,19 +42,6 @@ impl<T: AsyncTransport> Line for Async<T> {
         self.0.receive(buf, deadline)
     }
 
-    fn receive_at_least(
-        &mut self,
-        buf: &mut [u8],
-        wanted: usize,
-        deadline: Instant,
-    ) -> impl Future<Output = io::Result<usize>> {
-        self.0.receive_at_least(buf, wanted, deadline)
-    }
-
-    fn waits_for_many(&self) -> bool {
-        self.0.waits_for_many()
-    }
-
     fn clear_input(&mut self) -> impl Future<Output = io::Result<()>> {
         self.0.clear_input()
     }

@@ -105,15 +105,10 @@ impl Session {
             if Instant::now() >= deadline {
                 break judge.at_deadline(timeout);
             }
-            // Where the line can, it wakes the engine once the bytes the reply needs at the
-            // least are there; otherwise the engine sleeps while they cross (below).
-            let got = if line.waits_for_many() {
-                let wanted = judge.wanted().max(1);
-                line.receive_at_least(judge.space(), wanted, deadline).await
-            } else {
-                line.receive(judge.space(), deadline).await
-            }
-            .map_err(|error| fail(TransactionErrorKind::Io(error)));
+            let got = line
+                .receive(judge.space(), deadline)
+                .await
+                .map_err(|error| fail(TransactionErrorKind::Io(error)));
             let got = match got {
                 Ok(got) => got,
                 Err(error) => {
@@ -132,7 +127,7 @@ impl Session {
             }
             // Where the line reports silences, bytes are not batched: the engine splits
             // frames at such a silence, which a batch would hide.
-            if !line.waits_for_many() && line.last_gap().is_none() {
+            if line.last_gap().is_none() {
                 if let Some(wait) = judge.read_ahead(self.settings.char_time(), now, deadline) {
                     line.sleep(wait).await;
                 }

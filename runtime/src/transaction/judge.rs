@@ -130,11 +130,19 @@ impl<'p> Judge<'p> {
         self.settle()
     }
 
-    /// The bytes the reply still needs at the least: neither a reply nor an error reply is
-    /// shorter than the prepared frame's shortest answer (plus the echo of the request,
-    /// where the line is known to echo); once the bytes rule the error reply out, the
-    /// reply's expected size. 0 when a whole answer may be there already.
-    pub fn wanted(&self) -> usize {
+    /// How long to wait before reading again at `now` (`None`: read at once), so that a
+    /// line delivering a byte at a time (a UART, a paced link) does not wake the master for
+    /// every byte: until nearly all the bytes the reply still needs at the least can have
+    /// arrived, one `char_time` each. Neither a reply nor an error reply is shorter than
+    /// the prepared frame's shortest answer (plus the echo of the request, where the line
+    /// is known to echo); once the error reply is ruled out, the reply's expected size.
+    /// Never past `deadline`; it never changes a decision, which is taken on the bytes.
+    pub fn read_ahead(
+        &self,
+        char_time: Duration,
+        now: Instant,
+        deadline: Instant,
+    ) -> Option<Duration> {
         let echo = if self.line.echo == Some(true) && !self.echo_passed {
             self.sent.len()
         } else {
@@ -145,21 +153,8 @@ impl<'p> Judge<'p> {
         } else {
             self.prepared.shortest_reply()
         };
-        (shortest + echo).saturating_sub(self.filled)
-    }
-
-    /// How long to wait before reading again at `now` (`None`: read at once), so that a
-    /// line delivering a byte at a time (a UART, a paced link) does not wake the master for
-    /// every byte: until nearly all the bytes the reply still needs at the least
-    /// ([`Judge::wanted`]) can have arrived, one `char_time` each. Never past `deadline`;
-    /// it never changes a decision, which is taken on the bytes.
-    pub fn read_ahead(
-        &self,
-        char_time: Duration,
-        now: Instant,
-        deadline: Instant,
-    ) -> Option<Duration> {
-        read_ahead_wait(self.wanted(), char_time, now, deadline)
+        let needed = (shortest + echo).saturating_sub(self.filled);
+        read_ahead_wait(needed, char_time, now, deadline)
     }
 
     /// Whether the bytes so far cannot begin the protocol's error reply (a Modbus reply

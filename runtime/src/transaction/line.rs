@@ -21,16 +21,6 @@ pub(crate) trait Line {
         buf: &mut [u8],
         deadline: Instant,
     ) -> impl Future<Output = io::Result<usize>>;
-    /// Receives, waiting until at least `wanted` bytes have come or `deadline` (see
-    /// [`Transport::receive_at_least`]).
-    fn receive_at_least(
-        &mut self,
-        buf: &mut [u8],
-        wanted: usize,
-        deadline: Instant,
-    ) -> impl Future<Output = io::Result<usize>>;
-    /// Whether [`Line::receive_at_least`] waits for several bytes in one wake-up.
-    fn waits_for_many(&self) -> bool;
     /// Drops what was received and not read.
     fn clear_input(&mut self) -> impl Future<Output = io::Result<()>>;
     /// Waits `duration`.
@@ -52,19 +42,6 @@ impl<T: Transport + ?Sized> Line for Blocking<'_, T> {
 
     async fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
         self.0.receive(buf, deadline)
-    }
-
-    async fn receive_at_least(
-        &mut self,
-        buf: &mut [u8],
-        wanted: usize,
-        deadline: Instant,
-    ) -> io::Result<usize> {
-        self.0.receive_at_least(buf, wanted, deadline)
-    }
-
-    fn waits_for_many(&self) -> bool {
-        self.0.waits_for_many()
     }
 
     async fn clear_input(&mut self) -> io::Result<()> {

@@ -26,26 +26,6 @@ pub trait AsyncTransport: Send {
         deadline: Instant,
     ) -> impl Future<Output = io::Result<usize>> + Send;
 
-    /// Whether [`AsyncTransport::receive_at_least`] waits for several bytes in one
-    /// wake-up (see [`super::Transport::waits_for_many`]).
-    fn waits_for_many(&self) -> bool {
-        false
-    }
-
-    /// Like [`AsyncTransport::receive`], but waits until at least `wanted` bytes have
-    /// arrived or `deadline` has passed, where the transport can (see
-    /// [`super::Transport::receive_at_least`]). The default is
-    /// [`AsyncTransport::receive`].
-    fn receive_at_least(
-        &mut self,
-        buf: &mut [u8],
-        wanted: usize,
-        deadline: Instant,
-    ) -> impl Future<Output = io::Result<usize>> + Send {
-        let _ = wanted;
-        self.receive(buf, deadline)
-    }
-
     /// Drops bytes already received and not yet read (stale replies, line noise).
     fn clear_input(&mut self) -> impl Future<Output = io::Result<()>> + Send {
         async { Ok(()) }

@@ -40,29 +40,6 @@ pub trait Transport {
         Ok(())
     }
 
-    /// Whether [`Transport::receive_at_least`] waits for several bytes in one wake-up
-    /// (a terminal whose driver can be told to report input only once enough has come).
-    /// When it does not (the default), the master sleeps between reads instead, so that a
-    /// reply crossing the line byte by byte does not wake it for every byte.
-    fn waits_for_many(&self) -> bool {
-        false
-    }
-
-    /// Like [`Transport::receive`], but waits until at least `wanted` bytes have arrived
-    /// (or `deadline` has passed, returning what came, possibly nothing), where the
-    /// transport can ([`Transport::waits_for_many`]); the master asks for the bytes a reply
-    /// needs at the least, so that it wakes once for them. The default is
-    /// [`Transport::receive`].
-    fn receive_at_least(
-        &mut self,
-        buf: &mut [u8],
-        wanted: usize,
-        deadline: Instant,
-    ) -> io::Result<usize> {
-        let _ = wanted;
-        self.receive(buf, deadline)
-    }
-
     /// The silence on the line just before the first byte the last [`Transport::receive`]
     /// returned, when the transport can tell (`Some(Duration::ZERO)`: those bytes followed
     /// earlier ones without a pause). `None` (the default) when it cannot: operating-system
@@ -90,17 +67,6 @@ impl<T: Transport + ?Sized> Transport for &mut T {
     }
     fn clear_input(&mut self) -> io::Result<()> {
         (**self).clear_input()
-    }
-    fn waits_for_many(&self) -> bool {
-        (**self).waits_for_many()
-    }
-    fn receive_at_least(
-        &mut self,
-        buf: &mut [u8],
-        wanted: usize,
-        deadline: Instant,
-    ) -> io::Result<usize> {
-        (**self).receive_at_least(buf, wanted, deadline)
     }
     fn last_gap(&self) -> Option<Duration> {
         (**self).last_gap()

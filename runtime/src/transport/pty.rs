@@ -100,9 +100,6 @@ enum Side {
 pub struct PtyTransport {
     file: File,
     side: Side,
-    /// The terminal's VMIN as this handle last set it: how many bytes must be there before
-    /// a wait for input ends (1 in raw mode; more during [`Transport::receive_at_least`]).
-    wake_after: u8,
     /// The slave side of the pair, held open so a master never sees a closed slave.
     _slave: Option<OwnedFd>,
 }
@@ -112,7 +109,6 @@ impl PtyTransport {
         PtyTransport {
             file: File::from(fd),
             side,
-            wake_after: 1,
             _slave: slave,
         }
     }
@@ -123,7 +119,6 @@ impl PtyTransport {
         Ok(PtyTransport {
             file: self.file.try_clone()?,
             side: self.side,
-            wake_after: self.wake_after,
             _slave: None,
         })
     }
@@ -145,66 +140,8 @@ impl PtyTransport {
         Ok(PtyTransport {
             file,
             side: Side::Other,
-            wake_after: 1,
             _slave: None,
         })
-    }
-
-    /// Sets the terminal's VMIN to `count`: a wait for input (`poll`) ends once that many
-    /// bytes are there. Not on a pty master, whose terminal settings are its slave's.
-    fn wake_after(&mut self, count: u8) -> io::Result<()> {
-        if self.wake_after == count || self.side == Side::Master {
-            return Ok(());
-        }
-        let mut termios = tcgetattr(&self.file).map_err(io::Error::from)?;
-        termios.control_chars[nix::sys::termios::SpecialCharacterIndices::VMIN as usize] = count;
-        tcsetattr(&self.file, SetArg::TCSANOW, &termios).map_err(io::Error::from)?;
-        self.wake_after = count;
-        Ok(())
-    }
-
-    /// [`Transport::receive`] at the VMIN in force.
-    fn receive_now(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
-        if buf.is_empty() {
-            return Ok(0);
-        }
-        loop {
-            let remaining = deadline.saturating_duration_since(Instant::now());
-            if !self.wait_readable(remaining)? {
-                if remaining.is_zero() {
-                    return Ok(0);
-                }
-                // Interrupted, or woke up at (or a hair before) the deadline: look again.
-                continue;
-            }
-            match self.file.read(buf) {
-                Ok(0) => {
-                    // End of file: the other side of the terminal hung up for good.
-                    return Err(io::Error::new(
-                        io::ErrorKind::BrokenPipe,
-                        "pseudo-terminal: the other side was closed",
-                    ));
-                }
-                Ok(count) => return Ok(count),
-                Err(err)
-                    if matches!(
-                        err.kind(),
-                        io::ErrorKind::Interrupted | io::ErrorKind::WouldBlock
-                    ) => {}
-                Err(err)
-                    if self.side == Side::Master
-                        && err.raw_os_error() == Some(Errno::EIO as i32) =>
-                {
-                    // No process has the slave open: nothing can arrive until one opens it.
-                    let remaining = deadline.saturating_duration_since(Instant::now());
-                    if remaining.is_zero() {
-                        return Ok(0);
-                    }
-                    thread::sleep(remaining.min(CLOSED_SLAVE_RETRY));
-                }
-                Err(err) => return Err(err),
-            }
-        }
     }
 
     /// Waits until the descriptor is readable or `remaining` passes; returns whether it
@@ -259,28 +196,45 @@ impl Transport for PtyTransport {
     }
 
     fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
-        self.wake_after(1)?;
-        self.receive_now(buf, deadline)
-    }
-
-    fn waits_for_many(&self) -> bool {
-        self.side != Side::Master
-    }
-
-    /// Sets the terminal's VMIN to `wanted` (at most 255), so that the wait ends once that
-    /// many bytes are there, in one wake-up; what came by the deadline, if fewer, is read
-    /// with VMIN back at 1.
-    fn receive_at_least(
-        &mut self,
-        buf: &mut [u8],
-        wanted: usize,
-        deadline: Instant,
-    ) -> io::Result<usize> {
-        let wanted = wanted.clamp(1, buf.len().clamp(1, 255));
-        self.wake_after(wanted as u8)?;
-        match self.receive_now(buf, deadline)? {
-            0 => self.receive(buf, Instant::now()),
-            got => Ok(got),
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        loop {
+            let remaining = deadline.saturating_duration_since(Instant::now());
+            if !self.wait_readable(remaining)? {
+                if remaining.is_zero() {
+                    return Ok(0);
+                }
+                // Interrupted, or woke up at (or a hair before) the deadline: look again.
+                continue;
+            }
+            match self.file.read(buf) {
+                Ok(0) => {
+                    // End of file: the other side of the terminal hung up for good.
+                    return Err(io::Error::new(
+                        io::ErrorKind::BrokenPipe,
+                        "pseudo-terminal: the other side was closed",
+                    ));
+                }
+                Ok(count) => return Ok(count),
+                Err(err)
+                    if matches!(
+                        err.kind(),
+                        io::ErrorKind::Interrupted | io::ErrorKind::WouldBlock
+                    ) => {}
+                Err(err)
+                    if self.side == Side::Master
+                        && err.raw_os_error() == Some(Errno::EIO as i32) =>
+                {
+                    // No process has the slave open: nothing can arrive until one opens it.
+                    let remaining = deadline.saturating_duration_since(Instant::now());
+                    if remaining.is_zero() {
+                        return Ok(0);
+                    }
+                    thread::sleep(remaining.min(CLOSED_SLAVE_RETRY));
+                }
+                Err(err) => return Err(err),
+            }
         }
     }
 
@@ -361,32 +315,6 @@ mod tests {
 
     fn all_bytes() -> Vec<u8> {
         (0u8..=0xFF).collect()
-    }
-
-    #[test]
-    fn a_wait_for_several_bytes_ends_once_they_are_all_there() {
-        let (mut master, mut slave) = PseudoTerminal::open().unwrap().into_transports().unwrap();
-        assert!(slave.waits_for_many() && !master.waits_for_many());
-        let writer = thread::spawn(move || {
-            for byte in 1..=7u8 {
-                master.send(&[byte]).unwrap();
-                thread::sleep(Duration::from_millis(3));
-            }
-            master
-        });
-        let mut buf = [0u8; 64];
-        // One wait, however the seven bytes trickle in.
-        let got = slave.receive_at_least(&mut buf, 7, soon()).unwrap();
-        assert_eq!(&buf[..got], &[1, 2, 3, 4, 5, 6, 7]);
-        let mut master = writer.join().unwrap();
-        // Fewer than wanted by the deadline: what came, not nothing.
-        master.send(&[8, 9]).unwrap();
-        let got = slave.receive_at_least(&mut buf, 5, short_deadline()).unwrap();
-        assert_eq!(&buf[..got], &[8, 9]);
-        // A plain receive after it wakes for one byte again.
-        master.send(&[10]).unwrap();
-        let got = slave.receive(&mut buf, soon()).unwrap();
-        assert_eq!(&buf[..got], &[10]);
     }
 
     #[test]
