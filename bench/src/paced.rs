@@ -136,7 +136,9 @@ impl PacedLine {
         settings: SerialSettings,
         fine_timers: bool,
     ) -> io::Result<(PtyTransport, PtyTransport, PacedLine)> {
-        let (master_end, master_relay) = PseudoTerminal::open()?.into_transports()?;
+        // The master talks on a terminal's slave side, as a program that opens a serial
+        // device (or a pseudo-terminal's path) does; the relay holds the pty master.
+        let (master_relay, master_end) = PseudoTerminal::open()?.into_transports()?;
         let (drive_relay, drive_end) = PseudoTerminal::open()?.into_transports()?;
         let stop = Arc::new(AtomicBool::new(false));
         let char_time = settings.char_time();
@@ -235,6 +237,23 @@ pub fn thread_cpu_time() -> Option<Duration> {
         })
     }
     #[cfg(not(unix))]
+    {
+        None
+    }
+}
+
+/// How many times the calling thread has gone to sleep waiting (voluntary context
+/// switches: each wait that blocked, woken by input or a timer), where the system can tell.
+pub fn thread_wakeups() -> Option<u64> {
+    #[cfg(target_os = "linux")]
+    {
+        // SAFETY: rusage is plain data; getrusage writes one, which `usage` is.
+        let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+        // SAFETY: as above; RUSAGE_THREAD asks for the calling thread's figures.
+        let status = unsafe { libc::getrusage(libc::RUSAGE_THREAD, &mut usage) };
+        (status == 0).then(|| u64::try_from(usage.ru_nvcsw).unwrap_or(0))
+    }
+    #[cfg(not(target_os = "linux"))]
     {
         None
     }

@@ -19,7 +19,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use vfd_bench::paced::{
-    set_realtime, set_timer_slack, thread_cpu_time, PacedLine, RelayStats, DRIVE_PRIORITY,
+    set_realtime, set_timer_slack, thread_cpu_time, thread_wakeups, PacedLine, RelayStats,
+    DRIVE_PRIORITY,
 };
 use vfd_runtime::serial::SerialSettings;
 use vfd_runtime::transaction::Master;
@@ -157,6 +158,23 @@ impl<T: Transport> Transport for Timed<T> {
         }
         Ok(got)
     }
+    fn receive_at_least(
+        &mut self,
+        buf: &mut [u8],
+        wanted: usize,
+        deadline: Instant,
+    ) -> std::io::Result<usize> {
+        let got = self.inner.receive_at_least(buf, wanted, deadline)?;
+        if got > 0 {
+            let now = Instant::now();
+            self.marks.first_byte.get_or_insert(now);
+            self.marks.last_byte = Some(now);
+        }
+        Ok(got)
+    }
+    fn waits_for_many(&self) -> bool {
+        self.inner.waits_for_many()
+    }
     fn clear_input(&mut self) -> std::io::Result<()> {
         self.inner.clear_input()
     }
@@ -195,6 +213,8 @@ struct Row {
     ok_count: u32,
     elapsed: Duration,
     cpu: Option<Duration>,
+    /// Times the master's thread went to sleep (voluntary context switches) in the run.
+    wakeups: Option<u64>,
     phases: Phases,
     to_drive: RelayStats,
     to_master: RelayStats,
@@ -214,6 +234,10 @@ impl Row {
     }
     fn cpu_per_exchange(&self) -> Option<Duration> {
         self.cpu.map(|cpu| cpu / self.count.max(1))
+    }
+    fn wakeups_per_exchange(&self) -> Option<f64> {
+        self.wakeups
+            .map(|wakeups| wakeups as f64 / f64::from(self.count.max(1)))
     }
 }
 
@@ -396,6 +420,7 @@ fn measure(subject: &Subject, baud: u32, duration: Duration, fine: bool) -> Resu
     let mut ok_count = 0u32;
     let mut previous: Option<Marks> = None;
     let cpu_before = thread_cpu_time();
+    let wakeups_before = thread_wakeups();
     let start = Instant::now();
     while start.elapsed() < duration {
         master.transport_mut().marks = Marks::default();
@@ -436,6 +461,7 @@ fn measure(subject: &Subject, baud: u32, duration: Duration, fine: bool) -> Resu
     }
     let elapsed = start.elapsed();
     let cpu = cpu_before.and_then(|before| Some(thread_cpu_time()? - before));
+    let wakeups = wakeups_before.and_then(|before| Some(thread_wakeups()? - before));
     stop.store(true, Ordering::Relaxed);
     server
         .join()
@@ -464,6 +490,7 @@ fn measure(subject: &Subject, baud: u32, duration: Duration, fine: bool) -> Resu
         ok_count,
         elapsed,
         cpu,
+        wakeups,
         phases,
         to_drive,
         to_master,
@@ -489,12 +516,12 @@ fn print_rates(baud: u32, rows: &[Row]) {
     println!();
     println!("### {baud} baud");
     println!();
-    println!("| Drive | Protocol, register read | Format | Frames (bytes) | Gap after each frame | Exchange in theory | Max/s | Measured/s | Efficiency | Failed exchanges | Without failures and recoveries: /s, efficiency | Master CPU per exchange | CPU / wire time |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| Drive | Protocol, register read | Format | Frames (bytes) | Gap after each frame | Exchange in theory | Max/s | Measured/s | Efficiency | Failed exchanges | Without failures and recoveries: /s, efficiency | Master CPU per exchange | CPU / wire time | Master wake-ups per exchange |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for row in rows {
         let cpu = row.cpu_per_exchange();
         println!(
-            "| {} | {} | {} | {} | {} ms | {} ms | {:.1} | {:.1} | {:.1} % | {} | {:.1}, {:.1} % | {} | {} |",
+            "| {} | {} | {} | {} | {} ms | {} ms | {:.1} | {:.1} | {:.1} % | {} | {:.1}, {:.1} % | {} | {} | {} |",
             row.drive,
             row.subject,
             row.line,
@@ -512,6 +539,8 @@ fn print_rates(baud: u32, rows: &[Row]) {
                 "{:.2} %",
                 100.0 * c.as_secs_f64() / row.model.wire.as_secs_f64()
             )),
+            row.wakeups_per_exchange()
+                .map_or("n/a".to_owned(), |w| format!("{w:.2}")),
         );
     }
 }
