@@ -1,6 +1,5 @@
 //! Serving a virtual drive over any [`Transport`] (a pseudo-terminal, a serial port, an
-//! accepted TCP connection) in
-//! wall time, with the line's timing: a reply starts after the request's last byte and the
+//! accepted TCP connection) in wall time, with the line's timing: a reply starts after the request's last byte and the
 //! protocol's frame gap (none where the protocol states none) plus the drive's reply delay,
 //! unfinished frames are dropped after the gap or the drive's frame abandon time, and the
 //! simulated clock follows the wall clock. The loop waits for bytes only until the next of
