@@ -671,7 +671,8 @@ pub fn check_writable(info: &RegisterInfo, persist: bool) -> Result<(), Failure>
 fn open_line(port: &str, settings: &SerialSettings) -> Result<Line, Failure> {
     if port.starts_with(TCP_SCHEME) {
         return TcpTransport::connect(port).map(Line::Tcp).map_err(|e| {
-            let failure = Failure::new(format!("cannot open {port}: {e}"));
+            // The error names the address already.
+            let failure = Failure::new(e.to_string());
             if e.kind() == std::io::ErrorKind::InvalidInput {
                 failure.hint("write it as tcp://HOST:PORT, e.g. tcp://192.168.1.50:4001")
             } else {

@@ -195,12 +195,14 @@ impl TcpTransport {
     /// Forgets the connection the other end closed, and says so.
     fn closed(&mut self) -> io::Error {
         self.stream = None;
+        let who = if self.addrs.is_empty() {
+            "the client"
+        } else {
+            "the device server"
+        };
         io::Error::new(
             io::ErrorKind::ConnectionAborted,
-            format!(
-                "{}: the connection was closed by the device server",
-                self.name
-            ),
+            format!("{}: the connection was closed by {who}", self.name),
         )
     }
 
@@ -490,6 +492,11 @@ mod tests {
             .receive(&mut buf, Instant::now() + Duration::from_secs(2))
             .unwrap_err();
         assert_eq!(err.kind(), io::ErrorKind::ConnectionAborted, "{err}");
+        assert!(
+            err.to_string()
+                .ends_with("the connection was closed by the client"),
+            "{err}"
+        );
         let err = served.send(b"x").unwrap_err();
         assert_eq!(err.kind(), io::ErrorKind::NotConnected, "{err}");
     }
