@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use vfd_runtime::meaning::{decode_meaning, Direction};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transaction::Master;
-use vfd_runtime::transport::{PtyTransport, SerialTransport, Transport};
+use vfd_runtime::transport::{PtyTransport, SerialTransport, TcpTransport, Transport, TCP_SCHEME};
 use vfd_runtime::{
     CommandKind, DataType, DriveInfo, EncodeError, Port, Protocol, RegisterInfo, Request,
     TransactionError, TransactionErrorKind,
@@ -45,7 +45,10 @@ pub struct LineArgs {
     /// Protocol id (default: the drive's first protocol).
     #[arg(long, short = 'p', value_name = "PROTOCOL")]
     pub protocol: Option<String>,
-    /// Serial device, e.g. /dev/ttyUSB0, or the pseudo-terminal `vfd sim` prints.
+    /// Serial device, e.g. /dev/ttyUSB0, the pseudo-terminal `vfd sim` prints, or a serial
+    /// device server as tcp://HOST:PORT (raw serial over TCP, "RTU over TCP": the line's
+    /// frames unchanged, no Modbus TCP header; the baud rate and parity still set the timing,
+    /// and 50 ms are added to each reply timeout for the network).
     #[arg(long, value_name = "DEVICE")]
     pub port: String,
     /// Baud rate (default: the drive's factory setting).
@@ -71,11 +74,13 @@ pub struct LineArgs {
     pub variant: Option<String>,
 }
 
-/// A byte line to a drive: a serial port, or a terminal device (pseudo-terminals), traced
-/// or not.
+/// A byte line to a drive: a serial port, a terminal device (pseudo-terminals) or a TCP
+/// connection to a serial device server, traced or not.
 pub enum Line {
     /// A serial port.
     Serial(SerialTransport),
+    /// A serial device server reached over TCP.
+    Tcp(TcpTransport),
     /// A terminal device such as a pseudo-terminal.
     Pty(PtyTransport),
     /// Another line, each frame on it printed (hex and decoded) as it passes.
@@ -134,6 +139,7 @@ impl Transport for Line {
     fn send(&mut self, bytes: &[u8]) -> std::io::Result<()> {
         match self {
             Line::Serial(t) => t.send(bytes),
+            Line::Tcp(t) => t.send(bytes),
             Line::Pty(t) => t.send(bytes),
             Line::Traced(t) => t.send(bytes),
         }
@@ -141,6 +147,7 @@ impl Transport for Line {
     fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> std::io::Result<usize> {
         match self {
             Line::Serial(t) => t.receive(buf, deadline),
+            Line::Tcp(t) => t.receive(buf, deadline),
             Line::Pty(t) => t.receive(buf, deadline),
             Line::Traced(t) => t.receive(buf, deadline),
         }
@@ -148,6 +155,7 @@ impl Transport for Line {
     fn clear_input(&mut self) -> std::io::Result<()> {
         match self {
             Line::Serial(t) => t.clear_input(),
+            Line::Tcp(t) => t.clear_input(),
             Line::Pty(t) => t.clear_input(),
             Line::Traced(t) => t.inner.clear_input(),
         }
@@ -155,8 +163,17 @@ impl Transport for Line {
     fn last_gap(&self) -> Option<Duration> {
         match self {
             Line::Serial(t) => t.last_gap(),
+            Line::Tcp(t) => t.last_gap(),
             Line::Pty(t) => t.last_gap(),
             Line::Traced(t) => t.inner.last_gap(),
+        }
+    }
+    fn allowance(&self) -> Duration {
+        match self {
+            Line::Serial(t) => t.allowance(),
+            Line::Tcp(t) => t.allowance(),
+            Line::Pty(t) => t.allowance(),
+            Line::Traced(t) => t.inner.allowance(),
         }
     }
 }
@@ -598,6 +615,19 @@ impl Session {
                     .collect::<Vec<_>>()
                     .join(", ")
             )),
+            TransactionErrorKind::Io(io)
+                if matches!(
+                    io.kind(),
+                    std::io::ErrorKind::ConnectionAborted
+                        | std::io::ErrorKind::ConnectionReset
+                        | std::io::ErrorKind::NotConnected
+                ) =>
+            {
+                Some(
+                    "the connection to the device server was lost; the next request connects again"
+                        .to_owned(),
+                )
+            }
             TransactionErrorKind::Io(_) => Some("is the port still there?".to_owned()),
             TransactionErrorKind::Decode(_) => Some(
                 "the reply arrived damaged: check the wiring, termination, baud rate and parity"
@@ -635,9 +665,21 @@ pub fn check_writable(info: &RegisterInfo, persist: bool) -> Result<(), Failure>
     Ok(())
 }
 
-/// Opens `port`: a pseudo-terminal (`/dev/pts/N`) as a terminal device, anything else as
-/// a serial port at `settings`.
+/// Opens `port`: `tcp://HOST:PORT` as a connection to a serial device server, a
+/// pseudo-terminal (`/dev/pts/N`) as a terminal device, anything else as a serial port at
+/// `settings`.
 fn open_line(port: &str, settings: &SerialSettings) -> Result<Line, Failure> {
+    if port.starts_with(TCP_SCHEME) {
+        return TcpTransport::connect(port).map(Line::Tcp).map_err(|e| {
+            // The error names the address already.
+            let failure = Failure::new(e.to_string());
+            if e.kind() == std::io::ErrorKind::InvalidInput {
+                failure.hint("write it as tcp://HOST:PORT, e.g. tcp://192.168.1.50:4001")
+            } else {
+                failure.hint("is the device server (or `vfd sim --listen`) running, and is that its address and port?")
+            }
+        });
+    }
     let path = Path::new(port);
     let is_pty = port.starts_with("/dev/pts/") || port.starts_with("/dev/ttyp");
     if is_pty {

@@ -70,7 +70,7 @@ enum Command {
     },
     /// Read registers from a drive, in engineering units.
     #[command(
-        after_help = "Example:\n  vfd read --drive yd1000 --port /dev/ttyUSB0 FA01 FE01 FC90"
+        after_help = "Examples:\n  vfd read --drive yd1000 --port /dev/ttyUSB0 FA01 FE01 FC90\n  vfd read --drive yd1000 --port tcp://192.168.1.50:4001 FA01   (a serial device server)"
     )]
     Read {
         #[command(flatten)]
@@ -181,9 +181,10 @@ Examples:
         #[arg(long)]
         stop_first: bool,
     },
-    /// Run the virtual drive on a pseudo-terminal; prints the device path first.
+    /// Run the virtual drive on a pseudo-terminal (or over TCP with --listen); prints the
+    /// device path (or tcp://HOST:PORT) first.
     #[command(
-        after_help = "The first line of output is the device to open, e.g.:\n  vfd sim --drive yd1000 &\n  vfd read --drive yd1000 --port /dev/pts/5 FA01"
+        after_help = "The first line of output is the device to open, e.g.:\n  vfd sim --drive yd1000 &\n  vfd read --drive yd1000 --port /dev/pts/5 FA01\n\nAs a serial device server (raw frames over TCP, \"RTU over TCP\"):\n  vfd sim --drive yd1000 --listen 127.0.0.1:0 &\n  vfd read --drive yd1000 --port tcp://127.0.0.1:40123 FA01"
     )]
     Sim(sim::SimArgs),
     /// Show the whole product against the virtual drive on a pseudo-terminal, every frame

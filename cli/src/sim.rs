@@ -1,14 +1,19 @@
-//! `vfd sim`: the virtual drive of any described drive, served on a pseudo-terminal until
-//! SIGINT or SIGTERM. The device path is the first line of output, so scripts and tests
-//! can read it; `--verbose` logs each exchange (hex and decoded) on standard error.
+//! `vfd sim`: the virtual drive of any described drive, served on a pseudo-terminal (or,
+//! with `--listen HOST:PORT`, over TCP as a serial device server would: raw frames, one
+//! client at a time) until SIGINT or SIGTERM. The device path (`tcp://HOST:PORT` with the
+//! bound port) is the first line of output, so scripts and tests can read it; `--verbose`
+//! logs each exchange (hex and decoded) on standard error.
 
 use crate::bus::ParityArg;
 use crate::out::say;
 use crate::{lookup, Failure};
 use std::io::Write;
+use std::net::TcpListener;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use vfd_runtime::meaning::{decode_meaning, Direction};
-use vfd_runtime::transport::{PseudoTerminal, Transport};
+use vfd_runtime::serial::SerialSettings;
+use vfd_runtime::transport::{PseudoTerminal, TcpTransport, Transport};
 use vfd_runtime::virtual_drive::{serve, Fault, Simulator};
 use vfd_runtime::Protocol;
 
@@ -48,6 +53,11 @@ pub struct SimArgs {
     /// before power-on. Default: the drive's factory setting.
     #[arg(long, value_name = "VARIANT")]
     pub variant: Option<String>,
+    /// Serve over TCP on this address instead of a pseudo-terminal, as a serial device server
+    /// does (raw frames, no Modbus TCP header; one client at a time, the next accepted when it
+    /// leaves). Port 0 picks a free one; the first line of output is tcp://HOST:PORT.
+    #[arg(long, value_name = "HOST:PORT")]
+    pub listen: Option<String>,
 }
 
 /// Faults the virtual drive can commit.
@@ -119,6 +129,41 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
         sim.inject_trip(code);
     }
     let stop = crate::watch::stop_flag()?;
+    let banner = |place: &str| {
+        eprintln!(
+            "vfd sim: virtual {} ({}) speaking {}{} as station {address} on {place}, {} baud; Ctrl-C stops",
+            drive.id,
+            drive.model,
+            protocol.id,
+            args.variant
+                .as_deref()
+                .map_or_else(String::new, |id| format!(" ({id})")),
+            settings.baud
+        );
+    };
+    if let Some(listen) = args.listen.as_deref() {
+        let listener = TcpListener::bind(listen).map_err(|e| {
+            Failure::new(format!("cannot listen on {listen}: {e}"))
+                .hint("give HOST:PORT, e.g. 127.0.0.1:5020 (port 0 picks a free port)")
+        })?;
+        let bound = listener
+            .local_addr()
+            .map_err(|e| Failure::new(format!("cannot read the address listened on: {e}")))?;
+        let place = format!("tcp://{bound}");
+        say!("{place}");
+        banner(&place);
+        let serving = Serving {
+            sim: &sim,
+            drive,
+            protocol,
+            settings,
+            verbose: args.verbose,
+            stop: &stop,
+        };
+        serving.listen(&listener)?;
+        eprintln!("vfd sim: stopped");
+        return Ok(());
+    }
     let pty = PseudoTerminal::open()
         .map_err(|e| Failure::new(format!("cannot open a pseudo-terminal: {e}")))?;
     let path = pty.slave_path().display().to_string();
@@ -126,16 +171,7 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
         .master()
         .map_err(|e| Failure::new(format!("cannot use the pseudo-terminal: {e}")))?;
     say!("{path}");
-    eprintln!(
-        "vfd sim: virtual {} ({}) speaking {}{} as station {address} on {path}, {} baud; Ctrl-C stops",
-        drive.id,
-        drive.model,
-        protocol.id,
-        args.variant
-            .as_deref()
-            .map_or_else(String::new, |id| format!(" ({id})")),
-        settings.baud
-    );
+    banner(&path);
     let mut logged = Logged {
         inner: transport,
         drive,
@@ -148,6 +184,68 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::new(format!("the virtual drive stopped: {e}")))?;
     eprintln!("vfd sim: stopped");
     Ok(())
+}
+
+/// How long the listening loop waits between looks for a client and at the stop flag.
+const ACCEPT_POLL: Duration = Duration::from_millis(20);
+
+/// What serving over TCP needs: the virtual drive, how it speaks, and when to stop.
+struct Serving<'a> {
+    sim: &'a Simulator,
+    drive: &'static vfd_runtime::DriveInfo,
+    protocol: &'static Protocol,
+    settings: SerialSettings,
+    verbose: bool,
+    stop: &'a AtomicBool,
+}
+
+impl Serving<'_> {
+    /// Serves one client at a time (a device server's line has one master), accepting the
+    /// next when it leaves, until the stop flag is set. The drive keeps its state across
+    /// clients, as a real drive behind a device server does.
+    fn listen(&self, listener: &TcpListener) -> Result<(), Failure> {
+        listener
+            .set_nonblocking(true)
+            .map_err(|e| Failure::new(format!("cannot poll the listening socket: {e}")))?;
+        while !self.stop.load(Ordering::Relaxed) {
+            let (stream, peer) = match listener.accept() {
+                Ok(accepted) => accepted,
+                Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+                    std::thread::sleep(ACCEPT_POLL);
+                    continue;
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(Failure::new(format!("cannot accept a client: {e}"))),
+            };
+            let transport = match TcpTransport::from_stream(stream) {
+                Ok(transport) => transport,
+                Err(e) => {
+                    eprintln!("vfd sim: client {peer} could not be served: {e}");
+                    continue;
+                }
+            };
+            eprintln!("vfd sim: client {peer} connected");
+            let mut logged = Logged {
+                inner: transport,
+                drive: self.drive,
+                protocol: self.protocol,
+                verbose: self.verbose,
+                received: Vec::new(),
+                start: Instant::now(),
+            };
+            match serve(
+                self.sim,
+                self.protocol,
+                &mut logged,
+                self.settings,
+                self.stop,
+            ) {
+                Ok(()) => break,
+                Err(e) => eprintln!("vfd sim: client {peer} left ({e})"),
+            }
+        }
+        Ok(())
+    }
 }
 
 /// A transport that logs what it carries: the bytes received since the last reply as the
@@ -266,5 +364,8 @@ impl<T: Transport> Transport for Logged<T> {
     }
     fn last_gap(&self) -> Option<Duration> {
         self.inner.last_gap()
+    }
+    fn allowance(&self) -> Duration {
+        self.inner.allowance()
     }
 }

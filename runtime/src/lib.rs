@@ -16,7 +16,8 @@
 //!   `R::read()`, `R::write_ram(value)`, ... from them) and the protocol-independent
 //!   [`Request`]; [`units`] the quantities and value conversions (scaling, ranges);
 //! * [`transaction`] runs request/reply exchanges with timeouts derived from the baud rate;
-//! * [`transport`] moves bytes: serial ports, pseudo-terminals and in-memory pipes;
+//! * [`transport`] moves bytes: serial ports, pseudo-terminals, TCP connections to serial
+//!   device servers (raw "RTU over TCP", no feature needed) and in-memory pipes;
 //! * [`behaviour`] holds a drive's declared behaviour model and [`virtual_drive`] the
 //!   simulator that follows it: the slave side of every protocol, from the same data.
 //!

@@ -2,6 +2,8 @@
 minimalmodbus acts as the master against our virtual drive on a serial port.
 
 Usage: modbus_peer_client.py (pymodbus|minimalmodbus) PORT STATION [rtu|ascii] < plan.json
+PORT may be tcp://HOST:PORT (pymodbus only): its TCP client with the RTU (or ASCII) framer,
+as for a serial device server (tests/tests/tcp.rs, cli/tests/tcp.rs).
 The plan is a JSON list of operations:
   {"op": "read", "address": A, "count": N}        function 03
   {"op": "write", "address": A, "value": V}       function 06
@@ -29,8 +31,15 @@ def run_pymodbus(port, station, plan, mode):
     from pymodbus.pdu import ExceptionResponse
 
     framer = FramerType.ASCII if mode == "ascii" else FramerType.RTU
-    client = ModbusSerialClient(port, framer=framer, baudrate=115200, parity="N",
-                                stopbits=1, bytesize=8, timeout=1, retries=0)
+    if port.startswith("tcp://"):
+        # A serial device server: the serial line's frames over TCP, no MBAP header.
+        from pymodbus.client import ModbusTcpClient
+
+        host, _, number = port[len("tcp://"):].rpartition(":")
+        client = ModbusTcpClient(host, port=int(number), framer=framer, timeout=1, retries=0)
+    else:
+        client = ModbusSerialClient(port, framer=framer, baudrate=115200, parity="N",
+                                    stopbits=1, bytesize=8, timeout=1, retries=0)
     if not client.connect():
         raise SystemExit(f"cannot open {port}")
 

@@ -1,8 +1,10 @@
-//! Byte transports a transaction runs over: real serial ports, pseudo-terminals and
-//! in-memory pipes.
+//! Byte transports a transaction runs over: real serial ports, pseudo-terminals, TCP
+//! connections to serial device servers and in-memory pipes.
 //!
-//! The in-memory pipe is always there. The serial port needs the `serial` feature and the
-//! pseudo-terminal the `pty` feature on a Unix system (both features are on by default).
+//! The in-memory pipe and TCP ([`TcpTransport`]: raw serial-over-TCP, "RTU over TCP", the
+//! serial line's frames unchanged, for serial device servers) are always there. The serial
+//! port needs the `serial` feature and the pseudo-terminal the `pty` feature on a Unix
+//! system (both features are on by default).
 
 use std::io;
 use std::time::{Duration, Instant};
@@ -15,6 +17,7 @@ mod pty;
 mod recording;
 #[cfg(feature = "serial")]
 mod serial_port;
+mod tcp;
 
 #[cfg(feature = "tokio")]
 pub use asynchronous::AsyncTransport;
@@ -24,6 +27,7 @@ pub use pty::{PseudoTerminal, PtyTransport};
 pub use recording::{Direction, Recording};
 #[cfg(feature = "serial")]
 pub use serial_port::SerialTransport;
+pub use tcp::{TcpTransport, CONNECT_TIMEOUT, NETWORK_ALLOWANCE, SCHEME as TCP_SCHEME};
 
 /// A half-duplex byte pipe to one or more drives.
 pub trait Transport {

@@ -1,5 +1,5 @@
-//! Serving a virtual drive over any [`Transport`] (a pseudo-terminal, a serial port) in
-//! wall time, with the line's timing: a reply starts after the request's last byte and the
+//! Serving a virtual drive over any [`Transport`] (a pseudo-terminal, a serial port, an
+//! accepted TCP connection) in wall time, with the line's timing: a reply starts after the request's last byte and the
 //! protocol's frame gap (none where the protocol states none) plus the drive's reply delay,
 //! unfinished frames are dropped after the gap or the drive's frame abandon time, and the
 //! simulated clock follows the wall clock. The loop waits for bytes only until the next of
@@ -93,10 +93,14 @@ pub fn serve<T: Transport>(
                     transmission.request_len,
                     usize::from(protocol.max_frame_len),
                 );
-                // Past the master's deadline (which adds the host latency), within the
-                // window in which it still drops a late reply.
+                // Past the master's deadline (which adds the host latency and what the
+                // transport adds: a network), within the window in which it still drops a
+                // late reply.
                 std::thread::sleep(
-                    timeout + crate::serial::HOST_LATENCY + Duration::from_millis(20),
+                    timeout
+                        + crate::serial::HOST_LATENCY
+                        + transport.allowance()
+                        + Duration::from_millis(20),
                 );
             }
             match transmission.split {
