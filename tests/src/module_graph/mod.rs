@@ -9,9 +9,11 @@
 //! that starts with `crate::`, `super::`, `self::` or with a module declared where it stands
 //! (`commands::lower(..)` in `protocols/mod.rs`). The path is followed through the crate's
 //! modules to the file that holds the item; a name that a `use` item brought into a module
-//! (`pub use respond::Outcome` in `virtual_drive/mod.rs`, `pub use protocol::Protocol` in
-//! `lib.rs`) leads on to where that item comes from, so `super::Outcome` uses `respond.rs`.
+//! (`pub use outcome::Outcome` in `virtual_drive/mod.rs`, `pub use protocol::Protocol` in
+//! `lib.rs`) leads on to where that item comes from, so `super::Outcome` uses `outcome.rs`.
 //! Test modules count (they are part of their file); comments and string literals do not;
+//! nor do method calls (`self.reply(..)` names no path: the methods of one type may be
+//! spread over the files of its folder), nor names a glob import brought in;
 //! paths to other crates (`std::`, `vfd_runtime::`) do not; a module declaration
 //! (`mod pages;`) is not a use. A folder's face (its `mod.rs`, `name.rs` beside `name/`,
 //! the crate root `lib.rs` or `main.rs` for `src/`) declares its files, re-exports from them
