@@ -114,7 +114,7 @@ impl Traced {
         crate::out::say!(
             "    {arrow} {}  [{}]",
             vfd_runtime::error::hex(bytes),
-            crate::sim::frame_text(self.drive, self.protocol, direction, bytes)
+            crate::frame_text::frame_text(self.drive, self.protocol, direction, bytes)
         );
     }
 

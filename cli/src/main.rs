@@ -12,6 +12,7 @@ mod bus;
 mod catalogue;
 mod demo;
 mod describe;
+mod frame_text;
 mod frames;
 mod generate;
 mod lookup;

@@ -5,13 +5,14 @@
 //! logs each exchange (hex and decoded) on standard error.
 
 use crate::bus::ParityArg;
+use crate::frame_text::frame_text;
 use crate::out::say;
 use crate::{lookup, Failure};
 use std::io::Write;
 use std::net::TcpListener;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
-use vfd_runtime::meaning::{decode_meaning, Direction};
+use vfd_runtime::meaning::Direction;
 use vfd_runtime::serial::SerialSettings;
 use vfd_runtime::transport::{PseudoTerminal, TcpTransport, Transport};
 use vfd_runtime::virtual_drive::{serve, Fault, Simulator};
@@ -269,45 +270,6 @@ impl<T: Transport> Logged<T> {
             vfd_runtime::error::hex(bytes),
             frame_text(self.drive, self.protocol, direction, bytes)
         );
-    }
-}
-
-/// What a frame says, for people: command, station, register by code and name, data,
-/// error code, trip; or why it is not a whole frame.
-pub fn frame_text(
-    drive: &'static vfd_runtime::DriveInfo,
-    protocol: &'static Protocol,
-    direction: Direction,
-    bytes: &[u8],
-) -> String {
-    match decode_meaning(protocol, direction, bytes) {
-        Ok(m) => {
-            let mut parts = Vec::new();
-            if let Some(code) = m.code {
-                parts.push(vfd_runtime::protocol::code_label(code));
-            }
-            if let Some(a) = m.address {
-                parts.push(format!("station {a}"));
-            }
-            if let Some(r) = m.register {
-                let space = m.space.unwrap_or(vfd_runtime::Space::Parameter);
-                match drive.register_for(space, r, m.kind.is_some_and(|k| k.is_write())) {
-                    Some(info) => parts.push(format!("{} {}", info.code, info.name)),
-                    None => parts.push(format!("register {r:04X}h")),
-                }
-            }
-            if let Some(d) = m.data {
-                parts.push(format!("data {d:04X}h"));
-            }
-            if let Some(e) = m.error_code {
-                parts.push(format!("error {e}"));
-            }
-            if m.tripped {
-                parts.push("tripped".to_owned());
-            }
-            parts.join(", ")
-        }
-        Err(e) => format!("not a whole {}: {e}", direction.as_str()),
     }
 }
 

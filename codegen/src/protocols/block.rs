@@ -3,7 +3,7 @@
 //! `register`); modes name fixed registers. Every name must resolve to a described
 //! parameter, and the protocol file must have a `kind: block` command.
 
-use super::commands::LoweredCommand;
+use super::lowered_command::LoweredCommand;
 use super::Input;
 use crate::diagnostics::Diagnostics;
 use crate::parse::model::RegisterModel;

@@ -3,28 +3,13 @@
 //! other and against their layouts; and the drive's own address maps.
 
 use super::layouts::Layouts;
+use super::lowered_command::LoweredCommand;
 use super::{space_from_name, Input};
 use crate::diagnostics::Diagnostics;
 use crate::parse::model::{CommandModel, ProtocolRef};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
 use vfd_runtime::{AddressMap, CommandKind, CommandSpec, DataType, Role, Space};
-
-/// A command that lowered, with its index under `commands:`.
-pub(super) struct LoweredCommand {
-    /// Index in the protocol file's `commands:`.
-    pub index: usize,
-    /// The runtime command.
-    pub spec: CommandSpec,
-    /// Whether the file gives it a code (without one, `spec.code` is 0).
-    pub has_code: bool,
-}
-
-impl LoweredCommand {
-    fn path(&self) -> String {
-        format!("commands[{}]", self.index)
-    }
-}
 
 /// Lowers every command; those with problems are reported and left out.
 pub(super) fn lower_commands(

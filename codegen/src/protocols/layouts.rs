@@ -2,7 +2,7 @@
 //! whole (variable-size fields that something sizes, frames that fit `max_frame_len`, the
 //! parts `default_optional_parts` names, Rust names that stay distinct).
 
-use super::commands::LoweredCommand;
+use super::lowered_command::LoweredCommand;
 use super::names_of;
 use super::parts::{lower_part, PartContext};
 use crate::diagnostics::Diagnostics;

@@ -3,7 +3,7 @@
 //! start, the reply delay set by registers, and the broadcast rule. Protocol files are
 //! shared with drives whose manuals lack these rules, so they live on the drive's entry.
 
-use super::commands::LoweredCommand;
+use super::lowered_command::LoweredCommand;
 use super::Input;
 use crate::diagnostics::Diagnostics;
 use crate::parse::model::{BoundModel, RegisterModel};

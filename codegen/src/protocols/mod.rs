@@ -15,6 +15,7 @@ mod commands;
 mod error_codes;
 mod layouts;
 mod link;
+mod lowered_command;
 mod pages;
 mod parts;
 mod pre_steps;
@@ -356,7 +357,7 @@ fn shared_write_numbers(
 /// lowered by the drive's. Above 1, a RAM write command's data field must be sized by a
 /// length part, and a block must fit the one byte a frame's data size is held in.
 /// Whether a lowered command is a RAM write that can carry several registers.
-fn writes_blocks(command: &commands::LoweredCommand) -> bool {
+fn writes_blocks(command: &lowered_command::LoweredCommand) -> bool {
     command.spec.kind == vfd_runtime::CommandKind::WriteRam
         && vfd_runtime::protocol::command_writes_blocks(&command.spec)
 }
@@ -365,7 +366,7 @@ fn writes_blocks(command: &commands::LoweredCommand) -> bool {
 /// Modbus with 03 and 06 only, writes one register at a time without saying so.)
 fn max_words_per_write(
     input: &Input<'_>,
-    commands: &[commands::LoweredCommand],
+    commands: &[lowered_command::LoweredCommand],
     file_writes_blocks: bool,
     out: &mut Diagnostics,
 ) -> u16 {
@@ -408,7 +409,7 @@ fn max_words_per_write(
 /// one byte a frame's data size is held in (127 words).
 fn max_words_per_read(
     input: &Input<'_>,
-    commands: &[commands::LoweredCommand],
+    commands: &[lowered_command::LoweredCommand],
     out: &mut Diagnostics,
 ) -> u16 {
     let file = input.file.protocol.max_words_per_read;

@@ -4,7 +4,7 @@
 //! every paged offset within what the commands' register field carries, and registers that
 //! exist.
 
-use super::commands::LoweredCommand;
+use super::lowered_command::LoweredCommand;
 use super::Input;
 use crate::diagnostics::Diagnostics;
 use std::borrow::Cow;

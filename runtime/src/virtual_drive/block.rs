@@ -3,7 +3,8 @@
 //! names, the reply carries the registers it names for reading and a write-status bit per
 //! word that was not written.
 
-use super::respond::{encode_with, mirror_optional_parts, reply_code, Outcome};
+use super::outcome::Outcome;
+use super::reply::{encode_with, mirror_optional_parts, reply_code};
 use super::VirtualDrive;
 use crate::codec::{FrameValues, Roles, Words};
 use crate::kinds::{DataType, Space};

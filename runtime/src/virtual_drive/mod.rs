@@ -5,8 +5,12 @@
 //! motor on a clock that tests advance. Nothing here names a drive or a protocol.
 //!
 //! One concern per file: `storage` (RAM, EEPROM, values in effect), `motor` (the behaviour
-//! model), `respond` (one request, one reply), `faults` (misbehaviour on request), `link`
-//! (in-process transport) and `serve` (a loop over any transport, in wall time).
+//! model), `respond` (one request, one reply), `outcome` (a reply or silence, and why a
+//! request is refused), `reply` (encoding replies and error replies), `broadcast`,
+//! `consecutive` (runs of registers), `block` (block transfers), `pages` (paged
+//! registers), `unsupported` (function codes the drive does not know), `faults`
+//! (misbehaviour on request), `link` (in-process transport) and `serve` (a loop over any
+//! transport, in wall time).
 //!
 //! In process, a typed master is two lines away:
 //!
@@ -18,10 +22,14 @@
 //! (see `vfd_drives::guide` for a complete, tested example).
 
 mod block;
+mod broadcast;
+mod consecutive;
 mod faults;
 mod link;
 mod motor;
+mod outcome;
 mod pages;
+mod reply;
 mod respond;
 mod serve;
 mod storage;
@@ -29,7 +37,7 @@ mod unsupported;
 
 pub use faults::Fault;
 pub use link::SimLink;
-pub use respond::{Outcome, Refusal};
+pub use outcome::{Outcome, Refusal};
 pub use serve::serve;
 
 use crate::drive::DriveInfo;

@@ -3,7 +3,7 @@
 //! and the master's answer to a reply ([`crate::protocol::FollowUp`]): an acknowledgement
 //! ends the exchange, a request to send again repeats the last reply.
 
-use super::respond::{Outcome, Refusal};
+use super::outcome::{Outcome, Refusal};
 use super::VirtualDrive;
 use crate::protocol::{DecodedRequest, Protocol};
 

@@ -6,7 +6,8 @@
 //! checksum and, in text framings, the terminator where it belongs; without a terminator,
 //! the bytes up to the line's silence).
 
-use super::respond::{encode_with, Outcome};
+use super::outcome::Outcome;
+use super::reply::encode_with;
 use super::VirtualDrive;
 use crate::codec::DecodeStatus;
 use crate::layout::{FieldSpec, Format, FrameLayout, FrameValues, Part, Role, Roles, SizedBy};
