@@ -3,7 +3,7 @@
 //! small source tree with a circle inside a folder or across folders.
 
 use std::path::{Path, PathBuf};
-use vfd_tests::module_graph::{assert_no_module_cycle, assert_no_module_cycle_but, ModuleGraph};
+use vfd_tests::module_graph::{assert_no_module_cycle, ModuleGraph};
 
 fn crate_src(folder: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -14,11 +14,7 @@ fn crate_src(folder: &str) -> PathBuf {
 
 #[test]
 fn runtime_files_form_no_circle() {
-    // transaction/ is being rewritten (issue 21): its circle is left to that rewrite.
-    assert_no_module_cycle_but(
-        &crate_src("runtime"),
-        &["transaction/persistence.rs -> transaction/session.rs -> transaction/persistence.rs"],
-    );
+    assert_no_module_cycle(&crate_src("runtime"));
 }
 
 #[test]

@@ -35,16 +35,6 @@ use crate::kinds::CommandKind;
 use crate::protocol::PersistenceSelector;
 use crate::register::Request;
 
-/// What the master knows about the drive's persistence selector.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct SelectorState {
-    /// The selector's value in the drive's RAM, when known.
-    pub value: Option<u32>,
-    /// The caller stated the value: the next persistent write trusts it without reading
-    /// the selector.
-    pub assumed: bool,
-}
-
 impl Session {
     /// The drive's persistence selector, when `request` is a write it governs.
     pub(crate) fn governing_selector(

@@ -4,12 +4,21 @@
 //! Both masters hold one; the engine works on it.
 
 use super::judge::EchoKnowledge;
-use super::persistence::SelectorState;
 use super::prepare::{Station, MAX_FRAME};
 use crate::layout::Role;
 use crate::protocol::Protocol;
 use crate::serial::{DriveTiming, SerialSettings};
 use std::time::{Duration, Instant};
+
+/// What the master knows about the drive's persistence selector.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct SelectorState {
+    /// The selector's value in the drive's RAM, when known.
+    pub value: Option<u32>,
+    /// The caller stated the value: the next persistent write trusts it without reading
+    /// the selector.
+    pub assumed: bool,
+}
 
 /// The state a master carries from one exchange to the next.
 pub(crate) struct Session {
