@@ -3,6 +3,8 @@
 //!
 //! The in-memory pipe is always there. The serial port needs the `serial` feature and the
 //! pseudo-terminal the `pty` feature on a Unix system (both features are on by default).
+//! The `tokio` feature adds `AsyncTransport` and its asynchronous counterparts of the
+//! three.
 
 use std::io;
 use std::time::{Duration, Instant};
@@ -16,8 +18,12 @@ mod recording;
 #[cfg(feature = "serial")]
 mod serial_port;
 
+#[cfg(all(feature = "tokio", unix, feature = "pty"))]
+pub use asynchronous::AsyncPtyTransport;
+#[cfg(all(feature = "tokio", feature = "serial"))]
+pub use asynchronous::AsyncSerialTransport;
 #[cfg(feature = "tokio")]
-pub use asynchronous::AsyncTransport;
+pub use asynchronous::{async_memory_pair, AsyncMemoryTransport, AsyncTransport};
 pub use memory::{memory_pair, MemoryTransport};
 #[cfg(all(unix, feature = "pty"))]
 pub use pty::{PseudoTerminal, PtyTransport};
