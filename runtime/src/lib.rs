@@ -35,6 +35,10 @@
 //! * `serial` (default): `transport::SerialTransport`, over the `serialport` crate.
 //! * `pty` (default, Unix only): `transport::PseudoTerminal` and `transport::PtyTransport`,
 //!   over the `nix` crate.
+//! * `tokio`: `transport::AsyncTransport` and the asynchronous master, with
+//!   `transport::async_memory_pair` always, `transport::AsyncSerialTransport` with `serial`
+//!   (over `tokio-serial`) and `transport::AsyncPtyTransport` with `pty` (over tokio's
+//!   `AsyncFd`).
 //! * `serde`: `Serialize` and `Deserialize` for the enumerations description files name,
 //!   spelled as in those files, and `Serialize` for layout and protocol data.
 //!

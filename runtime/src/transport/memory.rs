@@ -12,9 +12,10 @@ use std::time::{Duration, Instant};
 
 use super::Transport;
 
-/// Bytes sent in one direction and not yet read, with the bursts they were sent in.
+/// Bytes sent in one direction and not yet read, with the bursts they were sent in (shared
+/// with the asynchronous memory pair, feature `tokio`, so both keep the same semantics).
 #[derive(Debug, Default)]
-struct Queue {
+pub(crate) struct Queue {
     /// The bytes, oldest first.
     bytes: VecDeque<u8>,
     /// One entry per send still (partly) unread: bytes left of it, when it was sent, and
@@ -30,6 +31,56 @@ struct Burst {
     left: usize,
     sent: Instant,
     started: bool,
+}
+
+impl Queue {
+    /// Adds the bytes of one send as a burst of its own.
+    pub(crate) fn push(&mut self, bytes: &[u8]) {
+        self.bytes.extend(bytes.iter().copied());
+        self.bursts.push_back(Burst {
+            left: bytes.len(),
+            sent: Instant::now(),
+            started: false,
+        });
+    }
+
+    /// Moves bytes of the oldest unread burst into `buf` (at most one burst, at most
+    /// `buf.len()` bytes). Returns how many and the silence before them (as
+    /// [`Transport::last_gap`] tells it), or `None` when nothing is queued.
+    pub(crate) fn take(&mut self, buf: &mut [u8]) -> Option<(usize, Option<Duration>)> {
+        let burst = self.bursts.front_mut()?;
+        let count = buf.len().min(burst.left).min(self.bytes.len());
+        for (slot, byte) in buf.iter_mut().zip(self.bytes.drain(..count)) {
+            *slot = byte;
+        }
+        let gap = if burst.started {
+            Some(Duration::ZERO)
+        } else {
+            let gap = self
+                .previous
+                .map(|previous| burst.sent.saturating_duration_since(previous));
+            self.previous = Some(burst.sent);
+            burst.started = true;
+            gap
+        };
+        burst.left -= count;
+        if burst.left == 0 {
+            self.bursts.pop_front();
+        }
+        Some((count, gap))
+    }
+
+    /// Drops everything queued and forgets the previous burst.
+    pub(crate) fn clear(&mut self) {
+        self.bytes.clear();
+        self.bursts.clear();
+        self.previous = None;
+    }
+
+    /// Number of bytes queued.
+    pub(crate) fn len(&self) -> usize {
+        self.bytes.len()
+    }
 }
 
 /// One direction of a memory pair: the queued bytes and a condition variable signalled
@@ -69,14 +120,14 @@ pub fn memory_pair() -> (MemoryTransport, MemoryTransport) {
 
 /// Locks a queue. A poisoned lock only means another thread panicked while holding it;
 /// a byte queue has no invariant that could be broken, so the data is used as is.
-fn lock(queue: &Mutex<Queue>) -> MutexGuard<'_, Queue> {
+pub(crate) fn lock(queue: &Mutex<Queue>) -> MutexGuard<'_, Queue> {
     queue.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 impl MemoryTransport {
     /// Number of bytes received from the peer and not yet read.
     pub fn pending(&self) -> usize {
-        lock(&self.incoming.0).bytes.len()
+        lock(&self.incoming.0).len()
     }
 
     /// Whether the peer endpoint has been dropped. Each channel is shared by exactly
@@ -98,13 +149,7 @@ impl Transport for MemoryTransport {
             return Ok(());
         }
         let (queue, ready) = &*self.outgoing;
-        let mut queue = lock(queue);
-        queue.bytes.extend(bytes.iter().copied());
-        queue.bursts.push_back(Burst {
-            left: bytes.len(),
-            sent: Instant::now(),
-            started: false,
-        });
+        lock(queue).push(bytes);
         ready.notify_all();
         Ok(())
     }
@@ -116,26 +161,8 @@ impl Transport for MemoryTransport {
         let (queue, ready) = &*self.incoming;
         let mut pending = lock(queue);
         loop {
-            let queue = &mut *pending;
-            if let Some(burst) = queue.bursts.front_mut() {
-                let count = buf.len().min(burst.left).min(queue.bytes.len());
-                for (slot, byte) in buf.iter_mut().zip(queue.bytes.drain(..count)) {
-                    *slot = byte;
-                }
-                self.last_gap = if burst.started {
-                    Some(Duration::ZERO)
-                } else {
-                    let gap = queue
-                        .previous
-                        .map(|previous| burst.sent.saturating_duration_since(previous));
-                    queue.previous = Some(burst.sent);
-                    burst.started = true;
-                    gap
-                };
-                burst.left -= count;
-                if burst.left == 0 {
-                    queue.bursts.pop_front();
-                }
+            if let Some((count, gap)) = pending.take(buf) {
+                self.last_gap = gap;
                 return Ok(count);
             }
             let remaining = deadline.saturating_duration_since(Instant::now());
@@ -150,10 +177,7 @@ impl Transport for MemoryTransport {
     }
 
     fn clear_input(&mut self) -> io::Result<()> {
-        let mut queue = lock(&self.incoming.0);
-        queue.bytes.clear();
-        queue.bursts.clear();
-        queue.previous = None;
+        lock(&self.incoming.0).clear();
         self.last_gap = None;
         Ok(())
     }

@@ -4,7 +4,8 @@
 //! The in-memory pipe and TCP ([`TcpTransport`]: raw serial-over-TCP, "RTU over TCP", the
 //! serial line's frames unchanged, for serial device servers) are always there. The serial
 //! port needs the `serial` feature and the pseudo-terminal the `pty` feature on a Unix
-//! system (both features are on by default).
+//! system (both features are on by default). The `tokio` feature adds `AsyncTransport` and
+//! asynchronous counterparts of the serial port, the pseudo-terminal, TCP and the pipe.
 
 use std::io;
 use std::time::{Duration, Instant};
@@ -19,8 +20,12 @@ mod recording;
 mod serial_port;
 mod tcp;
 
+#[cfg(all(feature = "tokio", unix, feature = "pty"))]
+pub use asynchronous::AsyncPtyTransport;
+#[cfg(all(feature = "tokio", feature = "serial"))]
+pub use asynchronous::AsyncSerialTransport;
 #[cfg(feature = "tokio")]
-pub use asynchronous::AsyncTransport;
+pub use asynchronous::{async_memory_pair, AsyncMemoryTransport, AsyncTransport};
 pub use memory::{memory_pair, MemoryTransport};
 #[cfg(all(unix, feature = "pty"))]
 pub use pty::{PseudoTerminal, PtyTransport};

@@ -20,7 +20,7 @@ use super::Transport;
 
 /// How long a master waits before looking again when its slave side is closed (the
 /// kernel reports `EIO` immediately in that state, so polling would not block).
-const CLOSED_SLAVE_RETRY: Duration = Duration::from_millis(10);
+pub(crate) const CLOSED_SLAVE_RETRY: Duration = Duration::from_millis(10);
 
 /// An open pseudo-terminal pair, both sides in raw mode (no echo, no line editing, no
 /// character translation, no software flow control).
@@ -87,7 +87,7 @@ impl PseudoTerminal {
 
 /// Which end of a pseudo-terminal a transport reads from; decides what `EIO` means.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Side {
+pub(crate) enum Side {
     /// A pty master: `EIO` means no process has the slave open right now.
     Master,
     /// A slave side or any other terminal device: `EIO` is a real error.
@@ -142,6 +142,13 @@ impl PtyTransport {
             side: Side::Other,
             _slave: None,
         })
+    }
+
+    /// Takes the transport apart (the terminal, which end it is, the slave side it keeps
+    /// open), for the asynchronous pseudo-terminal transport (feature `tokio`).
+    #[cfg(feature = "tokio")]
+    pub(crate) fn into_parts(self) -> (File, Side, Option<OwnedFd>) {
+        (self.file, self.side, self._slave)
     }
 
     /// Waits until the descriptor is readable or `remaining` passes; returns whether it

@@ -47,42 +47,7 @@ impl SerialTransport {
     /// Fails with [`io::ErrorKind::InvalidInput`] when the settings are not supported
     /// (data bits other than 7 or 8, stop bits other than 1 or 2, a zero baud rate).
     pub fn open(path: &str, settings: &SerialSettings) -> io::Result<SerialTransport> {
-        if settings.baud == 0 {
-            return Err(invalid_setting(
-                path,
-                "baud rate 0 is not supported".to_string(),
-            ));
-        }
-        let data_bits = match settings.data_bits {
-            7 => DataBits::Seven,
-            8 => DataBits::Eight,
-            other => {
-                return Err(invalid_setting(
-                    path,
-                    format!("unsupported data bits {other} (expected 7 or 8)"),
-                ))
-            }
-        };
-        let stop_bits = match settings.stop_bits {
-            1 => StopBits::One,
-            2 => StopBits::Two,
-            other => {
-                return Err(invalid_setting(
-                    path,
-                    format!("unsupported stop bits {other} (expected 1 or 2)"),
-                ))
-            }
-        };
-        let parity = match settings.parity {
-            Parity::None => PortParity::None,
-            Parity::Even => PortParity::Even,
-            Parity::Odd => PortParity::Odd,
-        };
-        let port = serialport::new(path, settings.baud)
-            .data_bits(data_bits)
-            .parity(parity)
-            .stop_bits(stop_bits)
-            .flow_control(FlowControl::None)
+        let port = port_builder(path, settings)?
             .timeout(OPEN_TIMEOUT)
             .open()
             .map_err(|err| port_error(path, "cannot open", err))?;
@@ -102,18 +67,6 @@ impl SerialTransport {
         SerialTransport { port, path, baud }
     }
 
-    /// Time allowed for the operating system to accept `len` bytes.
-    fn send_timeout(&self, len: usize) -> Duration {
-        if self.baud == 0 {
-            return SEND_SLACK + Duration::from_millis(u64::try_from(len).unwrap_or(u64::MAX));
-        }
-        let bits = u64::try_from(len)
-            .unwrap_or(u64::MAX)
-            .saturating_mul(MAX_BITS_PER_BYTE);
-        let micros = bits.saturating_mul(2_000_000) / u64::from(self.baud);
-        SEND_SLACK.saturating_add(Duration::from_micros(micros))
-    }
-
     /// Adds the port path and the failed action to an I/O error.
     fn io_error(&self, action: &str, err: io::Error) -> io::Error {
         io::Error::new(
@@ -128,7 +81,7 @@ impl Transport for SerialTransport {
         if bytes.is_empty() {
             return Ok(());
         }
-        let timeout = self.send_timeout(bytes.len());
+        let timeout = send_timeout(self.baud, bytes.len());
         self.port
             .set_timeout(timeout)
             .map_err(|err| port_error(&self.path, "cannot set the write timeout", err))?;
@@ -187,8 +140,67 @@ impl Transport for SerialTransport {
     }
 }
 
+/// The builder for the port at `path` with the given line settings and no flow control,
+/// shared by [`SerialTransport`] and the asynchronous serial transport (feature `tokio`).
+///
+/// Fails with [`io::ErrorKind::InvalidInput`] when the settings are not supported.
+pub(crate) fn port_builder(
+    path: &str,
+    settings: &SerialSettings,
+) -> io::Result<serialport::SerialPortBuilder> {
+    if settings.baud == 0 {
+        return Err(invalid_setting(
+            path,
+            "baud rate 0 is not supported".to_string(),
+        ));
+    }
+    let data_bits = match settings.data_bits {
+        7 => DataBits::Seven,
+        8 => DataBits::Eight,
+        other => {
+            return Err(invalid_setting(
+                path,
+                format!("unsupported data bits {other} (expected 7 or 8)"),
+            ))
+        }
+    };
+    let stop_bits = match settings.stop_bits {
+        1 => StopBits::One,
+        2 => StopBits::Two,
+        other => {
+            return Err(invalid_setting(
+                path,
+                format!("unsupported stop bits {other} (expected 1 or 2)"),
+            ))
+        }
+    };
+    let parity = match settings.parity {
+        Parity::None => PortParity::None,
+        Parity::Even => PortParity::Even,
+        Parity::Odd => PortParity::Odd,
+    };
+    Ok(serialport::new(path, settings.baud)
+        .data_bits(data_bits)
+        .parity(parity)
+        .stop_bits(stop_bits)
+        .flow_control(FlowControl::None))
+}
+
+/// Time allowed for the operating system to accept `len` bytes at `baud` (0: unknown):
+/// about twice their transmission time plus one second.
+pub(crate) fn send_timeout(baud: u32, len: usize) -> Duration {
+    if baud == 0 {
+        return SEND_SLACK + Duration::from_millis(u64::try_from(len).unwrap_or(u64::MAX));
+    }
+    let bits = u64::try_from(len)
+        .unwrap_or(u64::MAX)
+        .saturating_mul(MAX_BITS_PER_BYTE);
+    let micros = bits.saturating_mul(2_000_000) / u64::from(baud);
+    SEND_SLACK.saturating_add(Duration::from_micros(micros))
+}
+
 /// Converts a `serialport` error to an I/O error naming the port and the failed action.
-fn port_error(path: &str, action: &str, err: serialport::Error) -> io::Error {
+pub(crate) fn port_error(path: &str, action: &str, err: serialport::Error) -> io::Error {
     let description = err.description.clone();
     let kind = io::Error::from(err).kind();
     io::Error::new(kind, format!("serial port {path}: {action}: {description}"))

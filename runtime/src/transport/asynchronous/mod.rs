@@ -5,6 +5,23 @@
 //! reply is whole or its deadline passes. Implementations wait without blocking the
 //! executor's thread (readiness of a file descriptor or socket, a timer), never past the
 //! deadline by more than the timer's resolution.
+//!
+//! The implementations: [`async_memory_pair`] always, `AsyncSerialTransport` with the
+//! `serial` feature too, `AsyncPtyTransport` with the `pty` feature on a Unix system.
+//! Those over a device must be made inside a tokio runtime (they register with its
+//! reactor).
+
+mod memory;
+#[cfg(all(unix, feature = "pty"))]
+mod pty;
+#[cfg(feature = "serial")]
+mod serial_port;
+
+pub use memory::{async_memory_pair, AsyncMemoryTransport};
+#[cfg(all(unix, feature = "pty"))]
+pub use pty::AsyncPtyTransport;
+#[cfg(feature = "serial")]
+pub use serial_port::AsyncSerialTransport;
 
 use std::future::Future;
 use std::io;
