@@ -18,14 +18,16 @@ mod pty;
 mod recording;
 #[cfg(feature = "serial")]
 mod serial_port;
-mod tcp;
+pub(crate) mod tcp;
 
 #[cfg(all(feature = "tokio", unix, feature = "pty"))]
 pub use asynchronous::AsyncPtyTransport;
 #[cfg(all(feature = "tokio", feature = "serial"))]
 pub use asynchronous::AsyncSerialTransport;
 #[cfg(feature = "tokio")]
-pub use asynchronous::{async_memory_pair, AsyncMemoryTransport, AsyncTransport};
+pub use asynchronous::{
+    async_memory_pair, AsyncMemoryTransport, AsyncTcpTransport, AsyncTransport,
+};
 pub use memory::{memory_pair, MemoryTransport};
 #[cfg(all(unix, feature = "pty"))]
 pub use pty::{PseudoTerminal, PtyTransport};

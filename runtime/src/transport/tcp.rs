@@ -63,23 +63,7 @@ impl TcpTransport {
 
     /// [`TcpTransport::connect`] waiting at most `timeout` for the connection.
     pub fn connect_timeout(addr: &str, timeout: Duration) -> io::Result<TcpTransport> {
-        let host_port = addr.strip_prefix(SCHEME).unwrap_or(addr);
-        let name = format!("{SCHEME}{host_port}");
-        let addrs: Vec<SocketAddr> = host_port
-            .to_socket_addrs()
-            .map_err(|err| {
-                io::Error::new(
-                    io::ErrorKind::InvalidInput,
-                    format!("{name}: not a reachable HOST:PORT address: {err}"),
-                )
-            })?
-            .collect();
-        if addrs.is_empty() {
-            return Err(io::Error::new(
-                io::ErrorKind::InvalidInput,
-                format!("{name}: the host name resolves to no address"),
-            ));
-        }
+        let (name, addrs) = resolve(addr)?;
         let mut transport = TcpTransport {
             name,
             addrs,
@@ -165,20 +149,7 @@ impl TcpTransport {
             }
         }
         let err = last.unwrap_or_else(|| io::Error::from(io::ErrorKind::NotConnected));
-        let why = match err.kind() {
-            io::ErrorKind::ConnectionRefused => {
-                "the connection was refused (nothing listens on that port)".to_owned()
-            }
-            io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock => format!(
-                "no answer within {} ms (is the device server on and reachable?)",
-                self.connect_timeout.as_millis()
-            ),
-            _ => err.to_string(),
-        };
-        Err(io::Error::new(
-            err.kind(),
-            format!("{}: cannot connect: {why}", self.name),
-        ))
+        Err(connect_error(&self.name, err, self.connect_timeout))
     }
 
     /// Adds the address and the failed action to an I/O error.
@@ -215,6 +186,45 @@ impl TcpTransport {
             ),
         )
     }
+}
+
+/// `tcp://HOST:PORT` for `addr` (written with or without the scheme), and the addresses it
+/// resolves to; an [`io::ErrorKind::InvalidInput`] error naming it when it is not an
+/// address or resolves to none.
+pub(crate) fn resolve(addr: &str) -> io::Result<(String, Vec<SocketAddr>)> {
+    let host_port = addr.strip_prefix(SCHEME).unwrap_or(addr);
+    let name = format!("{SCHEME}{host_port}");
+    let addrs: Vec<SocketAddr> = host_port
+        .to_socket_addrs()
+        .map_err(|err| {
+            io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("{name}: not a reachable HOST:PORT address: {err}"),
+            )
+        })?
+        .collect();
+    if addrs.is_empty() {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{name}: the host name resolves to no address"),
+        ));
+    }
+    Ok((name, addrs))
+}
+
+/// The error for a connection to `name` that failed with `err`, saying why in words.
+pub(crate) fn connect_error(name: &str, err: io::Error, timeout: Duration) -> io::Error {
+    let why = match err.kind() {
+        io::ErrorKind::ConnectionRefused => {
+            "the connection was refused (nothing listens on that port)".to_owned()
+        }
+        io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock => format!(
+            "no answer within {} ms (is the device server on and reachable?)",
+            timeout.as_millis()
+        ),
+        _ => err.to_string(),
+    };
+    io::Error::new(err.kind(), format!("{name}: cannot connect: {why}"))
 }
 
 /// Reads what is there now from `stream`, without waiting.

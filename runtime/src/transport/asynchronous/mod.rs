@@ -16,12 +16,14 @@ mod memory;
 mod pty;
 #[cfg(feature = "serial")]
 mod serial_port;
+mod tcp;
 
 pub use memory::{async_memory_pair, AsyncMemoryTransport};
 #[cfg(all(unix, feature = "pty"))]
 pub use pty::AsyncPtyTransport;
 #[cfg(feature = "serial")]
 pub use serial_port::AsyncSerialTransport;
+pub use tcp::AsyncTcpTransport;
 
 use std::future::Future;
 use std::io;
