@@ -26,7 +26,8 @@
 //! Modules only use modules below them (a test in the workspace keeps it so): `layout`,
 //! `kinds`, `serial` and `scaling` use nothing; `info` the first two; `variant` only
 //! `layout`; then `error`, `codec`, `register`, `units`, `protocol`, `drive`, `transport`,
-//! `transaction` and `prelude`.
+//! `transaction` and `prelude`. The files inside a folder module (`codec/`, `layout/`) are
+//! layered the same way; each `mod.rs` says in which order.
 //! Types are re-exported where they used to live (`protocol::DataType`,
 //! `protocol::Request`, `register::RegisterInfo`, `units::Unit`) and at the crate root.
 //!
