@@ -381,7 +381,9 @@ mod tests {
         let mut master = writer.join().unwrap();
         // Fewer than wanted by the deadline: what came, not nothing.
         master.send(&[8, 9]).unwrap();
-        let got = slave.receive_at_least(&mut buf, 5, short_deadline()).unwrap();
+        let got = slave
+            .receive_at_least(&mut buf, 5, short_deadline())
+            .unwrap();
         assert_eq!(&buf[..got], &[8, 9]);
         // A plain receive after it wakes for one byte again.
         master.send(&[10]).unwrap();
