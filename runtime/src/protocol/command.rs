@@ -37,7 +37,8 @@ pub struct CommandSpec {
     /// `reply` is then the request's layout, never awaited.
     pub no_reply: bool,
     /// An extra command (`extra: true`): never chosen for a request by its kind alone; a
-    /// request uses it only by naming its code ([`Request::using`]).
+    /// request uses it only by naming its code
+    /// ([`Request::using`](crate::register::Request::using)).
     pub extra: bool,
     /// A lower-case code in the *request* says its sender (a master inverter) has tripped
     /// (`lowercase_means: sender_tripped`), rather than a lower-case reply saying the

@@ -44,7 +44,7 @@ impl Protocol {
     }
 
     /// The block-transfer command, when the drive has one (a [`CommandKind::Block`] command
-    /// and a [`BlockSpec`]).
+    /// and a [`BlockSpec`](super::BlockSpec)).
     pub fn block_command(&self) -> Option<&CommandSpec> {
         self.block.as_ref()?;
         self.commands.iter().find(|c| c.kind == CommandKind::Block)
