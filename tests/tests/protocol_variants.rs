@@ -67,6 +67,43 @@ fn the_variants_are_the_protocol_files_and_07_06_selects_them() {
     assert_eq!(dv1::protocols::MODBUS.protocol().variant_id(), None);
 }
 
+/// Each protocol owns the variants built from it (`Protocol::variant_cache`), not a
+/// process-wide table: the generated static keeps its `cr_lf` for ever, a copy builds its
+/// own, and neither shows in `Debug` or tells two protocols apart.
+#[test]
+fn a_protocol_owns_the_variants_built_from_it() {
+    let eaton = dv1::protocols::EATON.protocol();
+    let built = cr_lf();
+    let cache = format!("{:?}", eaton.variant_cache);
+    assert!(cache.contains("is_variant: false"), "{cache}");
+    assert!(cache.contains("built: 1"), "{cache}");
+    let cache = format!("{:?}", built.variant_cache);
+    assert!(cache.contains("is_variant: true"), "{cache}");
+    assert!(cache.contains("built: 0"), "{cache}");
+    // Every variant, from either one: the static and the one it built.
+    let all = |p: &'static Protocol| -> Vec<*const Protocol> {
+        p.all_variants()
+            .into_iter()
+            .map(std::ptr::from_ref)
+            .collect()
+    };
+    let expected = vec![std::ptr::from_ref(eaton), std::ptr::from_ref(built)];
+    assert_eq!(all(eaton), expected);
+    assert_eq!(all(built), expected);
+    // A copy starts with no variants and builds its own, equal to the static's.
+    let copy: &'static Protocol = Box::leak(Box::new(eaton.clone()));
+    assert!(format!("{:?}", copy.variant_cache).contains("built: 0"));
+    let its_own = copy.variant("cr_lf").unwrap();
+    assert!(!std::ptr::eq(its_own, built));
+    assert_eq!(its_own, built);
+    assert!(std::ptr::eq(its_own.variant("cr").unwrap(), copy));
+    // Not part of the value: `Debug` shows no cache, and is the same with or without one.
+    let shown = format!("{eaton:?}");
+    assert!(!shown.contains("VariantCache"), "{shown}");
+    assert_eq!(shown, format!("{:?}", eaton.clone()));
+    assert_eq!(format!("{its_own:?}"), format!("{built:?}"));
+}
+
 #[test]
 fn example_one_in_cr_lf_encodes_and_decodes_exactly() {
     let mut out = [0u8; 32];

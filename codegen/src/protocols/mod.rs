@@ -28,6 +28,7 @@ use crate::load::LoadedDrive;
 use crate::parse::model::{DriveFile, ProtocolFile, ProtocolRef};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
+use vfd_runtime::protocol::VariantCache;
 use vfd_runtime::{Protocol, Space};
 
 /// Parses an address space.
@@ -178,6 +179,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         persistence: persistence(input.drive),
         variants: None,
         unsupported_function: None,
+        variant_cache: VariantCache::new(),
     };
     protocol.unsupported_function =
         unsupported_function::unsupported_function(input, &protocol, &protocol.error_codes, out);

@@ -4,7 +4,7 @@
 
 use crate::ir::{CommandIr, DriveIr, ErrorCodeIr, ErrorTableIr, ProtocolIr};
 use std::borrow::Cow;
-use vfd_runtime::protocol::{FollowUp, PercentOf};
+use vfd_runtime::protocol::{FollowUp, PercentOf, VariantCache};
 use vfd_runtime::{CommandSpec, ErrorCodeInfo, FrameLayout, Protocol};
 
 /// The protocol `protocol` of `ir`.
@@ -50,6 +50,7 @@ pub(super) fn protocol(ir: &DriveIr, protocol: &ProtocolIr) -> Protocol {
         persistence: protocol.persistence.clone(),
         variants: protocol.variants.clone(),
         unsupported_function: protocol.unsupported_function.as_ref().map(|u| u.error_code),
+        variant_cache: VariantCache::new(),
     }
 }
 

@@ -404,6 +404,7 @@ fn protocol_items(drive: &DriveIr, protocol: &ProtocolIr, layouts: &TokenStream)
             persistence: #persistence,
             variants: #variants,
             unsupported_function: #unsupported_function,
+            variant_cache: ::vfd_runtime::protocol::VariantCache::new(),
         };
     }
 }

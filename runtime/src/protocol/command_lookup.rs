@@ -1,0 +1,94 @@
+//! Finding the command that carries a request, a block transfer, or reads a register.
+
+use super::command::{command_reads_blocks, command_writes_blocks, CommandSpec};
+use super::Protocol;
+use crate::error::EncodeError;
+use crate::kinds::{CommandKind, DataType, Space};
+use crate::register::Request;
+
+impl Protocol {
+    /// The first command of `kind` serving `space` and carrying `data_type`.
+    pub fn command_for(
+        &self,
+        kind: CommandKind,
+        space: Space,
+        data_type: DataType,
+    ) -> Option<&CommandSpec> {
+        self.commands
+            .iter()
+            .find(|c| !c.extra && c.kind == kind && c.space == space && c.carries(data_type))
+    }
+
+    /// The read command that reads several consecutive 16-bit registers of `space` in one
+    /// exchange, when the protocol allows more than one ([`Protocol::max_words_per_read`]):
+    /// a read of words whose request counts its data (a length part counting `data_size`)
+    /// and whose reply's data field is sized by a length part.
+    pub fn block_read_command(&self, space: Space) -> Option<&CommandSpec> {
+        if self.max_words_per_read < 2 {
+            return None;
+        }
+        self.command_for(CommandKind::Read, space, DataType::Word)
+            .filter(|command| command_reads_blocks(command))
+    }
+
+    /// The command that writes several consecutive registers in one exchange, when the
+    /// protocol allows more than one ([`Protocol::max_words_per_write`]): a RAM write of
+    /// `space` whose request's data field is sized by a length part (Modbus 10h).
+    pub fn block_write_command(&self, space: Space) -> Option<&CommandSpec> {
+        if self.max_words_per_write < 2 {
+            return None;
+        }
+        self.commands.iter().find(|c| {
+            c.kind == CommandKind::WriteRam && c.space == space && command_writes_blocks(c)
+        })
+    }
+
+    /// The block-transfer command, when the drive has one (a [`CommandKind::Block`] command
+    /// and a [`BlockSpec`](super::BlockSpec)).
+    pub fn block_command(&self) -> Option<&CommandSpec> {
+        self.block.as_ref()?;
+        self.commands.iter().find(|c| c.kind == CommandKind::Block)
+    }
+
+    /// The command that carries `request`, or the typed reason there is none.
+    pub fn command_for_request(&self, request: &Request) -> Result<&CommandSpec, EncodeError> {
+        crate::tally::lookup();
+        if let Some(code) = request.command {
+            return self
+                .commands
+                .iter()
+                .find(|c| {
+                    c.answers_to(code)
+                        && c.kind == request.kind
+                        && c.space == request.space
+                        && c.carries(request.data_type)
+                })
+                .ok_or_else(|| EncodeError::NoSuchCommand {
+                    protocol: self.id.clone(),
+                    code,
+                    kind: request.kind,
+                });
+        }
+        self.command_for(request.kind, request.space, request.data_type)
+            .ok_or_else(|| EncodeError::UnsupportedCommand {
+                protocol: self.id.clone(),
+                kind: request.kind,
+                space: request.space,
+                data_type: request.data_type,
+            })
+    }
+
+    /// Whether `info` can be read over this protocol: a read command serves its space and
+    /// data type, and the register has a wire number for it (a register the description
+    /// numbers only for other protocols, or whose number the address map cannot carry,
+    /// cannot). What a backup or a watch over this protocol may include.
+    pub fn can_read(&self, info: &crate::info::RegisterInfo) -> bool {
+        let kind = if info.data_type == DataType::Text {
+            CommandKind::ReadText
+        } else {
+            CommandKind::Read
+        };
+        self.command_for(kind, info.space, info.data_type)
+            .is_some_and(|command| self.to_wire(command, info.address).is_some())
+    }
+}
