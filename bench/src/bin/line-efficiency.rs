@@ -158,23 +158,6 @@ impl<T: Transport> Transport for Timed<T> {
         }
         Ok(got)
     }
-    fn receive_at_least(
-        &mut self,
-        buf: &mut [u8],
-        wanted: usize,
-        deadline: Instant,
-    ) -> std::io::Result<usize> {
-        let got = self.inner.receive_at_least(buf, wanted, deadline)?;
-        if got > 0 {
-            let now = Instant::now();
-            self.marks.first_byte.get_or_insert(now);
-            self.marks.last_byte = Some(now);
-        }
-        Ok(got)
-    }
-    fn waits_for_many(&self) -> bool {
-        self.inner.waits_for_many()
-    }
     fn clear_input(&mut self) -> std::io::Result<()> {
         self.inner.clear_input()
     }
