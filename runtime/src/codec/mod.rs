@@ -7,6 +7,9 @@
 //!
 //! Encoding runs in three passes: parts are written (lengths and checksums reserved),
 //! lengths are filled in, then checksums are computed, so a checksum may cover a length.
+//!
+//! [`FrameLayout`]: crate::layout::FrameLayout
+//! [`DecodeError`]: crate::error::DecodeError
 
 // Layers, each file using only those above it: `hex` (digits) and `cursor` (decoding
 // state); `words`; `encode`; `decode_fields`, then `decode_checks`; `decode` on top.

@@ -40,7 +40,7 @@ impl FrameValues {
     }
 
     /// The bytes of the bytes field with `role` in `frame` (the frame these values were
-    /// decoded from), as they lie on the wire: for an [`Encoding::HexPairs`] layout, the
+    /// decoded from), as they lie on the wire: for an [`Encoding::HexPairs`](super::Encoding::HexPairs) layout, the
     /// hex digits that carry them (two per byte; [`FrameValues::words`] and
     /// [`FrameValues::data_words`] give their values).
     pub fn bytes<'f>(&self, layout: &FrameLayout, role: Role, frame: &'f [u8]) -> Option<&'f [u8]> {
