@@ -227,3 +227,68 @@ fn pymodbus_reads_and_writes_our_virtual_dv1_over_tcp_with_the_rtu_framer() {
     assert_eq!(answers[3]["exception"], 2, "{answers:?}");
     assert_eq!(answers[4]["exception"], 3, "{answers:?}");
 }
+
+/// A connection the device server drops mid-exchange is a typed error naming the address,
+/// and the master's next exchange reconnects (our virtual FC 51 behind a TCP listener; no
+/// Python needed).
+#[test]
+fn a_dropped_connection_is_a_typed_error_and_the_next_exchange_reconnects() {
+    use std::io::Read;
+    let listener = TcpListener::bind("127.0.0.1:0").expect("a port");
+    let address = format!("tcp://{}", listener.local_addr().unwrap());
+    let sim = Simulator::new(&fc51::DRIVE);
+    sim.lock().set_address(1);
+    let stop = Arc::new(AtomicBool::new(false));
+    let server = {
+        let (sim, stop) = (sim.clone(), Arc::clone(&stop));
+        std::thread::spawn(move || {
+            // The first connection: the request arrives, the device server hangs up.
+            let (mut first, _) = listener.accept().expect("the master connects");
+            let mut request = [0u8; 8];
+            first.read_exact(&mut request).expect("a request");
+            drop(first);
+            // The next one is served.
+            let (stream, _) = listener.accept().expect("the master reconnects");
+            let mut transport = TcpTransport::from_stream(stream).expect("served");
+            serve(
+                &sim,
+                fc51::protocols::MODBUS.protocol(),
+                &mut transport,
+                SETTINGS,
+                &stop,
+            )
+        })
+    };
+    let transport = TcpTransport::connect(&address).expect("connects");
+    let timing = DriveTiming {
+        startup_delay: Duration::ZERO,
+        processing_allowance: Duration::from_millis(300),
+        frame_abandon: Duration::from_secs(1),
+    };
+    let mut master = Master::new(transport, &fc51::protocols::MODBUS, SETTINGS, timing)
+        .with_address(Some(1))
+        .with_retries(0);
+    let err = master
+        .read::<fc51::registers::Parameter101>()
+        .expect_err("the connection was dropped");
+    match &err.kind {
+        vfd_runtime::TransactionErrorKind::Io(io) => {
+            assert_eq!(io.kind(), std::io::ErrorKind::ConnectionAborted, "{err}");
+            assert!(
+                io.to_string().contains(&format!(
+                    "{address}: the connection was closed by the device server"
+                )),
+                "{err}"
+            );
+        }
+        other => panic!("expected an I/O error, got {other:?}"),
+    }
+    // The next exchange connects again and is answered.
+    master
+        .read::<fc51::registers::Parameter101>()
+        .expect("the next exchange reconnects");
+    drop(master);
+    let ended = server.join().expect("the server thread");
+    stop.store(true, Ordering::Relaxed);
+    assert!(ended.is_err(), "the served client left");
+}
