@@ -15,7 +15,10 @@
 //! * [`register`] holds the traits that make register access typed (each register gets
 //!   `R::read()`, `R::write_ram(value)`, ... from them) and the protocol-independent
 //!   [`Request`]; [`units`] the quantities and value conversions (scaling, ranges);
-//! * [`transaction`] runs request/reply exchanges with timeouts derived from the baud rate;
+//! * [`transaction`] runs request/reply exchanges with timeouts derived from the baud rate:
+//!   a sans-IO core (a request becomes bytes through `transaction::prepare`, a reply is
+//!   judged by `transaction::Judge`) and one engine the blocking and asynchronous masters
+//!   share; [`tally`] counts its command lookups and encodings for the tests;
 //! * [`transport`] moves bytes: serial ports, pseudo-terminals, TCP connections to serial
 //!   device servers (raw "RTU over TCP", no feature needed) and in-memory pipes;
 //! * [`behaviour`] holds a drive's declared behaviour model and [`virtual_drive`] the
@@ -26,7 +29,7 @@
 //! Modules only use modules below them (a test in the workspace keeps it so): `layout`,
 //! `kinds`, `serial` and `scaling` use nothing; `info` the first two; `variant` only
 //! `layout`; then `error`, `codec`, `register`, `units`, `protocol`, `drive`, `transport`,
-//! `transaction` and `prelude`. The files inside a folder module (`codec/`, `layout/`) are
+//! `transaction` and `prelude`. The files inside a folder module (`codec/`, `layout/`, `protocol/`, `transaction/`, ...) are
 //! layered the same way; each `mod.rs` says in which order.
 //! Types are re-exported where they used to live (`protocol::DataType`,
 //! `protocol::Request`, `register::RegisterInfo`, `units::Unit`) and at the crate root.
