@@ -18,6 +18,8 @@ mod decode;
 mod decode_checks;
 mod decode_fields;
 mod encode;
+#[cfg(test)]
+mod frame_tests;
 mod hex;
 #[cfg(test)]
 mod sample_layouts;

@@ -21,6 +21,30 @@ use std::future::Future;
 use std::io;
 use std::time::{Duration, Instant};
 
+/// Waits shorter than this are not left to tokio's timer, which rounds them up to the next
+/// whole millisecond.
+const TIMER_RESOLUTION: Duration = Duration::from_millis(1);
+
+/// Lets the runtime run other tasks once (`tokio::task::yield_now` without tokio's `rt`
+/// feature, which the library does not need).
+struct YieldOnce(bool);
+
+impl Future for YieldOnce {
+    type Output = ();
+
+    fn poll(
+        mut self: std::pin::Pin<&mut Self>,
+        context: &mut std::task::Context<'_>,
+    ) -> std::task::Poll<()> {
+        if self.0 {
+            return std::task::Poll::Ready(());
+        }
+        self.0 = true;
+        context.waker().wake_by_ref();
+        std::task::Poll::Pending
+    }
+}
+
 /// An asynchronous transport, as a [`Master`] takes it: `Master<Async<T>, D>` has the
 /// typed API as futures.
 #[derive(Debug)]
@@ -46,8 +70,26 @@ impl<T: AsyncTransport> Line for Async<T> {
         self.0.clear_input()
     }
 
+    /// tokio's timer counts whole milliseconds and rounds a wait up to the next one, so a
+    /// silence shorter than [`TIMER_RESOLUTION`] (a Modbus RTU gap at 115200 baud is
+    /// 0.33 ms) is kept by yielding to the runtime until it has passed.
     async fn sleep(&mut self, duration: Duration) {
-        tokio::time::sleep(duration).await;
+        if duration >= TIMER_RESOLUTION {
+            tokio::time::sleep(duration).await;
+            return;
+        }
+        let until = Instant::now() + duration;
+        while Instant::now() < until {
+            YieldOnce(false).await;
+        }
+    }
+
+    /// A wait shorter than the timer's resolution would cost more than it saves: the
+    /// engine reads at once instead.
+    async fn nap(&mut self, duration: Duration) {
+        if duration >= TIMER_RESOLUTION {
+            tokio::time::sleep(duration).await;
+        }
     }
 
     fn last_gap(&self) -> Option<Duration> {

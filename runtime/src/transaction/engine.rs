@@ -129,7 +129,7 @@ impl Session {
             // frames at such a silence, which a batch would hide.
             if line.last_gap().is_none() {
                 if let Some(wait) = judge.read_ahead(self.settings.char_time(), now, deadline) {
-                    line.sleep(wait).await;
+                    line.nap(wait).await;
                 }
             }
         };

@@ -23,8 +23,11 @@ pub(crate) trait Line {
     ) -> impl Future<Output = io::Result<usize>>;
     /// Drops what was received and not read.
     fn clear_input(&mut self) -> impl Future<Output = io::Result<()>>;
-    /// Waits `duration`.
+    /// Waits `duration`, no less (the silence between frames).
     fn sleep(&mut self, duration: Duration) -> impl Future<Output = ()>;
+    /// Waits about `duration` where that saves wake-ups (while a reply crosses the line);
+    /// a line whose timer is coarser than the wait may return at once.
+    fn nap(&mut self, duration: Duration) -> impl Future<Output = ()>;
     /// The silence before the last bytes received, where the transport can tell.
     fn last_gap(&self) -> Option<Duration>;
     /// The time the transport adds to every reply beyond the line's.
@@ -49,6 +52,10 @@ impl<T: Transport + ?Sized> Line for Blocking<'_, T> {
     }
 
     async fn sleep(&mut self, duration: Duration) {
+        std::thread::sleep(duration);
+    }
+
+    async fn nap(&mut self, duration: Duration) {
         std::thread::sleep(duration);
     }
 

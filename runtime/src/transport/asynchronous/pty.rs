@@ -131,6 +131,26 @@ impl AsyncTransport for AsyncPtyTransport {
         if buf.is_empty() {
             return Ok(0);
         }
+        if deadline <= Instant::now() {
+            // Only what is there now: a timer for a deadline already passed would fire at
+            // the runtime's next millisecond tick.
+            return match self.fd.get_ref().read(buf) {
+                Ok(0) => Err(io::Error::new(
+                    io::ErrorKind::BrokenPipe,
+                    "pseudo-terminal: the other side was closed",
+                )),
+                Ok(count) => Ok(count),
+                Err(err)
+                    if matches!(
+                        err.kind(),
+                        io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted
+                    ) || err.raw_os_error() == Some(nix::libc::EIO) =>
+                {
+                    Ok(0)
+                }
+                Err(err) => Err(err),
+            };
+        }
         let until = tokio::time::Instant::from_std(deadline);
         loop {
             // Readiness first: with the deadline already passed, bytes waiting are still

@@ -120,7 +120,15 @@ impl AsyncTransport for AsyncTcpTransport {
         let Some(stream) = self.stream.as_mut() else {
             return Err(self.not_connected());
         };
-        let read = tokio::time::timeout_at(deadline.into(), stream.read(buf)).await;
+        // With the deadline passed, only what is there now (a timer for a past deadline
+        // fires at the runtime's next millisecond tick).
+        let read = if deadline <= Instant::now() {
+            Err(())
+        } else {
+            tokio::time::timeout_at(deadline.into(), stream.read(buf))
+                .await
+                .map_err(|_| ())
+        };
         match read {
             // The deadline passed: what is there now, without waiting.
             Err(_) => match stream.try_read(buf) {
