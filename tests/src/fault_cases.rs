@@ -401,6 +401,9 @@ impl<T: Transport> Transport for CountingLine<T> {
     fn last_gap(&self) -> Option<Duration> {
         self.with(|t| t.last_gap())
     }
+    fn allowance(&self) -> Duration {
+        self.with(|t| t.allowance())
+    }
 }
 
 impl<T: Transport> LineHandle<T> {

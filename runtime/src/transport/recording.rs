@@ -73,4 +73,36 @@ impl<T: Transport> Transport for Recording<T> {
     fn last_gap(&self) -> Option<Duration> {
         self.inner.last_gap()
     }
+
+    fn allowance(&self) -> Duration {
+        self.inner.allowance()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::transport::memory_pair;
+
+    /// A transport that adds a network's time to every reply, as TCP does.
+    struct Distant(crate::transport::MemoryTransport);
+
+    impl Transport for Distant {
+        fn send(&mut self, bytes: &[u8]) -> io::Result<()> {
+            self.0.send(bytes)
+        }
+        fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
+            self.0.receive(buf, deadline)
+        }
+        fn allowance(&self) -> Duration {
+            Duration::from_millis(50)
+        }
+    }
+
+    #[test]
+    fn a_recording_keeps_the_allowance_of_what_it_records() {
+        let (near, _far) = memory_pair();
+        let recording = Recording::new(Distant(near));
+        assert_eq!(recording.allowance(), Duration::from_millis(50));
+    }
 }
