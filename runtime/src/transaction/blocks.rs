@@ -108,7 +108,7 @@ impl Session {
                 words: words.len() as u16,
             },
         );
-        let answer = self.run(line, &exchange).await?;
+        let answer = self.run(line, &exchange, None).await?;
         let little_endian = self.block_little_endian();
         // Two words fit a number: the data field's bytes again, in its byte order.
         let number = match answer.data {
@@ -198,6 +198,7 @@ impl Session {
         self.run(
             line,
             &Exchange::new(request, ExchangeKind::BlockWrite(list)),
+            None,
         )
         .await
     }

@@ -27,9 +27,8 @@
 
 use super::answer::Answer;
 use super::error::{ReplyField, TransactionError, TransactionErrorKind};
-use super::exchange::Exchange;
 use super::line::Line;
-use super::prepare::prepare;
+use super::prepare::Prepared;
 use super::session::Session;
 use crate::kinds::CommandKind;
 use crate::protocol::PersistenceSelector;
@@ -53,16 +52,6 @@ impl Session {
         request: &Request,
         selector: &PersistenceSelector,
     ) -> Result<Answer, TransactionError> {
-        // Nothing goes on the line unless the write and the selector's requests can.
-        let main = Request {
-            kind: CommandKind::WriteRam,
-            ..*request
-        };
-        for step in [main, selector.write(selector.ram), selector.read()] {
-            prepare(self.protocol, &Exchange::single(step), &self.station()).map_err(|error| {
-                TransactionError::new(Some(request), TransactionErrorKind::Encode(error))
-            })?;
-        }
         let outcome = self.governed(line, request, selector).await;
         if outcome.is_err() {
             self.selector.value = None;
@@ -78,36 +67,37 @@ impl Session {
         selector: &PersistenceSelector,
     ) -> Result<Answer, TransactionError> {
         let own = selector.is_selector(request);
-        // The write itself goes as the protocol's plain write: the selector says where.
-        let main = Request {
-            kind: CommandKind::WriteRam,
-            ..*request
-        };
-        if request.kind != CommandKind::WritePersistent {
-            if self.selector.value != Some(selector.ram) {
-                self.set_selector(line, selector, selector.ram).await?;
+        let persistent = request.kind == CommandKind::WritePersistent;
+        let assumed = std::mem::take(&mut self.selector.assumed);
+        let known = self.selector.value;
+        // Every frame this write may send is prepared before the first goes out (page
+        // switches excepted: which a paged drive needs follows from the replies before).
+        let frames = GovernedFrames::prepare(self, request, selector, known, assumed)?;
+        if !persistent {
+            if let Some(ram) = frames.ram {
+                self.set_selector(line, ram, selector.ram).await?;
             }
-            let answer = self.transact_plain(line, &main).await?;
+            let answer = self.transact_prepared(line, frames.main).await?;
             if own {
                 self.selector.value = Some(request.data);
             }
             return Ok(answer);
         }
-        let assumed = std::mem::take(&mut self.selector.assumed);
-        if self.selector.value != Some(selector.ram) && !assumed {
-            self.read_selector(line, selector).await?;
+        if let Some(read) = frames.read {
+            self.read_selector(line, read).await?;
         }
         let before = self.selector.value.unwrap_or(selector.ram);
-        if before == selector.persistent {
-            let answer = self.transact_plain(line, &main).await?;
+        let (Some(to_persistent), false) = (frames.persistent, before == selector.persistent)
+        else {
+            let answer = self.transact_prepared(line, frames.main).await?;
             if own {
                 self.selector.value = Some(request.data);
             }
             return Ok(answer);
-        }
-        self.set_selector(line, selector, selector.persistent)
+        };
+        self.set_selector(line, to_persistent, selector.persistent)
             .await?;
-        let answer = self.transact_plain(line, &main).await;
+        let answer = self.transact_prepared(line, frames.main).await;
         if own {
             self.selector.value = answer.as_ref().ok().map(|_| request.data);
             return answer;
@@ -120,37 +110,43 @@ impl Session {
                 kind: TransactionErrorKind::Rejected { .. },
                 ..
             }) => {
-                self.set_selector(line, selector, before).await?;
+                let back = match frames.ram {
+                    Some(ram) if before == selector.ram => ram,
+                    // A value the description names neither way: prepared when read.
+                    _ => self
+                        .prepare_plain(&selector.write(before))
+                        .map_err(|error| renamed(error, request))?,
+                };
+                self.set_selector(line, back, before).await?;
             }
             Err(_) => {}
         }
         answer
     }
 
-    /// Writes `value` to the selector and remembers it.
+    /// Sends the selector's write `frame`, of `value`, and remembers the value.
     async fn set_selector(
         &mut self,
         line: &mut impl Line,
-        selector: &PersistenceSelector,
+        frame: Prepared,
         value: u32,
     ) -> Result<(), TransactionError> {
         self.selector.value = None;
-        self.transact_plain(line, &selector.write(value)).await?;
+        self.transact_prepared(line, frame).await?;
         self.selector.value = Some(value);
         Ok(())
     }
 
-    /// Reads the selector and remembers its value.
+    /// Sends the selector's read `frame` and remembers the value it reads.
     async fn read_selector(
         &mut self,
         line: &mut impl Line,
-        selector: &PersistenceSelector,
+        frame: Prepared,
     ) -> Result<(), TransactionError> {
-        let read = selector.read();
-        let answer = self.transact_plain(line, &read).await?;
+        let answer = self.transact_prepared(line, frame).await?;
         let value = answer.data.ok_or_else(|| {
             TransactionError::new(
-                Some(&read),
+                Some(frame.request()),
                 TransactionErrorKind::Mismatch {
                     field: ReplyField::Data,
                     expected: 1,
@@ -160,5 +156,71 @@ impl Session {
         })?;
         self.selector.value = Some(value);
         Ok(())
+    }
+}
+
+/// The frames a governed write may send, each prepared once before the first is sent.
+struct GovernedFrames {
+    /// The write itself, as the protocol's plain write.
+    main: Prepared,
+    /// The selector set to `ram` (before a RAM write; after a persistent one, back).
+    ram: Option<Prepared>,
+    /// The selector set to `persistent`, before a persistent write.
+    persistent: Option<Prepared>,
+    /// The selector read, before a persistent write when its value is not known.
+    read: Option<Prepared>,
+}
+
+impl GovernedFrames {
+    /// Prepares what the write `request` may need when the selector is `known` to hold a
+    /// value (or the caller `assumed` it); an error names the caller's request.
+    fn prepare(
+        session: &Session,
+        request: &Request,
+        selector: &PersistenceSelector,
+        known: Option<u32>,
+        assumed: bool,
+    ) -> Result<GovernedFrames, TransactionError> {
+        let prepare = |step: &Request| {
+            session
+                .prepare_plain(step)
+                .map_err(|error| renamed(error, request))
+        };
+        let main = prepare(&Request {
+            kind: CommandKind::WriteRam,
+            ..*request
+        })?;
+        let own = selector.is_selector(request);
+        let known_ram = known == Some(selector.ram);
+        let ram_write = || prepare(&selector.write(selector.ram));
+        let (ram, persistent, read) = if request.kind != CommandKind::WritePersistent {
+            ((!known_ram).then(ram_write).transpose()?, None, None)
+        } else {
+            let read = (!known_ram && !assumed)
+                .then(|| prepare(&selector.read()))
+                .transpose()?;
+            if read.is_none() && known == Some(selector.persistent) {
+                // Stated to hold `persistent`: the write goes as it is.
+                (None, None, None)
+            } else {
+                let back = (!own).then(ram_write).transpose()?;
+                let persistent = prepare(&selector.write(selector.persistent))?;
+                (back, Some(persistent), read)
+            }
+        };
+        Ok(GovernedFrames {
+            main,
+            ram,
+            persistent,
+            read,
+        })
+    }
+}
+
+/// `error`, about a frame of the governed write `request`, reported as the write's.
+fn renamed(error: TransactionError, request: &Request) -> TransactionError {
+    TransactionError {
+        request: Some(*request),
+        ..error
     }
 }

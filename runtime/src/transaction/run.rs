@@ -4,10 +4,11 @@
 //! remembered or forgotten by what happened.
 
 use super::answer::Answer;
-use super::error::TransactionError;
+use super::error::{TransactionError, TransactionErrorKind};
 use super::exchange::Exchange;
 use super::line::Line;
-use super::script::{resets_page, script};
+use super::prepare::{prepare, Prepared};
+use super::script::{main_request, resets_page, script_with};
 use super::session::Session;
 use crate::register::Request;
 
@@ -33,23 +34,51 @@ impl Session {
         line: &mut impl Line,
         request: &Request,
     ) -> Result<Answer, TransactionError> {
-        let request = &match self.port {
-            Some(port) => port.map(*request),
-            None => *request,
-        };
-        self.run(line, &Exchange::single(*request)).await
+        let request = self.on_port(request);
+        self.run(line, &Exchange::single(request), None).await
     }
 
-    /// Prepares every frame `exchange` needs, then carries them; the page is forgotten
-    /// when anything fails or the request resets it.
+    /// `request` as addressed to the master's port, for drives with several.
+    pub(crate) fn on_port(&self, request: &Request) -> Request {
+        match self.port {
+            Some(port) => port.map(*request),
+            None => *request,
+        }
+    }
+
+    /// The frame [`Session::transact_plain`] sends for `request` (without the page switch or
+    /// the steps it may need first), prepared now to be carried later by
+    /// [`Session::transact_prepared`].
+    pub(crate) fn prepare_plain(&self, request: &Request) -> Result<Prepared, TransactionError> {
+        let request = self.on_port(request);
+        let main = Exchange::single(main_request(self.protocol, &request));
+        prepare(self.protocol, &main, &self.station()).map_err(|error| {
+            TransactionError::new(Some(&request), TransactionErrorKind::Encode(error))
+        })
+    }
+
+    /// [`Session::transact_plain`] for a frame [`Session::prepare_plain`] prepared.
+    pub(crate) async fn transact_prepared(
+        &mut self,
+        line: &mut impl Line,
+        prepared: Prepared,
+    ) -> Result<Answer, TransactionError> {
+        let exchange = Exchange::single(*prepared.request());
+        self.run(line, &exchange, Some(prepared)).await
+    }
+
+    /// Prepares every frame `exchange` needs (but `main`, when the caller prepared the
+    /// request's own frame), then carries them; the page is forgotten when anything fails
+    /// or the request resets it.
     pub(crate) async fn run(
         &mut self,
         line: &mut impl Line,
         exchange: &Exchange,
+        main: Option<Prepared>,
     ) -> Result<Answer, TransactionError> {
         let request = &exchange.request;
         let known_page = self.known_page(self.address);
-        let script = script(self.protocol, exchange, &self.station(), known_page)?;
+        let script = script_with(self.protocol, exchange, &self.station(), known_page, main)?;
         let renamed = |error: TransactionError| TransactionError {
             request: Some(*request),
             ..error

@@ -32,6 +32,18 @@ pub fn script(
     station: &Station,
     known_page: Option<u16>,
 ) -> Result<Script, TransactionError> {
+    script_with(protocol, exchange, station, known_page, None)
+}
+
+/// [`script`], with the request's own frame already prepared (`main`, for the request as
+/// sent: see [`main_request`]) when the caller has it.
+pub(crate) fn script_with(
+    protocol: &'static Protocol,
+    exchange: &Exchange,
+    station: &Station,
+    known_page: Option<u16>,
+    main: Option<Prepared>,
+) -> Result<Script, TransactionError> {
     let request = &exchange.request;
     let named = |error| TransactionError::new(Some(request), TransactionErrorKind::Encode(error));
     let mut steps: [Option<Prepared>; 2] = [None, None];
@@ -58,11 +70,16 @@ pub fn script(
         )),
         None => None,
     };
-    let main = Exchange {
-        request: main_request(protocol, request),
-        kind: exchange.kind,
+    let main = match main {
+        Some(main) => main,
+        None => {
+            let main = Exchange {
+                request: main_request(protocol, request),
+                kind: exchange.kind,
+            };
+            prepare(protocol, &main, station).map_err(named)?
+        }
     };
-    let main = prepare(protocol, &main, station).map_err(named)?;
     Ok(Script { steps, page, main })
 }
 
@@ -111,7 +128,7 @@ pub fn resets_page(protocol: &Protocol, request: &Request) -> bool {
 }
 
 /// `request` as sent once the protocol's steps have selected what it leaves out.
-fn main_request(protocol: &Protocol, request: &Request) -> Request {
+pub(crate) fn main_request(protocol: &Protocol, request: &Request) -> Request {
     let mut main = *request;
     let has = |kind: fn(&PreStep) -> bool| protocol.pre_steps.iter().any(kind);
     if has(|s| matches!(s, PreStep::Index { .. })) {
