@@ -100,6 +100,15 @@ impl Session {
             self.line,
             self.silence_limit(),
         );
+        // Where the line reports no silences, the first read waits until a prompt answer
+        // can be whole (where it does, frames are split at a silence a batch would hide).
+        if line.last_gap().is_none() {
+            let (char_time, gap) = (self.settings.char_time(), self.frame_gap());
+            let now = Instant::now();
+            if let Some(wait) = judge.first_wait(char_time, gap, sent_at, now, deadline) {
+                line.nap(wait).await;
+            }
+        }
         let outcome = loop {
             // The deadline bounds the loop, however readily the line delivers bytes.
             if Instant::now() >= deadline {

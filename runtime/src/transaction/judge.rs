@@ -157,6 +157,27 @@ impl<'p> Judge<'p> {
         read_ahead_wait(needed, char_time, now, deadline)
     }
 
+    /// How long to wait at `now`, before the first read, for a request sent at `sent_at`:
+    /// no answer can be complete before the request is on the line, the silence between
+    /// frames `gap` has passed and the shortest answer has followed (an echo comes while
+    /// the request goes out), so a line that cannot report silences takes a prompt reply in
+    /// one read. One character less, as in [`Judge::read_ahead`]; never past `deadline`;
+    /// `None` once bytes have come.
+    pub fn first_wait(
+        &self,
+        char_time: Duration,
+        gap: Duration,
+        sent_at: Instant,
+        now: Instant,
+        deadline: Instant,
+    ) -> Option<Duration> {
+        if self.filled > 0 {
+            return None;
+        }
+        let chars = self.sent.len() + self.prepared.shortest_reply();
+        first_wait(chars, char_time, gap, sent_at, now, deadline)
+    }
+
     /// Whether the bytes so far cannot begin the protocol's error reply (a Modbus reply
     /// whose function code lacks the exception bit), so that only the command's own reply
     /// can still come. Only on a line known not to echo, where the reply starts at the first
@@ -354,6 +375,24 @@ fn read_ahead_wait(
     (!wait.is_zero()).then_some(wait)
 }
 
+/// How long to wait at `now` until `chars` characters of `char_time` each, with a silence
+/// of `gap` among them, can have crossed the line since `sent_at`, less one character;
+/// never past `deadline`. `None` when that time has come.
+fn first_wait(
+    chars: usize,
+    char_time: Duration,
+    gap: Duration,
+    sent_at: Instant,
+    now: Instant,
+    deadline: Instant,
+) -> Option<Duration> {
+    let until = sent_at
+        + gap
+        + char_time.saturating_mul(u32::try_from(chars.saturating_sub(1)).unwrap_or(u32::MAX));
+    let wait = until.min(deadline).saturating_duration_since(now);
+    (!wait.is_zero()).then_some(wait)
+}
+
 /// The mismatch error for a frame that answers something else than `request`.
 fn mismatch_of(difference: Difference, request: &Request) -> TransactionErrorKind {
     TransactionErrorKind::Mismatch {
@@ -389,5 +428,30 @@ mod tests {
             Some(Duration::from_millis(2))
         );
         assert_eq!(read_ahead_wait(7, char_time, soon, now), None);
+    }
+
+    #[test]
+    fn first_wait_lasts_until_request_gap_and_shortest_answer_can_have_crossed() {
+        let sent = Instant::now();
+        let char_time = Duration::from_micros(1146);
+        let gap = Duration::from_micros(4010);
+        let far = sent + Duration::from_secs(1);
+        // 8 request bytes and a 5-byte answer: 12 characters and the gap.
+        assert_eq!(
+            first_wait(13, char_time, gap, sent, sent, far),
+            Some(gap + char_time * 12)
+        );
+        // Later, what is left; never past the deadline; nothing once the time has come.
+        let later = sent + Duration::from_millis(10);
+        assert_eq!(
+            first_wait(13, char_time, gap, sent, later, far),
+            Some(gap + char_time * 12 - Duration::from_millis(10))
+        );
+        let soon = sent + Duration::from_millis(2);
+        assert_eq!(
+            first_wait(13, char_time, gap, sent, sent, soon),
+            Some(Duration::from_millis(2))
+        );
+        assert_eq!(first_wait(13, char_time, gap, sent, far, far), None);
     }
 }
