@@ -635,7 +635,8 @@ impl Session {
             ),
             _ => None,
         };
-        let failure = Failure::new(error.to_string());
+        let mut failure = Failure::new(error.to_string());
+        failure.read_error = Some(crate::read_error::read_error(&error));
         match hint {
             Some(hint) => failure.hint(hint),
             None => failure,
@@ -681,7 +682,10 @@ fn open_line(port: &str, settings: &SerialSettings) -> Result<Line, Failure> {
         });
     }
     let path = Path::new(port);
-    let is_pty = port.starts_with("/dev/pts/") || port.starts_with("/dev/ttyp");
+    // A link to a pseudo-terminal (a stable name for `vfd sim`'s device) opens as one.
+    let target = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+    let target = target.to_string_lossy();
+    let is_pty = target.starts_with("/dev/pts/") || target.starts_with("/dev/ttyp");
     if is_pty {
         return PtyTransport::open_path(path).map(Line::Pty).map_err(|e| {
             Failure::new(format!("cannot open {port}: {e}"))

@@ -12,12 +12,17 @@ mod bus;
 mod catalogue;
 mod demo;
 mod describe;
+mod emit;
 mod frame_text;
 mod frames;
 mod generate;
 mod lookup;
 mod out;
+mod poll;
+mod read_error;
+mod record;
 mod sim;
+mod trip_flag;
 mod values;
 mod watch;
 
@@ -81,6 +86,9 @@ enum Command {
         /// as 0x03); the drive page lists them.
         #[arg(long, value_name = "CODE")]
         command: Option<String>,
+        /// Output format (docs/output.md names every field).
+        #[arg(long, value_enum, default_value_t = emit::Format::Text)]
+        format: emit::Format,
         /// Registers to read.
         #[arg(required = true)]
         registers: Vec<String>,
@@ -142,15 +150,25 @@ Examples:
         sets: Vec<String>,
     },
     /// Poll registers and show them live, with a trend line for numbers (Ctrl-C stops).
+    ///
+    /// The watch outlives the line: a timeout, a bad reply or an error reply shows the value
+    /// as stale and counts an error; after an I/O error (an unplugged adapter) the port is
+    /// reopened, first after 0.1 s, the wait doubling to 5 s (at least --interval). It ends
+    /// after --count samples or on Ctrl-C with status 0, non-zero only when no read ever
+    /// succeeded.
     Watch {
         #[command(flatten)]
         line: bus::LineArgs,
         /// Time between polls, in milliseconds.
         #[arg(long, default_value_t = 500, value_name = "MS")]
         interval: u64,
-        /// Stop after this many polls (default: until Ctrl-C).
+        /// Stop after this many samples, failed ones included (default: until Ctrl-C).
         #[arg(long, value_name = "N")]
         count: Option<u64>,
+        /// Output format: jsonl gives one object per sample and register, flushed at once
+        /// (docs/output.md names every field).
+        #[arg(long, value_enum, default_value_t = emit::Format::Text)]
+        format: emit::Format,
         /// Registers to watch.
         #[arg(required = true)]
         registers: Vec<String>,
@@ -284,6 +302,8 @@ Examples:
 pub struct Failure {
     message: String,
     hint: Option<String>,
+    /// What went wrong on the line, when a read or write failed there (for `watch`).
+    pub read_error: Option<record::ReadError>,
 }
 
 impl Failure {
@@ -292,6 +312,7 @@ impl Failure {
         Failure {
             message: message.into(),
             hint: None,
+            read_error: None,
         }
     }
 
@@ -330,8 +351,9 @@ fn run(command: Command) -> Result<(), Failure> {
         Command::Read {
             line,
             command,
+            format,
             registers,
-        } => watch::read(&line, command.as_deref(), &registers),
+        } => watch::read(&line, command.as_deref(), &registers, format),
         Command::Write {
             line,
             persist,
@@ -363,8 +385,9 @@ fn run(command: Command) -> Result<(), Failure> {
             line,
             interval,
             count,
+            format,
             registers,
-        } => watch::watch(&line, &registers, interval, count),
+        } => watch::watch(&line, &registers, interval, count, format),
         Command::Backup { line, to } => backup::backup(&line, &to),
         Command::Restore {
             line,

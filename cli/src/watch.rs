@@ -2,7 +2,11 @@
 //! bit-field words field by field, code tables with their meaning, and the drive's trip.
 
 use crate::bus::{LineArgs, Session, Value};
-use crate::out::{is_terminal, print_raw, say};
+use crate::emit::{Emitter, Format};
+use crate::out::say;
+use crate::poll::{self, Poll};
+use crate::record::ValueRecord;
+use crate::trip_flag::trip_flag;
 use crate::{lookup, values, Failure};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -10,24 +14,46 @@ use std::time::{Duration, Instant};
 use vfd_runtime::units::raw_to_scaled;
 use vfd_runtime::RegisterInfo;
 
-/// Reads each register and prints it.
-pub fn read(line: &LineArgs, command: Option<&str>, names: &[String]) -> Result<(), Failure> {
+/// Reads each register and prints it, in `format`.
+pub fn read(
+    line: &LineArgs,
+    command: Option<&str>,
+    names: &[String],
+    format: Format,
+) -> Result<(), Failure> {
     let mut session = Session::open(line)?;
     session.command = command.map(command_code).transpose()?;
     let registers = resolve(&session, names)?;
-    let mut tripped = false;
-    for info in registers {
+    let mut read = Vec::new();
+    for info in &registers {
         let value = session.read(info)?;
-        tripped |= value.tripped;
         // A register whose scale another register chooses is shown in that scale: the one
         // the reply's decimals give (the Eaton unit digit), else the selector's.
         let shown = match value.decimals.and_then(|d| info.scaled_for_decimals(d)) {
             Some(chosen) => chosen,
             None => session.scaled(info)?,
         };
-        print_value(shown, &value);
+        read.push((shown, value));
     }
-    if tripped {
+    let values: Vec<Result<Value, ()>> = read.iter().map(|(_, v)| Ok(v.clone())).collect();
+    let tripped = trip_flag(&session, &registers, &values);
+    if !format.is_text() {
+        let mut emitter = Emitter::new(format);
+        for (info, value) in &read {
+            let mut record =
+                ValueRecord::new(session.drive.id, info, value.raw, value.text.clone()).now();
+            record.tripped = tripped;
+            emitter.record(&record);
+        }
+        emitter.finish();
+        return Ok(());
+    }
+    let mut any_tripped = false;
+    for (info, value) in &read {
+        any_tripped |= value.tripped;
+        print_value(info, value);
+    }
+    if any_tripped {
         show_trip(&mut session);
     }
     Ok(())
@@ -307,58 +333,44 @@ pub fn stop_flag() -> Result<Arc<AtomicBool>, Failure> {
     Ok(stop)
 }
 
-const SPARKS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
-
-/// A trend line of the last values.
-pub fn sparkline(history: &[f64]) -> String {
-    let (low, high) = history
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(*v), hi.max(*v))
-        });
-    history
-        .iter()
-        .map(|v| {
-            if high - low < 1e-12 {
-                if high.abs() < 1e-12 {
-                    SPARKS[0]
-                } else {
-                    SPARKS[3]
-                }
-            } else {
-                let step = ((v - low) / (high - low) * 7.0).round() as usize;
-                SPARKS[step.min(7)]
-            }
-        })
-        .collect()
-}
-
-/// Polls the registers and shows them until Ctrl-C (or `count` polls).
+/// Polls the registers and shows them until Ctrl-C (or `count` samples), in `format`;
+/// reopens the port after an I/O error (see [`crate::poll`]).
 pub fn watch(
     line: &LineArgs,
     names: &[String],
     interval: u64,
     count: Option<u64>,
+    format: Format,
 ) -> Result<(), Failure> {
     let mut session = Session::open(line)?;
     // Registers whose scale another register chooses are shown in the scale it chooses
-    // when the watch starts.
+    // when the watch starts (unscaled when that register cannot be read now).
     let registers = resolve(&session, names)?
         .into_iter()
-        .map(|info| session.scaled(info))
-        .collect::<Result<Vec<_>, Failure>>()?;
+        .map(|info| match session.scaled(info) {
+            Ok(scaled) => scaled,
+            Err(failure) => {
+                eprintln!("vfd: {}; {} is shown unscaled", failure.message, info.code);
+                info
+            }
+        })
+        .collect::<Vec<_>>();
     let stop = stop_flag()?;
-    watch_loop(
+    poll::run(
         &mut session,
-        &registers,
-        Duration::from_millis(interval),
-        count,
-        &stop,
-        None,
+        &Poll {
+            registers: &registers,
+            interval: Duration::from_millis(interval),
+            count,
+            stop: &stop,
+            deadline: None,
+            format,
+            reopen: Some(line),
+        },
     )
 }
 
-/// The watch loop itself (also the demo's): `deadline` ends it too.
+/// The demo's watch: text, until `deadline`, never reopening the line.
 pub fn watch_loop(
     session: &mut Session,
     registers: &[&'static RegisterInfo],
@@ -367,87 +379,16 @@ pub fn watch_loop(
     stop: &AtomicBool,
     deadline: Option<Instant>,
 ) -> Result<(), Failure> {
-    let terminal = is_terminal();
-    let start = Instant::now();
-    let mut history: Vec<Vec<f64>> = vec![Vec::new(); registers.len()];
-    let mut drawn = 0usize;
-    let mut polls = 0u64;
-    while !stop.load(Ordering::SeqCst)
-        && count.is_none_or(|n| polls < n)
-        && deadline.is_none_or(|d| Instant::now() < d)
-    {
-        let mut lines = Vec::new();
-        let mut tripped = false;
-        // Consecutive registers in one request where the protocol allows it.
-        let read = session.read_many(registers);
-        for ((info, past), value) in registers.iter().zip(history.iter_mut()).zip(read) {
-            let value = value?;
-            tripped |= value.tripped;
-            let (shown, number) = match (&value.text, value.raw) {
-                (Some(text), _) => (format!("{text:?}"), None),
-                (None, Some(raw)) => (
-                    values::short(info, raw),
-                    (info.bits.is_none() && info.codes.is_none()).then(|| raw_to_scaled(raw, info)),
-                ),
-                (None, None) => ("(no data)".to_owned(), None),
-            };
-            if let Some(number) = number {
-                past.push(number);
-                if past.len() > 40 {
-                    past.remove(0);
-                }
-            }
-            lines.push((info, shown, number.map(|_| sparkline(past))));
-        }
-        polls += 1;
-        let elapsed = start.elapsed().as_secs_f64();
-        if terminal {
-            let mut text = String::new();
-            if drawn > 0 {
-                text.push_str(&format!("\x1b[{drawn}A"));
-            }
-            text.push_str(&format!(
-                "\x1b[2K{} {} — {elapsed:.1} s{}\n",
-                session.drive.id,
-                session.protocol.id,
-                if tripped { "  TRIPPED" } else { "" }
-            ));
-            for (info, shown, spark) in &lines {
-                text.push_str(&format!(
-                    "\x1b[2K  {:<7} {:<28} {:>22}  {}\n",
-                    info.code,
-                    clip(info.name, 28),
-                    shown,
-                    spark.as_deref().unwrap_or("")
-                ));
-            }
-            drawn = lines.len() + 1;
-            print_raw(&text);
-        } else {
-            let parts: Vec<String> = lines
-                .iter()
-                .map(|(info, shown, _)| format!("{}={shown}", info.code))
-                .collect();
-            say!(
-                "{elapsed:6.1}s  {}{}",
-                parts.join("  "),
-                if tripped { "  TRIPPED" } else { "" }
-            );
-        }
-        let next = Instant::now() + interval;
-        while Instant::now() < next && !stop.load(Ordering::SeqCst) {
-            std::thread::sleep(Duration::from_millis(20).min(interval));
-        }
-    }
-    Ok(())
-}
-
-fn clip(text: &str, width: usize) -> String {
-    if text.chars().count() <= width {
-        text.to_owned()
-    } else {
-        let mut clipped: String = text.chars().take(width - 1).collect();
-        clipped.push('…');
-        clipped
-    }
+    poll::run(
+        session,
+        &Poll {
+            registers,
+            interval,
+            count,
+            stop,
+            deadline,
+            format: Format::Text,
+            reopen: None,
+        },
+    )
 }
