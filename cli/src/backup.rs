@@ -4,7 +4,9 @@
 //! `--persist`.
 
 use crate::bus::{LineArgs, Session, Value};
+use crate::emit::{Emitter, Format};
 use crate::out::say;
+use crate::record::{ReadError, ValueRecord};
 use crate::{lookup, values, Failure};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
@@ -82,7 +84,7 @@ fn progress(len: usize, what: &str) -> ProgressBar {
 }
 
 /// Reads every parameter and writes the file.
-pub fn backup(line: &LineArgs, to: &Path) -> Result<(), Failure> {
+pub fn backup(line: &LineArgs, to: &Path, format: Format) -> Result<(), Failure> {
     let mut session = Session::open(line)?;
     let registers: Vec<&'static RegisterInfo> = session
         .drive
@@ -100,7 +102,31 @@ pub fn backup(line: &LineArgs, to: &Path) -> Result<(), Failure> {
         read.extend(session.read_many(chunk));
         bar.inc(chunk.len() as u64);
     }
+    let mut listing = Emitter::new(format);
+    let mut errors = 0;
     for (info, result) in registers.iter().zip(read) {
+        // The listing (`--format`): every parameter as `vfd read` gives it.
+        match &result {
+            Ok(value) => {
+                let mut record =
+                    ValueRecord::new(session.drive.id, info, value.raw, value.text.clone()).now();
+                record.errors = errors;
+                listing.record(&record);
+            }
+            Err(failure) => {
+                errors += 1;
+                let error = failure.read_error.clone().unwrap_or(ReadError {
+                    kind: "other",
+                    code: None,
+                    meaning: failure.message.clone(),
+                });
+                let mut record = ValueRecord::new(session.drive.id, info, None, None)
+                    .now()
+                    .failed(&error);
+                record.errors = errors;
+                listing.record(&record);
+            }
+        }
         match result {
             Ok(value) => {
                 let (value, meaning) = entry_value(info, &value);
@@ -150,13 +176,20 @@ pub fn backup(line: &LineArgs, to: &Path) -> Result<(), Failure> {
     };
     std::fs::write(to, text)
         .map_err(|e| Failure::new(format!("cannot write {}: {e}", to.display())))?;
-    say!(
+    listing.finish();
+    let summary = format!(
         "saved {} parameters of {} to {} ({} read request(s))",
         backup.parameters.len(),
         drive.id,
         to.display(),
         session.requests
     );
+    if !format.is_text() {
+        // Standard output carries the listing alone.
+        eprintln!("{summary}");
+        return Ok(());
+    }
+    say!("{summary}");
     for line in &failed {
         say!("  not read: {line}");
     }

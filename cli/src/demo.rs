@@ -143,11 +143,15 @@ fn tour(
     say!("Each frame is shown as it goes: -> request, <- reply, in hex with what it says. Against a real drive, give --port /dev/ttyUSB0; `vfd sim` serves the same virtual drive on its own.");
 
     step("vfd list");
-    describe::list()?;
+    describe::list(crate::emit::Format::Text)?;
 
     let frequency = register(drive, behaviour.frequency.command)?;
     step(&format!("vfd info {} {}", drive.id, frequency.code));
-    describe::info(drive.id, &[frequency.code.to_owned()])?;
+    describe::info(
+        drive.id,
+        &[frequency.code.to_owned()],
+        crate::emit::Format::Text,
+    )?;
 
     if let Amount::Register(id) = behaviour.frequency.acceleration {
         let acc = register(drive, id)?;

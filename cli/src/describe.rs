@@ -1,7 +1,9 @@
 //! `vfd list` and `vfd info`: what the descriptions say about each drive, from its
 //! `DriveInfo` alone.
 
+use crate::emit::{Emitter, Format};
 use crate::out::say;
+use crate::record::{DriveRecord, RegisterRecord};
 use crate::{catalogue, lookup, values, Failure};
 use vfd_runtime::info::manual_number;
 use vfd_runtime::{Access, DriveInfo, RegisterInfo, TakesEffect};
@@ -9,7 +11,22 @@ use vfd_runtime::{Access, DriveInfo, RegisterInfo, TakesEffect};
 /// Every described drive with its protocols and serial defaults: those compiled in, then
 /// the drive files of the search path (a file with problems is named, with the command that
 /// lists them).
-pub fn list() -> Result<(), Failure> {
+pub fn list(format: Format) -> Result<(), Failure> {
+    if !format.is_text() {
+        let mut emitter = Emitter::new(format);
+        for drive in vfd_drives::ALL_DRIVES {
+            emitter.record(&DriveRecord::new(drive, None));
+        }
+        for found in catalogue::search_path_drives() {
+            if let catalogue::Found::Drive(file, drive) = found {
+                if !vfd_drives::ALL_DRIVES.iter().any(|d| d.id == drive.id) {
+                    emitter.record(&DriveRecord::new(drive, Some(&file)));
+                }
+            }
+        }
+        emitter.finish();
+        return Ok(());
+    }
     for drive in vfd_drives::ALL_DRIVES {
         list_drive(drive, None);
     }
@@ -79,8 +96,29 @@ fn list_drive(drive: &DriveInfo, file: Option<&std::path::Path>) {
 }
 
 /// A drive's registers (one line each), or the named ones in full.
-pub fn info(drive: &str, names: &[String]) -> Result<(), Failure> {
+pub fn info(drive: &str, names: &[String], format: Format) -> Result<(), Failure> {
     let drive = lookup::drive(drive)?;
+    if !format.is_text() {
+        let mut registers = Vec::new();
+        for name in names {
+            let found = lookup::registers(drive, name);
+            if found.is_empty() {
+                return Err(lookup::register(drive, name)
+                    .err()
+                    .unwrap_or_else(|| Failure::new(format!("no register `{name}`"))));
+            }
+            registers.extend(found);
+        }
+        if names.is_empty() {
+            registers.extend(drive.registers.iter().copied());
+        }
+        let mut emitter = Emitter::new(format);
+        for register in registers {
+            emitter.record(&RegisterRecord::new(drive.id, register));
+        }
+        emitter.finish();
+        return Ok(());
+    }
     if names.is_empty() {
         say!(
             "{} {} ({}), {} — manual {}",

@@ -2,7 +2,9 @@
 //! (hex or ASCII with escapes) explained field by field, with the protocol (and the drive,
 //! when only one fits) found when not given.
 
+use crate::emit::{Emitter, Format};
 use crate::out::say;
+use crate::record::ValueRecord;
 use crate::{lookup, values, Failure};
 use vfd_runtime::codec::FrameValues;
 use vfd_runtime::error::DecodeError;
@@ -218,8 +220,8 @@ pub struct DecodeArgs {
     pub protocol: Option<String>,
     /// Only this direction, if given.
     pub direction: Option<Direction>,
-    /// Print JSON.
-    pub json: bool,
+    /// How to print (`--json` is [`Format::Json`]).
+    pub format: Format,
     /// The frame as typed.
     pub frame: String,
 }
@@ -262,16 +264,18 @@ pub fn decode(args: &DecodeArgs) -> Result<(), Failure> {
     }
     if fits.is_empty() {
         let failure = no_fit(args, &bytes, &errors);
-        if args.json {
+        if !args.format.is_text() && args.format != Format::Csv {
             let json = serde_json::json!({
                 "valid": false,
                 "frame": vfd_runtime::error::hex(&bytes),
                 "error": failure.message,
             });
-            say!(
-                "{}",
-                serde_json::to_string_pretty(&json).unwrap_or_default()
-            );
+            let text = if args.format == Format::Jsonl {
+                serde_json::to_string(&json)
+            } else {
+                serde_json::to_string_pretty(&json)
+            };
+            say!("{}", text.unwrap_or_default());
         }
         return Err(failure);
     }
@@ -331,12 +335,20 @@ pub fn decode(args: &DecodeArgs) -> Result<(), Failure> {
         }
     }
     let report = Report::new(first, &bytes, notes);
-    if args.json {
-        let text = serde_json::to_string_pretty(&report.json())
-            .map_err(|e| Failure::new(format!("cannot write JSON: {e}")))?;
-        say!("{text}");
-    } else {
-        report.print();
+    match args.format {
+        Format::Text => report.print(),
+        Format::Json => {
+            let text = serde_json::to_string_pretty(&report.json())
+                .map_err(|e| Failure::new(format!("cannot write JSON: {e}")))?;
+            say!("{text}");
+        }
+        Format::Jsonl | Format::Csv => {
+            let mut emitter = Emitter::new(args.format);
+            if let Some(record) = report.record() {
+                emitter.record(&record);
+            }
+            emitter.finish();
+        }
     }
     Ok(())
 }
@@ -634,6 +646,32 @@ impl<'a> Report<'a> {
         }
     }
 
+    /// The frame's register and value as `vfd read` gives them (no time: a captured
+    /// frame); `None` when the frame names no register of the drive.
+    fn record(&self) -> Option<ValueRecord> {
+        let meaning = &self.fit.meaning;
+        let info = self.register()?;
+        let mut record =
+            ValueRecord::new(self.fit.drive.id, info, meaning.data, meaning.text.clone());
+        record.tripped = self
+            .fit
+            .protocol
+            .lowercase_means_tripped
+            .then_some(meaning.tripped);
+        Some(record)
+    }
+
+    /// The register the frame names, as the drive describes it.
+    fn register(&self) -> Option<&'static vfd_runtime::RegisterInfo> {
+        let meaning = &self.fit.meaning;
+        let space = meaning.space.unwrap_or(Space::Parameter);
+        meaning.register.and_then(|r| {
+            self.fit
+                .drive
+                .register_for(space, r, meaning.kind.is_some_and(|k| k.is_write()))
+        })
+    }
+
     fn json(&self) -> serde_json::Value {
         let fit = self.fit;
         let meaning = &fit.meaning;
@@ -682,6 +720,7 @@ impl<'a> Report<'a> {
             "fields": fields,
             "parts": self.parts.iter().map(|(n, v)| serde_json::json!({"name": n, "value": v})).collect::<Vec<_>>(),
             "notes": self.notes,
+            "record": self.record(),
         });
         if let (Some(id), Some(object)) = (other_variant(fit.protocol), json.as_object_mut()) {
             object.insert("variant".to_owned(), serde_json::json!(id));

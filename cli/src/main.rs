@@ -62,7 +62,11 @@ struct Cli {
 enum Command {
     /// List the described drives (compiled in, and those of --drives folders and
     /// VFD_DRIVES) and the protocols each speaks.
-    List,
+    List {
+        /// Output format (docs/output.md names every field).
+        #[arg(long, value_enum, default_value_t = emit::Format::Text)]
+        format: emit::Format,
+    },
     /// Show a drive's registers: unit, range, default, access, RAM or EEPROM, writable
     /// while running, and the manual's text.
     #[command(
@@ -73,6 +77,9 @@ enum Command {
         drive: String,
         /// Registers to show in full (all, one line each, when none is given).
         registers: Vec<String>,
+        /// Output format (docs/output.md names every field).
+        #[arg(long, value_enum, default_value_t = emit::Format::Text)]
+        format: emit::Format,
     },
     /// Read registers from a drive, in engineering units.
     #[command(
@@ -180,6 +187,10 @@ Examples:
         /// File to write (.yaml, .yml or .json).
         #[arg(long, value_name = "FILE")]
         to: PathBuf,
+        /// Also list every parameter read on standard output in this format (the
+        /// summary then goes to standard error; docs/output.md names every field).
+        #[arg(long, value_enum, default_value_t = emit::Format::Text)]
+        format: emit::Format,
     },
     /// Write a backup back: only writable values that differ, each read back; running it
     /// again after an interruption finishes the job.
@@ -234,9 +245,13 @@ Examples:
         /// Decode as a reply only.
         #[arg(long)]
         reply: bool,
-        /// Print one JSON object.
+        /// Print one JSON object (the same as --format json).
         #[arg(long)]
         json: bool,
+        /// Output format: json is one object; jsonl and csv give the frame's register value
+        /// as `vfd read` does (docs/output.md names every field).
+        #[arg(long, value_enum, default_value_t = emit::Format::Text)]
+        format: emit::Format,
         /// The frame, optionally after a drive id and a protocol id (the older form).
         #[arg(required = true, num_args = 1..=3, value_name = "FRAME")]
         args: Vec<String>,
@@ -346,8 +361,12 @@ fn main() -> ExitCode {
 
 fn run(command: Command) -> Result<(), Failure> {
     match command {
-        Command::List => describe::list(),
-        Command::Info { drive, registers } => describe::info(&drive, &registers),
+        Command::List { format } => describe::list(format),
+        Command::Info {
+            drive,
+            registers,
+            format,
+        } => describe::info(&drive, &registers, format),
         Command::Read {
             line,
             command,
@@ -388,7 +407,7 @@ fn run(command: Command) -> Result<(), Failure> {
             format,
             registers,
         } => watch::watch(&line, &registers, interval, count, format),
-        Command::Backup { line, to } => backup::backup(&line, &to),
+        Command::Backup { line, to, format } => backup::backup(&line, &to, format),
         Command::Restore {
             line,
             from,
@@ -404,8 +423,10 @@ fn run(command: Command) -> Result<(), Failure> {
             request,
             reply,
             json,
+            format,
             mut args,
         } => {
+            let format = if json { emit::Format::Json } else { format };
             let frame = args.pop().unwrap_or_default();
             let (drive, protocol) = match (args.as_slice(), drive, protocol) {
                 ([], drive, protocol) => (drive, protocol),
@@ -428,7 +449,7 @@ fn run(command: Command) -> Result<(), Failure> {
                 drive,
                 protocol,
                 direction,
-                json,
+                format,
                 frame,
             })
         }

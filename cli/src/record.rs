@@ -202,6 +202,26 @@ pub struct DriveRecord {
     pub file: String,
 }
 
+impl DriveRecord {
+    /// The record of `drive`, read from `file` when it is not built in.
+    pub fn new(drive: &vfd_runtime::DriveInfo, file: Option<&std::path::Path>) -> DriveRecord {
+        DriveRecord {
+            drive: drive.id.to_owned(),
+            vendor: drive.vendor.to_owned(),
+            model: drive.model.to_owned(),
+            name: drive.name.to_owned(),
+            name_zh: drive.name_zh.to_owned(),
+            protocols: drive
+                .protocols
+                .iter()
+                .map(|p| p.id.as_ref())
+                .collect::<Vec<&str>>()
+                .join(" "),
+            file: file.map(|f| f.display().to_string()).unwrap_or_default(),
+        }
+    }
+}
+
 /// The time now: RFC 3339 in UTC with milliseconds, and milliseconds since the epoch.
 pub fn now() -> (String, u64) {
     let ms = SystemTime::now()
