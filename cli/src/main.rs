@@ -172,8 +172,8 @@ Examples:
         /// Stop after this many samples, failed ones included (default: until Ctrl-C).
         #[arg(long, value_name = "N")]
         count: Option<u64>,
-        /// Output format: jsonl gives one object per sample and register, flushed at once
-        /// (docs/output.md names every field).
+        /// Output format: jsonl gives one object per sample and register, flushed at once;
+        /// json writes its one document at the end (docs/output.md names every field).
         #[arg(long, value_enum, default_value_t = emit::Format::Text)]
         format: emit::Format,
         /// Registers to watch.
@@ -246,7 +246,7 @@ Examples:
         #[arg(long)]
         reply: bool,
         /// Print one JSON object (the same as --format json).
-        #[arg(long)]
+        #[arg(long, conflicts_with = "format")]
         json: bool,
         /// Output format: json is one object; jsonl and csv give the frame's register value
         /// as `vfd read` does (docs/output.md names every field).

@@ -295,6 +295,28 @@ fn decode_gives_every_format_and_json_stays_its_alias() {
     let (header, rows) = csv_rows(&ok(&vfd(&["decode", "--format", "csv", frame])));
     assert_eq!(header, VALUE_FIELDS);
     assert_eq!(rows.len(), 1);
+
+    // A value with commas (a command word's fields) is quoted, and parses back whole.
+    let command_word = "2F 50 FA 00 C4 00 3D";
+    let out = ok(&vfd(&[
+        "decode",
+        "--drive",
+        "yd1000",
+        "--format",
+        "csv",
+        command_word,
+    ]));
+    assert!(
+        out.contains("\"C400h: command_enabled, frequency_enabled, run\""),
+        "{out}"
+    );
+    let (header, rows) = csv_rows(&out);
+    let text = header.iter().position(|h| h == "text").unwrap();
+    assert_eq!(
+        rows[0][text],
+        "C400h: command_enabled, frequency_enabled, run"
+    );
+    assert_eq!(rows[0].len(), VALUE_FIELDS.len());
 }
 
 #[test]

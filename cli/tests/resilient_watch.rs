@@ -195,3 +195,22 @@ fn ctrl_c_ends_a_watch_with_status_zero() {
     let status = wait(&mut child);
     assert!(status.success(), "{status:?}");
 }
+
+#[test]
+fn a_closed_pipe_ends_a_watch_quietly() {
+    let sim = Sim::start("yd1000", "binary");
+    for format in ["jsonl", "csv", "text"] {
+        // `vfd watch … | head -1`
+        let mut child = watch(&sim.port, &["FH", "--interval", "50", "--format", format]);
+        let mut stdout = BufReader::new(child.stdout.take().unwrap());
+        let mut first = String::new();
+        stdout.read_line(&mut first).unwrap();
+        assert!(!first.is_empty(), "{format}: a first line");
+        drop(stdout);
+        let status = wait(&mut child);
+        let mut stderr = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
+        assert!(status.success(), "{format}: {status:?} {stderr}");
+        assert!(!stderr.contains("panicked"), "{format}: {stderr}");
+    }
+}
