@@ -7,6 +7,7 @@ use crate::bus::{LineArgs, Session, Value};
 use crate::emit::{Emitter, Format};
 use crate::out::say;
 use crate::record::{ReadError, ValueRecord};
+use crate::trip_flag::trip_flag;
 use crate::{lookup, values, Failure};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
@@ -104,6 +105,7 @@ pub fn backup(line: &LineArgs, to: &Path, format: Format) -> Result<(), Failure>
     }
     let mut listing = Emitter::new(format);
     let mut errors = 0;
+    let tripped = trip_flag(&session, &registers, &read);
     for (info, result) in registers.iter().zip(read) {
         // The listing (`--format`): every parameter as `vfd read` gives it.
         match &result {
@@ -111,6 +113,7 @@ pub fn backup(line: &LineArgs, to: &Path, format: Format) -> Result<(), Failure>
                 let mut record =
                     ValueRecord::new(session.drive.id, info, value.raw, value.text.clone()).now();
                 record.errors = errors;
+                record.tripped = tripped;
                 listing.record(&record);
             }
             Err(failure) => {

@@ -338,6 +338,7 @@ fn backup_lists_what_it_read_in_every_format() {
         .find(|r| r["code"] == "FH")
         .expect("FH listed");
     assert_eq!(fh["value"], 80.0);
+    assert_eq!(fh["tripped"], false, "the replies carry the trip flag");
     assert!(String::from_utf8_lossy(&out.stderr).contains("saved"));
     let (header, rows) = csv_rows(&ok(&sim.vfd(
         "yd1000",
