@@ -371,3 +371,23 @@ fn every_field_is_documented() {
         "the README links the reference"
     );
 }
+
+#[test]
+fn without_a_trip_flag_in_the_reply_the_status_word_tells_or_it_is_null() {
+    // Modbus replies carry no trip flag: the FC 51's status word (its trip bit) does.
+    let sim = Sim::start_with("fc51", "modbus", &["--trip", "5"]);
+    let records = jsonl_records(&ok(&sim.vfd(
+        "fc51",
+        "modbus",
+        &["read", "STW", "303", "--format", "jsonl"],
+    )));
+    assert_eq!(records.len(), 2);
+    assert!(records.iter().all(|r| r["tripped"] == true), "{records:?}");
+    // Without the status word no second read is made: unknown.
+    let records = jsonl_records(&ok(&sim.vfd(
+        "fc51",
+        "modbus",
+        &["read", "303", "--format", "jsonl"],
+    )));
+    assert!(records[0]["tripped"].is_null(), "{records:?}");
+}
