@@ -10,6 +10,7 @@ mod backup;
 mod block;
 mod bus;
 mod catalogue;
+#[cfg(all(unix, feature = "pty"))]
 mod demo;
 mod describe;
 mod frame_text;
@@ -302,6 +303,14 @@ impl Failure {
     }
 }
 
+/// What `vfd sim` and `vfd demo` say where this `vfd` was built without pseudo-terminals.
+#[cfg(not(all(unix, feature = "pty")))]
+pub fn needs_pty(command: &str, instead: &str) -> Failure {
+    Failure::new(format!(
+        "`{command}` needs a Unix pseudo-terminal, and this vfd was built without them (feature `pty`){instead}"
+    ))
+}
+
 impl From<String> for Failure {
     fn from(message: String) -> Failure {
         Failure::new(message)
@@ -374,7 +383,10 @@ fn run(command: Command) -> Result<(), Failure> {
             stop_first,
         } => backup::restore(&line, &from, dry_run, persist, stop_first),
         Command::Sim(args) => sim::run(&args),
+        #[cfg(all(unix, feature = "pty"))]
         Command::Demo { drive, seconds } => demo::run(drive.as_deref(), seconds),
+        #[cfg(not(all(unix, feature = "pty")))]
+        Command::Demo { .. } => Err(needs_pty("demo", "")),
         Command::Decode {
             drive,
             protocol,
