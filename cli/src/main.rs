@@ -18,6 +18,7 @@ mod frames;
 mod generate;
 mod lookup;
 mod out;
+mod ports;
 mod sim;
 mod values;
 mod watch;
@@ -189,6 +190,15 @@ Examples:
         after_help = "The first line of output is the device to open, e.g.:\n  vfd sim --drive yd1000 &\n  vfd read --drive yd1000 --port /dev/pts/5 FA01\n\nAs a serial device server (raw frames over TCP, \"RTU over TCP\"):\n  vfd sim --drive yd1000 --listen 127.0.0.1:0 &\n  vfd read --drive yd1000 --port tcp://127.0.0.1:40123 FA01"
     )]
     Sim(sim::SimArgs),
+    /// List the serial ports this system has (USB vendor and product where known).
+    #[command(
+        after_help = "Give a name it prints to --port, e.g. vfd read --drive yd1000 --port /dev/ttyUSB0 FA01"
+    )]
+    Ports {
+        /// `text` (one line per port) or `json` (an array of objects).
+        #[arg(long, value_enum, default_value_t = ports::PortsFormat::Text)]
+        format: ports::PortsFormat,
+    },
     /// Show the whole product against the virtual drive on a pseudo-terminal, every frame
     /// printed (no hardware, ~5 s).
     Demo {
@@ -382,6 +392,7 @@ fn run(command: Command) -> Result<(), Failure> {
             persist,
             stop_first,
         } => backup::restore(&line, &from, dry_run, persist, stop_first),
+        Command::Ports { format } => ports::run(format),
         Command::Sim(args) => sim::run(&args),
         #[cfg(all(unix, feature = "pty"))]
         Command::Demo { drive, seconds } => demo::run(drive.as_deref(), seconds),
