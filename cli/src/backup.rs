@@ -174,7 +174,7 @@ pub fn backup(line: &LineArgs, to: &Path, format: Format) -> Result<(), Failure>
             backup.model,
             drive.id,
             drive.id,
-            serde_yaml::to_string(&backup).map_err(|e| Failure::new(e.to_string()))?
+            yaml_serde::to_string(&backup).map_err(|e| Failure::new(e.to_string()))?
         )
     };
     std::fs::write(to, text)
@@ -226,7 +226,7 @@ pub fn restore(
     {
         serde_json::from_str(&text).map_err(|e| Failure::new(format!("{}: {e}", from.display())))?
     } else {
-        serde_yaml::from_str(&text).map_err(|e| Failure::new(format!("{}: {e}", from.display())))?
+        yaml_serde::from_str(&text).map_err(|e| Failure::new(format!("{}: {e}", from.display())))?
     };
     let drive = lookup::drive(&line.drive)?;
     if !backup.drive.eq_ignore_ascii_case(drive.id) {

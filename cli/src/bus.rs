@@ -4,12 +4,15 @@
 //! through the runtime's untyped request path, so any described drive works.
 
 use crate::{lookup, Failure};
+#[cfg(all(unix, feature = "pty"))]
 use std::path::Path;
 use std::time::{Duration, Instant};
 use vfd_runtime::meaning::{decode_meaning, Direction};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transaction::Master;
-use vfd_runtime::transport::{PtyTransport, SerialTransport, TcpTransport, Transport, TCP_SCHEME};
+#[cfg(all(unix, feature = "pty"))]
+use vfd_runtime::transport::PtyTransport;
+use vfd_runtime::transport::{SerialTransport, TcpTransport, Transport, TCP_SCHEME};
 use vfd_runtime::{
     CommandKind, DataType, DriveInfo, EncodeError, Port, Protocol, RegisterInfo, Request,
     TransactionError, TransactionErrorKind,
@@ -82,8 +85,10 @@ pub enum Line {
     /// A serial device server reached over TCP.
     Tcp(TcpTransport),
     /// A terminal device such as a pseudo-terminal.
+    #[cfg(all(unix, feature = "pty"))]
     Pty(PtyTransport),
     /// Another line, each frame on it printed (hex and decoded) as it passes.
+    #[cfg_attr(not(all(unix, feature = "pty")), allow(dead_code))] // used by the demo only
     Traced(Box<Traced>),
 }
 
@@ -101,6 +106,7 @@ pub struct Traced {
 
 impl Traced {
     /// `inner`, traced.
+    #[cfg_attr(not(all(unix, feature = "pty")), allow(dead_code))] // used by the demo only
     pub fn line(inner: Line, drive: &'static DriveInfo, protocol: &'static Protocol) -> Line {
         Line::Traced(Box::new(Traced {
             inner,
@@ -140,6 +146,7 @@ impl Transport for Line {
         match self {
             Line::Serial(t) => t.send(bytes),
             Line::Tcp(t) => t.send(bytes),
+            #[cfg(all(unix, feature = "pty"))]
             Line::Pty(t) => t.send(bytes),
             Line::Traced(t) => t.send(bytes),
         }
@@ -148,6 +155,7 @@ impl Transport for Line {
         match self {
             Line::Serial(t) => t.receive(buf, deadline),
             Line::Tcp(t) => t.receive(buf, deadline),
+            #[cfg(all(unix, feature = "pty"))]
             Line::Pty(t) => t.receive(buf, deadline),
             Line::Traced(t) => t.receive(buf, deadline),
         }
@@ -156,6 +164,7 @@ impl Transport for Line {
         match self {
             Line::Serial(t) => t.clear_input(),
             Line::Tcp(t) => t.clear_input(),
+            #[cfg(all(unix, feature = "pty"))]
             Line::Pty(t) => t.clear_input(),
             Line::Traced(t) => t.inner.clear_input(),
         }
@@ -164,6 +173,7 @@ impl Transport for Line {
         match self {
             Line::Serial(t) => t.last_gap(),
             Line::Tcp(t) => t.last_gap(),
+            #[cfg(all(unix, feature = "pty"))]
             Line::Pty(t) => t.last_gap(),
             Line::Traced(t) => t.inner.last_gap(),
         }
@@ -172,6 +182,7 @@ impl Transport for Line {
         match self {
             Line::Serial(t) => t.allowance(),
             Line::Tcp(t) => t.allowance(),
+            #[cfg(all(unix, feature = "pty"))]
             Line::Pty(t) => t.allowance(),
             Line::Traced(t) => t.inner.allowance(),
         }
@@ -329,6 +340,7 @@ impl Session {
     }
 
     /// A session over an in-process line (the demo's virtual drive).
+    #[cfg_attr(not(all(unix, feature = "pty")), allow(dead_code))] // used by the demo only
     pub fn over(
         drive: &'static DriveInfo,
         protocol: &'static Protocol,
@@ -681,21 +693,65 @@ fn open_line(port: &str, settings: &SerialSettings) -> Result<Line, Failure> {
             }
         });
     }
-    let path = Path::new(port);
-    // A link to a pseudo-terminal (a stable name for `vfd sim`'s device) opens as one.
-    let target = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-    let target = target.to_string_lossy();
-    let is_pty = target.starts_with("/dev/pts/") || target.starts_with("/dev/ttyp");
-    if is_pty {
-        return PtyTransport::open_path(path).map(Line::Pty).map_err(|e| {
-            Failure::new(format!("cannot open {port}: {e}"))
-                .hint("is `vfd sim` still running? it prints the device to use")
-        });
+    #[cfg(all(unix, feature = "pty"))]
+    if is_pseudo_terminal(port) {
+        return PtyTransport::open_path(Path::new(port))
+            .map(Line::Pty)
+            .map_err(|e| {
+                Failure::new(format!("cannot open {port}: {e}"))
+                    .hint("is `vfd sim` still running? it prints the device to use")
+            });
     }
     SerialTransport::open(port, settings)
         .map(Line::Serial)
         .map_err(|e| {
             Failure::new(format!("cannot open serial port {port}: {e}"))
-                .hint("check the device name (ls /dev/ttyUSB* /dev/ttyS*) and your permissions (group dialout)")
+                .hint("check the device name (`vfd ports` lists them) and your permissions (on Linux, group dialout)")
         })
+}
+
+/// A Unix pseudo-terminal (`/dev/pts/N`, BSD `/dev/ttypN`), opened as a terminal device;
+/// every other name (`/dev/ttyUSB0`, `COM3`, `\\.\COM12`) is a serial port.
+#[cfg_attr(not(all(unix, feature = "pty")), allow(dead_code))]
+fn is_pseudo_terminal(port: &str) -> bool {
+    let named = |name: &str| name.starts_with("/dev/pts/") || name.starts_with("/dev/ttyp");
+    // A link to a pseudo-terminal (a stable name for `vfd sim`'s device) opens as one.
+    named(port) || std::fs::canonicalize(port).is_ok_and(|target| named(&target.to_string_lossy()))
+}
+
+#[cfg(test)]
+mod port_names {
+    use super::*;
+
+    /// Port names of every system are taken as they are: only Unix pseudo-terminals are
+    /// told apart, everything else goes to the serial port (no Unix-path assumptions).
+    #[test]
+    fn other_systems_port_names_are_serial_ports() {
+        for name in [
+            "COM3",
+            r"\\.\COM12",
+            "/dev/ttyUSB0",
+            "/dev/cu.usbserial-1420",
+        ] {
+            assert!(!is_pseudo_terminal(name), "{name}");
+            let settings = SerialSettings {
+                baud: 9600,
+                data_bits: 8,
+                parity: vfd_runtime::serial::Parity::Even,
+                stop_bits: 1,
+            };
+            let Err(failure) = open_line(name, &settings) else {
+                // A machine that has this port: it opened as a serial port, which is the point.
+                continue;
+            };
+            assert!(
+                failure
+                    .message
+                    .starts_with(&format!("cannot open serial port {name}: ")),
+                "{name}: {}",
+                failure.message
+            );
+        }
+        assert!(is_pseudo_terminal("/dev/pts/5"));
+    }
 }

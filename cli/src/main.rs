@@ -10,6 +10,7 @@ mod backup;
 mod block;
 mod bus;
 mod catalogue;
+#[cfg(all(unix, feature = "pty"))]
 mod demo;
 mod describe;
 mod emit;
@@ -19,6 +20,7 @@ mod generate;
 mod lookup;
 mod out;
 mod poll;
+mod ports;
 mod read_error;
 mod record;
 mod sim;
@@ -217,6 +219,15 @@ Examples:
         after_help = "The first line of output is the device to open, e.g.:\n  vfd sim --drive yd1000 &\n  vfd read --drive yd1000 --port /dev/pts/5 FA01\n\nAs a serial device server (raw frames over TCP, \"RTU over TCP\"):\n  vfd sim --drive yd1000 --listen 127.0.0.1:0 &\n  vfd read --drive yd1000 --port tcp://127.0.0.1:40123 FA01"
     )]
     Sim(sim::SimArgs),
+    /// List the serial ports this system has (USB vendor and product where known).
+    #[command(
+        after_help = "Give a name it prints to --port, e.g. vfd read --drive yd1000 --port /dev/ttyUSB0 FA01"
+    )]
+    Ports {
+        /// `text` (one line per port) or `json` (an array of objects).
+        #[arg(long, value_enum, default_value_t = ports::PortsFormat::Text)]
+        format: ports::PortsFormat,
+    },
     /// Show the whole product against the virtual drive on a pseudo-terminal, every frame
     /// printed (no hardware, ~5 s).
     Demo {
@@ -338,6 +349,14 @@ impl Failure {
     }
 }
 
+/// What `vfd sim` and `vfd demo` say where this `vfd` was built without pseudo-terminals.
+#[cfg(not(all(unix, feature = "pty")))]
+pub fn needs_pty(command: &str, instead: &str) -> Failure {
+    Failure::new(format!(
+        "`{command}` needs a Unix pseudo-terminal, and this vfd was built without them (feature `pty`){instead}"
+    ))
+}
+
 impl From<String> for Failure {
     fn from(message: String) -> Failure {
         Failure::new(message)
@@ -415,8 +434,12 @@ fn run(command: Command) -> Result<(), Failure> {
             persist,
             stop_first,
         } => backup::restore(&line, &from, dry_run, persist, stop_first),
+        Command::Ports { format } => ports::run(format),
         Command::Sim(args) => sim::run(&args),
+        #[cfg(all(unix, feature = "pty"))]
         Command::Demo { drive, seconds } => demo::run(drive.as_deref(), seconds),
+        #[cfg(not(all(unix, feature = "pty")))]
+        Command::Demo { .. } => Err(needs_pty("demo", "")),
         Command::Decode {
             drive,
             protocol,

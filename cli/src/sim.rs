@@ -14,7 +14,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 use vfd_runtime::meaning::Direction;
 use vfd_runtime::serial::SerialSettings;
-use vfd_runtime::transport::{PseudoTerminal, TcpTransport, Transport};
+#[cfg(all(unix, feature = "pty"))]
+use vfd_runtime::transport::PseudoTerminal;
+use vfd_runtime::transport::{TcpTransport, Transport};
 use vfd_runtime::virtual_drive::{serve, Fault, Simulator};
 use vfd_runtime::Protocol;
 
@@ -165,6 +167,26 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
         eprintln!("vfd sim: stopped");
         return Ok(());
     }
+    #[cfg(not(all(unix, feature = "pty")))]
+    return Err(crate::needs_pty(
+        "sim",
+        "; serve over TCP instead: vfd sim --listen 127.0.0.1:0",
+    ));
+    #[cfg(all(unix, feature = "pty"))]
+    serve_on_pty(&sim, drive, protocol, settings, args.verbose, &stop, banner)
+}
+
+/// Serves the virtual drive on a new pseudo-terminal until the stop flag is set.
+#[cfg(all(unix, feature = "pty"))]
+fn serve_on_pty(
+    sim: &Simulator,
+    drive: &'static vfd_runtime::DriveInfo,
+    protocol: &'static Protocol,
+    settings: SerialSettings,
+    verbose: bool,
+    stop: &AtomicBool,
+    banner: impl Fn(&str),
+) -> Result<(), Failure> {
     let pty = PseudoTerminal::open()
         .map_err(|e| Failure::new(format!("cannot open a pseudo-terminal: {e}")))?;
     let path = pty.slave_path().display().to_string();
@@ -177,11 +199,11 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
         inner: transport,
         drive,
         protocol,
-        verbose: args.verbose,
+        verbose,
         received: Vec::new(),
         start: Instant::now(),
     };
-    serve(&sim, protocol, &mut logged, settings, &stop)
+    serve(sim, protocol, &mut logged, settings, stop)
         .map_err(|e| Failure::new(format!("the virtual drive stopped: {e}")))?;
     eprintln!("vfd sim: stopped");
     Ok(())

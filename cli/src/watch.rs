@@ -10,7 +10,7 @@ use crate::trip_flag::trip_flag;
 use crate::{lookup, values, Failure};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 use vfd_runtime::units::raw_to_scaled;
 use vfd_runtime::RegisterInfo;
 
@@ -371,13 +371,14 @@ pub fn watch(
 }
 
 /// The demo's watch: text, until `deadline`, never reopening the line.
+#[cfg(feature = "pty")]
 pub fn watch_loop(
     session: &mut Session,
     registers: &[&'static RegisterInfo],
     interval: Duration,
     count: Option<u64>,
     stop: &AtomicBool,
-    deadline: Option<Instant>,
+    deadline: Option<std::time::Instant>,
 ) -> Result<(), Failure> {
     poll::run(
         session,

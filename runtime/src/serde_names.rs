@@ -15,16 +15,16 @@ where
 {
     for value in all {
         let expected = name(value);
-        let serialised = serde_yaml::to_value(value).expect("serialises");
+        let serialised = yaml_serde::to_value(value).expect("serialises");
         assert_eq!(
             serialised,
-            serde_yaml::Value::String(expected.to_owned()),
+            yaml_serde::Value::String(expected.to_owned()),
             "{value:?}"
         );
-        let back: T = serde_yaml::from_value(serialised).expect("deserialises");
+        let back: T = yaml_serde::from_value(serialised).expect("deserialises");
         assert_eq!(&back, value);
         // As it would appear in a description file.
-        let from_text: T = serde_yaml::from_str(&format!("{expected:?}")).expect("parses");
+        let from_text: T = yaml_serde::from_str(&format!("{expected:?}")).expect("parses");
         assert_eq!(&from_text, value);
     }
 }
@@ -33,7 +33,7 @@ where
 fn access() {
     assert_serde_names(&Access::ALL, |v| v.as_str());
     assert_eq!(
-        serde_yaml::from_str::<Access>("read-only").unwrap(),
+        yaml_serde::from_str::<Access>("read-only").unwrap(),
         Access::ReadOnly
     );
 }
@@ -56,8 +56,8 @@ fn command_kind() {
 #[test]
 fn unit() {
     assert_serde_names(&Unit::ALL, |v| v.symbol());
-    assert_eq!(serde_yaml::from_str::<Unit>("Hz").unwrap(), Unit::Hertz);
-    assert_eq!(serde_yaml::from_str::<Unit>("'%'").unwrap(), Unit::Percent);
+    assert_eq!(yaml_serde::from_str::<Unit>("Hz").unwrap(), Unit::Hertz);
+    assert_eq!(yaml_serde::from_str::<Unit>("'%'").unwrap(), Unit::Percent);
 }
 
 #[test]
@@ -119,7 +119,7 @@ fn layout_data_serialises_with_borrowed_and_owned_lists() {
         ]
         .into(),
     };
-    let text = serde_yaml::to_string(&layout).unwrap();
+    let text = yaml_serde::to_string(&layout).unwrap();
     assert!(text.contains("role: register"), "{text}");
     assert!(text.contains("format: hex"), "{text}");
     assert!(text.contains("!if_byte_at_most 63"), "{text}");
@@ -131,7 +131,7 @@ fn layout_data_serialises_with_borrowed_and_owned_lists() {
         name_zh: "数据错误".into(),
         meaning: "".into(),
     };
-    assert!(serde_yaml::to_string(&entry)
+    assert!(yaml_serde::to_string(&entry)
         .unwrap()
         .contains("id: data_error"));
 }

@@ -70,7 +70,7 @@ fn validator(schema_path: &str) -> jsonschema::Validator {
 
 fn as_json(path: &Path) -> Value {
     let text = std::fs::read_to_string(path).expect("readable");
-    let yaml: serde_yaml::Value = serde_yaml::from_str(&text).expect("YAML");
+    let yaml: yaml_serde::Value = yaml_serde::from_str(&text).expect("YAML");
     serde_json::to_value(yaml).expect("YAML that JSON can hold")
 }
 

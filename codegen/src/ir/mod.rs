@@ -26,6 +26,6 @@ impl DriveIr {
 
     /// The IR as YAML, for people and snapshot tests.
     pub fn to_yaml(&self) -> String {
-        serde_yaml::to_string(self).unwrap_or_else(|error| format!("# cannot serialise: {error}"))
+        yaml_serde::to_string(self).unwrap_or_else(|error| format!("# cannot serialise: {error}"))
     }
 }

@@ -3,7 +3,7 @@
 //! selector byte, into `corpus/virtual_drive/`; and behind a protocol and a command byte, into
 //! `corpus/plan_agreement/`), and every drive file and broken-description
 //! fixture into `corpus/description/`. Run from `fuzz/`:
-//! `cargo run --bin seed_corpus`.
+//! `cargo run --example seed_corpus`.
 
 use std::fs;
 use std::path::Path;
