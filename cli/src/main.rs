@@ -224,9 +224,10 @@ Examples:
         after_help = "Give a name it prints to --port, e.g. vfd read --drive yd1000 --port /dev/ttyUSB0 FA01"
     )]
     Ports {
-        /// `text` (one line per port) or `json` (an array of objects).
-        #[arg(long, value_enum, default_value_t = ports::PortsFormat::Text)]
-        format: ports::PortsFormat,
+        /// `text` (one line per port), `json` (an array of objects), `jsonl` or `csv`
+        /// (fields: name, kind, vendor_id, product_id, manufacturer, product, serial_number).
+        #[arg(long, value_enum, default_value_t = emit::Format::Text)]
+        format: emit::Format,
     },
     /// Show the whole product against the virtual drive on a pseudo-terminal, every frame
     /// printed (no hardware, ~5 s).

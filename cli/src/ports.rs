@@ -7,21 +7,13 @@
 //! type 0 in sysfs) are left out, and a system without `/sys/class/tty` (some containers)
 //! has no ports instead of making the crate panic.
 
+use crate::emit::{Emitter, Format};
 use crate::out::say;
 use crate::Failure;
 use serialport::{SerialPortInfo, SerialPortType};
 use std::path::Path;
 
-/// How `vfd ports` prints the list.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum PortsFormat {
-    /// One line per port, for people.
-    Text,
-    /// One JSON array of port objects (fields as in [`Port`]).
-    Json,
-}
-
-/// One serial port, as `vfd ports --format json` prints it.
+/// One serial port, as `vfd ports --format json|jsonl|csv` prints it.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
 pub struct Port {
     /// The name to give `--port` (`/dev/ttyUSB0`, `COM3`).
@@ -43,21 +35,21 @@ pub struct Port {
 /// The line printed when the system has no serial port.
 pub const NONE: &str = "no serial ports found (a USB adapter shows up here once plugged in)";
 
-/// Lists the serial ports.
-pub fn run(format: PortsFormat) -> Result<(), Failure> {
+/// Lists the serial ports, one record each in a machine-readable `format` (fields as in
+/// [`Port`]).
+pub fn run(format: Format) -> Result<(), Failure> {
     let ports = system_ports()?;
-    match format {
-        PortsFormat::Json => {
-            let text = serde_json::to_string_pretty(&ports)
-                .map_err(|e| Failure::new(format!("cannot write the port list as JSON: {e}")))?;
-            say!("{text}");
+    if format.is_text() {
+        for line in text_lines(&ports) {
+            say!("{line}");
         }
-        PortsFormat::Text => {
-            for line in text_lines(&ports) {
-                say!("{line}");
-            }
-        }
+        return Ok(());
     }
+    let mut emitter = Emitter::new(format);
+    for port in &ports {
+        emitter.record(port);
+    }
+    emitter.finish();
     Ok(())
 }
 
