@@ -130,6 +130,15 @@ impl<T, D: 'static> Master<T, D> {
         self
     }
 
+    /// Keeps at least `gap` of silence between the master's frames, for a slow gateway or
+    /// USB adapter that needs more than the protocol's own gap. A shorter `gap` than the
+    /// protocol's changes nothing: the protocol's gap is never shortened. It does not
+    /// change how long a silence inside a reply may be. Default: zero (the protocol's gap).
+    pub fn with_min_gap(mut self, gap: Duration) -> Self {
+        self.session.min_gap = gap;
+        self
+    }
+
     /// Addresses requests to station `address` (`None`: send no address, which the
     /// Toshiba-style protocols accept when one drive is on the line).
     pub fn with_address(mut self, address: Option<u8>) -> Self {
@@ -206,7 +215,7 @@ impl<T, D: 'static> Master<T, D> {
 
     /// The silence kept between frames: the protocol's gap in character times (Modbus
     /// RTU: 3.5), or the drive's floor in milliseconds where that is longer (DV1 Modbus
-    /// RTU: 10 ms; VF-AS1: 2 ms).
+    /// RTU: 10 ms; VF-AS1: 2 ms), or [`Master::with_min_gap`] where that is longer still.
     pub fn frame_gap(&self) -> Duration {
         self.session.frame_gap()
     }
