@@ -72,6 +72,22 @@ pub struct LineArgs {
     /// the protocol's first.
     #[arg(long, value_name = "VARIANT")]
     pub variant: Option<String>,
+    /// Print each frame sent and received, in hex and decoded, with the milliseconds since
+    /// the command started, and the master's retries and resyncs, on standard error.
+    #[arg(long)]
+    pub trace: bool,
+    /// Repeat a read up to N more times after a lost or garbled reply (reads only: a write
+    /// is never repeated, it may have been carried out). Default: 0.
+    #[arg(long, value_name = "N")]
+    pub retries: Option<u8>,
+    /// Keep at least this many milliseconds of silence between frames, for a slow gateway
+    /// or USB adapter (never shorter than the protocol's own gap).
+    #[arg(long, value_name = "MS")]
+    pub gap_ms: Option<u64>,
+    /// Milliseconds added to every reply timeout for the adapter and the host (default:
+    /// 50), e.g. for a USB adapter that buffers or a loaded machine.
+    #[arg(long, value_name = "MS")]
+    pub host_latency_ms: Option<u64>,
 }
 
 /// A byte line to a drive: a serial port, a terminal device (pseudo-terminals) or a TCP
@@ -97,6 +113,9 @@ pub struct Traced {
     /// The protocol, to decode frames.
     pub protocol: &'static Protocol,
     received: Vec<u8>,
+    /// `--trace`: print on standard error with times (else, as the demo shows the line,
+    /// on standard output).
+    stderr: bool,
 }
 
 impl Traced {
@@ -107,18 +126,38 @@ impl Traced {
             drive,
             protocol,
             received: Vec::new(),
+            stderr: false,
+        }))
+    }
+
+    /// `inner`, traced on standard error with times (`--trace`).
+    pub fn on_stderr(inner: Line, drive: &'static DriveInfo, protocol: &'static Protocol) -> Line {
+        crate::trace::start();
+        Line::Traced(Box::new(Traced {
+            inner,
+            drive,
+            protocol,
+            received: Vec::new(),
+            stderr: true,
         }))
     }
 
     fn print(&self, arrow: &str, direction: Direction, bytes: &[u8]) {
-        crate::out::say!(
-            "    {arrow} {}  [{}]",
-            vfd_runtime::error::hex(bytes),
-            crate::frame_text::frame_text(self.drive, self.protocol, direction, bytes)
-        );
+        let hex = vfd_runtime::error::hex(bytes);
+        let text = crate::frame_text::frame_text(self.drive, self.protocol, direction, bytes);
+        if self.stderr {
+            crate::trace::line(format_args!("{arrow} {hex}  [{text}]"));
+        } else {
+            crate::out::say!("    {arrow} {hex}  [{text}]");
+        }
     }
 
     fn send(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        if self.stderr && !self.received.is_empty() {
+            // Bytes that never made a whole reply (noise, a garbled or partial reply).
+            let hex = vfd_runtime::error::hex(&self.received);
+            crate::trace::line(format_args!("<- {hex}  [not a whole reply]"));
+        }
         self.received.clear();
         self.print("->", Direction::Request, bytes);
         self.inner.send(bytes)
@@ -236,7 +275,10 @@ impl Session {
         let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
         let protocol = lookup::variant(protocol, args.variant.as_deref())?;
         let settings = line_settings(drive, args.baud, args.parity);
-        let line = open_line(&args.port, &settings)?;
+        let mut line = open_line(&args.port, &settings)?;
+        if args.trace {
+            line = Traced::on_stderr(line, drive, protocol);
+        }
         let mut timing = drive.serial.timing;
         if let Some(ms) = args.timeout {
             timing.processing_allowance = Duration::from_millis(ms);
@@ -246,9 +288,16 @@ impl Session {
             None => protocol.default_address(),
         };
         let port = lookup::port(drive, args.port_kind.as_deref())?;
-        let master = Master::for_protocol(line, protocol, settings, timing)
+        let mut master = Master::for_protocol(line, protocol, settings, timing)
             .with_address(address)
-            .with_port(port);
+            .with_port(port)
+            .with_retries(args.retries.unwrap_or(0));
+        if let Some(ms) = args.gap_ms {
+            master = master.with_min_gap(Duration::from_millis(ms));
+        }
+        if let Some(ms) = args.host_latency_ms {
+            master = master.with_host_latency(Duration::from_millis(ms));
+        }
         let mut session = Session::with_master(drive, protocol, settings, master, address);
         session.port = port;
         Ok(session)

@@ -18,6 +18,7 @@ mod generate;
 mod lookup;
 mod out;
 mod sim;
+mod trace;
 mod values;
 mod watch;
 
