@@ -702,7 +702,10 @@ impl Session {
 /// Refuses writes the register does not allow, before anything is sent.
 pub fn check_writable(info: &RegisterInfo, persist: bool) -> Result<(), Failure> {
     if info.access == vfd_runtime::Access::ReadOnly || info.data_type == DataType::Text {
-        return Err(Failure::new(format!("{} is read-only", info.label())));
+        return Err(Failure::new(format!("{} is read-only", info.label())).hint(format!(
+            "the manual lists it as read-only (`vfd info DRIVE {}` shows its access); read it with `vfd read`",
+            info.code
+        )));
     }
     if persist && info.ram_only {
         return Err(Failure::new(format!(

@@ -82,8 +82,19 @@ pub fn encode(
         address,
         reply_wait: 0,
     };
-    let script = script(protocol, &Exchange::single(request), &station, None)
-        .map_err(|e| Failure::new(e.to_string()))?;
+    let script = script(protocol, &Exchange::single(request), &station, None).map_err(|e| {
+        let failure = Failure::new(e.to_string());
+        if matches!(
+            e.kind,
+            vfd_runtime::TransactionErrorKind::Encode(
+                vfd_runtime::EncodeError::AddressRequired { .. }
+            )
+        ) {
+            failure.hint("give the drive's station address with --address N")
+        } else {
+            failure
+        }
+    })?;
     let steps = script.steps.iter().flatten();
     for step in steps.chain(script.page.as_ref().map(|(page, _)| page)) {
         say!("first: {}", step.request().describe());

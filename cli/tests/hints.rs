@@ -1,0 +1,41 @@
+//! Errors a new user hit give a hint: the read-only refusal names the manual and `vfd
+//! info`, `encode` without a station address names `--address`.
+
+mod common;
+
+use common::text;
+
+/// What a new user hit: the read-only refusal and `encode` without a station address give
+/// a hint.
+#[test]
+fn read_only_and_missing_address_errors_give_a_hint() {
+    let run = |args: &[&str]| {
+        let output = std::process::Command::new(env!("CARGO_BIN_EXE_vfd"))
+            .args(args)
+            .output()
+            .expect("vfd runs");
+        assert!(!output.status.success());
+        text(&output)
+    };
+    let encode = run(&["encode", "fc51", "modbus", "read", "201"]);
+    assert!(
+        encode.contains("needs a station address")
+            && encode.contains("hint:")
+            && encode.contains("--address"),
+        "{encode}"
+    );
+    let read_only = run(&[
+        "write",
+        "--drive",
+        "yd1000",
+        "--port",
+        "/dev/null",
+        "FE01",
+        "1",
+    ]);
+    assert!(
+        read_only.contains("is read-only")
+            && read_only.contains("hint: the manual lists it as read-only"),
+        "{read_only}"
+    );
+}
