@@ -458,6 +458,9 @@ fn no_fit(args: &DecodeArgs, bytes: &[u8], errors: &Errors) -> Failure {
         .iter()
         .map(|(name, direction, error)| format!("{name} {}: {error}", direction.as_str()))
         .collect();
+    // A protocol's variants (Eaton's CR and CR LF endings) often fail alike: each reason once.
+    let mut seen = std::collections::HashSet::new();
+    reasons.retain(|reason| seen.insert(reason.clone()));
     reasons.truncate(6);
     let scope = match (&args.drive, &args.protocol) {
         (Some(d), Some(p)) => format!("{d} {p}"),

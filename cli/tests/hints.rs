@@ -39,3 +39,19 @@ fn read_only_and_missing_address_errors_give_a_hint() {
         "{read_only}"
     );
 }
+
+/// A frame no protocol of the DV1 decodes: each reason is given once, although the Eaton
+/// protocol's two line-ending variants fail alike.
+#[test]
+fn decode_errors_give_each_reason_once() {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_vfd"))
+        .args(["decode", "--drive", "dv1", ":01XYZ\\r"])
+        .output()
+        .expect("vfd runs");
+    assert!(!output.status.success());
+    let message = text(&output);
+    let lines: Vec<&str> = message.lines().filter(|l| l.contains(": ")).collect();
+    assert!(lines.iter().any(|l| l.contains("eaton")), "{message}");
+    let unique: std::collections::HashSet<&&str> = lines.iter().collect();
+    assert_eq!(unique.len(), lines.len(), "a line printed twice: {message}");
+}
