@@ -699,6 +699,30 @@ impl Session {
     }
 }
 
+impl Session {
+    /// After a RAM write of `info`: one line saying that the protocol's persistence
+    /// selector (the description's `persistence.selector`) was set to its RAM value on the
+    /// way, where it governs the write (the master sets it and leaves it so). `None` where
+    /// no selector is involved.
+    pub fn selector_note(&self, info: &RegisterInfo) -> Option<String> {
+        let selector = self.protocol.persistence.as_ref()?;
+        if !selector.governs(info.space, info.address, info.ram_only) {
+            return None;
+        }
+        let name = self
+            .drive
+            .register_at(selector.space, selector.register)
+            .map_or_else(
+                || format!("register {:04X}h", selector.register),
+                |r| format!("{} ({})", r.code, r.name),
+            );
+        Some(format!(
+            "note: a RAM write sets the persistence selector {name} to {} (RAM only), and the drive keeps it (in EEPROM too where it held {}): parameter writes from anywhere go to RAM only until it is set back",
+            selector.ram, selector.persistent
+        ))
+    }
+}
+
 /// Refuses writes the register does not allow, before anything is sent.
 pub fn check_writable(info: &RegisterInfo, persist: bool) -> Result<(), Failure> {
     if info.access == vfd_runtime::Access::ReadOnly || info.data_type == DataType::Text {

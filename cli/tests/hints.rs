@@ -55,3 +55,24 @@ fn decode_errors_give_each_reason_once() {
     let unique: std::collections::HashSet<&&str> = lines.iter().collect();
     assert_eq!(unique.len(), lines.len(), "a line printed twice: {message}");
 }
+
+/// A RAM write of a parameter a persistence selector governs says that the selector was
+/// set (the description's selector, DV1 07-11); a persistent write does not.
+#[test]
+fn a_ram_write_says_it_set_the_persistence_selector() {
+    let sim = common::Sim::start("dv1", "modbus");
+    let ram = sim.vfd("dv1", "modbus", &["write", "02-15", "30Hz"]);
+    assert!(ram.status.success(), "{}", text(&ram));
+    let said = text(&ram);
+    assert!(
+        said.contains("note: a RAM write sets the persistence selector 07-11"),
+        "{said}"
+    );
+    let persistent = sim.vfd("dv1", "modbus", &["write", "02-15", "30Hz", "--persist"]);
+    assert!(persistent.status.success(), "{}", text(&persistent));
+    assert!(
+        !text(&persistent).contains("persistence selector"),
+        "{}",
+        text(&persistent)
+    );
+}
