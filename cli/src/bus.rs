@@ -469,8 +469,56 @@ impl Session {
         let answer = self
             .master
             .transact(&request)
-            .map_err(|e| self.failure(e))?;
+            .map_err(|error| match error.request {
+                Some(step) if (step.space, step.register) != (request.space, request.register) => {
+                    self.step_failure(info, persist, &step, error)
+                }
+                _ => self.failure(error),
+            })?;
         Ok((answer.data, answer.tripped))
+    }
+
+    /// A write of `info` that failed at a step the master sends first (the persistence
+    /// selector, a RAM/EEPROM or index selection): named after `info`, saying which step
+    /// failed and why it is sent, with the drive's code and meaning.
+    fn step_failure(
+        &self,
+        info: &'static RegisterInfo,
+        persist: bool,
+        step: &Request,
+        error: TransactionError,
+    ) -> Failure {
+        let step_name = self
+            .drive
+            .register_for(step.space, step.register, true)
+            .map_or_else(|| format!("register {:04X}h", step.register), |r| r.label());
+        let target = if persist { "RAM and EEPROM" } else { "RAM" };
+        let why = match &self.protocol.persistence {
+            Some(selector) if (selector.space, selector.register) == (step.space, step.register) => {
+                let to = if step.data == selector.ram {
+                    "RAM only"
+                } else {
+                    "RAM and EEPROM"
+                };
+                format!("setting the persistence selector {step_name} to {} ({to}), which decides where the write goes", step.data)
+            }
+            _ => format!("writing {step_name} = {}, which the protocol sends first to choose where the write goes", step.data),
+        };
+        let cause = self.failure(error);
+        let mut failure = Failure::new(format!(
+            "cannot write {} ({target}): the step before it was refused: {why}; {}",
+            info.label(),
+            cause.message
+        ));
+        if !info.writable_while_running {
+            failure = failure.hint(format!(
+                "the manual allows {} to change only while the motor is stopped: stop it first (the drive refuses the first frame of the write)",
+                info.code
+            ));
+        } else if let Some(hint) = cause.hint {
+            failure = failure.hint(hint);
+        }
+        failure
     }
 
     /// Refuses a write of `raw` to `info` that would make a combination of values the

@@ -76,3 +76,30 @@ fn a_ram_write_says_it_set_the_persistence_selector() {
         text(&persistent)
     );
 }
+
+/// A parameter write the drive refuses at the step before it (the persistence selector,
+/// because the motor runs) names the register asked for, then the step and why it is sent,
+/// with the drive's code and meaning.
+#[test]
+fn a_refused_step_names_the_register_asked_for_and_the_step() {
+    let sim = common::Sim::start("dv1", "modbus");
+    let run = sim.vfd("dv1", "modbus", &["write", "HFA", "forward"]);
+    assert!(run.status.success(), "{}", text(&run));
+    let refused = sim.vfd("dv1", "modbus", &["write", "02-15", "30Hz"]);
+    assert!(!refused.status.success(), "{}", text(&refused));
+    let message = text(&refused);
+    assert!(
+        message.starts_with("vfd: cannot write register 00C3 02-15"),
+        "{message}"
+    );
+    assert!(
+        message.contains("the step before it was refused: setting the persistence selector")
+            && message.contains("07-11")
+            && message.contains("error 3 (0003h) Illegal data value"),
+        "{message}"
+    );
+    assert!(
+        message.contains("hint: the manual allows 02-15 to change only while the motor is stopped"),
+        "{message}"
+    );
+}
