@@ -372,6 +372,9 @@ pub fn restore(
     say!(
         "restored {written} value(s) to {target}, each read back; {same} unchanged, {read_only} read-only kept for reference"
     );
+    if !persist && written > 0 {
+        say!("RAM only: the restored values are lost at power-off (restore with --persist to keep them in EEPROM)");
+    }
     if failed.is_empty() {
         Ok(())
     } else {

@@ -75,6 +75,22 @@ pub struct LineArgs {
     /// the protocol's first.
     #[arg(long, value_name = "VARIANT")]
     pub variant: Option<String>,
+    /// Print each frame sent and received, in hex and decoded, with the milliseconds since
+    /// the command started, and the master's retries and resyncs, on standard error.
+    #[arg(long)]
+    pub trace: bool,
+    /// Repeat a read up to N more times after a lost or garbled reply (reads only: a write
+    /// is never repeated, it may have been carried out). Default: 0.
+    #[arg(long, value_name = "N")]
+    pub retries: Option<u8>,
+    /// Keep at least this many milliseconds of silence between frames, for a slow gateway
+    /// or USB adapter (never shorter than the protocol's own gap).
+    #[arg(long, value_name = "MS")]
+    pub gap_ms: Option<u64>,
+    /// Milliseconds added to every reply timeout for the adapter and the host (default:
+    /// 50), e.g. for a USB adapter that buffers or a loaded machine.
+    #[arg(long, value_name = "MS")]
+    pub host_latency_ms: Option<u64>,
 }
 
 /// A byte line to a drive: a serial port, a terminal device (pseudo-terminals) or a TCP
@@ -102,6 +118,9 @@ pub struct Traced {
     /// The protocol, to decode frames.
     pub protocol: &'static Protocol,
     received: Vec<u8>,
+    /// `--trace`: print on standard error with times (else, as the demo shows the line,
+    /// on standard output).
+    stderr: bool,
 }
 
 impl Traced {
@@ -113,18 +132,38 @@ impl Traced {
             drive,
             protocol,
             received: Vec::new(),
+            stderr: false,
+        }))
+    }
+
+    /// `inner`, traced on standard error with times (`--trace`).
+    pub fn on_stderr(inner: Line, drive: &'static DriveInfo, protocol: &'static Protocol) -> Line {
+        crate::trace::start();
+        Line::Traced(Box::new(Traced {
+            inner,
+            drive,
+            protocol,
+            received: Vec::new(),
+            stderr: true,
         }))
     }
 
     fn print(&self, arrow: &str, direction: Direction, bytes: &[u8]) {
-        crate::out::say!(
-            "    {arrow} {}  [{}]",
-            vfd_runtime::error::hex(bytes),
-            crate::frame_text::frame_text(self.drive, self.protocol, direction, bytes)
-        );
+        let hex = vfd_runtime::error::hex(bytes);
+        let text = crate::frame_text::frame_text(self.drive, self.protocol, direction, bytes);
+        if self.stderr {
+            crate::trace::line(format_args!("{arrow} {hex}  [{text}]"));
+        } else {
+            crate::out::say!("    {arrow} {hex}  [{text}]");
+        }
     }
 
     fn send(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        if self.stderr && !self.received.is_empty() {
+            // Bytes that never made a whole reply (noise, a garbled or partial reply).
+            let hex = vfd_runtime::error::hex(&self.received);
+            crate::trace::line(format_args!("<- {hex}  [not a whole reply]"));
+        }
         self.received.clear();
         self.print("->", Direction::Request, bytes);
         self.inner.send(bytes)
@@ -247,7 +286,10 @@ impl Session {
         let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
         let protocol = lookup::variant(protocol, args.variant.as_deref())?;
         let settings = line_settings(drive, args.baud, args.parity);
-        let line = open_line(&args.port, &settings)?;
+        let mut line = open_line(&args.port, &settings)?;
+        if args.trace {
+            line = Traced::on_stderr(line, drive, protocol);
+        }
         let mut timing = drive.serial.timing;
         if let Some(ms) = args.timeout {
             timing.processing_allowance = Duration::from_millis(ms);
@@ -257,9 +299,16 @@ impl Session {
             None => protocol.default_address(),
         };
         let port = lookup::port(drive, args.port_kind.as_deref())?;
-        let master = Master::for_protocol(line, protocol, settings, timing)
+        let mut master = Master::for_protocol(line, protocol, settings, timing)
             .with_address(address)
-            .with_port(port);
+            .with_port(port)
+            .with_retries(args.retries.unwrap_or(0));
+        if let Some(ms) = args.gap_ms {
+            master = master.with_min_gap(Duration::from_millis(ms));
+        }
+        if let Some(ms) = args.host_latency_ms {
+            master = master.with_host_latency(Duration::from_millis(ms));
+        }
         let mut session = Session::with_master(drive, protocol, settings, master, address);
         session.port = port;
         Ok(session)
@@ -432,8 +481,56 @@ impl Session {
         let answer = self
             .master
             .transact(&request)
-            .map_err(|e| self.failure(e))?;
+            .map_err(|error| match error.request {
+                Some(step) if (step.space, step.register) != (request.space, request.register) => {
+                    self.step_failure(info, persist, &step, error)
+                }
+                _ => self.failure(error),
+            })?;
         Ok((answer.data, answer.tripped))
+    }
+
+    /// A write of `info` that failed at a step the master sends first (the persistence
+    /// selector, a RAM/EEPROM or index selection): named after `info`, saying which step
+    /// failed and why it is sent, with the drive's code and meaning.
+    fn step_failure(
+        &self,
+        info: &'static RegisterInfo,
+        persist: bool,
+        step: &Request,
+        error: TransactionError,
+    ) -> Failure {
+        let step_name = self
+            .drive
+            .register_for(step.space, step.register, true)
+            .map_or_else(|| format!("register {:04X}h", step.register), |r| r.label());
+        let target = if persist { "RAM and EEPROM" } else { "RAM" };
+        let why = match &self.protocol.persistence {
+            Some(selector) if (selector.space, selector.register) == (step.space, step.register) => {
+                let to = if step.data == selector.ram {
+                    "RAM only"
+                } else {
+                    "RAM and EEPROM"
+                };
+                format!("setting the persistence selector {step_name} to {} ({to}), which decides where the write goes", step.data)
+            }
+            _ => format!("writing {step_name} = {}, which the protocol sends first to choose where the write goes", step.data),
+        };
+        let cause = self.failure(error);
+        let mut failure = Failure::new(format!(
+            "cannot write {} ({target}): the step before it was refused: {why}; {}",
+            info.label(),
+            cause.message
+        ));
+        if !info.writable_while_running {
+            failure = failure.hint(format!(
+                "the manual allows {} to change only while the motor is stopped: stop it first (the drive refuses the first frame of the write)",
+                info.code
+            ));
+        } else if let Some(hint) = cause.hint {
+            failure = failure.hint(hint);
+        }
+        failure
     }
 
     /// Refuses a write of `raw` to `info` that would make a combination of values the
@@ -663,10 +760,37 @@ impl Session {
     }
 }
 
+impl Session {
+    /// After a RAM write of `info`: one line saying that the protocol's persistence
+    /// selector (the description's `persistence.selector`) was set to its RAM value on the
+    /// way, where it governs the write (the master sets it and leaves it so). `None` where
+    /// no selector is involved.
+    pub fn selector_note(&self, info: &RegisterInfo) -> Option<String> {
+        let selector = self.protocol.persistence.as_ref()?;
+        if !selector.governs(info.space, info.address, info.ram_only) {
+            return None;
+        }
+        let name = self
+            .drive
+            .register_at(selector.space, selector.register)
+            .map_or_else(
+                || format!("register {:04X}h", selector.register),
+                |r| format!("{} ({})", r.code, r.name),
+            );
+        Some(format!(
+            "note: a RAM write sets the persistence selector {name} to {} (RAM only), and the drive keeps it (in EEPROM too where it held {}): parameter writes from anywhere go to RAM only until it is set back",
+            selector.ram, selector.persistent
+        ))
+    }
+}
+
 /// Refuses writes the register does not allow, before anything is sent.
 pub fn check_writable(info: &RegisterInfo, persist: bool) -> Result<(), Failure> {
     if info.access == vfd_runtime::Access::ReadOnly || info.data_type == DataType::Text {
-        return Err(Failure::new(format!("{} is read-only", info.label())));
+        return Err(Failure::new(format!("{} is read-only", info.label())).hint(format!(
+            "the manual lists it as read-only (`vfd info DRIVE {}` shows its access); read it with `vfd read`",
+            info.code
+        )));
     }
     if persist && info.ram_only {
         return Err(Failure::new(format!(

@@ -327,8 +327,10 @@ fn target_frequency(drive: &DriveInfo, behaviour: &Behaviour, frequency: &Regist
 /// A word as field names (bit-field registers) or hex.
 fn word_text(info: &RegisterInfo, raw: u32) -> String {
     match info.bits {
-        Some(bits) => values::set_fields(bits, raw as u16).join(","),
-        None => values::hex(info, raw),
+        // A word with no field set (a stop) is written as its raw word, which `vfd write`
+        // takes as it stands: the printed line must run when pasted.
+        Some(bits) if raw != 0 => values::set_fields(bits, raw as u16).join(","),
+        _ => values::hex(info, raw),
     }
 }
 

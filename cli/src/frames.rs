@@ -84,8 +84,19 @@ pub fn encode(
         address,
         reply_wait: 0,
     };
-    let script = script(protocol, &Exchange::single(request), &station, None)
-        .map_err(|e| Failure::new(e.to_string()))?;
+    let script = script(protocol, &Exchange::single(request), &station, None).map_err(|e| {
+        let failure = Failure::new(e.to_string());
+        if matches!(
+            e.kind,
+            vfd_runtime::TransactionErrorKind::Encode(
+                vfd_runtime::EncodeError::AddressRequired { .. }
+            )
+        ) {
+            failure.hint("give the drive's station address with --address N")
+        } else {
+            failure
+        }
+    })?;
     let steps = script.steps.iter().flatten();
     for step in steps.chain(script.page.as_ref().map(|(page, _)| page)) {
         say!("first: {}", step.request().describe());
@@ -459,6 +470,9 @@ fn no_fit(args: &DecodeArgs, bytes: &[u8], errors: &Errors) -> Failure {
         .iter()
         .map(|(name, direction, error)| format!("{name} {}: {error}", direction.as_str()))
         .collect();
+    // A protocol's variants (Eaton's CR and CR LF endings) often fail alike: each reason once.
+    let mut seen = std::collections::HashSet::new();
+    reasons.retain(|reason| seen.insert(reason.clone()));
     reasons.truncate(6);
     let scope = match (&args.drive, &args.protocol) {
         (Some(d), Some(p)) => format!("{d} {p}"),

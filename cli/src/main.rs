@@ -24,6 +24,7 @@ mod ports;
 mod read_error;
 mod record;
 mod sim;
+mod trace;
 mod trip_flag;
 mod values;
 mod watch;

@@ -122,6 +122,10 @@ pub fn parse(info: &'static RegisterInfo, text: &str) -> Result<u32, String> {
         return Ok(special.raw);
     }
     if let Some(bits) = info.bits {
+        if trimmed == "0" {
+            // No field set (a stop word).
+            return check_raw(info, 0);
+        }
         return parse_fields(info, bits, trimmed);
     }
     if let Some(codes) = info.codes {

@@ -185,6 +185,9 @@ pub fn write(
         info.code,
         info.name
     );
+    if let Some(note) = session.selector_note(info).filter(|_| !persist) {
+        say!("{note}");
+    }
     if tripped {
         show_trip(&mut session);
     }

@@ -116,6 +116,11 @@ fn backup_and_restore_round_trip() {
     let restored = sim.vfd("yd1000", "ascii", &["restore", "--from", file_arg]);
     assert!(restored.status.success(), "{}", text(&restored));
     assert!(text(&restored).contains("FH"), "{}", text(&restored));
+    assert!(
+        text(&restored).contains("RAM only: the restored values are lost at power-off"),
+        "{}",
+        text(&restored)
+    );
     let back = sim.vfd("yd1000", "ascii", &["read", "FH"]);
     assert!(text(&back).contains("80.00 Hz"), "{}", text(&back));
 

@@ -35,12 +35,9 @@ fn peers_installed() -> bool {
 /// master's end of it.
 fn start_server(framing: &str) -> Option<(Server, PtyTransport)> {
     if !peers_installed() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "pymodbus is missing: pip install -r tests/python/requirements.txt"
+        panic!(
+            "pymodbus is missing: pip install -r tests/python/requirements.txt (under CI a missing peer fails; elsewhere tests/build.rs marks its tests ignored when it finds the package missing: touch tests/build.rs to look again)"
         );
-        eprintln!("SKIPPED modbus_peer: pymodbus is missing (pip install -r tests/python/requirements.txt)");
-        return None;
     }
     let pty = PseudoTerminal::open().expect("a pseudo-terminal");
     let path = pty.slave_path().display().to_string();
@@ -91,6 +88,10 @@ fn start() -> Option<(Server, Master<PtyTransport, vfd_drives::fc51::Drive>)> {
 }
 
 #[test]
+#[cfg_attr(
+    missing_pymodbus,
+    ignore = "needs python3 with pymodbus and pyserial: pip install -r tests/python/requirements.txt, then cargo test again"
+)]
 fn the_fc_modbus_api_works_against_pymodbus() {
     let Some((_server, mut master)) = start() else {
         return;
@@ -182,11 +183,19 @@ fn dv1_against_pymodbus(framing: &str) {
 }
 
 #[test]
+#[cfg_attr(
+    missing_pymodbus,
+    ignore = "needs python3 with pymodbus and pyserial: pip install -r tests/python/requirements.txt, then cargo test again"
+)]
 fn the_dv1_modbus_rtu_master_works_against_pymodbus() {
     dv1_against_pymodbus("rtu");
 }
 
 #[test]
+#[cfg_attr(
+    missing_pymodbus,
+    ignore = "needs python3 with pymodbus and pyserial: pip install -r tests/python/requirements.txt, then cargo test again"
+)]
 fn the_dv1_modbus_ascii_master_works_against_pymodbus() {
     dv1_against_pymodbus("ascii");
 }

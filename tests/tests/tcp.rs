@@ -8,7 +8,8 @@
 //!   the exception codes of refused requests.
 //!
 //! Needs `pip install -r tests/python/requirements.txt` (.ci/run does it). Without the
-//! packages the test says SKIPPED, except under CI, where it fails.
+//! packages the test is built ignored, with the reason (see tests/build.rs), except under
+//! CI, where it fails.
 
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpListener;
@@ -28,12 +29,8 @@ fn pymodbus_installed() -> bool {
         .output()
         .is_ok_and(|o| o.status.success());
     if !installed {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "pymodbus is missing: pip install -r tests/python/requirements.txt"
-        );
-        eprintln!(
-            "SKIPPED tcp: pymodbus is missing (pip install -r tests/python/requirements.txt)"
+        panic!(
+            "pymodbus is missing: pip install -r tests/python/requirements.txt (under CI a missing peer fails; elsewhere tests/build.rs marks its tests ignored when it finds the package missing: touch tests/build.rs to look again)"
         );
     }
     installed
@@ -64,6 +61,10 @@ const SETTINGS: SerialSettings = SerialSettings {
 };
 
 #[test]
+#[cfg_attr(
+    missing_pymodbus,
+    ignore = "needs python3 with pymodbus and pyserial: pip install -r tests/python/requirements.txt, then cargo test again"
+)]
 fn our_master_reads_and_writes_pymodbus_over_tcp_with_the_rtu_framer() {
     if !pymodbus_installed() {
         return;
@@ -195,6 +196,10 @@ fn pymodbus_against_our_dv1(sim: &Simulator, plan: &serde_json::Value) -> Vec<se
 }
 
 #[test]
+#[cfg_attr(
+    missing_pymodbus,
+    ignore = "needs python3 with pymodbus and pyserial: pip install -r tests/python/requirements.txt, then cargo test again"
+)]
 fn pymodbus_reads_and_writes_our_virtual_dv1_over_tcp_with_the_rtu_framer() {
     if !pymodbus_installed() {
         return;

@@ -5,13 +5,20 @@
 //!
 //! A request that gets no reply is done once its frame is on the line: the engine waits
 //! the frame's wire time and the frame gap, looks for nothing and never repeats it.
+//!
+//! What it does is reported through the `log` facade (target `vfd_runtime::line`): each
+//! frame sent and each batch of bytes received at trace level (hex, with the milliseconds
+//! since the request went out); retries, input dropped before a request and what the line
+//! showed about echoes at debug level.
 
 use super::answer::Answer;
 use super::error::{TransactionError, TransactionErrorKind};
-use super::judge::Judge;
+use super::judge::{EchoKnowledge, Judge};
 use super::line::Line;
+use super::line::LOG_TARGET;
 use super::prepare::{Prepared, MAX_FRAME};
 use super::session::Session;
+use crate::error::hex;
 use std::time::Instant;
 
 impl Session {
@@ -32,6 +39,12 @@ impl Session {
             match self.exchange_once(line, prepared, ask_again).await {
                 Err(error) if retries > 0 && error.kind.worth_repeating() => {
                     retries -= 1;
+                    log::debug!(
+                        target: LOG_TARGET,
+                        "retrying register {:04X}h after: {error} ({retries} retr{} left)",
+                        prepared.request().register,
+                        if retries == 1 { "y" } else { "ies" }
+                    );
                     // A garbled reply to a command with a follow-up is asked for again (the
                     // drive repeats it); anything else is sent again.
                     ask_again = prepared.follow_up().is_some() && error.kind.garbled_reply();
@@ -59,6 +72,7 @@ impl Session {
     ) -> Result<(), TransactionErrorKind> {
         self.keep_frame_gap(line).await;
         let sent = Instant::now();
+        log::trace!(target: LOG_TARGET, "sent {} (no reply expected)", hex(bytes));
         line.send(bytes).await.map_err(TransactionErrorKind::Io)?;
         self.wait_on_line(line, sent, bytes.len()).await;
         Ok(())
@@ -82,6 +96,7 @@ impl Session {
             .await
             .map_err(|error| fail(TransactionErrorKind::Io(error)))?;
         let sent_at = Instant::now();
+        log::trace!(target: LOG_TARGET, "sent {}", hex(sent));
         line.send(sent)
             .await
             .map_err(|error| fail(TransactionErrorKind::Io(error)))?;
@@ -103,7 +118,7 @@ impl Session {
         // Where the line reports no silences, the first read waits until a prompt answer
         // can be whole (where it does, frames are split at a silence a batch would hide).
         if line.last_gap().is_none() {
-            let (char_time, gap) = (self.settings.char_time(), self.frame_gap());
+            let (char_time, gap) = (self.settings.char_time(), self.protocol_gap());
             let now = Instant::now();
             if let Some(wait) = judge.first_wait(char_time, gap, sent_at, now, deadline) {
                 line.nap(wait).await;
@@ -121,7 +136,7 @@ impl Session {
             let got = match got {
                 Ok(got) => got,
                 Err(error) => {
-                    self.line = judge.line();
+                    self.note_echo(judge.line());
                     return Err(error);
                 }
             };
@@ -131,6 +146,12 @@ impl Session {
             }
             let now = Instant::now();
             self.last_activity = Some(now);
+            log::trace!(
+                target: LOG_TARGET,
+                "received {} (+{:.1} ms)",
+                hex(judge.arrived(got)),
+                now.duration_since(sent_at).as_secs_f64() * 1000.0
+            );
             if let Some(outcome) = judge.take(got, line.last_gap()) {
                 break outcome;
             }
@@ -142,7 +163,7 @@ impl Session {
                 }
             }
         };
-        self.line = judge.line();
+        self.note_echo(judge.line());
         match &outcome {
             Ok(_) => self.keep_reply(judge.received()),
             Err(TransactionError {
@@ -152,6 +173,20 @@ impl Session {
             Err(_) => {}
         }
         outcome
+    }
+
+    /// Takes what an exchange showed about the line's echo, saying so when it changed.
+    fn note_echo(&mut self, line: EchoKnowledge) {
+        if line.echo != self.line.echo {
+            if let Some(echo) = line.echo {
+                log::debug!(
+                    target: LOG_TARGET,
+                    "the line {} the master's requests",
+                    if echo { "echoes" } else { "does not echo" }
+                );
+            }
+        }
+        self.line = line;
     }
 
     /// Waits until the frame gap since the last activity on the line has passed.
@@ -190,7 +225,14 @@ impl Session {
                 if got == 0 {
                     break;
                 }
+                log::trace!(target: LOG_TARGET, "received {} (late)", hex(&scratch[..got]));
                 dropped += got;
+            }
+            if dropped > 0 {
+                log::debug!(
+                    target: LOG_TARGET,
+                    "dropped {dropped} byte(s) of a late reply before the request"
+                );
             }
         }
         line.clear_input().await?;
@@ -201,7 +243,14 @@ impl Session {
             if got == 0 {
                 break;
             }
+            log::trace!(target: LOG_TARGET, "received {} (stale)", hex(&scratch[..got]));
             dropped += got;
+        }
+        if dropped > 0 {
+            log::debug!(
+                target: LOG_TARGET,
+                "dropped {dropped} stale byte(s) before the request"
+            );
         }
         Ok(())
     }

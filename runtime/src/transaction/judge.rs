@@ -102,11 +102,22 @@ impl<'p> Judge<'p> {
     /// kept and looked through again.
     pub fn space(&mut self) -> &mut [u8] {
         if self.filled == MAX_FRAME {
+            log::debug!(
+                target: super::line::LOG_TARGET,
+                "resync: {} byte(s) held no reply; looking on from the last half",
+                MAX_FRAME
+            );
             self.reply.copy_within(MAX_FRAME / 2.., 0);
             self.filled = MAX_FRAME - MAX_FRAME / 2;
             self.echo_passed = true;
         }
         &mut self.reply[self.filled..]
+    }
+
+    /// The `got` bytes just written into [`Judge::space`], before [`Judge::take`].
+    pub fn arrived(&self, got: usize) -> &[u8] {
+        let end = (self.filled + got).min(MAX_FRAME);
+        &self.reply[self.filled..end]
     }
 
     /// `got` bytes arrived in [`Judge::space`], after a silence of `gap` on the line where
@@ -120,6 +131,12 @@ impl<'p> Judge<'p> {
             if self.filled > 0 && gap > limit {
                 // A silence no frame holds: what came before is not part of the reply (a
                 // false start, noise, our own echo).
+                log::debug!(
+                    target: super::line::LOG_TARGET,
+                    "resync: a silence of {:.1} ms ends {} byte(s) that are not the reply",
+                    gap.as_secs_f64() * 1000.0,
+                    self.filled
+                );
                 let filled = self.filled;
                 self.reply.copy_within(filled..filled + got, 0);
                 self.filled = 0;

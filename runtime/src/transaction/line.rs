@@ -10,6 +10,12 @@ use std::pin::pin;
 use std::task::{Context, Poll, Waker};
 use std::time::{Duration, Instant};
 
+/// The `log` target of what the masters report about the line: frames sent and received
+/// at trace level; retries, resyncs, input dropped before a request, the echo learned and
+/// page switches at debug level. The runtime never prints; an application collects these
+/// records with any `log` implementation.
+pub const LOG_TARGET: &str = "vfd_runtime::line";
+
 /// What the exchange engine needs of a line (see [`crate::transport::Transport`] for what
 /// each operation means).
 pub(crate) trait Line {

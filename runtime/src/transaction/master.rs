@@ -28,6 +28,21 @@ pub enum AnyDrive {}
 /// Typed reads and writes take only registers of `D` (`R: Register<Drive = D>`), so a
 /// register of another drive does not compile. Buffers are fixed arrays, so a transaction
 /// makes no heap allocation unless it fails.
+///
+/// **Which checks a write makes, and which are the caller's.** Before anything is sent a
+/// typed write checks the value against the register's own range from the manual (a
+/// [`crate::error::ValueError`] names the register and the range), that the register can be
+/// written at all and, for `write_persistent`, that it is not RAM only (these two at
+/// compile time). It does **not** check a bound that *another register* sets
+/// ([`crate::info::RegisterInfo::min_bound`] / `max_bound`: the frequency command is
+/// limited by FH): the master would have to read that register,
+/// and it does not know whether the caller changed it since. The `vfd` tool reads the
+/// bounding register and refuses such a value; a library caller that needs the same
+/// refusal reads the bounding register first and compares. Otherwise the drive itself
+/// refuses the value (an error reply, [`crate::transaction::TransactionErrorKind::Rejected`], with the
+/// manual's meaning) or, on drives that do not check, clamps or takes it. Combinations of
+/// values the manual forbids (the description's `forbidden_combinations`) are the caller's
+/// too, as is whether the register may change while the motor runs.
 pub struct Master<T, D: 'static = AnyDrive> {
     pub(super) transport: T,
     pub(super) session: Session,
@@ -130,6 +145,15 @@ impl<T, D: 'static> Master<T, D> {
         self
     }
 
+    /// Keeps at least `gap` of silence between the master's frames, for a slow gateway or
+    /// USB adapter that needs more than the protocol's own gap. A shorter `gap` than the
+    /// protocol's changes nothing: the protocol's gap is never shortened. It does not
+    /// change how long a silence inside a reply may be. Default: zero (the protocol's gap).
+    pub fn with_min_gap(mut self, gap: Duration) -> Self {
+        self.session.min_gap = gap;
+        self
+    }
+
     /// Addresses requests to station `address` (`None`: send no address, which the
     /// Toshiba-style protocols accept when one drive is on the line).
     pub fn with_address(mut self, address: Option<u8>) -> Self {
@@ -206,7 +230,7 @@ impl<T, D: 'static> Master<T, D> {
 
     /// The silence kept between frames: the protocol's gap in character times (Modbus
     /// RTU: 3.5), or the drive's floor in milliseconds where that is longer (DV1 Modbus
-    /// RTU: 10 ms; VF-AS1: 2 ms).
+    /// RTU: 10 ms; VF-AS1: 2 ms), or [`Master::with_min_gap`] where that is longer still.
     pub fn frame_gap(&self) -> Duration {
         self.session.frame_gap()
     }

@@ -52,6 +52,7 @@ pub use broadcast::BroadcastReply;
 pub use error::{ReplyField, TransactionError, TransactionErrorKind};
 pub use exchange::{Exchange, ExchangeKind};
 pub use judge::{EchoKnowledge, Judge};
+pub use line::LOG_TARGET;
 pub use master::{AnyDrive, Master};
 pub use prepare::{prepare, FollowUpFrames, FrameBytes, Prepared, Station, MAX_FRAME};
 pub use reading::Reading;

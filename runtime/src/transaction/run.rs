@@ -90,6 +90,12 @@ impl Session {
             if let Some((step, number)) = &script.page {
                 // A failed page switch is reported as the caller's request failing (the
                 // page register is not one the caller named).
+                log::debug!(
+                    target: super::line::LOG_TARGET,
+                    "switching station {} to page {number} (was {})",
+                    self.address.map_or_else(|| "-".to_owned(), |a| a.to_string()),
+                    known_page.map_or_else(|| "not known".to_owned(), |p| p.to_string())
+                );
                 self.exchange(line, step).await.map_err(renamed)?;
                 self.remember_page(Some(*number));
             }

@@ -35,6 +35,9 @@ pub(crate) struct Session {
     /// Added to the drive's processing time in every reply timeout: the adapter's and the
     /// host's latency, which no manual can know.
     pub host_latency: Duration,
+    /// The shortest silence the master keeps between frames, where the caller asks for
+    /// more than the protocol's own (a slow gateway or USB adapter).
+    pub min_gap: Duration,
     /// After a timeout: until when a late reply may still arrive (the next exchange waits
     /// for it and drops it, so it cannot be taken for the next reply).
     pub late_reply_until: Option<Instant>,
@@ -65,6 +68,7 @@ impl Session {
             retries: 0,
             line: EchoKnowledge::default(),
             host_latency: crate::serial::HOST_LATENCY,
+            min_gap: Duration::ZERO,
             late_reply_until: None,
             reply_delay: None,
             reply_wait: 0,
@@ -186,17 +190,25 @@ impl Session {
             + self.host_latency
     }
 
-    /// The silence kept between frames.
+    /// The silence the master keeps between frames: the protocol's own, or the caller's
+    /// minimum where that is longer.
     pub fn frame_gap(&self) -> Duration {
+        self.protocol_gap().max(self.min_gap)
+    }
+
+    /// The protocol's silence between frames (what the drive keeps before replying).
+    pub fn protocol_gap(&self) -> Duration {
         self.settings
             .char_time()
             .mul_f32(self.protocol.frame_gap_chars)
             .max(self.protocol.timing.frame_gap_min)
     }
 
-    /// The longest silence a frame may hold (`None`: the protocol states no gap).
+    /// The longest silence a frame may hold, from the protocol's gap alone (`None`: the
+    /// protocol states no gap); the caller's longer gap between the master's frames does not
+    /// loosen it.
     pub fn silence_limit(&self) -> Option<Duration> {
-        let gap = self.frame_gap();
+        let gap = self.protocol_gap();
         (!gap.is_zero()).then_some(gap)
     }
 }
