@@ -95,19 +95,25 @@ fn list_drive(drive: &DriveInfo, file: Option<&std::path::Path>) {
     }
 }
 
+/// The registers `name` names on `drive` (an array's elements, or one register), or the
+/// lookup's error with its suggestions.
+fn named_registers(drive: &DriveInfo, name: &str) -> Result<Vec<&'static RegisterInfo>, Failure> {
+    let found = lookup::registers(drive, name);
+    if found.is_empty() {
+        return Err(lookup::register(drive, name)
+            .err()
+            .unwrap_or_else(|| Failure::new(format!("no register `{name}`"))));
+    }
+    Ok(found)
+}
+
 /// A drive's registers (one line each), or the named ones in full.
 pub fn info(drive: &str, names: &[String], format: Format) -> Result<(), Failure> {
     let drive = lookup::drive(drive)?;
     if !format.is_text() {
         let mut registers = Vec::new();
         for name in names {
-            let found = lookup::registers(drive, name);
-            if found.is_empty() {
-                return Err(lookup::register(drive, name)
-                    .err()
-                    .unwrap_or_else(|| Failure::new(format!("no register `{name}`"))));
-            }
-            registers.extend(found);
+            registers.extend(named_registers(drive, name)?);
         }
         if names.is_empty() {
             registers.extend(drive.registers.iter().copied());
@@ -173,13 +179,7 @@ pub fn info(drive: &str, names: &[String], format: Format) -> Result<(), Failure
     }
     let mut first = true;
     for name in names {
-        let found = lookup::registers(drive, name);
-        if found.is_empty() {
-            return Err(lookup::register(drive, name)
-                .err()
-                .unwrap_or_else(|| Failure::new(format!("no register `{name}`"))));
-        }
-        for register in found {
+        for register in named_registers(drive, name)? {
             if !first {
                 say!("");
             }
