@@ -159,7 +159,13 @@ pub fn run(session: &mut Session, poll: &Poll<'_>) -> Result<(), Failure> {
     }
     emitter.finish();
     if poll.format.is_text() && errors > 0 {
-        say!("{samples} samples, {errors} failed reads (stale values marked)");
+        let plural =
+            |n: u64, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+        say!(
+            "{}, {} (stale values marked)",
+            plural(samples, "sample", "samples"),
+            plural(errors, "failed read", "failed reads")
+        );
     }
     match (good, last_failure) {
         (0, Some(failure)) => Err(Failure::new(format!(

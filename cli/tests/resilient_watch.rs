@@ -99,7 +99,10 @@ fn a_watch_through_dropped_replies_gives_every_sample() {
     let all = common::text(&output);
     assert!(output.status.success(), "{all}");
     assert!(all.contains("[stale: timeout]"), "{all}");
-    assert!(all.contains("3 samples, 1 failed reads"), "{all}");
+    assert!(
+        all.contains("3 samples, 1 failed read (stale values marked)"),
+        "{all}"
+    );
 }
 
 #[test]
