@@ -829,7 +829,12 @@ fn open_line(port: &str, settings: &SerialSettings) -> Result<Line, Failure> {
     SerialTransport::open(port, settings)
         .map(Line::Serial)
         .map_err(|e| {
-            Failure::new(format!("cannot open serial port {port}: {e}"))
+            // The runtime's message names the port already; say it once.
+            let message = e.to_string();
+            let cause = message
+                .strip_prefix(&format!("serial port {port}: cannot open: "))
+                .unwrap_or(&message);
+            Failure::new(format!("cannot open serial port {port}: {cause}"))
                 .hint("check the device name (`vfd ports` lists them) and your permissions (on Linux, group dialout)")
         })
 }
@@ -873,6 +878,13 @@ mod port_names {
                     .message
                     .starts_with(&format!("cannot open serial port {name}: ")),
                 "{name}: {}",
+                failure.message
+            );
+            // The port is named once, not again from the runtime's own message.
+            assert_eq!(
+                failure.message.matches(name).count(),
+                1,
+                "{}",
                 failure.message
             );
         }
