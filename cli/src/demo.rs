@@ -6,7 +6,8 @@
 //! every frame exchanged (hex and decoded). Everything it uses comes from the drive's
 //! description (its `behaviour:` section says which registers and bits do what).
 
-use crate::bus::{Line, Session, Traced, Value};
+use crate::bus::{Session, Value};
+use crate::line::{Line, Traced};
 use crate::out::say;
 use crate::{describe, lookup, values, watch, Failure};
 use std::sync::atomic::{AtomicBool, Ordering};

@@ -63,7 +63,7 @@ pub fn encode(
             let persist = write == Action::WritePersistent;
             crate::bus::check_writable(register, persist)?;
             let data = match percent_of {
-                Some(percent_of) => crate::watch::percentage(percent_of, value)?,
+                Some(percent_of) => crate::write_value::percentage(percent_of, value)?,
                 None => values::parse(register, value).map_err(Failure::new)?,
             };
             let kind = if persist {

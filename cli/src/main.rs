@@ -17,17 +17,21 @@ mod emit;
 mod frame_text;
 mod frames;
 mod generate;
+mod line;
 mod lookup;
 mod out;
+mod plant;
 mod poll;
 mod ports;
 mod read_error;
 mod record;
+mod serve;
 mod sim;
 mod trace;
 mod trip_flag;
 mod values;
 mod watch;
+mod write_value;
 
 use clap::{CommandFactory, Parser, Subcommand};
 use std::path::PathBuf;
@@ -220,6 +224,9 @@ Examples:
         after_help = "The first line of output is the device to open, e.g.:\n  vfd sim --drive yd1000 &\n  vfd read --drive yd1000 --port /dev/pts/5 FA01\n\nAs a serial device server (raw frames over TCP, \"RTU over TCP\"):\n  vfd sim --drive yd1000 --listen 127.0.0.1:0 &\n  vfd read --drive yd1000 --port tcp://127.0.0.1:40123 FA01"
     )]
     Sim(sim::SimArgs),
+    /// Poll the drives of a plant file on all its buses and publish them (JSON lines, MQTT);
+    /// take writes the plant file allows. Runs until Ctrl-C or SIGTERM.
+    Serve(serve::ServeArgs),
     /// List the serial ports this system has (USB vendor and product where known).
     #[command(
         after_help = "Give a name it prints to --port, e.g. vfd read --drive yd1000 --port /dev/ttyUSB0 FA01"
@@ -326,7 +333,7 @@ Examples:
 }
 
 /// A failure for people: one line, and a hint when one helps.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Failure {
     message: String,
     hint: Option<String>,
@@ -438,6 +445,7 @@ fn run(command: Command) -> Result<(), Failure> {
         } => backup::restore(&line, &from, dry_run, persist, stop_first),
         Command::Ports { format } => ports::run(format),
         Command::Sim(args) => sim::run(&args),
+        Command::Serve(args) => serve::run(&args),
         #[cfg(all(unix, feature = "pty"))]
         Command::Demo { drive, seconds } => demo::run(drive.as_deref(), seconds),
         #[cfg(not(all(unix, feature = "pty")))]

@@ -7,11 +7,11 @@ use crate::out::say;
 use crate::poll::{self, Poll};
 use crate::record::ValueRecord;
 use crate::trip_flag::trip_flag;
+use crate::write_value::checked_value;
 use crate::{lookup, values, Failure};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
-use vfd_runtime::units::raw_to_scaled;
 use vfd_runtime::RegisterInfo;
 
 /// Reads each register and prints it, in `format`.
@@ -137,31 +137,10 @@ pub fn write(
     };
     crate::bus::check_writable(info, persist)?;
     let code = command.map(command_code).transpose()?;
-    let parse = |info: &'static RegisterInfo| {
-        values::parse(info, text).map_err(|m| {
-            Failure::new(m).hint(format!(
-                "nothing was sent; `vfd info {} {}` shows the range",
-                drive.id, info.code
-            ))
-        })
-    };
     let mut session = Session::open(line)?;
     session.command = code;
     let percent_of = session.named_command().and_then(|c| c.percent_of.clone());
-    // The data is a percentage of another register (50%), or a value in the register's
-    // scale; a register whose scale another register chooses is read in the scale it
-    // chooses now. Nothing is written before the value is checked.
-    let (info, raw) = match (&percent_of, info.scale_by) {
-        (Some(percent_of), _) => (info, percentage(percent_of, text)?),
-        (None, Some(_)) => {
-            let scaled = session.scaled(info)?;
-            (scaled, parse(scaled)?)
-        }
-        (None, None) => (info, parse(info)?),
-    };
-    if percent_of.is_none() {
-        check_run_time_bounds(&mut session, info, raw)?;
-    }
+    let (info, raw) = checked_value(&mut session, info, text)?;
     let (echo, tripped) = session.write(info, raw, persist)?;
     let target = if persist { "RAM and EEPROM" } else { "RAM" };
     let echo = match echo {
@@ -210,25 +189,6 @@ pub fn command_code(text: &str) -> Result<u32, Failure> {
             ),
         ),
     }
-}
-
-/// The raw word of a percentage written `50%` (or `50`), for a command whose data is a
-/// percentage of another register.
-pub fn percentage(
-    percent_of: &vfd_runtime::protocol::PercentOf,
-    text: &str,
-) -> Result<u32, Failure> {
-    let number = text.trim().trim_end_matches('%').trim();
-    let value: f64 = number.parse().map_err(|_| {
-        Failure::new(format!("`{text}` is not a percentage")).hint(format!(
-            "this command carries a percentage of {}: write e.g. 50%",
-            percent_of.register
-        ))
-    })?;
-    percent_of.to_raw(value, 100.0).ok_or_else(|| {
-        Failure::new(format!("{value} % does not fit the command's data word"))
-            .hint("nothing was sent")
-    })
 }
 
 /// `vfd write --broadcast`: one write to every station (or a group), where the drive's
@@ -280,50 +240,6 @@ pub fn broadcast_write(
             vfd_runtime::Broadcast::Group(group) => format!("the stations {group}"),
         }
     );
-    Ok(())
-}
-
-/// Refuses a value beyond a bound another register sets at run time (FH for the frequency
-/// command), reading that register first. Nothing is written when it refuses.
-fn check_run_time_bounds(
-    session: &mut Session,
-    info: &'static RegisterInfo,
-    raw: u32,
-) -> Result<(), Failure> {
-    let value = raw_to_scaled(raw, info);
-    for (bound, above) in [(info.min_bound, false), (info.max_bound, true)] {
-        let Some(code) = bound else { continue };
-        let Some(other) = session.drive.register(code) else {
-            continue;
-        };
-        if !session.can_read(other) {
-            continue;
-        }
-        let Ok(Value {
-            raw: Some(limit_raw),
-            ..
-        }) = session.read(other)
-        else {
-            continue;
-        };
-        let limit = raw_to_scaled(limit_raw, other);
-        let beyond = if above { value > limit } else { value < limit };
-        if beyond {
-            return Err(Failure::new(format!(
-                "{}: {} is {} {} ({}) = {} now; nothing was written",
-                info.label(),
-                values::scaled(info, raw),
-                if above { "above" } else { "below" },
-                other.code,
-                other.name,
-                values::scaled(other, limit_raw)
-            ))
-            .hint(format!(
-                "the range is {}",
-                values::range_text(session.drive, info)
-            )));
-        }
-    }
     Ok(())
 }
 

@@ -15,7 +15,7 @@ use crate::register::{Persistable, Register, Request, Writable};
 use crate::serial::{DriveTiming, SerialSettings};
 use crate::transport::Transport;
 use std::marker::PhantomData;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Drive parameter of a [`Master`] built on an untyped [`Protocol`]
 /// ([`Master::for_protocol`]): it sends raw requests ([`Master::transact`]) for tools that
@@ -233,6 +233,31 @@ impl<T, D: 'static> Master<T, D> {
     /// RTU: 10 ms; VF-AS1: 2 ms), or [`Master::with_min_gap`] where that is longer still.
     pub fn frame_gap(&self) -> Duration {
         self.session.frame_gap()
+    }
+
+    /// When the line was last busy as this master saw it: the end of its last frame sent
+    /// or received (`None` before its first exchange). Masters that share one line (several
+    /// stations on one bus, each with its own master) hand it on with
+    /// [`Master::note_line_activity`], so that the next keeps the frame gap after the
+    /// other's frames too.
+    pub fn line_activity(&self) -> Option<Instant> {
+        self.session.last_activity
+    }
+
+    /// Tells the master the line was busy until `at` (another master's frame on the same
+    /// line): its next request keeps the frame gap after it. An earlier instant than the
+    /// one it knows changes nothing.
+    pub fn note_line_activity(&mut self, at: Instant) {
+        let last = &mut self.session.last_activity;
+        if last.is_none_or(|known| known < at) {
+            *last = Some(at);
+        }
+    }
+
+    /// Changes how often a failed read is repeated (see [`Master::with_retries`]), for
+    /// the next requests.
+    pub fn set_retries(&mut self, retries: u8) {
+        self.session.retries = retries;
     }
 
     /// The longest silence a frame may hold, from the protocol's timing (the frame gap): a

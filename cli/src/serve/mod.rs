@@ -1,0 +1,147 @@
+//! `vfd serve PLANT`: the unattended service. One worker thread per bus polls its
+//! stations and carries out writes ([`worker`]); the events go through a bounded queue
+//! ([`report`]) to the outputs ([`output`]): JSON lines ([`jsonl`]) and an MQTT broker.
+//! SIGINT or SIGTERM stop it: every station is reported offline, the outputs finish.
+
+pub mod event;
+mod health;
+mod jsonl;
+mod logger;
+mod output;
+mod report;
+mod schedule;
+mod station;
+mod stdin;
+mod worker;
+mod write;
+
+use crate::plant::model::Plant;
+use crate::Failure;
+use event::WriteRouter;
+use output::Output;
+use report::Reporter;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use worker::Worker;
+
+/// The `log` target of the service's own records.
+pub const LOG_TARGET: &str = "vfd::serve";
+
+/// Options of `vfd serve`.
+#[derive(Debug, Clone, clap::Args)]
+pub struct ServeArgs {
+    /// The plant file: buses, the drives on each, what to poll and what may be written
+    /// (docs/plant.md; plants/example.yaml is an annotated example).
+    #[arg(value_name = "PLANT")]
+    pub plant: PathBuf,
+    /// Check the plant file and say what it would poll; open no port.
+    #[arg(long)]
+    pub check: bool,
+    /// Print every reading and every change (a station on- or offline, a write, a port)
+    /// as one JSON object per line on standard output.
+    #[arg(long)]
+    pub jsonl: bool,
+    /// Take write requests as JSON lines on standard input (`{"bus": "line1", "drive":
+    /// "pump1", "register": "FA01", "value": "50 Hz"}`), each checked as an MQTT `set` is;
+    /// the outcome is a `written` event.
+    #[arg(long)]
+    pub stdin_writes: bool,
+    /// Print debug records too (registers a drive refused to read, the runtime's retries).
+    #[arg(long, short = 'v')]
+    pub verbose: bool,
+}
+
+/// Runs the service over `plant` with `outputs` until SIGINT/SIGTERM (or `stop`).
+pub fn serve(
+    plant: &Plant,
+    outputs: Vec<Box<dyn Output>>,
+    router: RouterParts,
+    stdin_writes: bool,
+    stop: Arc<AtomicBool>,
+) -> Result<(), Failure> {
+    let (reporter, events) = Reporter::queue();
+    if stdin_writes {
+        stdin::spawn(router.router.clone(), reporter.clone())
+            .map_err(|e| Failure::new(format!("cannot start reading standard input: {e}")))?;
+    }
+    let done = Arc::new(AtomicBool::new(false));
+    let outputs = output::spawn(events, outputs, stop.clone(), done.clone())
+        .map_err(|e| Failure::new(format!("cannot start the outputs' thread: {e}")))?;
+    let mut workers = Vec::new();
+    for (bus, requests) in plant.buses.iter().zip(router.queues) {
+        let worker = Worker::new(bus.clone(), reporter.clone(), requests, stop.clone());
+        match worker.spawn() {
+            Ok(handle) => workers.push(handle),
+            Err(e) => {
+                stop.store(true, Ordering::SeqCst);
+                return Err(Failure::new(format!(
+                    "cannot start the worker of bus {}: {e}",
+                    bus.name
+                )));
+            }
+        }
+    }
+    drop(reporter);
+    for worker in workers {
+        let _ = worker.join();
+    }
+    done.store(true, Ordering::SeqCst);
+    let failed = outputs.join().ok().flatten();
+    match failed {
+        // The reader of standard output went away: the end it asked for.
+        Some(why) if why.contains("Broken pipe") => Ok(()),
+        Some(why) => Err(Failure::new(format!("an output failed: {why}"))),
+        None => Ok(()),
+    }
+}
+
+/// Each bus's write queue: the senders for the inputs (by bus name) and the workers'
+/// receivers (in the plant's order).
+pub struct RouterParts {
+    /// The inputs' side.
+    pub router: WriteRouter,
+    /// The workers' side, one per bus in the plant's order.
+    queues: Vec<std::sync::mpsc::Receiver<event::WriteRequest>>,
+}
+
+impl RouterParts {
+    /// A write queue per bus of `plant`.
+    pub fn new(plant: &Plant) -> RouterParts {
+        let mut router = WriteRouter::default();
+        let mut queues = Vec::new();
+        for bus in &plant.buses {
+            let (sender, receiver) = std::sync::mpsc::channel();
+            router.buses.insert(bus.name.clone(), sender);
+            queues.push(receiver);
+        }
+        RouterParts { router, queues }
+    }
+}
+
+/// `vfd serve`.
+pub fn run(args: &ServeArgs) -> Result<(), Failure> {
+    let plant = crate::plant::load_for_cli(&args.plant)?;
+    if args.check {
+        return Ok(());
+    }
+    if !args.jsonl {
+        return Err(Failure::new(
+            "say where the readings go: --jsonl (JSON lines on standard output)",
+        ));
+    }
+    logger::start(args.verbose);
+    let stop = crate::watch::stop_flag()?;
+    let parts = RouterParts::new(&plant);
+    let outputs: Vec<Box<dyn Output>> = vec![Box::new(jsonl::JsonLines)];
+    log::info!(
+        target: LOG_TARGET,
+        "serving {} bus(es), {} station(s) from {}",
+        plant.buses.len(),
+        plant.buses.iter().map(|b| b.stations.len()).sum::<usize>(),
+        plant.path.display()
+    );
+    let result = serve(&plant, outputs, parts, args.stdin_writes, stop);
+    log::info!(target: LOG_TARGET, "stopped");
+    result
+}
