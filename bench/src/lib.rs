@@ -1,12 +1,15 @@
 //! Shared pieces of the benchmarks: synthetic drive descriptions of any size, generated
 //! on the fly (never committed), small statistics helpers, the backup batching count
-//! ([`batching`]) and a paced pseudo-terminal line (`paced`, Unix).
+//! ([`batching`]), a paced pseudo-terminal line (`paced`, Unix) and `vfd serve` as a measured
+//! child process (`service`, Linux).
 
 #![warn(missing_docs)]
 
 pub mod batching;
 #[cfg(unix)]
 pub mod paced;
+#[cfg(target_os = "linux")]
+pub mod service;
 
 use std::fmt::Write as _;
 use std::time::Duration;

@@ -140,6 +140,31 @@ impl PacedLine {
         // device (or a pseudo-terminal's path) does; the relay holds the pty master.
         let (master_relay, master_end) = PseudoTerminal::open()?.into_transports()?;
         let (drive_relay, drive_end) = PseudoTerminal::open()?.into_transports()?;
+        let line = PacedLine::relays(master_relay, drive_relay, settings, fine_timers)?;
+        Ok((master_end, drive_end, line))
+    }
+
+    /// As [`PacedLine::open`], but the master's end is a device path for another process
+    /// to open (`vfd serve`'s bus port), kept alive by the returned transport, which must
+    /// not be read.
+    pub fn open_for_path(
+        settings: SerialSettings,
+        fine_timers: bool,
+    ) -> io::Result<(std::path::PathBuf, PtyTransport, PtyTransport, PacedLine)> {
+        let master_pty = PseudoTerminal::open()?;
+        let path = master_pty.slave_path().to_owned();
+        let (master_relay, keep_open) = master_pty.into_transports()?;
+        let (drive_relay, drive_end) = PseudoTerminal::open()?.into_transports()?;
+        let line = PacedLine::relays(master_relay, drive_relay, settings, fine_timers)?;
+        Ok((path, keep_open, drive_end, line))
+    }
+
+    fn relays(
+        master_relay: PtyTransport,
+        drive_relay: PtyTransport,
+        settings: SerialSettings,
+        fine_timers: bool,
+    ) -> io::Result<PacedLine> {
         let stop = Arc::new(AtomicBool::new(false));
         let char_time = settings.char_time();
         let to_drive = {
@@ -158,15 +183,11 @@ impl PacedLine {
                 .name("paced-to-master".into())
                 .spawn(move || relay(drive_relay, master_relay, char_time, fine_timers, &stop))?
         };
-        Ok((
-            master_end,
-            drive_end,
-            PacedLine {
-                stop,
-                to_drive,
-                to_master,
-            },
-        ))
+        Ok(PacedLine {
+            stop,
+            to_drive,
+            to_master,
+        })
     }
 
     /// Stops both relays; returns what they saw, master to drive first.
