@@ -93,7 +93,13 @@ impl Link {
             bus: bus.name.clone(),
             session,
             schedule: Schedule::new(&intervals, now),
-            health,
+            // A station that polls nothing cannot be tried: it is taken as there once
+            // its bus is open (a write to it shows whether it answers).
+            health: if station.polls.is_empty() {
+                Health::new(health.rules())
+            } else {
+                health
+            },
             registers: station.polls.iter().map(|p| p.register).collect(),
             scaled: false,
             retries: bus.retries,
@@ -112,6 +118,9 @@ impl Link {
     /// When the station next needs the line: its next poll, or its next try while
     /// offline (`None`: never).
     pub fn next_turn(&self, now: Instant) -> Option<Instant> {
+        if self.registers.is_empty() {
+            return None;
+        }
         match self.health.turn(now) {
             Turn::Poll => self.schedule.next_due(),
             Turn::Probe => Some(now),
