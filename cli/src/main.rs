@@ -19,10 +19,15 @@ mod frames;
 mod generate;
 mod lookup;
 mod out;
+// The model's fields and `load_str` are for the service (`serve/`) and the plant demo.
+#[allow(dead_code, unused_imports)]
+mod plant;
 mod poll;
 mod ports;
 mod read_error;
 mod record;
+mod serve;
+mod serve_args;
 mod sim;
 mod trace;
 mod trip_flag;
@@ -308,6 +313,12 @@ Examples:
         #[arg(long, value_name = "DIR")]
         root: Option<String>,
     },
+    /// Poll the drives of a plant file on their buses and publish what they read; with
+    /// --check, check the plant file only.
+    #[command(
+        after_help = "Examples:\n  vfd serve --check plants/example.yaml\n\nThe plant file's format: docs/plant.md."
+    )]
+    Serve(serve_args::ServeArgs),
     /// Validate drive files and print every problem.
     Check {
         /// Fail (exit 1) when there are warnings, as when there are errors.
@@ -512,6 +523,8 @@ fn run(command: Command) -> Result<(), Failure> {
             deny_warnings,
             files,
         } => generate::check(&files, deny_warnings).map_err(Failure::from),
+        Command::Serve(args) if args.check => plant::check::run(&args.plant),
+        Command::Serve(args) => serve::run(&args),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "vfd", &mut script);
