@@ -40,8 +40,7 @@ fn rate(bus: &Bus) -> f64 {
     bus.stations
         .iter()
         .flat_map(|s| &s.polls)
-        .map(|p| 1.0 / p.every.as_secs_f64())
-        .sum()
+        .fold(0.0, |sum, p| sum + 1.0 / p.every.as_secs_f64())
 }
 
 /// The plant in a few lines: totals, then each bus and drive.
@@ -59,7 +58,7 @@ fn summary(plant: &Plant) {
         .flat_map(|b| &b.stations)
         .map(|s| s.writes.len())
         .sum();
-    let reads: f64 = plant.buses.iter().map(rate).sum();
+    let reads: f64 = plant.buses.iter().map(rate).fold(0.0, |sum, r| sum + r);
     let plural =
         |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
     say!(
