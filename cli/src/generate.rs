@@ -151,7 +151,7 @@ pub fn generate(
     }
     match (check_only, described_changed.is_empty()) {
         (_, true) => {
-            say!("drives/schema/ and the key tables in drives/README.md are up to date")
+            say!("drives/schema/, the key tables in drives/README.md and plants/plant.schema.json are up to date")
         }
         (false, false) => say!("changed: {}", described_changed.join(", ")),
         (true, false) => {
@@ -178,7 +178,7 @@ pub fn generate(
 }
 
 /// `drives/schema/*.json` and `drives/README.md` with its key tables, as they should be
-/// (tests/tests/schema.rs checks the same files).
+/// (tests/tests/schema.rs checks the same files), and the plant files' schema.
 fn description_format_files(root: &Path) -> Result<Vec<(PathBuf, String)>, String> {
     let drives = root.join("drives");
     let schemas = vfd_codegen::schemas();
@@ -199,6 +199,10 @@ fn description_format_files(root: &Path) -> Result<Vec<(PathBuf, String)>, Strin
         )
     })?;
     files.push((readme_path, readme));
+    files.push((
+        root.join(crate::plant::schema::PATH),
+        crate::plant::schema::text(),
+    ));
     Ok(files)
 }
 

@@ -26,6 +26,7 @@ mod ports;
 mod read_error;
 mod record;
 mod serve;
+mod serve_args;
 mod sim;
 mod trace;
 mod trip_flag;
@@ -224,9 +225,6 @@ Examples:
         after_help = "The first line of output is the device to open, e.g.:\n  vfd sim --drive yd1000 &\n  vfd read --drive yd1000 --port /dev/pts/5 FA01\n\nAs a serial device server (raw frames over TCP, \"RTU over TCP\"):\n  vfd sim --drive yd1000 --listen 127.0.0.1:0 &\n  vfd read --drive yd1000 --port tcp://127.0.0.1:40123 FA01"
     )]
     Sim(sim::SimArgs),
-    /// Poll the drives of a plant file on all its buses and publish them (JSON lines, MQTT);
-    /// take writes the plant file allows. Runs until Ctrl-C or SIGTERM.
-    Serve(serve::ServeArgs),
     /// List the serial ports this system has (USB vendor and product where known).
     #[command(
         after_help = "Give a name it prints to --port, e.g. vfd read --drive yd1000 --port /dev/ttyUSB0 FA01"
@@ -315,6 +313,12 @@ Examples:
         #[arg(long, value_name = "DIR")]
         root: Option<String>,
     },
+    /// Poll the drives of a plant file on their buses and publish what they read; with
+    /// --check, check the plant file only.
+    #[command(
+        after_help = "Examples:\n  vfd serve --check plants/example.yaml\n\nThe plant file's format: docs/plant.md."
+    )]
+    Serve(serve_args::ServeArgs),
     /// Validate drive files and print every problem.
     Check {
         /// Fail (exit 1) when there are warnings, as when there are errors.
@@ -445,7 +449,6 @@ fn run(command: Command) -> Result<(), Failure> {
         } => backup::restore(&line, &from, dry_run, persist, stop_first),
         Command::Ports { format } => ports::run(format),
         Command::Sim(args) => sim::run(&args),
-        Command::Serve(args) => serve::run(&args),
         #[cfg(all(unix, feature = "pty"))]
         Command::Demo { drive, seconds } => demo::run(drive.as_deref(), seconds),
         #[cfg(not(all(unix, feature = "pty")))]
@@ -520,6 +523,8 @@ fn run(command: Command) -> Result<(), Failure> {
             deny_warnings,
             files,
         } => generate::check(&files, deny_warnings).map_err(Failure::from),
+        Command::Serve(args) if args.check => plant::check::run(&args.plant),
+        Command::Serve(args) => serve::run(&args),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "vfd", &mut script);

@@ -85,6 +85,16 @@ pub use diagnostics::{Diagnostic, Diagnostics, Position, Severity};
 pub use ir::DriveIr;
 pub use load::Shipped;
 pub use output_names::OutputNames;
+/// The positioned YAML reader drive files are read with, for the project's other YAML
+/// files (`vfd serve`'s plant files): a file read once into nodes that keep their
+/// positions, read into a serde model type with every problem collected as a
+/// [`Diagnostic`] at file:line:column, unknown keys with "did you mean".
+pub mod yaml {
+    pub use crate::parse::model::OR_SCALAR;
+    pub use crate::parse::reader::closest;
+    pub use crate::parse::tree::{Node, Value};
+    pub use crate::parse::{Read, SourceFile};
+}
 pub use schema::{
     key_tables, schemas, with_key_tables, Schemas, DRIVE_SCHEMA_PATH, KEY_TABLES_BEGIN,
     KEY_TABLES_END, PROTOCOL_SCHEMA_PATH,

@@ -1,153 +1,86 @@
-//! Plant files (TEMPORARY loader for the serve branch; replaced by the plant helper's).
+//! Plant files: the buses, drives, poll lists and write allow-lists `vfd serve` runs,
+//! read with file:line:column diagnostics as drive files are, checked, and resolved into
+//! a [`Plant`]. `vfd serve --check PLANT` prints what [`load`] finds. The format is in
+//! docs/plant.md; its JSON Schema is `plants/plant.schema.json` ([`schema`]).
 
+pub mod check;
+pub mod file;
+mod framing;
+pub mod interval;
+mod line;
 pub mod model;
+mod names;
+mod problems;
+mod registers;
+mod resolve;
+pub mod schema;
+mod station;
+mod unique;
 
-use crate::{lookup, Failure};
-use model::{Allowed, Bus, Plant, Poll, Station};
-use serde::Deserialize;
-use std::path::Path;
-use std::time::Duration;
+pub use model::{Bus, Plant, Station};
 
-#[derive(Deserialize)]
-struct FileBus {
-    name: String,
-    port: String,
-    baud: Option<u32>,
-    parity: Option<String>,
-    timeout_ms: Option<u64>,
-    retries: Option<u8>,
-    offline_after: Option<u32>,
-    backoff: Option<FileBackoff>,
-    drives: Vec<FileDrive>,
-}
-#[derive(Deserialize)]
-struct FileBackoff {
-    first_ms: u64,
-    cap_ms: u64,
-}
-#[derive(Deserialize)]
-struct FileDrive {
-    name: String,
-    drive: String,
-    protocol: Option<String>,
-    station: Option<u8>,
-    poll: Vec<FilePoll>,
-    #[serde(default)]
-    write: Vec<FileWrite>,
-}
-#[derive(Deserialize)]
-struct FilePoll {
-    every: String,
-    registers: Vec<String>,
-}
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum FileWrite {
-    Name(String),
-    Full { register: String, persistent: bool },
-}
-#[derive(Deserialize)]
-struct FilePlant {
-    buses: Vec<FileBus>,
-}
+use problems::Problems;
+use std::path::{Path, PathBuf};
+use vfd_codegen::yaml::SourceFile;
+use vfd_codegen::Diagnostics;
 
-fn every(text: &str) -> Result<Duration, Failure> {
-    let t = text.trim();
-    let (n, unit) = t.split_at(t.find(|c: char| c.is_alphabetic()).unwrap_or(t.len()));
-    let n: f64 = n
-        .trim()
-        .parse()
-        .map_err(|_| Failure::new(format!("bad interval {text}")))?;
-    let secs = match unit {
-        "ms" => n / 1000.0,
-        "s" | "" => n,
-        "min" => n * 60.0,
-        _ => return Err(Failure::new(format!("bad interval {text}"))),
-    };
-    Ok(Duration::from_secs_f64(secs))
-}
-
-/// Loads a plant file.
-pub fn load_for_cli(path: &Path) -> Result<Plant, Failure> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Failure::new(format!("cannot read {}: {e}", path.display())))?;
-    let file: FilePlant = yaml_serde::from_str(&text)
-        .map_err(|e| Failure::new(format!("{}: {e}", path.display())))?;
-    let mut buses = Vec::new();
-    for b in file.buses {
-        let mut stations = Vec::new();
-        for d in &b.drives {
-            let drive = lookup::drive(&d.drive)?;
-            let protocol = lookup::protocol(drive, d.protocol.as_deref())?;
-            let mut polls = Vec::new();
-            for p in &d.poll {
-                let e = every(&p.every)?;
-                for r in &p.registers {
-                    polls.push(Poll {
-                        register: lookup::register_for(drive, r, false)?,
-                        every: e,
-                    });
-                }
-            }
-            let mut writes = Vec::new();
-            for w in &d.write {
-                let (r, persistent) = match w {
-                    FileWrite::Name(r) => (r, false),
-                    FileWrite::Full {
-                        register,
-                        persistent,
-                    } => (register, *persistent),
-                };
-                writes.push(Allowed {
-                    register: lookup::register_for(drive, r, true)?,
-                    persistent,
-                });
-            }
-            stations.push(Station {
-                name: d.name.clone(),
-                drive,
-                protocol,
-                address: d.station.or_else(|| protocol.default_address()),
-                port: None,
-                polls,
-                writes,
-            });
-        }
-        let first = stations
-            .first()
-            .map(|s| s.drive)
-            .ok_or_else(|| Failure::new("empty bus"))?;
-        let mut settings = first.serial.default;
-        if let Some(baud) = b.baud {
-            settings.baud = baud;
-        }
-        if let Some(p) = &b.parity {
-            settings.parity = match p.as_str() {
-                "none" => vfd_runtime::serial::Parity::None,
-                "odd" => vfd_runtime::serial::Parity::Odd,
-                _ => vfd_runtime::serial::Parity::Even,
-            };
-        }
-        let backoff = b.backoff.unwrap_or(FileBackoff {
-            first_ms: 1000,
-            cap_ms: 60000,
-        });
-        buses.push(Bus {
-            name: b.name,
-            port: b.port,
-            settings,
-            timeout: b.timeout_ms.map(Duration::from_millis),
-            min_gap: None,
-            host_latency: None,
-            retries: b.retries.unwrap_or(0),
-            offline_after: b.offline_after.unwrap_or(3),
-            backoff_first: Duration::from_millis(backoff.first_ms),
-            backoff_cap: Duration::from_millis(backoff.cap_ms),
-            stations,
-        });
+/// Reads and checks the plant file at `path`. On success the plant carries its warnings
+/// ([`Plant::warnings`]); on failure every problem, the errors first, then the warnings.
+pub fn load(path: &Path) -> Result<Plant, Diagnostics> {
+    match SourceFile::read(path) {
+        Ok(source) => load_source(&source),
+        Err(problem) => Err(Diagnostics {
+            items: vec![problem],
+        }),
     }
-    Ok(Plant {
-        path: path.to_owned(),
-        buses,
-    })
+}
+
+/// Like [`load`], for a plant file's text already in memory (`path` names it in messages,
+/// and relative drive file paths start at its folder).
+pub fn load_str(text: &str, path: &Path) -> Result<Plant, Diagnostics> {
+    load_source(&SourceFile::from_text(path, text.to_owned()))
+}
+
+fn load_source(source: &SourceFile) -> Result<Plant, Diagnostics> {
+    let read = source.read_model::<file::PlantFile>();
+    let mut problems = Problems {
+        source,
+        found: Diagnostics {
+            items: read.problems,
+        },
+    };
+    let keep = problems.found.items.len();
+    let dir = source
+        .path
+        .parent()
+        .map(Path::to_owned)
+        .unwrap_or_else(|| PathBuf::from("."));
+    let plant = read
+        .value
+        .map(|file| resolve::plant(&file, &dir, &mut problems));
+    let mut found = problems.found;
+    let incomplete: Vec<(PathBuf, String)> = read
+        .incomplete
+        .into_iter()
+        .map(|element| (source.path.clone(), element))
+        .collect();
+    found.leave_out_consequences(keep, &incomplete);
+    found.attach_sources(|path| (path == source.path).then_some(source.text.as_str()));
+    // The reader's hints send people to the drive files' reference.
+    for item in &mut found.items {
+        if let Some(hint) = &mut item.hint {
+            *hint = hint.replace("drives/README.md", "docs/plant.md");
+        }
+    }
+    let warnings = found.take_warnings();
+    match plant {
+        Some(plant) if found.is_empty() => Ok(Plant { warnings, ..plant }),
+        _ => {
+            found.items.extend(warnings.items);
+            if found.is_empty() {
+                found.push(source.error("", "the plant file could not be read"));
+            }
+            Err(found)
+        }
+    }
 }

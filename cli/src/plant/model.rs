@@ -15,6 +15,9 @@ pub struct Plant {
     pub path: PathBuf,
     /// The buses, in the file's order; names are unique.
     pub buses: Vec<Bus>,
+    /// What the check found valid but probably not meant (a drive that polls nothing),
+    /// for the service to print when it starts; `vfd serve --check` prints them too.
+    pub warnings: vfd_codegen::Diagnostics,
 }
 
 /// One serial line (or serial device server) and the stations on it.

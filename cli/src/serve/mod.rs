@@ -15,42 +15,18 @@ mod stdin;
 mod worker;
 mod write;
 
-use crate::plant::model::Plant;
+use crate::plant::Plant;
+use crate::serve_args::ServeArgs;
 use crate::Failure;
 use event::WriteRouter;
 use output::Output;
 use report::Reporter;
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use worker::Worker;
 
 /// The `log` target of the service's own records.
 pub const LOG_TARGET: &str = "vfd::serve";
-
-/// Options of `vfd serve`.
-#[derive(Debug, Clone, clap::Args)]
-pub struct ServeArgs {
-    /// The plant file: buses, the drives on each, what to poll and what may be written
-    /// (docs/plant.md; plants/example.yaml is an annotated example).
-    #[arg(value_name = "PLANT")]
-    pub plant: PathBuf,
-    /// Check the plant file and say what it would poll; open no port.
-    #[arg(long)]
-    pub check: bool,
-    /// Print every reading and every change (a station on- or offline, a write, a port)
-    /// as one JSON object per line on standard output.
-    #[arg(long)]
-    pub jsonl: bool,
-    /// Take write requests as JSON lines on standard input (`{"bus": "line1", "drive":
-    /// "pump1", "register": "FA01", "value": "50 Hz"}`), each checked as an MQTT `set` is;
-    /// the outcome is a `written` event.
-    #[arg(long)]
-    pub stdin_writes: bool,
-    /// Print debug records too (registers a drive refused to read, the runtime's retries).
-    #[arg(long, short = 'v')]
-    pub verbose: bool,
-}
 
 /// Runs the service over `plant` with `outputs` until SIGINT/SIGTERM (or `stop`).
 pub fn serve(
@@ -121,10 +97,7 @@ impl RouterParts {
 
 /// `vfd serve`.
 pub fn run(args: &ServeArgs) -> Result<(), Failure> {
-    let plant = crate::plant::load_for_cli(&args.plant)?;
-    if args.check {
-        return Ok(());
-    }
+    let plant = crate::plant::check::load_for_service(&args.plant)?;
     if !args.jsonl {
         return Err(Failure::new(
             "say where the readings go: --jsonl (JSON lines on standard output)",

@@ -8,7 +8,7 @@ use super::report::Reporter;
 use super::schedule::Schedule;
 use crate::bus::{Session, Value};
 use crate::line::{Line, SharedLine};
-use crate::plant::model::{Bus, Station};
+use crate::plant::{Bus, Station};
 use crate::record::ValueRecord;
 use crate::trip_flag::trip_flag;
 use crate::Failure;

@@ -8,7 +8,7 @@ use super::health::Health;
 use super::report::Reporter;
 use super::station::{Link, Round};
 use crate::line::{open_line, SharedLine};
-use crate::plant::model::Bus;
+use crate::plant::Bus;
 use crate::poll::{FIRST_BACK_OFF, LAST_BACK_OFF};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};

@@ -365,7 +365,7 @@ pub(crate) fn edit_distance(a: &str, b: &str) -> usize {
 
 /// The known name closest to `written`, when at most a third of its letters differ (or it
 /// differs only in case, `-` and `_`).
-pub(crate) fn closest<'k>(written: &str, known: &[&'k str]) -> Option<&'k str> {
+pub fn closest<'k>(written: &str, known: &[&'k str]) -> Option<&'k str> {
     let folded = |s: &str| s.to_lowercase().replace('-', "_");
     if let Some(same) = known.iter().find(|k| folded(k) == folded(written)) {
         return Some(same);

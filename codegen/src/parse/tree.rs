@@ -24,7 +24,12 @@ pub struct Node {
 pub enum Value {
     /// A scalar as written, and whether it was written plain (unquoted): only plain scalars
     /// are numbers, booleans or null.
-    Scalar { text: String, plain: bool },
+    Scalar {
+        /// The text as written (without quotes).
+        text: String,
+        /// Written plain (unquoted).
+        plain: bool,
+    },
     /// A sequence.
     Sequence(Vec<Node>),
     /// A mapping, in document order; keys are scalars (a complex key is kept as its text).
