@@ -26,6 +26,10 @@ mod record;
 mod sim;
 mod sim_control;
 mod sim_log;
+// The virtual plant `vfd demo --plant` serves; unused until that command is wired in.
+#[cfg(all(unix, feature = "pty"))]
+#[allow(dead_code)]
+mod sim_plant;
 mod sim_station;
 mod trace;
 mod trip_flag;
