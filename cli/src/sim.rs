@@ -31,9 +31,9 @@ pub struct SimArgs {
         conflicts_with = "station"
     )]
     pub drive: Option<String>,
-    /// A station of a multi-drop line, DRIVE[:PROTOCOL][@ADDRESS] (default protocol: the
+    /// A station of a multi-drop line, `DRIVE[:PROTOCOL][@ADDRESS]` (default protocol: the
     /// drive's first; default address: the protocol's lowest); repeat for each station,
-    /// e.g. --station fc51@1 --station fc51@2 --station vf-as1:modbus@3. Their protocols
+    /// e.g. --station fc51:modbus@1 --station fc51:modbus@2 --station vf-as1:modbus@3. Their protocols
     /// must share a framing, their addresses must differ.
     #[arg(long, value_name = "DRIVE[:PROTOCOL][@ADDRESS]")]
     pub station: Vec<String>,

@@ -147,7 +147,7 @@ mod tests {
     fn a_station_names_its_drive_protocol_and_address() {
         let s = parse("fc51:modbus@7").unwrap();
         assert_eq!(
-            (s.drive.id.as_ref(), s.bus.protocol.id.as_ref(), s.address),
+            (s.drive.id, s.bus.protocol.id.as_ref(), s.address),
             ("fc51", "modbus", 7)
         );
         let s = parse("yd1000").unwrap();
