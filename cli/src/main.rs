@@ -28,6 +28,13 @@ mod record;
 mod serve;
 mod serve_args;
 mod sim;
+mod sim_control;
+mod sim_log;
+// The virtual plant `vfd demo --plant` serves; unused until that command is wired in.
+#[cfg(all(unix, feature = "pty"))]
+#[allow(dead_code)]
+mod sim_plant;
+mod sim_station;
 mod trace;
 mod trip_flag;
 mod values;
@@ -219,10 +226,11 @@ Examples:
         #[arg(long)]
         stop_first: bool,
     },
-    /// Run the virtual drive on a pseudo-terminal (or over TCP with --listen); prints the
-    /// device path (or tcp://HOST:PORT) first.
+    /// Run the virtual drive on a pseudo-terminal (or over TCP with --listen), or several
+    /// stations on one line (--station, repeated); prints the device path (or
+    /// tcp://HOST:PORT) first.
     #[command(
-        after_help = "The first line of output is the device to open, e.g.:\n  vfd sim --drive yd1000 &\n  vfd read --drive yd1000 --port /dev/pts/5 FA01\n\nAs a serial device server (raw frames over TCP, \"RTU over TCP\"):\n  vfd sim --drive yd1000 --listen 127.0.0.1:0 &\n  vfd read --drive yd1000 --port tcp://127.0.0.1:40123 FA01"
+        after_help = "The first line of output is the device to open, e.g.:\n  vfd sim --drive yd1000 &\n  vfd read --drive yd1000 --port /dev/pts/5 FA01\n\nAs a serial device server (raw frames over TCP, \"RTU over TCP\"):\n  vfd sim --drive yd1000 --listen 127.0.0.1:0 &\n  vfd read --drive yd1000 --port tcp://127.0.0.1:40123 FA01\n\nSeveral stations on one line (a multi-drop bus; their protocols must share a framing):\n  vfd sim --station fc51:modbus@1 --station fc51:modbus@2 --station vf-as1:modbus@3 &\n  vfd read --drive vf-as1 --protocol modbus --port /dev/pts/5 --address 3 FA01\nWhile it runs, standard input takes one command a line, each answered on standard error:\n  unplug N   pull station N off the line (it neither answers nor acts on frames)\n  plug N     put it back\n  status     per station: requests received, answered, writes\nThe end of standard input does not stop it; SIGINT or SIGTERM does."
     )]
     Sim(sim::SimArgs),
     /// List the serial ports this system has (USB vendor and product where known).

@@ -2,35 +2,46 @@
 //! with `--listen HOST:PORT`, over TCP as a serial device server would: raw frames, one
 //! client at a time) until SIGINT or SIGTERM. The device path (`tcp://HOST:PORT` with the
 //! bound port) is the first line of output, so scripts and tests can read it; `--verbose`
-//! logs each exchange (hex and decoded) on standard error.
+//! logs each exchange (hex and decoded) on standard error. Several stations can share the
+//! line (`--station DRIVE[:PROTOCOL][@ADDRESS]`, repeated: a multi-drop bus, each answering
+//! its own address), and standard input controls it while it runs ([`crate::sim_control`]).
 
 use crate::bus::ParityArg;
-use crate::frame_text::frame_text;
 use crate::out::say;
+use crate::sim_log::Logged;
+use crate::sim_station::{self, SimStation};
 use crate::{lookup, Failure};
-use std::io::Write;
 use std::net::TcpListener;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
-use vfd_runtime::meaning::Direction;
+use std::time::Duration;
 use vfd_runtime::serial::SerialSettings;
 #[cfg(all(unix, feature = "pty"))]
 use vfd_runtime::transport::PseudoTerminal;
-use vfd_runtime::transport::{TcpTransport, Transport};
-use vfd_runtime::virtual_drive::{serve, Fault, Simulator};
-use vfd_runtime::Protocol;
+use vfd_runtime::transport::TcpTransport;
+use vfd_runtime::virtual_drive::{serve_bus, BusStation, Fault};
 
 /// Options of `vfd sim`.
 #[derive(Debug, Clone, clap::Args)]
 pub struct SimArgs {
-    /// Drive id (`vfd list`) or the path of a drive file (./my_drive.yaml).
-    #[arg(long, short = 'd')]
-    pub drive: String,
+    /// Drive id (`vfd list`) or the path of a drive file (./my_drive.yaml): one station.
+    #[arg(
+        long,
+        short = 'd',
+        required_unless_present = "station",
+        conflicts_with = "station"
+    )]
+    pub drive: Option<String>,
+    /// A station of a multi-drop line, `DRIVE[:PROTOCOL][@ADDRESS]` (default protocol: the
+    /// drive's first; default address: the protocol's lowest); repeat for each station,
+    /// e.g. --station fc51:modbus@1 --station fc51:modbus@2 --station vf-as1:modbus@3. Their protocols
+    /// must share a framing, their addresses must differ.
+    #[arg(long, value_name = "DRIVE[:PROTOCOL][@ADDRESS]")]
+    pub station: Vec<String>,
     /// Protocol id (default: the drive's first protocol).
-    #[arg(long, short = 'p')]
+    #[arg(long, short = 'p', conflicts_with = "station")]
     pub protocol: Option<String>,
     /// Station address the drive answers (default: the protocol's lowest, at least 1).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", conflicts_with = "station")]
     pub address: Option<u8>,
     /// Baud rate the timing follows (default: the drive's factory setting).
     #[arg(long)]
@@ -42,19 +53,19 @@ pub struct SimArgs {
     #[arg(long, short = 'v')]
     pub verbose: bool,
     /// Misbehave: each fault spoils the next reply (noise: every reply), in the order given.
-    #[arg(long, value_enum, value_name = "FAULT")]
+    #[arg(long, value_enum, value_name = "FAULT", conflicts_with = "station")]
     pub fault: Vec<FaultArg>,
     /// Start tripped with this trip code.
-    #[arg(long, value_name = "CODE")]
+    #[arg(long, value_name = "CODE", conflicts_with = "station")]
     pub trip: Option<u16>,
     /// The drive's port it serves, for drives with several: that port's command word and
     /// frequency command act (default: the registers as the behaviour model names them).
-    #[arg(long, value_name = "PORT")]
+    #[arg(long, value_name = "PORT", conflicts_with = "station")]
     pub port_kind: Option<String>,
     /// The protocol's variant the drive is set to, for protocols with several (Eaton:
     /// `cr_lf`): the register that selects it is set so (07-06 = 2), as if on the panel
     /// before power-on. Default: the drive's factory setting.
-    #[arg(long, value_name = "VARIANT")]
+    #[arg(long, value_name = "VARIANT", conflicts_with = "station")]
     pub variant: Option<String>,
     /// Serve over TCP on this address instead of a pseudo-terminal, as a serial device server
     /// does (raw frames, no Modbus TCP header; one client at a time, the next accepted when it
@@ -102,20 +113,92 @@ impl From<FaultArg> for Fault {
     }
 }
 
-/// Serves the virtual drive until SIGINT or SIGTERM.
+/// Serves the virtual drive (or the stations of a line) until SIGINT or SIGTERM.
 pub fn run(args: &SimArgs) -> Result<(), Failure> {
-    let drive = lookup::drive(&args.drive)?;
+    let (stations, banner_one) = match args.drive.as_deref() {
+        Some(drive) => {
+            let (station, banner) = one_station(args, drive)?;
+            (vec![station], Some(banner))
+        }
+        None => (
+            args.station
+                .iter()
+                .map(|spec| sim_station::parse(spec))
+                .collect::<Result<Vec<_>, _>>()?,
+            None,
+        ),
+    };
+    let first = stations
+        .first()
+        .ok_or_else(|| Failure::new("vfd sim: no station to serve"))?;
+    let settings = crate::bus::line_settings(first.drive, args.baud, args.parity);
+    if banner_one.is_none() {
+        sim_station::check_line(&stations, &settings)?;
+    }
+    let stop = crate::watch::stop_flag()?;
+    let banner = |place: &str| match &banner_one {
+        Some(banner) => eprintln!(
+            "vfd sim: virtual {banner} on {place}, {} baud; Ctrl-C stops",
+            settings.baud
+        ),
+        None => {
+            eprintln!(
+                "vfd sim: {} virtual stations on {place}, {} baud; Ctrl-C stops",
+                stations.len(),
+                settings.baud
+            );
+            for station in &stations {
+                eprintln!("  station {}: {}", station.address, station.describe());
+            }
+            eprintln!("  standard input takes: unplug N, plug N, status");
+        }
+    };
+    crate::sim_control::spawn(stations.clone());
+    let serving = Serving {
+        stations: &stations,
+        settings,
+        verbose: args.verbose,
+        stop: &stop,
+    };
+    if let Some(listen) = args.listen.as_deref() {
+        let listener = TcpListener::bind(listen).map_err(|e| {
+            Failure::new(format!("cannot listen on {listen}: {e}"))
+                .hint("give HOST:PORT, e.g. 127.0.0.1:5020 (port 0 picks a free port)")
+        })?;
+        let bound = listener
+            .local_addr()
+            .map_err(|e| Failure::new(format!("cannot read the address listened on: {e}")))?;
+        let place = format!("tcp://{bound}");
+        say!("{place}");
+        banner(&place);
+        serving.listen(&listener)?;
+        eprintln!("vfd sim: stopped");
+        return Ok(());
+    }
+    #[cfg(not(all(unix, feature = "pty")))]
+    return Err(crate::needs_pty(
+        "sim",
+        "; serve over TCP instead: vfd sim --listen 127.0.0.1:0",
+    ));
+    #[cfg(all(unix, feature = "pty"))]
+    serving.on_pty(banner)
+}
+
+/// The one station `--drive` gives, with its faults, trip, port and variant, and how the
+/// banner names it.
+fn one_station(args: &SimArgs, drive: &str) -> Result<(SimStation, String), Failure> {
+    let drive = lookup::drive(drive)?;
     let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
-    let settings = crate::bus::line_settings(drive, args.baud, args.parity);
-    let sim = Simulator::new(drive);
     let address = args
         .address
         .unwrap_or_else(|| protocol.address_range.0.max(1));
-    sim.lock().set_address(address);
+    let mut station = sim_station::station(drive, protocol, address);
+    let sim = station.bus.simulator.clone();
     if let Some(port) = lookup::port(drive, args.port_kind.as_deref())? {
         sim.lock().set_port(port.id);
     }
     let protocol = lookup::variant(protocol, args.variant.as_deref())?;
+    station.bus.protocol = protocol;
     if let Some(id) = args.variant.as_deref() {
         if !sim.lock().select_variant(protocol) {
             return Err(Failure::new(format!(
@@ -131,98 +214,53 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
     if let Some(code) = args.trip {
         sim.inject_trip(code);
     }
-    let stop = crate::watch::stop_flag()?;
-    let banner = |place: &str| {
-        eprintln!(
-            "vfd sim: virtual {} ({}) speaking {}{} as station {address} on {place}, {} baud; Ctrl-C stops",
-            drive.id,
-            drive.model,
-            protocol.id,
-            args.variant
-                .as_deref()
-                .map_or_else(String::new, |id| format!(" ({id})")),
-            settings.baud
-        );
-    };
-    if let Some(listen) = args.listen.as_deref() {
-        let listener = TcpListener::bind(listen).map_err(|e| {
-            Failure::new(format!("cannot listen on {listen}: {e}"))
-                .hint("give HOST:PORT, e.g. 127.0.0.1:5020 (port 0 picks a free port)")
-        })?;
-        let bound = listener
-            .local_addr()
-            .map_err(|e| Failure::new(format!("cannot read the address listened on: {e}")))?;
-        let place = format!("tcp://{bound}");
-        say!("{place}");
-        banner(&place);
-        let serving = Serving {
-            sim: &sim,
-            drive,
-            protocol,
-            settings,
-            verbose: args.verbose,
-            stop: &stop,
-        };
-        serving.listen(&listener)?;
-        eprintln!("vfd sim: stopped");
-        return Ok(());
-    }
-    #[cfg(not(all(unix, feature = "pty")))]
-    return Err(crate::needs_pty(
-        "sim",
-        "; serve over TCP instead: vfd sim --listen 127.0.0.1:0",
-    ));
-    #[cfg(all(unix, feature = "pty"))]
-    serve_on_pty(&sim, drive, protocol, settings, args.verbose, &stop, banner)
-}
-
-/// Serves the virtual drive on a new pseudo-terminal until the stop flag is set.
-#[cfg(all(unix, feature = "pty"))]
-fn serve_on_pty(
-    sim: &Simulator,
-    drive: &'static vfd_runtime::DriveInfo,
-    protocol: &'static Protocol,
-    settings: SerialSettings,
-    verbose: bool,
-    stop: &AtomicBool,
-    banner: impl Fn(&str),
-) -> Result<(), Failure> {
-    let pty = PseudoTerminal::open()
-        .map_err(|e| Failure::new(format!("cannot open a pseudo-terminal: {e}")))?;
-    let path = pty.slave_path().display().to_string();
-    let transport = pty
-        .master()
-        .map_err(|e| Failure::new(format!("cannot use the pseudo-terminal: {e}")))?;
-    say!("{path}");
-    banner(&path);
-    let mut logged = Logged {
-        inner: transport,
-        drive,
-        protocol,
-        verbose,
-        received: Vec::new(),
-        start: Instant::now(),
-    };
-    serve(sim, protocol, &mut logged, settings, stop)
-        .map_err(|e| Failure::new(format!("the virtual drive stopped: {e}")))?;
-    eprintln!("vfd sim: stopped");
-    Ok(())
+    let banner = format!(
+        "{} ({}) speaking {}{} as station {address}",
+        drive.id,
+        drive.model,
+        protocol.id,
+        args.variant
+            .as_deref()
+            .map_or_else(String::new, |id| format!(" ({id})")),
+    );
+    Ok((station, banner))
 }
 
 /// How long the listening loop waits between looks for a client and at the stop flag.
 const ACCEPT_POLL: Duration = Duration::from_millis(20);
 
-/// What serving over TCP needs: the virtual drive, how it speaks, and when to stop.
+/// What serving needs: the stations, the line, and when to stop.
 struct Serving<'a> {
-    sim: &'a Simulator,
-    drive: &'static vfd_runtime::DriveInfo,
-    protocol: &'static Protocol,
+    stations: &'a [SimStation],
     settings: SerialSettings,
     verbose: bool,
     stop: &'a AtomicBool,
 }
 
 impl Serving<'_> {
+    /// The stations as the bus server takes them.
+    fn bus(&self) -> Vec<BusStation> {
+        self.stations.iter().map(|s| s.bus.clone()).collect()
+    }
+
+    /// Serves the line on a new pseudo-terminal until the stop flag is set.
+    #[cfg(all(unix, feature = "pty"))]
+    fn on_pty(&self, banner: impl Fn(&str)) -> Result<(), Failure> {
+        let pty = PseudoTerminal::open()
+            .map_err(|e| Failure::new(format!("cannot open a pseudo-terminal: {e}")))?;
+        let path = pty.slave_path().display().to_string();
+        let transport = pty
+            .master()
+            .map_err(|e| Failure::new(format!("cannot use the pseudo-terminal: {e}")))?;
+        say!("{path}");
+        banner(&path);
+        let mut logged = Logged::new(transport, self.stations, self.verbose);
+        serve_bus(&self.bus(), &mut logged, self.settings, self.stop)
+            .map_err(|e| Failure::new(format!("the virtual drive stopped: {e}")))?;
+        eprintln!("vfd sim: stopped");
+        Ok(())
+    }
+
     /// Serves one client at a time (a device server's line has one master), accepting the
     /// next when it leaves, until the stop flag is set. The drive keeps its state across
     /// clients, as a real drive behind a device server does.
@@ -248,108 +286,12 @@ impl Serving<'_> {
                 }
             };
             eprintln!("vfd sim: client {peer} connected");
-            let mut logged = Logged {
-                inner: transport,
-                drive: self.drive,
-                protocol: self.protocol,
-                verbose: self.verbose,
-                received: Vec::new(),
-                start: Instant::now(),
-            };
-            match serve(
-                self.sim,
-                self.protocol,
-                &mut logged,
-                self.settings,
-                self.stop,
-            ) {
+            let mut logged = Logged::new(transport, self.stations, self.verbose);
+            match serve_bus(&self.bus(), &mut logged, self.settings, self.stop) {
                 Ok(()) => break,
                 Err(e) => eprintln!("vfd sim: client {peer} left ({e})"),
             }
         }
         Ok(())
-    }
-}
-
-/// A transport that logs what it carries: the bytes received since the last reply as the
-/// request, and each reply, in hex and decoded.
-struct Logged<T> {
-    inner: T,
-    drive: &'static vfd_runtime::DriveInfo,
-    protocol: &'static Protocol,
-    verbose: bool,
-    received: Vec<u8>,
-    start: Instant,
-}
-
-impl<T: Transport> Logged<T> {
-    fn log(&self, direction: Direction, bytes: &[u8]) {
-        let _ = writeln!(
-            std::io::stderr(),
-            "{:>8.3}s {:<7} {}  {}",
-            self.start.elapsed().as_secs_f64(),
-            direction.as_str(),
-            vfd_runtime::error::hex(bytes),
-            frame_text(self.drive, self.protocol, direction, bytes)
-        );
-    }
-}
-
-/// The master's follow-up to a reply at the start of `bytes` (`true`: acknowledged), with
-/// the station it names and its length.
-fn follow_up_at(protocol: &Protocol, bytes: &[u8]) -> Option<(bool, Option<u8>, usize)> {
-    protocol
-        .commands
-        .iter()
-        .filter_map(|c| c.follow_up.as_ref())
-        .find_map(|f| f.recognise(bytes))
-}
-
-impl<T: Transport> Transport for Logged<T> {
-    fn send(&mut self, bytes: &[u8]) -> std::io::Result<()> {
-        if self.verbose {
-            let mut request = std::mem::take(&mut self.received);
-            // The master's follow-ups to earlier replies (C, F) come before its request.
-            while let Some((sound, address, len)) = follow_up_at(self.protocol, &request) {
-                let _ = writeln!(
-                    std::io::stderr(),
-                    "{:>8.3}s {:<7} {}  {}{}",
-                    self.start.elapsed().as_secs_f64(),
-                    "follow",
-                    vfd_runtime::error::hex(&request[..len]),
-                    if sound {
-                        "the master acknowledges the reply"
-                    } else {
-                        "the master asks for the reply again"
-                    },
-                    address.map_or_else(String::new, |a| format!(", station {a}")),
-                );
-                request.drain(..len);
-            }
-            if !request.is_empty() {
-                self.log(Direction::Request, &request);
-            }
-            self.log(Direction::Reply, bytes);
-        }
-        self.inner.send(bytes)
-    }
-    fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> std::io::Result<usize> {
-        let got = self.inner.receive(buf, deadline)?;
-        if self.verbose {
-            self.received.extend_from_slice(&buf[..got]);
-            if self.received.len() > 4096 {
-                self.received.clear();
-            }
-        }
-        Ok(got)
-    }
-    fn clear_input(&mut self) -> std::io::Result<()> {
-        self.inner.clear_input()
-    }
-    fn last_gap(&self) -> Option<Duration> {
-        self.inner.last_gap()
-    }
-    fn allowance(&self) -> Duration {
-        self.inner.allowance()
     }
 }

@@ -9,8 +9,9 @@
 //! request is refused), `reply` (encoding replies and error replies), `broadcast`,
 //! `consecutive` (runs of registers), `block` (block transfers), `pages` (paged
 //! registers), `unsupported` (function codes the drive does not know), `faults`
-//! (misbehaviour on request), `link` (in-process transport) and `serve` (a loop over any
-//! transport, in wall time).
+//! (misbehaviour on request), `tally` (what a station saw on its line), `link` (in-process
+//! transport) and `serve` (a loop over any transport, in wall time, for one drive or
+//! several stations of a multi-drop bus).
 //!
 //! In process, a typed master is two lines away:
 //!
@@ -33,12 +34,14 @@ mod reply;
 mod respond;
 mod serve;
 mod storage;
+mod tally;
 mod unsupported;
 
 pub use faults::Fault;
 pub use link::SimLink;
 pub use outcome::{Outcome, Refusal};
-pub use serve::serve;
+pub use serve::{same_framing, serve, serve_bus, BusStation};
+pub use tally::Tally;
 
 use crate::drive::DriveInfo;
 use crate::error::DecodeErrorKind;
@@ -70,6 +73,10 @@ pub struct VirtualDrive {
     noise: bool,
     echo: bool,
     requests: u64,
+    /// What happened on the line to this station ([`Tally`]).
+    tally: Tally,
+    /// Unplugged from its bus: it neither answers nor acts on frames.
+    unplugged: bool,
     /// The simulated time until which it starts up after a power cycle, answering nothing.
     silent_until: Duration,
     /// The last request of a command whose lower case speaks of its sender said the sender
@@ -125,6 +132,8 @@ impl VirtualDrive {
             noise: false,
             echo: false,
             requests: 0,
+            tally: Tally::default(),
+            unplugged: false,
             silent_until: Duration::ZERO,
             sender_tripped: false,
             garbage: false,
@@ -331,6 +340,25 @@ impl VirtualDrive {
         self.requests
     }
 
+    /// What this station saw on its line so far: requests addressed to it (answered or
+    /// not), replies sent, writes carried out.
+    pub fn tally(&self) -> Tally {
+        self.tally
+    }
+
+    /// Unplugs the drive from its line (`true`) or plugs it back (`false`). Unplugged, it
+    /// neither answers nor acts on any frame (a dead station on a multi-drop bus), but
+    /// still counts the requests addressed to it ([`Tally::addressed`]), so a test can
+    /// tell that a master tried it. Its motor and clock go on.
+    pub fn set_unplugged(&mut self, unplugged: bool) {
+        self.unplugged = unplugged;
+    }
+
+    /// Whether the drive is unplugged ([`VirtualDrive::set_unplugged`]).
+    pub fn unplugged(&self) -> bool {
+        self.unplugged
+    }
+
     /// Whether the last drive-to-drive frame said its sender (the master inverter) has
     /// tripped (a lower-case code of a command whose lower case means so). The model records
     /// it only: what a receiver then does (stop, alarm, trip) is set by parameters the
@@ -397,13 +425,23 @@ impl VirtualDrive {
         let variants = self.in_force(protocol);
         let protocol = variants.own.as_ref();
         match protocol.decode_request_exact(frame) {
+            Ok(request) if self.unplugged => {
+                self.requests += 1;
+                self.count_addressed(&request);
+                Outcome::Silent("unplugged from the line")
+            }
             Ok(_) if self.starting_up() => {
                 self.requests += 1;
                 Outcome::Silent("starting up after power-on")
             }
             Ok(request) => {
                 self.requests += 1;
-                self.answer(protocol, &request)
+                self.count_addressed(&request);
+                let outcome = self.answer(protocol, &request);
+                if matches!(outcome, Outcome::Reply(_)) {
+                    self.tally.answered += 1;
+                }
+                outcome
             }
             Err(error) => {
                 let other = variants
@@ -525,7 +563,7 @@ impl VirtualDrive {
                 if let Some(reply) = again {
                     // Asking for the reply again is a request of its own.
                     self.requests += 1;
-                    if !self.noise {
+                    if !self.noise && !self.unplugged {
                         if let Some(transmission) = self.commit_faults(protocol, &[], reply) {
                             sent.push(transmission);
                         }
@@ -566,10 +604,13 @@ impl VirtualDrive {
                 }
                 Ok(Ok(Found::Frame { frame, .. })) => {
                     self.requests += 1;
+                    self.count_addressed(&frame);
                     let mut pending = self.faults.front().cloned();
                     let rejected = std::mem::take(&mut self.garbage)
                         && protocol.timing.before_start == crate::serial::BeforeStart::Reject;
-                    let outcome = if self.starting_up() {
+                    let outcome = if self.unplugged {
+                        Outcome::Silent("unplugged from the line")
+                    } else if self.starting_up() {
                         Outcome::Silent("starting up after power-on")
                     } else if rejected {
                         Outcome::Silent("bytes before the start sequence reject the frame")
@@ -633,8 +674,8 @@ impl VirtualDrive {
                 },
             };
             let request: Vec<u8> = input.drain(..used).collect();
-            if self.noise {
-                // The line is jammed: no reply gets through the noise.
+            if self.noise || self.unplugged {
+                // The line is jammed, or the drive is off it: no reply gets through.
                 continue;
             }
             if self.echo {
@@ -649,11 +690,20 @@ impl VirtualDrive {
             }
             if let Outcome::Reply(bytes) = outcome {
                 if let Some(transmission) = self.commit_faults(protocol, &request, bytes) {
+                    self.tally.answered += 1;
                     sent.push(transmission);
                 }
             }
         }
         sent
+    }
+
+    /// Counts `request` in [`Tally::addressed`] when it is for this station: its own
+    /// number, a broadcast, or a frame without a station number (a point-to-point line).
+    fn count_addressed(&mut self, request: &DecodedRequest<'_>) {
+        if request.broadcast.is_some() || request.address.is_none_or(|a| a == self.address) {
+            self.tally.addressed += 1;
+        }
     }
 
     /// Applies the next pending fault to a reply.
@@ -821,6 +871,22 @@ impl Simulator {
     /// Request frames received so far (see [`VirtualDrive::requests`]).
     pub fn requests(&self) -> u64 {
         self.lock().requests()
+    }
+
+    /// What the station saw so far (see [`VirtualDrive::tally`]).
+    pub fn tally(&self) -> Tally {
+        self.lock().tally()
+    }
+
+    /// Requests addressed to this station so far, answered or not (see
+    /// [`Tally::addressed`]).
+    pub fn requests_received(&self) -> u64 {
+        self.lock().tally().addressed
+    }
+
+    /// Unplugs the drive or plugs it back (see [`VirtualDrive::set_unplugged`]).
+    pub fn set_unplugged(&self, unplugged: bool) {
+        self.lock().set_unplugged(unplugged);
     }
 
     /// Trips the drive (see [`VirtualDrive::inject_trip`]).

@@ -56,7 +56,9 @@ impl VirtualDrive {
         }
         if request.command.kind.is_write() && self.target_of(request).is_ok_and(|i| i.no_reply) {
             // Carried out as any write (a refusal included), but never answered.
-            let _ = self.write(protocol, request);
+            if self.write(protocol, request).is_ok() {
+                self.tally.writes += 1;
+            }
             return Outcome::Silent("writes of this register are never answered");
         }
         if self.is_block_read(protocol, request) {
@@ -67,7 +69,10 @@ impl VirtualDrive {
         }
         if self.is_block_write(protocol, request) {
             return match self.write_block(protocol, request) {
-                Ok(()) => self.reply(protocol, request, request.data, 0),
+                Ok(()) => {
+                    self.tally.writes += 1;
+                    self.reply(protocol, request, request.data, 0)
+                }
                 Err(refusal) => self.refuse(protocol, Some(request), refusal),
             };
         }
@@ -95,6 +100,9 @@ impl VirtualDrive {
             CommandKind::Echo => Ok((request.data, 0)),
             CommandKind::ReadText => Err(Refusal::UnknownRegister),
         };
+        if result.is_ok() && request.command.kind.is_write() {
+            self.tally.writes += 1;
+        }
         match result {
             Ok((data, data_size)) => self.reply(protocol, request, data, data_size),
             Err(refusal) => self.refuse(protocol, Some(request), refusal),
@@ -117,10 +125,13 @@ impl VirtualDrive {
         if !command.serves_register(number) || !command.kind.is_write() {
             return;
         }
-        let _ = match &command.percent_of {
+        let written = match &command.percent_of {
             Some(_) => self.write_percent(request),
             None => self.write(protocol, request).map(|_| ()),
         };
+        if written.is_ok() {
+            self.tally.writes += 1;
+        }
     }
 
     /// A write whose data is a percentage of another register: converted to the addressed

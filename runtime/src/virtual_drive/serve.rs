@@ -4,6 +4,8 @@
 //! unfinished frames are dropped after the gap or the drive's frame abandon time, and the
 //! simulated clock follows the wall clock. The loop waits for bytes only until the next of
 //! these moments, so a silence is noticed when it is due, not at the next idle poll.
+//! Several drives can share the transport as stations of one multi-drop bus
+//! ([`serve_bus`]); one drive is the one-station case ([`serve`]).
 
 use super::{Fault, Simulator};
 use crate::protocol::Protocol;
@@ -19,9 +21,27 @@ const POLL: Duration = Duration::from_millis(5);
 /// Bytes sent while the line is jammed by [`Fault::Noise`].
 const NOISE: [u8; 4] = [0x00, 0xFF, 0x55, 0xAA];
 
+/// One station of a multi-drop bus served by [`serve_bus`]: a virtual drive (its station
+/// number set with [`super::VirtualDrive::set_address`]) and the protocol it speaks.
+#[derive(Debug, Clone)]
+pub struct BusStation {
+    /// The virtual drive.
+    pub simulator: Simulator,
+    /// The protocol it reads frames in (stations of one bus share its framing: see
+    /// [`same_framing`]).
+    pub protocol: &'static Protocol,
+}
+
+/// Whether two protocols frame requests alike, so that drives speaking them can share a
+/// line: both are entries of the same protocol file (their names are that file's). Two
+/// drives' Modbus RTU entries share a framing; Modbus RTU and Toshiba binary do not.
+pub fn same_framing(a: &Protocol, b: &Protocol) -> bool {
+    a.name == b.name
+}
+
 /// Answers requests in `protocol` arriving on `transport` until `stop` is set, at the line
 /// `settings` (which give the character time the timing derives from). Returns transport
-/// errors; never panics.
+/// errors; never panics. The one-station case of [`serve_bus`].
 pub fn serve<T: Transport>(
     simulator: &Simulator,
     protocol: &'static Protocol,
@@ -29,66 +49,136 @@ pub fn serve<T: Transport>(
     settings: SerialSettings,
     stop: &AtomicBool,
 ) -> io::Result<()> {
-    let timing = simulator.lock().drive().serial.timing;
+    let station = BusStation {
+        simulator: simulator.clone(),
+        protocol,
+    };
+    serve_bus(std::slice::from_ref(&station), transport, settings, stop)
+}
+
+/// What the bus loop keeps for one station: its input (every station hears every byte,
+/// and reads them with its own protocol) and its timing.
+struct Listening<'a> {
+    station: &'a BusStation,
+    input: Vec<u8>,
+    /// The protocol's frame gap at the line's speed.
+    gap: Duration,
+    /// A silence this long inside a frame drops it (where the drive states such a limit).
+    inner_gap: Duration,
+    /// The drive's frame abandon time.
+    abandon: Duration,
+    /// The drive's timing (for a delayed reply).
+    timing: crate::serial::DriveTiming,
+}
+
+/// Serves a multi-drop bus: every station in `stations` hears every byte on `transport`
+/// and answers only the requests for its own station number, as drives on one RS-485
+/// line do (a broadcast is carried out by every station it reaches and answered by the
+/// one its protocol's rule names, if any). The timing is [`serve`]'s: a reply starts after
+/// the request's last byte, the protocol's frame gap and the drive's reply delay;
+/// unfinished frames are dropped after the gap or the drive's frame abandon time; the
+/// simulated clocks follow the wall clock. Stations can be unplugged while the bus runs
+/// ([`Simulator::set_unplugged`]). Runs until `stop` is set; returns transport errors;
+/// never panics.
+pub fn serve_bus<T: Transport>(
+    stations: &[BusStation],
+    transport: &mut T,
+    settings: SerialSettings,
+    stop: &AtomicBool,
+) -> io::Result<()> {
     let char_time = settings.char_time();
-    let gap = char_time
-        .mul_f32(protocol.frame_gap_chars)
-        .max(protocol.timing.frame_gap_min);
-    // A silence this long inside a frame drops it (where the drive states such a limit).
-    let inner_gap = char_time.mul_f32(protocol.timing.max_inner_gap_chars);
+    let mut listening: Vec<Listening<'_>> = stations
+        .iter()
+        .map(|station| {
+            let timing = station.simulator.lock().drive().serial.timing;
+            let protocol = station.protocol;
+            Listening {
+                station,
+                input: Vec::new(),
+                gap: char_time
+                    .mul_f32(protocol.frame_gap_chars)
+                    .max(protocol.timing.frame_gap_min),
+                inner_gap: char_time.mul_f32(protocol.timing.max_inner_gap_chars),
+                abandon: timing.frame_abandon,
+                timing,
+            }
+        })
+        .collect();
     // After this much silence a frame that another variant of the protocol could still
     // have continued (a CR that an LF may follow) is taken as it stands.
     let settle = char_time * 2;
-    let mut input = Vec::new();
     let mut buf = [0u8; 256];
     let mut clock = Instant::now();
     let mut last_byte = clock;
     while !stop.load(Ordering::Relaxed) {
-        let deadline = next_wait(
-            clock,
-            (!input.is_empty()).then_some(last_byte),
-            &[settle, gap, inner_gap, timing.frame_abandon],
-        );
+        let pending = listening.iter().any(|l| !l.input.is_empty());
+        let mut silences = vec![settle];
+        for l in &listening {
+            silences.extend([l.gap, l.inner_gap, l.abandon]);
+        }
+        let deadline = next_wait(clock, pending.then_some(last_byte), &silences);
         let got = transport.receive(&mut buf, deadline)?;
         let now = Instant::now();
-        simulator.advance(now - clock);
+        for l in &listening {
+            l.station.simulator.advance(now - clock);
+        }
         clock = now;
+        // (station, transmission) in the order the stations made them.
         let mut transmissions = Vec::new();
         if got > 0 {
-            input.extend_from_slice(&buf[..got]);
+            for l in &mut listening {
+                l.input.extend_from_slice(&buf[..got]);
+            }
             last_byte = now;
         } else {
             let quiet = now - last_byte;
-            let dropped_by_gap = !gap.is_zero() && quiet >= gap;
-            let dropped_inside = !inner_gap.is_zero() && quiet >= inner_gap;
-            let abandoned = !timing.frame_abandon.is_zero() && quiet >= timing.frame_abandon;
-            let dropped = dropped_by_gap || dropped_inside || abandoned;
-            // The bytes before a silence are read as a whole first (a frame that only the
-            // silence ends: a request of a function the drive lacks), even when the
-            // silence is one that drops an unfinished frame.
-            if quiet >= settle || dropped {
-                transmissions = simulator
-                    .lock()
-                    .receive_before_silence(protocol, &mut input);
-            }
-            if dropped {
-                input.clear();
-                simulator.lock().line_silent();
+            for (index, l) in listening.iter_mut().enumerate() {
+                let dropped = [l.gap, l.inner_gap, l.abandon]
+                    .iter()
+                    .any(|limit| !limit.is_zero() && quiet >= *limit);
+                // The bytes before a silence are read as a whole first (a frame that only
+                // the silence ends: a request of a function the drive lacks), even when
+                // the silence is one that drops an unfinished frame.
+                if !l.input.is_empty() && (quiet >= settle || dropped) {
+                    let sent = l
+                        .station
+                        .simulator
+                        .lock()
+                        .receive_before_silence(l.station.protocol, &mut l.input);
+                    transmissions.extend(sent.into_iter().map(|t| (index, t)));
+                }
+                if dropped && !l.input.is_empty() {
+                    l.input.clear();
+                }
+                if dropped {
+                    l.station.simulator.lock().line_silent();
+                }
             }
         }
-        if simulator.has_fault(&Fault::Noise) {
-            transport.send(&NOISE)?;
+        for l in &listening {
+            if l.station.simulator.has_fault(&Fault::Noise) {
+                transport.send(&NOISE)?;
+            }
         }
-        transmissions.extend(simulator.lock().receive(protocol, &mut input));
+        for (index, l) in listening.iter_mut().enumerate() {
+            let sent = l
+                .station
+                .simulator
+                .lock()
+                .receive(l.station.protocol, &mut l.input);
+            transmissions.extend(sent.into_iter().map(|t| (index, t)));
+        }
         // The line is free from the request's last byte on; each transmission keeps the
         // frame gap after whatever went before it.
         let mut line_free = last_byte;
-        for transmission in transmissions {
+        for (index, transmission) in transmissions {
+            let l = &listening[index];
+            let protocol = l.station.protocol;
             // The reply starts after the request's last byte and the frame gap, and the
             // wait the drive's reply-delay registers set.
-            sleep_until(line_free + gap + transmission.wait);
+            sleep_until(line_free + l.gap + transmission.wait);
             if transmission.delayed {
-                let timeout = timing.reply_timeout(
+                let timeout = l.timing.reply_timeout(
                     &settings,
                     transmission.request_len,
                     usize::from(protocol.max_frame_len),
