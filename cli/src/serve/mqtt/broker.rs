@@ -1,0 +1,1 @@
+//! Test helper: a private mosquitto per test.
