@@ -29,6 +29,8 @@ const CONNECT_WAIT: Duration = Duration::from_secs(10);
 const BACKOFF_FIRST: Duration = Duration::from_millis(250);
 /// The longest wait between reconnect tries.
 const BACKOFF_CAP: Duration = Duration::from_secs(15);
+/// A topic unsubscribed from only to wake the connection thread.
+const WAKE_TOPIC: &str = "vfd-serve/wake";
 /// The longest [`Mqtt::shutdown`] waits for the last messages to go out.
 const SHUTDOWN_WAIT: Duration = Duration::from_secs(3);
 
@@ -40,6 +42,7 @@ pub struct Mqtt {
     topics: Topics,
     stations: Vec<(String, String)>,
     stop: Arc<AtomicBool>,
+    abort: Arc<AtomicBool>,
     sender: Option<JoinHandle<()>>,
     connection: Option<JoinHandle<()>>,
 }
@@ -79,11 +82,13 @@ impl Mqtt {
         let outbox = Arc::new(Outbox::new(READING_CAP));
         let ledger = Arc::new(Mutex::new(SetLedger::new(topics.clone(), plant, writes)));
         let stop = Arc::new(AtomicBool::new(false));
+        let abort = Arc::new(AtomicBool::new(false));
         let (first_tx, first_rx) = mpsc::channel::<Result<(), ConnectionError>>();
         let conn_thread = {
             let outbox = Arc::clone(&outbox);
             let ledger = Arc::clone(&ledger);
             let stop = Arc::clone(&stop);
+            let abort = Arc::clone(&abort);
             let url = url.to_string();
             std::thread::Builder::new()
                 .name("mqtt-connection".into())
@@ -128,11 +133,16 @@ impl Mqtt {
                                     log::warn!("MQTT: lost the broker at {url}: {}; reconnecting with back-off up to {} s", describe(&error), BACKOFF_CAP.as_secs());
                                     outage = Some(Instant::now());
                                 }
-                                std::thread::sleep(backoff);
+                                let until = Instant::now() + backoff;
+                                while Instant::now() < until && !stop.load(Ordering::Relaxed) {
+                                    std::thread::sleep(Duration::from_millis(50));
+                                }
                                 backoff = (backoff * 2).min(BACKOFF_CAP);
                             }
                         }
-                        if stop.load(Ordering::Relaxed) && first.is_none() && outage.is_some() {
+                        if abort.load(Ordering::Relaxed) {
+                            // Dropping the connection closes the socket without a
+                            // DISCONNECT: the broker publishes the last will.
                             return;
                         }
                     }
@@ -153,7 +163,8 @@ impl Mqtt {
         };
         if let Some(failure) = refused {
             stop.store(true, Ordering::Relaxed);
-            drop(client);
+            abort.store(true, Ordering::Relaxed);
+            let _ = client.try_unsubscribe(WAKE_TOPIC);
             return Err(failure);
         }
         log::info!("MQTT: connected to {url} as {}", options.client_id);
@@ -191,6 +202,7 @@ impl Mqtt {
             topics,
             stations,
             stop,
+            abort,
             sender: Some(sender),
             connection: Some(conn_thread),
         })
@@ -273,10 +285,10 @@ impl Drop for Mqtt {
         if let Some(sender) = self.sender.take() {
             let _ = sender.join();
         }
-        // Replacing the client drops this handle; with the sender's gone the request
-        // channel closes and the connection thread ends, dropping the socket.
-        let (dead, _) = Client::new(rumqttc::MqttOptions::new("-", "127.0.0.1", 1), 1);
-        drop(std::mem::replace(&mut self.client, dead));
+        // Wake the connection thread (it waits for the broker or a request) so that it
+        // sees `abort` and drops the connection.
+        self.abort.store(true, Ordering::Relaxed);
+        let _ = self.client.try_unsubscribe(WAKE_TOPIC);
         if let Some(connection) = self.connection.take() {
             join_within(connection, Duration::from_secs(2));
         }
@@ -338,10 +350,10 @@ fn connect_failure(error: &ConnectionError, options: &MqttOptions) -> Failure {
             "it wants credentials: set VFD_MQTT_USERNAME and VFD_MQTT_PASSWORD (or a password file)"
         }),
         ConnectionError::ConnectionRefused(ConnectReturnCode::NotAuthorized) => Failure::new(format!(
-            "the MQTT broker at {url} refused the connection: not authorized"
+            "the MQTT broker at {url} refused the connection: not authorized (mosquitto says this for a wrong user name or password)"
         ))
         .hint(if options.credentials.is_some() {
-            "the user may not connect; check the broker's access control"
+            "check VFD_MQTT_USERNAME and the password (VFD_MQTT_PASSWORD, VFD_MQTT_PASSWORD_FILE or --mqtt-password-file), and that the broker lets this user connect"
         } else {
             "it wants credentials: set VFD_MQTT_USERNAME and VFD_MQTT_PASSWORD (or a password file)"
         }),
