@@ -103,13 +103,24 @@ impl Credentials {
     /// else the file `VFD_MQTT_PASSWORD_FILE` names, else `VFD_MQTT_PASSWORD` (the file's
     /// first line). `None` when no user name is set; a password without one is an error.
     pub fn from_env(password_file: Option<&Path>) -> Result<Option<Credentials>, Failure> {
-        let username = std::env::var(USERNAME_VARIABLE)
-            .ok()
-            .filter(|u| !u.is_empty());
         let file = password_file
             .map(Path::to_path_buf)
             .or_else(|| std::env::var_os(PASSWORD_FILE_VARIABLE).map(PathBuf::from));
-        let password = match &file {
+        Credentials::resolve(
+            std::env::var(USERNAME_VARIABLE).ok(),
+            file.as_deref(),
+            std::env::var(PASSWORD_VARIABLE).ok(),
+        )
+    }
+
+    /// The credentials from a user name, a password file (preferred) or a password.
+    fn resolve(
+        username: Option<String>,
+        file: Option<&Path>,
+        password: Option<String>,
+    ) -> Result<Option<Credentials>, Failure> {
+        let username = username.filter(|u| !u.is_empty());
+        let password = match file {
             Some(file) => Some(
                 std::fs::read_to_string(file)
                     .map_err(|e| {
@@ -123,7 +134,7 @@ impl Credentials {
                     .unwrap_or_default()
                     .to_string(),
             ),
-            None => std::env::var(PASSWORD_VARIABLE).ok(),
+            None => password,
         };
         match (username, password) {
             (Some(username), password) => Ok(Some(Credentials {
@@ -302,6 +313,36 @@ mod tests {
         assert!(message("mqtt://h:x").contains("port 'x'"));
         let secret = message("mqtt://user:hunter2@h");
         assert!(secret.contains("not accepted") && !secret.contains("hunter2"));
+    }
+
+    #[test]
+    fn credentials_come_from_a_password_file_first_and_are_never_in_errors() {
+        let dir = std::env::temp_dir().join(format!("vfd-mqtt-cred-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("password");
+        std::fs::write(&file, "from-file-pw\nignored\n").unwrap();
+        let found = Credentials::resolve(Some("svc".into()), Some(&file), Some("env-pw".into()))
+            .unwrap_or_else(|f| panic!("{}", f.message))
+            .expect("credentials");
+        assert_eq!(
+            (found.username.as_str(), found.password.as_str()),
+            ("svc", "from-file-pw")
+        );
+        let found = Credentials::resolve(Some("svc".into()), None, Some("env-pw".into()))
+            .unwrap_or_else(|f| panic!("{}", f.message))
+            .expect("credentials");
+        assert_eq!(found.password, "env-pw");
+        let failure = Credentials::resolve(None, None, Some("env-pw".into())).unwrap_err();
+        assert!(failure.message.contains(USERNAME_VARIABLE) && !failure.message.contains("env-pw"));
+        let failure =
+            Credentials::resolve(Some("svc".into()), Some(&dir.join("none")), None).unwrap_err();
+        assert!(failure
+            .message
+            .contains("cannot read the MQTT password file"));
+        assert!(Credentials::resolve(None, None, None)
+            .unwrap_or_else(|f| panic!("{}", f.message))
+            .is_none());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
