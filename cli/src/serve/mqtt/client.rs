@@ -264,7 +264,7 @@ impl Mqtt {
         self.outbox.close();
         self.stop.store(true, Ordering::Relaxed);
         if let Some(sender) = self.sender.take() {
-            let _ = sender.join();
+            join_within(sender, Duration::from_secs(1));
         }
         let _ = self.client.try_disconnect();
         if let Some(connection) = self.connection.take() {
@@ -283,7 +283,7 @@ impl Drop for Mqtt {
         self.stop.store(true, Ordering::Relaxed);
         self.outbox.close();
         if let Some(sender) = self.sender.take() {
-            let _ = sender.join();
+            join_within(sender, Duration::from_secs(1));
         }
         // Wake the connection thread (it waits for the broker or a request) so that it
         // sees `abort` and drops the connection.
