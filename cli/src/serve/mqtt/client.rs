@@ -48,8 +48,8 @@ pub struct Mqtt {
 }
 
 impl Mqtt {
-    /// Connects to the broker and waits (at most 10 s) for it to accept; then publishes
-    /// the service `online`, every station `offline` until its first answer, the discovery
+    /// Connects to the broker and waits (at most 10 s) for it to accept and (at most 10 s
+    /// more) to confirm the `set` subscription; publishes the service `online`, every station `offline` until its first answer, the discovery
     /// configs (with `ha_discovery`), and subscribes to the `set` topics.
     pub fn connect(
         options: &MqttOptions,
@@ -84,6 +84,7 @@ impl Mqtt {
         let stop = Arc::new(AtomicBool::new(false));
         let abort = Arc::new(AtomicBool::new(false));
         let (first_tx, first_rx) = mpsc::channel::<Result<(), ConnectionError>>();
+        let (subscribed_tx, subscribed_rx) = mpsc::channel::<()>();
         let conn_thread = {
             let outbox = Arc::clone(&outbox);
             let ledger = Arc::clone(&ledger);
@@ -94,6 +95,7 @@ impl Mqtt {
                 .name("mqtt-connection".into())
                 .spawn(move || {
                     let mut first = Some(first_tx);
+                    let mut subscribed = Some(subscribed_tx);
                     let mut outage: Option<Instant> = None;
                     let mut backoff = BACKOFF_FIRST;
                     for event in connection.iter() {
@@ -117,6 +119,11 @@ impl Mqtt {
                                         outbox.push(Item::Message { topic, payload: payload::outcome(&outcome) });
                                         outbox.push(Item::Ack(Box::new(publish)));
                                     }
+                                }
+                            }
+                            Ok(MqttEvent::Incoming(Packet::SubAck(_))) => {
+                                if let Some(tx) = subscribed.take() {
+                                    let _ = tx.send(());
                                 }
                             }
                             Ok(MqttEvent::Outgoing(rumqttc::Outgoing::Disconnect)) => break,
@@ -194,6 +201,10 @@ impl Mqtt {
             for (topic, config) in discovery::configs(&topics, plant) {
                 outbox.state(topic, config, Kind::Kept);
             }
+        }
+        // Ready for writes once the broker has the subscription.
+        if subscribed_rx.recv_timeout(CONNECT_WAIT).is_err() {
+            log::warn!("MQTT: the broker at {url} has not confirmed the subscription to {} yet; set messages may wait", topics.set_filter());
         }
         Ok(Mqtt {
             client,
