@@ -484,9 +484,35 @@ impl Session {
         &mut self,
         registers: &[&'static RegisterInfo],
     ) -> Vec<Result<Value, Failure>> {
+        self.read_runs(registers, false)
+    }
+
+    /// [`Session::read_many`], stopping at the first request the drive does not answer
+    /// (or answers only with damaged replies), or the line fails: the registers not yet
+    /// read get that failure, without a request of their own, so a station that stopped
+    /// answering costs one reply timeout per round, not one per register.
+    pub fn read_many_until_silent(
+        &mut self,
+        registers: &[&'static RegisterInfo],
+    ) -> Vec<Result<Value, Failure>> {
+        self.read_runs(registers, true)
+    }
+
+    fn read_runs(
+        &mut self,
+        registers: &[&'static RegisterInfo],
+        stop_when_silent: bool,
+    ) -> Vec<Result<Value, Failure>> {
         let mut results: Vec<Option<Result<Value, Failure>>> =
             registers.iter().map(|_| None).collect();
+        let mut silent: Option<Failure> = None;
         for run in vfd_runtime::read_runs::read_runs(self.protocol, registers) {
+            if let Some(failure) = &silent {
+                for index in &run {
+                    results[*index] = Some(Err(failure.clone()));
+                }
+                continue;
+            }
             if run.len() > 1 {
                 match self.read_block(registers, &run) {
                     Ok(values) => {
@@ -501,6 +527,9 @@ impl Session {
                         for index in &run {
                             results[*index] = Some(Err(failure.clone()));
                         }
+                        if stop_when_silent {
+                            silent = Some(failure);
+                        }
                         continue;
                     }
                     // The drive refused the block (a register in it it will not read
@@ -509,7 +538,19 @@ impl Session {
                 }
             }
             for index in run {
-                results[index] = Some(self.read(registers[index]));
+                if let Some(failure) = &silent {
+                    results[index] = Some(Err(failure.clone()));
+                    continue;
+                }
+                let result = self.read(registers[index]);
+                if stop_when_silent {
+                    if let Err(failure) = &result {
+                        if !refused(failure) {
+                            silent = Some(failure.clone());
+                        }
+                    }
+                }
+                results[index] = Some(result);
             }
         }
         results

@@ -12,6 +12,8 @@ mod bus;
 mod catalogue;
 #[cfg(all(unix, feature = "pty"))]
 mod demo;
+#[cfg(all(unix, feature = "pty"))]
+mod demo_plant;
 mod describe;
 mod emit;
 mod frame_text;
@@ -30,9 +32,7 @@ mod serve_args;
 mod sim;
 mod sim_control;
 mod sim_log;
-// The virtual plant `vfd demo --plant` serves; unused until that command is wired in.
 #[cfg(all(unix, feature = "pty"))]
-#[allow(dead_code)]
 mod sim_plant;
 mod sim_station;
 mod trace;
@@ -250,9 +250,17 @@ Examples:
         /// drive with a behaviour model).
         #[arg(long)]
         drive: Option<String>,
-        /// Seconds to watch the motor ramp.
-        #[arg(long, default_value_t = 4)]
-        seconds: u64,
+        /// Seconds to watch the motor ramp (with --plant: seconds to serve the plant;
+        /// default until Ctrl-C).
+        #[arg(long)]
+        seconds: Option<u64>,
+        /// A virtual plant instead: two buses, five stations of three drive models, polled
+        /// by `vfd serve` (JSON lines on standard output, or --mqtt).
+        #[arg(long, conflicts_with = "drive")]
+        plant: bool,
+        /// With --plant: publish to this MQTT broker (mqtt://HOST:PORT) instead of printing.
+        #[arg(long, value_name = "URL", requires = "plant")]
+        mqtt: Option<String>,
     },
     /// Decode a captured frame (hex or text) and explain every field.
     #[command(
@@ -458,7 +466,14 @@ fn run(command: Command) -> Result<(), Failure> {
         Command::Ports { format } => ports::run(format),
         Command::Sim(args) => sim::run(&args),
         #[cfg(all(unix, feature = "pty"))]
-        Command::Demo { drive, seconds } => demo::run(drive.as_deref(), seconds),
+        Command::Demo {
+            plant: true,
+            seconds,
+            mqtt,
+            ..
+        } => demo_plant::run(mqtt.as_deref(), seconds),
+        #[cfg(all(unix, feature = "pty"))]
+        Command::Demo { drive, seconds, .. } => demo::run(drive.as_deref(), seconds.unwrap_or(4)),
         #[cfg(not(all(unix, feature = "pty")))]
         Command::Demo { .. } => Err(needs_pty("demo", "")),
         Command::Decode {

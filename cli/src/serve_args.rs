@@ -26,4 +26,27 @@ pub struct ServeArgs {
     /// Print debug records too (registers a drive refused to read, the runtime's retries).
     #[arg(long, short = 'v')]
     pub verbose: bool,
+    /// Publish to this MQTT broker: mqtt://HOST[:PORT] (1883) or mqtts://HOST[:PORT] (TLS,
+    /// 8883). User and password come from the environment (VFD_MQTT_USERNAME,
+    /// VFD_MQTT_PASSWORD or VFD_MQTT_PASSWORD_FILE) or --mqtt-password-file, never from
+    /// the command line (docs/mqtt.md).
+    #[arg(long, value_name = "URL")]
+    pub mqtt: Option<String>,
+    /// The first topic level(s) of everything published (`vfd/BUS/DRIVE/CODE`).
+    #[arg(long, value_name = "PREFIX", default_value = "vfd")]
+    pub mqtt_prefix: String,
+    /// The MQTT client id (default: vfd-serve-HOST-PREFIX, the same at every start, so the
+    /// broker keeps `set` messages sent while the service was down).
+    #[arg(long, value_name = "ID")]
+    pub mqtt_client_id: Option<String>,
+    /// A file holding the broker password (its first line), read once at start.
+    #[arg(long, value_name = "FILE")]
+    pub mqtt_password_file: Option<PathBuf>,
+    /// An extra CA certificate (PEM) to trust for mqtts:// (the system's roots are trusted).
+    #[arg(long, value_name = "FILE")]
+    pub mqtt_ca_file: Option<PathBuf>,
+    /// Publish Home Assistant MQTT discovery configs: each polled register a sensor with
+    /// its unit, the drive as the device.
+    #[arg(long, requires = "mqtt")]
+    pub ha_discovery: bool,
 }

@@ -6,8 +6,10 @@
 pub mod event;
 mod health;
 mod jsonl;
-mod logger;
-mod output;
+pub mod logger;
+pub mod mqtt;
+mod mqtt_output;
+pub mod output;
 mod report;
 mod schedule;
 mod station;
@@ -95,18 +97,50 @@ impl RouterParts {
     }
 }
 
+/// The outputs `args` choose: JSON lines, an MQTT client connected to its broker (which
+/// takes the `set` topics into `parts`' queues), or both.
+pub fn outputs(
+    args: &ServeArgs,
+    plant: &Plant,
+    parts: &RouterParts,
+) -> Result<Vec<Box<dyn Output>>, Failure> {
+    let mut outputs: Vec<Box<dyn Output>> = Vec::new();
+    if args.jsonl {
+        outputs.push(Box::new(jsonl::JsonLines));
+    }
+    if let Some(url) = args.mqtt.as_deref() {
+        let mut options = mqtt::MqttOptions::new(url, args.mqtt_password_file.as_deref())?
+            .with_prefix(&args.mqtt_prefix)?;
+        if let Some(id) = &args.mqtt_client_id {
+            options.client_id = id.clone();
+        }
+        options.ca_file = args.mqtt_ca_file.clone();
+        options.ha_discovery = args.ha_discovery;
+        let client = mqtt::Mqtt::connect(&options, plant, parts.router.clone())?;
+        log::info!(
+            target: LOG_TARGET,
+            "publishing to {} under {}/",
+            options.url,
+            options.prefix
+        );
+        outputs.push(Box::new(mqtt_output::MqttOutput(client)));
+    }
+    Ok(outputs)
+}
+
 /// `vfd serve`.
 pub fn run(args: &ServeArgs) -> Result<(), Failure> {
     let plant = crate::plant::check::load_for_service(&args.plant)?;
-    if !args.jsonl {
+    if !args.jsonl && args.mqtt.is_none() {
         return Err(Failure::new(
-            "say where the readings go: --jsonl (JSON lines on standard output)",
-        ));
+            "say where the readings go: --jsonl (JSON lines on standard output), --mqtt URL, or both",
+        )
+        .hint("e.g. vfd serve PLANT --mqtt mqtt://127.0.0.1:1883"));
     }
     logger::start(args.verbose);
     let stop = crate::watch::stop_flag()?;
     let parts = RouterParts::new(&plant);
-    let outputs: Vec<Box<dyn Output>> = vec![Box::new(jsonl::JsonLines)];
+    let outputs = outputs(args, &plant, &parts)?;
     log::info!(
         target: LOG_TARGET,
         "serving {} bus(es), {} station(s) from {}",

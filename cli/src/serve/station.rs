@@ -149,7 +149,7 @@ impl Link {
             .set_retries(if probing { 0 } else { self.retries });
         let registers: Vec<&'static RegisterInfo> =
             due.iter().map(|i| self.registers[*i]).collect();
-        let values = self.session.read_many(&registers);
+        let values = self.session.read_many_until_silent(&registers);
         let mut answered = false;
         let mut silent: Option<Failure> = None;
         for result in &values {

@@ -1,0 +1,21 @@
+//! MQTT output and input of `vfd serve`: events published under a prefix (retained states,
+//! availability, write outcomes, Home Assistant discovery) and writes taken from `set`
+//! topics. The topics, payloads and the write guarantee are described in `docs/mqtt.md`.
+
+mod client;
+mod discovery;
+mod options;
+mod outbox;
+mod payload;
+mod set;
+mod topic;
+
+#[cfg(test)]
+mod broker;
+#[cfg(test)]
+mod tests;
+
+pub use client::Mqtt;
+#[cfg(test)]
+use options::parse_url;
+pub use options::MqttOptions;

@@ -1,0 +1,683 @@
+//! Tests against a real mosquitto (started per test on a free loopback port), with
+//! mosquitto_sub / mosquitto_pub as the peer and a fake producer of events. Built
+//! `#[ignore]`d where mosquitto is missing (`cfg(missing_mosquitto)`, see cli/build.rs),
+//! never under CI.
+
+use super::broker::Broker;
+use super::options::{Credentials, MqttOptions};
+use super::Mqtt;
+use crate::plant::model::Poll;
+use crate::plant::{Bus, Plant, Station};
+use crate::serve::event::{Availability, Event, Reading, WriteOutcome, WriteRequest, WriteRouter};
+use std::sync::mpsc;
+use std::time::Duration;
+
+/// One bus `line1` with one station `pump` polling the first two registers of the first
+/// built-in drive.
+fn plant() -> Plant {
+    let drive = crate::catalogue::all_drives()[0];
+    let polls = drive
+        .registers
+        .iter()
+        .take(2)
+        .map(|&register| Poll {
+            register,
+            every: Duration::from_secs(1),
+        })
+        .collect();
+    Plant {
+        path: "test.yaml".into(),
+        warnings: vfd_codegen::Diagnostics::default(),
+        buses: vec![Bus {
+            name: "line1".into(),
+            port: "/dev/null".into(),
+            settings: vfd_runtime::serial::SerialSettings {
+                baud: 9600,
+                data_bits: 8,
+                parity: vfd_runtime::serial::Parity::None,
+                stop_bits: 1,
+            },
+            timeout: None,
+            min_gap: None,
+            host_latency: None,
+            retries: 0,
+            offline_after: 3,
+            backoff_first: Duration::from_secs(1),
+            backoff_cap: Duration::from_secs(60),
+            stations: vec![Station {
+                name: "pump".into(),
+                drive,
+                protocol: drive.protocols[0],
+                address: Some(1),
+                port: None,
+                polls,
+                writes: vec![],
+            }],
+        }],
+    }
+}
+
+fn options(broker: &Broker, name: &str) -> MqttOptions {
+    let mut options =
+        MqttOptions::new(&broker.url(), None).unwrap_or_else(|f| panic!("{}", f.message));
+    options.client_id = format!("vfd-test-{name}-{}", broker.port);
+    options.credentials = None;
+    options
+}
+
+fn connect(broker: &Broker, name: &str) -> (Mqtt, mpsc::Receiver<WriteRequest>) {
+    let (tx, rx) = mpsc::channel();
+    let mut router = WriteRouter::default();
+    router.buses.insert("line1".into(), tx);
+    let mqtt = Mqtt::connect(&options(broker, name), &plant(), router)
+        .unwrap_or_else(|f| panic!("{}", f.message));
+    (mqtt, rx)
+}
+
+fn reading(value: f64) -> Event {
+    let register = plant().buses[0].stations[0].polls[0].register;
+    Event::Reading(Reading {
+        bus: "line1".into(),
+        drive: "pump".into(),
+        model: "m".into(),
+        code: register.code.into(),
+        name: register.name.into(),
+        name_zh: String::new(),
+        value: Some(value),
+        unit: "Hz".into(),
+        raw: Some((value * 100.0) as u32),
+        text: None,
+        time: "2026-11-27T00:00:00.000Z".into(),
+        epoch_ms: 0,
+        tripped: Some(false),
+    })
+}
+
+fn online() -> Event {
+    Event::Availability(Availability {
+        bus: "line1".into(),
+        drive: "pump".into(),
+        online: true,
+        reason: None,
+        time: String::new(),
+    })
+}
+
+fn state_topic() -> String {
+    format!(
+        "vfd/line1/pump/{}",
+        super::topic::segment(plant().buses[0].stations[0].polls[0].register.code)
+    )
+}
+
+fn json(text: &str) -> serde_json::Value {
+    serde_json::from_str(text).unwrap_or_else(|e| panic!("not JSON ({e}): {text}"))
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn retained_states_availability_and_status_appear_and_shutdown_marks_offline() {
+    let broker = Broker::start("states", "");
+    let (mqtt, _rx) = connect(&broker, "states");
+    mqtt.publish(&online());
+    mqtt.publish(&reading(50.0));
+    std::thread::sleep(Duration::from_millis(500));
+    let state = json(&broker.first(&state_topic(), 5).expect("a retained state"));
+    assert_eq!(state["value"], 50.0);
+    assert_eq!(state["unit"], "Hz");
+    assert_eq!(state["raw"], 5000);
+    assert_eq!(state["tripped"], false);
+    assert_eq!(state["time"], "2026-11-27T00:00:00.000Z");
+    assert_eq!(
+        broker.first("vfd/line1/pump/available", 5).as_deref(),
+        Some("online")
+    );
+    assert_eq!(broker.first("vfd/status", 5).as_deref(), Some("online"));
+    mqtt.shutdown();
+    assert_eq!(
+        broker.first("vfd/line1/pump/available", 5).as_deref(),
+        Some("offline")
+    );
+    assert_eq!(broker.first("vfd/status", 5).as_deref(), Some("offline"));
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn a_killed_service_shows_offline_through_its_last_will() {
+    let broker = Broker::start("will", "");
+    let (mqtt, _rx) = connect(&broker, "will");
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(broker.first("vfd/status", 5).as_deref(), Some("online"));
+    drop(mqtt); // no shutdown: the connection closes without DISCONNECT
+    std::thread::sleep(Duration::from_millis(500));
+    assert_eq!(broker.first("vfd/status", 5).as_deref(), Some("offline"));
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn a_set_message_becomes_a_write_request_and_its_outcome_is_published() {
+    let broker = Broker::start("set", "");
+    let (mqtt, rx) = connect(&broker, "set");
+    let code = plant().buses[0].stations[0].polls[0].register.code;
+    let topic = format!("{}/set", state_topic());
+    let results = broker.sub_child(&format!("{topic}/result"), 1, 10);
+    broker.publish(&topic, "50 Hz", false);
+    let request = rx
+        .recv_timeout(Duration::from_secs(5))
+        .expect("a write request on line1's queue");
+    assert_eq!(
+        (
+            request.bus.as_str(),
+            request.drive.as_str(),
+            request.register.as_str(),
+            request.value.as_str()
+        ),
+        ("line1", "pump", code, "50 Hz")
+    );
+    mqtt.publish(&Event::Written(WriteOutcome {
+        bus: "line1".into(),
+        drive: "pump".into(),
+        code: code.into(),
+        request: "50 Hz".into(),
+        id: request.id,
+        ok: true,
+        sent: true,
+        value: Some(50.0),
+        unit: "Hz".into(),
+        raw: Some(5000),
+        error: None,
+        error_code: None,
+        error_meaning: None,
+        time: String::new(),
+    }));
+    let outcome = json(results.finish().first().expect("an outcome on set/result"));
+    assert_eq!(outcome["ok"], true);
+    assert_eq!(outcome["value"], 50.0);
+    assert_eq!(outcome["id"], request.id);
+    // A JSON value is taken too.
+    broker.publish(&topic, r#"{"value": 42}"#, false);
+    assert_eq!(
+        rx.recv_timeout(Duration::from_secs(5))
+            .expect("a second request")
+            .value,
+        "42"
+    );
+    mqtt.shutdown();
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn retained_sets_and_unknown_stations_are_refused_and_nothing_is_queued() {
+    let broker = Broker::start("refuse", "");
+    let topic = format!("{}/set", state_topic());
+    broker.publish(&topic, "50", true); // retained before the service starts
+    let results = broker.sub_child(&format!("{topic}/result"), 1, 10);
+    let (mqtt, rx) = connect(&broker, "refuse");
+    let outcome = json(
+        results
+            .finish()
+            .first()
+            .expect("a refusal of the retained set"),
+    );
+    assert_eq!(
+        (outcome["ok"].clone(), outcome["sent"].clone()),
+        (false.into(), false.into())
+    );
+    assert!(
+        outcome["error"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("retained"),
+        "{outcome}"
+    );
+    let unknown = broker.sub_child("vfd/line9/pump/X1/set/result", 1, 10);
+    broker.publish("vfd/line9/pump/X1/set", "1", false);
+    let outcome = json(
+        unknown
+            .finish()
+            .first()
+            .expect("a refusal of the unknown bus"),
+    );
+    assert!(
+        outcome["error"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("unknown bus 'line9'"),
+        "{outcome}"
+    );
+    let unknown = broker.sub_child("vfd/line1/fan/X1/set/result", 1, 10);
+    broker.publish("vfd/line1/fan/X1/set", "1", false);
+    let outcome = json(
+        unknown
+            .finish()
+            .first()
+            .expect("a refusal of the unknown drive"),
+    );
+    assert!(
+        outcome["error"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("unknown drive 'fan'"),
+        "{outcome}"
+    );
+    assert!(
+        rx.recv_timeout(Duration::from_millis(300)).is_err(),
+        "a refused set reached the bus queue"
+    );
+    mqtt.shutdown();
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn after_a_broker_restart_the_states_are_republished_and_sets_work_again() {
+    let mut broker = Broker::start("restart", "");
+    let (mqtt, rx) = connect(&broker, "restart");
+    mqtt.publish(&online());
+    mqtt.publish(&reading(12.5));
+    std::thread::sleep(Duration::from_millis(500));
+    broker.kill();
+    std::thread::sleep(Duration::from_millis(500));
+    broker.run(); // persistence off: the broker forgot every retained message
+    let state = broker
+        .first(&state_topic(), 20)
+        .expect("the state republished after the restart");
+    assert_eq!(json(&state)["value"], 12.5);
+    assert_eq!(
+        broker.first("vfd/line1/pump/available", 5).as_deref(),
+        Some("online")
+    );
+    assert_eq!(broker.first("vfd/status", 5).as_deref(), Some("online"));
+    broker.publish(&format!("{}/set", state_topic()), "7", false);
+    assert_eq!(
+        rx.recv_timeout(Duration::from_secs(5))
+            .expect("resubscribed")
+            .value,
+        "7"
+    );
+    mqtt.shutdown();
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn a_password_broker_takes_the_right_credentials_and_names_wrong_ones_without_the_password() {
+    let dir = std::env::temp_dir().join(format!("vfd-mqtt-passwd-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let passwords = dir.join("passwd");
+    let made = std::process::Command::new("mosquitto_passwd")
+        .args(["-b", "-c"])
+        .arg(&passwords)
+        .args(["svc", "s3cret-pass"])
+        .status()
+        .expect("mosquitto_passwd");
+    assert!(made.success());
+    let broker = Broker::start(
+        "passwd",
+        &format!(
+            "allow_anonymous false\npassword_file {}\n",
+            passwords.display()
+        ),
+    );
+    let plant = plant();
+    let mut options = options(&broker, "passwd");
+    options.credentials = Some(Credentials {
+        username: "svc".into(),
+        password: "s3cret-pass".into(),
+    });
+    let mqtt = Mqtt::connect(&options, &plant, WriteRouter::default())
+        .unwrap_or_else(|f| panic!("{}", f.message));
+    mqtt.shutdown();
+    options.credentials = Some(Credentials {
+        username: "svc".into(),
+        password: "wrong-hunter2".into(),
+    });
+    let failure = Mqtt::connect(&options, &plant, WriteRouter::default())
+        .err()
+        .expect("wrong password refused");
+    let text = format!(
+        "{} {}",
+        failure.message,
+        failure.hint.clone().unwrap_or_default()
+    );
+    assert!(
+        text.contains("not authorized") || text.contains("refused the user name or password"),
+        "{text}"
+    );
+    assert!(text.contains("VFD_MQTT_USERNAME"), "{text}");
+    assert!(
+        !text.contains("wrong-hunter2") && !text.contains("s3cret"),
+        "{text}"
+    );
+    options.credentials = None;
+    let failure = Mqtt::connect(&options, &plant, WriteRouter::default())
+        .err()
+        .expect("anonymous refused");
+    assert!(failure
+        .hint
+        .unwrap_or_default()
+        .contains("VFD_MQTT_USERNAME"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn a_broker_that_is_down_is_named_clearly() {
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let mut options = MqttOptions::new(&format!("mqtt://127.0.0.1:{port}"), None)
+        .unwrap_or_else(|f| panic!("{}", f.message));
+    options.credentials = None;
+    let failure = Mqtt::connect(&options, &plant(), WriteRouter::default())
+        .err()
+        .expect("no broker");
+    assert!(
+        failure.message.contains(&format!("127.0.0.1:{port}"))
+            && failure.message.contains("connection refused"),
+        "{}",
+        failure.message
+    );
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn home_assistant_discovery_configs_are_retained_with_their_keys() {
+    let broker = Broker::start("discovery", "");
+    let mut options = options(&broker, "discovery");
+    options.ha_discovery = true;
+    let mqtt = Mqtt::connect(&options, &plant(), WriteRouter::default())
+        .unwrap_or_else(|f| panic!("{}", f.message));
+    std::thread::sleep(Duration::from_millis(500));
+    let configs = broker.sub("homeassistant/sensor/+/config", 2, 5);
+    assert_eq!(configs.len(), 2, "{configs:?}");
+    let config = json(&configs[0]);
+    for key in [
+        "name",
+        "unique_id",
+        "state_topic",
+        "value_template",
+        "availability",
+        "device",
+    ] {
+        assert!(config.get(key).is_some(), "no {key} in {config}");
+    }
+    assert!(config["unique_id"]
+        .as_str()
+        .unwrap()
+        .starts_with("vfd_vfd_line1_pump_"));
+    assert_eq!(config["value_template"], "{{ value_json.value }}");
+    assert_eq!(config["availability"][0]["topic"], "vfd/status");
+    assert_eq!(
+        config["availability"][1]["topic"],
+        "vfd/line1/pump/available"
+    );
+    let drive = crate::catalogue::all_drives()[0];
+    assert_eq!(config["device"]["manufacturer"], drive.vendor);
+    assert_eq!(config["device"]["model"], drive.model);
+    mqtt.shutdown();
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn the_documented_acl_file_lets_only_the_operator_write_set_topics() {
+    let acl = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/mqtt-acl.conf");
+    assert!(acl.exists(), "{} is missing", acl.display());
+    let dir = std::env::temp_dir().join(format!("vfd-mqtt-acl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let passwords = dir.join("passwd");
+    for (create, user, password) in [(true, "vfd-serve", "svc-pw"), (false, "operator", "op-pw")] {
+        let mut command = std::process::Command::new("mosquitto_passwd");
+        command.arg("-b");
+        if create {
+            command.arg("-c");
+        }
+        assert!(command
+            .arg(&passwords)
+            .args([user, password])
+            .status()
+            .expect("mosquitto_passwd")
+            .success());
+    }
+    let broker = Broker::start(
+        "acl",
+        &format!(
+            "allow_anonymous true\npassword_file {}\nacl_file {}\n",
+            passwords.display(),
+            acl.display()
+        ),
+    );
+    let (tx, rx) = mpsc::channel();
+    let mut router = WriteRouter::default();
+    router.buses.insert("line1".into(), tx);
+    let mut options = options(&broker, "acl");
+    options.credentials = Some(Credentials {
+        username: "vfd-serve".into(),
+        password: "svc-pw".into(),
+    });
+    let mqtt =
+        Mqtt::connect(&options, &plant(), router).unwrap_or_else(|f| panic!("{}", f.message));
+    mqtt.publish(&reading(1.0));
+    // Everyone reads the states.
+    assert!(
+        broker.first(&state_topic(), 5).is_some(),
+        "an anonymous reader got no state"
+    );
+    let topic = format!("{}/set", state_topic());
+    // An anonymous client may not write a set topic: the broker drops the message.
+    broker.publish(&topic, "1", false);
+    assert!(
+        rx.recv_timeout(Duration::from_millis(700)).is_err(),
+        "an anonymous set got through the ACL"
+    );
+    // The operator may.
+    broker.publish_as(Some(("operator", "op-pw")), &topic, "2", false);
+    assert_eq!(
+        rx.recv_timeout(Duration::from_secs(5))
+            .expect("the operator's set")
+            .value,
+        "2"
+    );
+    mqtt.shutdown();
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn a_set_redelivered_after_a_crash_mid_write_is_answered_never_applied_again() {
+    let broker = Broker::start("redeliver", "");
+    let (mqtt, rx) = connect(&broker, "redeliver");
+    let topic = format!("{}/set", state_topic());
+    broker.publish(&topic, "50", false);
+    assert_eq!(
+        rx.recv_timeout(Duration::from_secs(5))
+            .expect("the first delivery")
+            .value,
+        "50"
+    );
+    // Killed before the outcome: the message is not acknowledged, the session is kept.
+    drop(mqtt);
+    let results = broker.sub_child(&format!("{topic}/result"), 1, 10);
+    let (mqtt, rx) = connect(&broker, "redeliver"); // the same client id
+    let outcome = json(results.finish().first().expect("the redelivery answered"));
+    assert_eq!(
+        (outcome["ok"].clone(), outcome["sent"].clone()),
+        (false.into(), false.into())
+    );
+    assert!(
+        outcome["error"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("redelivered"),
+        "{outcome}"
+    );
+    assert!(
+        rx.recv_timeout(Duration::from_millis(500)).is_err(),
+        "the redelivered set was applied again"
+    );
+    mqtt.shutdown();
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn mqtts_trusts_the_given_ca_and_refuses_an_unknown_one() {
+    let dir = std::env::temp_dir().join(format!("vfd-mqtt-tls-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let openssl = |args: &[&str]| {
+        let status = std::process::Command::new("openssl")
+            .current_dir(&dir)
+            .args(args)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status();
+        assert!(
+            status.is_ok_and(|s| s.success()),
+            "openssl {args:?} failed (is openssl installed?)"
+        );
+    };
+    let ec = [
+        "-newkey",
+        "ec",
+        "-pkeyopt",
+        "ec_paramgen_curve:prime256v1",
+        "-nodes",
+    ];
+    openssl(
+        &[
+            &["req", "-x509"][..],
+            &ec,
+            &[
+                "-keyout",
+                "ca.key",
+                "-out",
+                "ca.crt",
+                "-days",
+                "2",
+                "-subj",
+                "/CN=vfd test CA",
+            ],
+        ]
+        .concat(),
+    );
+    openssl(
+        &[
+            &["req"][..],
+            &ec,
+            &[
+                "-keyout",
+                "server.key",
+                "-out",
+                "server.csr",
+                "-subj",
+                "/CN=127.0.0.1",
+            ],
+        ]
+        .concat(),
+    );
+    std::fs::write(
+        dir.join("ext.cnf"),
+        "subjectAltName=IP:127.0.0.1\nbasicConstraints=CA:FALSE\nextendedKeyUsage=serverAuth\n",
+    )
+    .unwrap();
+    openssl(&[
+        "x509",
+        "-req",
+        "-in",
+        "server.csr",
+        "-CA",
+        "ca.crt",
+        "-CAkey",
+        "ca.key",
+        "-CAcreateserial",
+        "-out",
+        "server.crt",
+        "-days",
+        "2",
+        "-extfile",
+        "ext.cnf",
+    ]);
+    // Run as root, mosquitto drops to its own user, which must read the key.
+    for file in ["server.key", "server.crt", "ca.crt"] {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(dir.join(file), std::fs::Permissions::from_mode(0o644)).unwrap();
+    }
+    let broker = Broker::start(
+        "tls",
+        &format!(
+            "allow_anonymous true\ncafile {0}/ca.crt\ncertfile {0}/server.crt\nkeyfile {0}/server.key\n",
+            dir.display()
+        ),
+    );
+    let mut options = options(&broker, "tls");
+    options.url = super::parse_url(&format!("mqtts://127.0.0.1:{}", broker.port))
+        .unwrap_or_else(|f| panic!("{}", f.message));
+    options.ca_file = Some(dir.join("ca.crt"));
+    let mqtt = Mqtt::connect(&options, &plant(), WriteRouter::default())
+        .unwrap_or_else(|f| panic!("{}", f.message));
+    mqtt.shutdown();
+    options.ca_file = None; // the system's roots do not know the test CA
+    let failure = Mqtt::connect(&options, &plant(), WriteRouter::default())
+        .err()
+        .expect("an unknown CA refused");
+    assert!(
+        failure.message.contains("TLS") || failure.message.contains("certificate"),
+        "{}",
+        failure.message
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
+fn shutdown_with_the_broker_gone_ends_in_bounded_time() {
+    let mut broker = Broker::start("gone", "");
+    let (mqtt, _rx) = connect(&broker, "gone");
+    broker.kill();
+    for value in 0..200 {
+        mqtt.publish(&reading(f64::from(value)));
+        mqtt.publish(&online());
+    }
+    let start = std::time::Instant::now();
+    mqtt.shutdown();
+    assert!(
+        start.elapsed() < Duration::from_secs(10),
+        "shutdown took {:?}",
+        start.elapsed()
+    );
+}
