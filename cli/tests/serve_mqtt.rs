@@ -1,0 +1,476 @@
+//! `vfd serve` end to end through a real MQTT broker: a private mosquitto on a free
+//! loopback port, two virtual multi-drop buses (`vfd sim --station ...`, five stations of
+//! three models), and mosquitto's own clients as the peer:
+//!
+//! - a retained state appears for every polled register of every station, and each
+//!   station is `online`;
+//! - `50 Hz` on a `set` topic reaches the virtual drive and reads back; `999 Hz`, and a
+//!   register the plant does not allow, are refused on the result topic with the reason,
+//!   and the virtual drive received exactly the one write frame;
+//! - a station whose plug is pulled goes `offline` within its bound while the other
+//!   stations on its bus keep their polling rate;
+//! - the broker killed and started again (without persistence: its retained states are
+//!   gone) is reconnected to, and the states come back.
+//!
+//! Without mosquitto these are `#[ignore]`d with the reason (cli/build.rs); under CI they
+//! run (`.ci/run` installs mosquitto).
+
+use std::io::{BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+fn mosquitto() -> &'static str {
+    [
+        "/usr/sbin/mosquitto",
+        "/usr/local/sbin/mosquitto",
+        "/opt/homebrew/sbin/mosquitto",
+    ]
+    .into_iter()
+    .find(|p| Path::new(p).exists())
+    .unwrap_or("mosquitto")
+}
+
+/// A private mosquitto (no persistence), restartable on its port.
+struct Broker {
+    port: u16,
+    config: PathBuf,
+    child: Option<Child>,
+}
+
+impl Broker {
+    fn start(dir: &Path) -> Broker {
+        let port = std::net::TcpListener::bind("127.0.0.1:0")
+            .and_then(|l| l.local_addr())
+            .expect("a free port")
+            .port();
+        let config = dir.join("mosquitto.conf");
+        std::fs::write(
+            &config,
+            format!("listener {port} 127.0.0.1\npersistence false\nallow_anonymous true\n"),
+        )
+        .expect("config");
+        let mut broker = Broker {
+            port,
+            config,
+            child: None,
+        };
+        broker.run();
+        broker
+    }
+
+    fn run(&mut self) {
+        self.child = Some(
+            Command::new(mosquitto())
+                .arg("-c")
+                .arg(&self.config)
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .expect("mosquitto starts"),
+        );
+        let end = Instant::now() + Duration::from_secs(10);
+        while std::net::TcpStream::connect(("127.0.0.1", self.port)).is_err() {
+            assert!(Instant::now() < end, "mosquitto listens");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    fn kill(&mut self) {
+        if let Some(mut child) = self.child.take() {
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+
+    fn publish(&self, topic: &str, payload: &str) {
+        let status = Command::new("mosquitto_pub")
+            .args(["-h", "127.0.0.1", "-p", &self.port.to_string(), "-q", "1"])
+            .args(["-t", topic, "-m", payload])
+            .status()
+            .expect("mosquitto_pub runs");
+        assert!(status.success());
+    }
+
+    /// Every message on `filter` (retained ones first) as (time seen, topic, payload),
+    /// collected by a `mosquitto_sub` child until it is dropped.
+    fn subscribe(&self, filter: &str) -> Subscriber {
+        let mut child = Command::new("mosquitto_sub")
+            .args([
+                "-h",
+                "127.0.0.1",
+                "-p",
+                &self.port.to_string(),
+                "-v",
+                "-t",
+                filter,
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("mosquitto_sub runs");
+        let seen: Seen = Arc::default();
+        let sink = seen.clone();
+        let stdout = child.stdout.take().expect("piped");
+        std::thread::spawn(move || {
+            for line in BufReader::new(stdout).lines() {
+                let Ok(line) = line else { break };
+                let (topic, payload) = line.split_once(' ').unwrap_or((&line, ""));
+                sink.lock()
+                    .unwrap()
+                    .push((Instant::now(), topic.to_owned(), payload.to_owned()));
+            }
+        });
+        Subscriber { child, seen }
+    }
+}
+
+impl Drop for Broker {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
+type Seen = Arc<Mutex<Vec<(Instant, String, String)>>>;
+
+struct Subscriber {
+    child: Child,
+    seen: Seen,
+}
+
+impl Subscriber {
+    fn messages(&self) -> Vec<(Instant, String, String)> {
+        self.seen.lock().unwrap().clone()
+    }
+
+    /// Waits up to `limit` for a message `matches` accepts.
+    fn wait_for(
+        &self,
+        limit: Duration,
+        what: &str,
+        matches: impl Fn(&str, &str) -> bool,
+    ) -> (Instant, String, String) {
+        let end = Instant::now() + limit;
+        loop {
+            if let Some(found) = self.messages().into_iter().find(|(_, t, p)| matches(t, p)) {
+                return found;
+            }
+            assert!(
+                Instant::now() < end,
+                "no {what} within {limit:?}; seen: {:#?}",
+                self.messages()
+                    .iter()
+                    .rev()
+                    .take(30)
+                    .map(|(_, t, p)| format!("{t} {p}"))
+                    .collect::<Vec<_>>()
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+}
+
+impl Drop for Subscriber {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// A `vfd sim --station ... -v` bus: its device, its standard input (controls) and its
+/// log of answered exchanges.
+struct SimBus {
+    child: Child,
+    port: String,
+    stdin: ChildStdin,
+    log: PathBuf,
+}
+
+impl SimBus {
+    fn start(dir: &Path, name: &str, stations: &[&str]) -> SimBus {
+        let log = dir.join(format!("{name}.log"));
+        let mut command = Command::new(env!("CARGO_BIN_EXE_vfd"));
+        command.args(["sim", "-v", "--baud", "9600", "--parity", "even"]);
+        for station in stations {
+            command.args(["--station", station]);
+        }
+        let mut child = command
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(std::fs::File::create(&log).expect("log"))
+            .spawn()
+            .expect("vfd sim starts");
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().expect("piped"))
+            .read_line(&mut first)
+            .expect("the device");
+        SimBus {
+            port: first.trim().to_owned(),
+            stdin: child.stdin.take().expect("piped"),
+            child,
+            log,
+        }
+    }
+
+    fn control(&mut self, line: &str) {
+        writeln!(self.stdin, "{line}").expect("the sim reads its controls");
+        self.stdin.flush().expect("flushed");
+    }
+
+    /// The requests it answered, as hex.
+    fn requests(&self) -> Vec<String> {
+        std::fs::read_to_string(&self.log)
+            .unwrap_or_default()
+            .lines()
+            .filter_map(|l| l.split_once(" request ").map(|(_, r)| r.trim().to_owned()))
+            // `[N] ` names the station that answered.
+            .map(|r| match r.split_once("] ") {
+                Some((tag, rest)) if tag.starts_with('[') => rest.to_owned(),
+                _ => r,
+            })
+            .collect()
+    }
+}
+
+impl Drop for SimBus {
+    fn drop(&mut self) {
+        let _ = Command::new("kill")
+            .arg(self.child.id().to_string())
+            .status();
+        let _ = self.child.wait();
+    }
+}
+
+/// `vfd serve PLANT --mqtt URL`, stopped (SIGTERM) when dropped.
+struct Service(Child);
+
+impl Drop for Service {
+    fn drop(&mut self) {
+        let _ = Command::new("kill").arg(self.0.id().to_string()).status();
+        let _ = self.0.wait();
+    }
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("vfd-serve-mqtt-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// The stations, `(bus, name, drive, protocol, address, polled registers)`.
+const STATIONS: [(&str, &str, &str, &str, u8, &[&str]); 5] = [
+    ("line1", "fan1", "vf-as1", "modbus", 1, &["FD00", "FA01"]),
+    ("line1", "pump1", "fc51", "modbus", 2, &["MAV", "STW"]),
+    ("line1", "fan2", "vf-as1", "modbus", 3, &["FD00", "FA01"]),
+    ("line2", "belt1", "yd1000", "binary", 1, &["FD00", "FA01"]),
+    ("line2", "fan3", "vf-as1", "binary", 2, &["FD00", "FA01"]),
+];
+
+/// Starts the two virtual buses, the plant file and `vfd serve` publishing to `broker`.
+fn plant(dir: &Path, broker: &Broker) -> (SimBus, SimBus, Service) {
+    let specs = |bus: &str| -> Vec<String> {
+        STATIONS
+            .iter()
+            .filter(|s| s.0 == bus)
+            .map(|s| format!("{}:{}@{}", s.2, s.3, s.4))
+            .collect()
+    };
+    let line1 = specs("line1");
+    let line2 = specs("line2");
+    let bus1 = SimBus::start(
+        dir,
+        "line1",
+        &line1.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    let bus2 = SimBus::start(
+        dir,
+        "line2",
+        &line2.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    let mut text = String::from("buses:\n");
+    for (bus, port) in [("line1", &bus1.port), ("line2", &bus2.port)] {
+        text.push_str(&format!(
+            "  - name: {bus}\n    port: {port}\n    baud: 9600\n    parity: even\n    offline_after: 2\n    backoff: {{ first_ms: 500, cap_ms: 2000 }}\n    drives:\n"
+        ));
+        for (_, name, drive, protocol, address, registers) in STATIONS.iter().filter(|s| s.0 == bus)
+        {
+            text.push_str(&format!(
+                "      - name: {name}\n        drive: {drive}\n        protocol: {protocol}\n        station: {address}\n        poll:\n          - every: 250ms\n            registers: [{}]\n",
+                registers.join(", ")
+            ));
+            if *drive != "fc51" {
+                text.push_str("        write: [FA01]\n");
+            }
+        }
+    }
+    let path = dir.join("plant.yaml");
+    std::fs::write(&path, text).expect("plant file");
+    let service = Command::new(env!("CARGO_BIN_EXE_vfd"))
+        .arg("serve")
+        .arg(&path)
+        .args(["--mqtt", &format!("mqtt://127.0.0.1:{}", broker.port)])
+        .args([
+            "--mqtt-client-id",
+            &format!("vfd-test-{}", std::process::id()),
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(dir.join("serve.log")).expect("log"))
+        .spawn()
+        .expect("vfd serve starts");
+    (bus1, bus2, Service(service))
+}
+
+/// Every polled register of every station has a retained state, and every station is online.
+fn all_states(subscriber: &Subscriber, limit: Duration) {
+    for (bus, name, _, _, _, registers) in STATIONS {
+        for code in registers {
+            let topic = format!("vfd/{bus}/{name}/{code}");
+            let (_, _, payload) = subscriber.wait_for(limit, &topic, |t, _| t == topic);
+            let state: serde_json::Value = serde_json::from_str(&payload).expect("JSON state");
+            assert_eq!(state["code"], *code, "{payload}");
+            assert!(state["raw"].is_u64(), "{payload}");
+            assert!(state["time"].is_string(), "{payload}");
+        }
+        let topic = format!("vfd/{bus}/{name}/available");
+        subscriber.wait_for(limit, &format!("{topic} online"), |t, p| {
+            t == topic && p == "online"
+        });
+    }
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients); .ci/run installs it"
+)]
+fn states_writes_refusals_and_a_pulled_plug_through_the_broker() {
+    let dir = temp_dir("plant");
+    let broker = Broker::start(&dir);
+    let everything = broker.subscribe("vfd/#");
+    let (mut bus1, _bus2, _service) = plant(&dir, &broker);
+    all_states(&everything, Duration::from_secs(15));
+
+    // 50 Hz through MQTT reaches the drive and reads back.
+    broker.publish("vfd/line1/fan1/FA01/set", "50 Hz");
+    let (_, _, result) =
+        everything.wait_for(Duration::from_secs(5), "the result of 50 Hz", |t, p| {
+            t == "vfd/line1/fan1/FA01/set/result" && p.contains("\"request\":\"50 Hz\"")
+        });
+    let result: serde_json::Value = serde_json::from_str(&result).expect("JSON");
+    assert_eq!(result["ok"], true, "{result}");
+    everything.wait_for(Duration::from_secs(5), "FA01 read back as 50 Hz", |t, p| {
+        t == "vfd/line1/fan1/FA01" && p.contains("\"value\":50.0")
+    });
+    // 999 Hz, and a register the plant does not allow: refused, nothing sent.
+    broker.publish("vfd/line1/fan1/FA01/set", "999 Hz");
+    broker.publish("vfd/line1/fan1/FH/set", "60");
+    for (topic, request, says) in [
+        (
+            "vfd/line1/fan1/FA01/set/result",
+            "999 Hz",
+            "outside the range",
+        ),
+        ("vfd/line1/fan1/FH/set/result", "60", "does not allow"),
+    ] {
+        let (_, _, refused) = everything.wait_for(Duration::from_secs(5), "a refusal", |t, p| {
+            t == topic && p.contains(&format!("\"request\":\"{request}\""))
+        });
+        let refused: serde_json::Value = serde_json::from_str(&refused).expect("JSON");
+        assert_eq!(refused["ok"], false, "{refused}");
+        assert_eq!(refused["sent"], false, "{refused}");
+        assert!(
+            refused["error"].as_str().unwrap_or_default().contains(says),
+            "{refused}"
+        );
+    }
+    std::thread::sleep(Duration::from_millis(500));
+    let writes: Vec<String> = bus1
+        .requests()
+        .into_iter()
+        .filter(|r| r.starts_with("01 06") || r.starts_with("01 10"))
+        .collect();
+    assert_eq!(
+        writes.len(),
+        1,
+        "exactly the allowed write reached station 1: {writes:?}"
+    );
+    assert!(writes[0].starts_with("01 06 FA 01 13 88"), "{writes:?}");
+
+    // Pull station 3's plug: offline within its bound, the others keep their rate.
+    let rate = |name: &str, from: Instant, to: Instant| {
+        let prefix = format!("vfd/line1/{name}/");
+        everything
+            .messages()
+            .iter()
+            .filter(|(at, t, _)| {
+                *at >= from
+                    && *at < to
+                    && t.starts_with(&prefix)
+                    && !t.ends_with("available")
+                    && !t.contains("/set")
+            })
+            .count() as f64
+            / (to - from).as_secs_f64()
+    };
+    std::thread::sleep(Duration::from_secs(2));
+    let pulled = Instant::now();
+    bus1.control("unplug 3");
+    // Two failed rounds of one reply timeout each (under 1 s at 9600 baud) after at most
+    // one poll interval.
+    let (offline_at, _, _) = everything.wait_for(Duration::from_secs(6), "fan2 offline", |t, p| {
+        t == "vfd/line1/fan2/available" && p == "offline"
+    });
+    assert!(
+        offline_at - pulled < Duration::from_secs(4),
+        "offline after {:?}",
+        offline_at - pulled
+    );
+    std::thread::sleep(Duration::from_secs(4));
+    let after_end = Instant::now();
+    for name in ["fan1", "pump1"] {
+        let before = rate(name, pulled - Duration::from_secs(2), pulled);
+        let after = rate(name, after_end - Duration::from_secs(3), after_end);
+        // 2 registers every 250 ms: 8 states per second.
+        assert!(before > 6.0, "{name} before: {before}/s");
+        assert!(
+            after > before * 0.8,
+            "{name} kept its rate: {before}/s before, {after}/s with fan2 dead"
+        );
+    }
+    bus1.control("plug 3");
+    everything.wait_for(Duration::from_secs(6), "fan2 online again", |t, p| {
+        t == "vfd/line1/fan2/available"
+            && p == "online"
+            && everything
+                .messages()
+                .iter()
+                .any(|(at, tt, pp)| *at > offline_at && tt == t && pp == p)
+    });
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients); .ci/run installs it"
+)]
+fn a_restarted_broker_is_reconnected_to_and_the_states_come_back() {
+    let dir = temp_dir("restart");
+    let mut broker = Broker::start(&dir);
+    let (_bus1, _bus2, _service) = plant(&dir, &broker);
+    {
+        let first = broker.subscribe("vfd/#");
+        all_states(&first, Duration::from_secs(15));
+    }
+    broker.kill();
+    std::thread::sleep(Duration::from_secs(1));
+    broker.run();
+    // A new broker without persistence: whatever it holds now was published again.
+    let again = broker.subscribe("vfd/#");
+    all_states(&again, Duration::from_secs(20));
+    again.wait_for(Duration::from_secs(5), "the service's status", |t, p| {
+        t == "vfd/status" && p == "online"
+    });
+}
