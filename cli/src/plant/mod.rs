@@ -41,6 +41,12 @@ pub fn load_str(text: &str, path: &Path) -> Result<Plant, Diagnostics> {
     load_source(&SourceFile::from_text(path, text.to_owned()))
 }
 
+/// Whether `path` is `element` or lies under it.
+fn within(path: &str, element: &str) -> bool {
+    path.strip_prefix(element)
+        .is_some_and(|rest| rest.is_empty() || rest.starts_with(['.', '[']))
+}
+
 fn load_source(source: &SourceFile) -> Result<Plant, Diagnostics> {
     let read = source.read_model::<file::PlantFile>();
     let mut problems = Problems {
@@ -59,12 +65,19 @@ fn load_source(source: &SourceFile) -> Result<Plant, Diagnostics> {
         .value
         .map(|file| resolve::plant(&file, &dir, &mut problems));
     let mut found = problems.found;
-    let incomplete: Vec<(PathBuf, String)> = read
-        .incomplete
-        .into_iter()
-        .map(|element| (source.path.clone(), element))
+    // A value the reader refused holds a placeholder: what the checks then say at or under
+    // it is a consequence, not a further mistake. (Narrower than the drive files' rule,
+    // which leaves out the whole sequence item: a wrong `station` must not hide a wrong
+    // interval of the same drive.)
+    let refused: Vec<String> = found.items[..keep]
+        .iter()
+        .map(|item| item.path.clone())
         .collect();
-    found.leave_out_consequences(keep, &incomplete);
+    let mut index = 0;
+    found.items.retain(|item| {
+        index += 1;
+        index <= keep || !refused.iter().any(|at| within(&item.path, at))
+    });
     found.attach_sources(|path| (path == source.path).then_some(source.text.as_str()));
     // The reader's hints send people to the drive files' reference.
     for item in &mut found.items {
@@ -82,5 +95,63 @@ fn load_source(source: &SourceFile) -> Result<Plant, Diagnostics> {
             }
             Err(found)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    const PLANT: &str = "buses:
+  - name: line1
+    port: /dev/pts/9
+    drives:
+      - name: pump1
+        drive: fc51
+        protocol: modbus
+        poll:
+          - { every: 250ms, registers: [MAV, STW] }
+        write: [REF]
+";
+
+    #[test]
+    fn a_plant_in_memory_resolves_with_the_defaults() {
+        let plant = load_str(PLANT, Path::new("demo.yaml")).unwrap();
+        assert!(plant.warnings.is_empty(), "{}", plant.warnings);
+        let bus = &plant.buses[0];
+        assert_eq!(bus.port, "/dev/pts/9");
+        assert_eq!(bus.settings, bus.stations[0].drive.serial.default);
+        assert_eq!(
+            (
+                bus.retries,
+                bus.offline_after,
+                bus.backoff_first,
+                bus.backoff_cap
+            ),
+            (0, 3, Duration::from_secs(1), Duration::from_secs(60))
+        );
+        let station = &bus.stations[0];
+        assert_eq!(station.protocol.id.as_ref(), "modbus");
+        assert_eq!(station.address, station.protocol.default_address());
+        assert_eq!(station.polls.len(), 2);
+        assert_eq!(station.polls[0].every, Duration::from_millis(250));
+        assert_eq!(station.writes[0].register.code, "REF");
+        assert!(!station.writes[0].persistent);
+    }
+
+    #[test]
+    fn every_problem_is_collected_with_its_position() {
+        let text = PLANT
+            .replace("drive: fc51", "drive: fc51\n        station: 999")
+            .replace("250ms", "0ms")
+            .replace("[REF]", "[STW]");
+        let problems = load_str(&text, Path::new("demo.yaml")).unwrap_err();
+        let lines: Vec<String> = problems.items.iter().map(|d| d.location()).collect();
+        assert_eq!(lines.len(), 3, "{problems}");
+        assert!(
+            lines.iter().all(|l| l.starts_with("demo.yaml:")),
+            "{lines:?}"
+        );
     }
 }
