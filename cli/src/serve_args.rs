@@ -26,7 +26,7 @@ pub struct ServeArgs {
     /// Print debug records too (registers a drive refused to read, the runtime's retries).
     #[arg(long, short = 'v')]
     pub verbose: bool,
-    /// Publish to this MQTT broker: mqtt://HOST[:PORT] (1883) or mqtts://HOST[:PORT] (TLS,
+    /// Publish to this MQTT broker: mqtt://HOST:PORT (port 1883 if left out) or mqtts://HOST:PORT (TLS,
     /// 8883). User and password come from the environment (VFD_MQTT_USERNAME,
     /// VFD_MQTT_PASSWORD or VFD_MQTT_PASSWORD_FILE) or --mqtt-password-file, never from
     /// the command line (docs/mqtt.md).

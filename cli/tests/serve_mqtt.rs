@@ -259,8 +259,18 @@ fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// The stations, `(bus, name, drive, protocol, address, polled registers)`.
-const STATIONS: [(&str, &str, &str, &str, u8, &[&str]); 5] = [
+/// A station: `(bus, name, drive, protocol, address, polled registers)`.
+type Planned = (
+    &'static str,
+    &'static str,
+    &'static str,
+    &'static str,
+    u8,
+    &'static [&'static str],
+);
+
+/// The stations of the two buses.
+const STATIONS: [Planned; 5] = [
     ("line1", "fan1", "vf-as1", "modbus", 1, &["FD00", "FA01"]),
     ("line1", "pump1", "fc51", "modbus", 2, &["MAV", "STW"]),
     ("line1", "fan2", "vf-as1", "modbus", 3, &["FD00", "FA01"]),

@@ -1,10 +1,10 @@
 //! The service on paced lines: `vfd serve` (the release binary, as a plant runs it) polling
-//! virtual VF-AS1 drives (Modbus RTU, 9600 baud 8E1) on paced pseudo-terminal lines (bytes
+//! virtual DV1 drives (Modbus RTU, 9600 baud 8N1) on paced pseudo-terminal lines (bytes
 //! delivered at the wire's character rate, `vfd_bench::paced`), with the drives served by
 //! the runtime's multi-drop bus server in this process. Prints Markdown:
 //!
-//! 1. One bus, 8 stations, each polling two consecutive registers as fast as it can
-//!    (`every: 10ms`): readings per second against the wire limit of that poll list (every
+//! 1. One bus, 8 stations, each polling three consecutive registers (status, frequency
+//!    command, output frequency: one request) as fast as it can (`every: 10ms`): readings per second against the wire limit of that poll list (every
 //!    station's exchange back to back: request and reply on the wire, a frame gap after
 //!    each, the drive's reply delay), and the service's CPU and memory per 100 readings/s.
 //! 2. The time from a write request to the drive having applied it: from a JSON line on
@@ -27,7 +27,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 use vfd_bench::paced::PacedLine;
 use vfd_bench::service::Service;
-use vfd_drives::vf_as1;
+use vfd_drives::dv1;
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transaction::Master;
 use vfd_runtime::transport::{Direction, PtyTransport, Recording};
@@ -36,16 +36,23 @@ use vfd_runtime::Protocol;
 
 const SETTINGS: SerialSettings = SerialSettings {
     baud: 9600,
-    parity: Parity::Even,
+    parity: Parity::None,
     data_bits: 8,
     stop_bits: 1,
 };
 
-/// The first polled register (FD00 output frequency); FD01 (status) follows it.
-const FIRST: u16 = 0xFD00;
+/// The first polled register (1001h, H7A status); H6D-HED (1002h, frequency command) and
+/// H6F (1003h, output frequency) follow it.
+const FIRST: u16 = 0x1001;
+
+/// Registers per station's poll.
+const WORDS: usize = 3;
+
+/// The register the writes go to (the frequency command in RAM).
+const WRITTEN: &str = "H6D-HED";
 
 fn protocol() -> &'static Protocol {
-    vf_as1::protocols::MODBUS.protocol()
+    dv1::protocols::MODBUS.protocol()
 }
 
 /// One paced bus of virtual stations 1..=n.
@@ -64,7 +71,7 @@ impl VirtualBus {
             PacedLine::open_for_path(SETTINGS, false).map_err(|e| e.to_string())?;
         let bus: Vec<BusStation> = (1..=stations)
             .map(|address| {
-                let simulator = Simulator::new(&vf_as1::DRIVE);
+                let simulator = Simulator::new(&dv1::DRIVE);
                 simulator.lock().set_address(address);
                 BusStation {
                     simulator,
@@ -99,17 +106,17 @@ impl Drop for VirtualBus {
     }
 }
 
-/// The plant file for `buses` (name, device, stations), polling FD00 and FD01 every 10 ms.
+/// The plant file for `buses` (name, device, stations), polling 1001h-1003h every 10 ms.
 fn plant_file(dir: &Path, buses: &[(String, &VirtualBus)], backoff_ms: u64) -> PathBuf {
     let mut text = String::from("buses:\n");
     for (name, bus) in buses {
         text.push_str(&format!(
-            "  - name: {name}\n    port: {}\n    baud: 9600\n    parity: even\n    offline_after: 3\n    backoff: {{ first_ms: {backoff_ms}, cap_ms: {backoff_ms} }}\n    drives:\n",
+            "  - name: {name}\n    port: {}\n    baud: 9600\n    parity: none\n    offline_after: 3\n    backoff: {{ first_ms: {backoff_ms}, cap_ms: {backoff_ms} }}\n    drives:\n",
             bus.path.display()
         ));
         for address in 1..=bus.sims.len() {
             text.push_str(&format!(
-                "      - name: d{address}\n        drive: vf-as1\n        protocol: modbus\n        station: {address}\n        poll:\n          - every: 10ms\n            registers: [FD00, FD01]\n        write: [FA01]\n"
+                "      - name: d{address}\n        drive: dv1\n        protocol: modbus\n        station: {address}\n        poll:\n          - every: 10ms\n            registers: [H7A, H6D-HED, H6F]\n        write: [H6D-HED]\n"
             ));
         }
     }
@@ -127,16 +134,16 @@ struct Model {
 }
 
 fn model() -> Result<Model, String> {
-    let sim = Simulator::new(&vf_as1::DRIVE);
+    let sim = Simulator::new(&dv1::DRIVE);
     sim.lock().set_address(1);
     let mut master = Master::for_protocol(
         Recording::new(sim.link(protocol())),
         protocol(),
         SETTINGS,
-        vf_as1::DRIVE.serial.timing,
+        dv1::DRIVE.serial.timing,
     )
     .with_address(Some(1));
-    let mut words = [0u16; 2];
+    let mut words = [0u16; WORDS];
     master
         .read_words(FIRST, &mut words)
         .map_err(|e| e.to_string())?;
@@ -172,9 +179,9 @@ fn run(measure: Duration) -> Result<(), String> {
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
     let model = model()?;
     let stations = 8u8;
-    let limit = 2.0 * f64::from(stations) / (model.exchange.as_secs_f64() * f64::from(stations));
+    let limit = WORDS as f64 / model.exchange.as_secs_f64();
     println!(
-        "## vfd serve on paced lines (9600 baud 8E1, VF-AS1 Modbus RTU, FD00+FD01 per station)\n"
+        "## vfd serve on paced lines (9600 baud 8N1, DV1 Modbus RTU, 1001h-1003h per station)\n"
     );
     println!(
         "One station's poll on the wire: {:.2} ms (request {} bytes, reply, two frame gaps, reply delay); reply timeout {:.0} ms.\n",
@@ -194,13 +201,7 @@ fn run(measure: Duration) -> Result<(), String> {
         Instant::now(),
     );
     let rss_early = service.memory_kib();
-    // 2a. Writes through standard input, during the run.
-    let stdin_latency = write_latencies(
-        &bus,
-        |value| service.write("line1", "d5", "FA01", value),
-        measure / 2,
-    )?;
-    std::thread::sleep(measure / 2);
+    std::thread::sleep(measure);
     let elapsed = t0.elapsed().as_secs_f64();
     let readings = service.tally.lock().unwrap().bus_readings("line1") - readings_0;
     let cpu = service
@@ -247,6 +248,13 @@ fn run(measure: Duration) -> Result<(), String> {
     let dead_rate =
         (others(&service.tally.lock().unwrap()) - before) as f64 / t1.elapsed().as_secs_f64();
     bus.sims[7].set_unplugged(false);
+    // 2a. Writes through standard input, while the 8 stations are polled.
+    std::thread::sleep(Duration::from_secs(3));
+    let stdin_latency = write_latencies(
+        &bus,
+        |value| service.write("line1", "d5", WRITTEN, value),
+        measure / 2,
+    )?;
     // Per second of line time: the 7 stations' exchanges plus the tries of the 8th; with
     // all 8 answering, each reading took 1/rate of the line. The tries' share of the line
     // is what the 7 stations lost against the rate all 8 had, per reading.
@@ -271,7 +279,7 @@ fn run(measure: Duration) -> Result<(), String> {
         None => None,
     };
     println!(
-        "\n### From a write request to the drive having applied it (during the polling above)\n"
+        "\n### From a write request to the drive having applied it (while the 8 stations are polled)\n"
     );
     println!("| from | n | median | 90th percentile | max | the write frame's own wire time |");
     println!("|---|---|---|---|---|---|");
@@ -357,7 +365,7 @@ fn run(measure: Duration) -> Result<(), String> {
     Ok(())
 }
 
-/// Asks for writes of station 5's FA01 (one value after another, `send` asks) spread over
+/// Asks for writes of station 5's frequency command (one value after another, `send` asks) spread over
 /// `during`, and times each until the drive holds the value.
 fn write_latencies(
     bus: &VirtualBus,
@@ -373,7 +381,7 @@ fn write_latencies(
         let raw = (hz * 100.0f64).round() as u32;
         let asked = Instant::now();
         send(&format!("{hz:.2} Hz"))?;
-        while sim.lock().raw("FA01") != Some(raw) {
+        while sim.lock().raw(WRITTEN) != Some(raw) {
             if asked.elapsed() > Duration::from_secs(3) {
                 return Err(format!(
                     "the write of {hz} Hz did not reach the drive within 3 s"
@@ -457,7 +465,7 @@ fn mqtt_latencies(
                 "1",
                 "-l",
                 "-t",
-                "vfd/line1/d5/FA01/set",
+                "vfd/line1/d5/H6D-HED/set",
             ])
             .stdin(Stdio::piped())
             .stdout(Stdio::null())
