@@ -467,3 +467,44 @@ fn without_an_output_it_says_which_to_choose() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("--jsonl"), "{stderr}");
 }
+
+#[test]
+fn demo_plant_polls_every_station_of_both_buses_and_ends() {
+    let output = Command::new(env!("CARGO_BIN_EXE_vfd"))
+        .args(["demo", "--plant", "--seconds", "3"])
+        .stdin(Stdio::null())
+        .output()
+        .expect("vfd demo runs");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    let events: Vec<Value> = String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("not JSON ({e}): {l}")))
+        .collect();
+    let stations: std::collections::BTreeSet<(String, String, String)> = events
+        .iter()
+        .filter(|e| e["event"] == "reading")
+        .map(|e| {
+            (
+                e["bus"].as_str().unwrap_or_default().to_owned(),
+                e["drive"].as_str().unwrap_or_default().to_owned(),
+                e["model"].as_str().unwrap_or_default().to_owned(),
+            )
+        })
+        .collect();
+    let buses: std::collections::BTreeSet<&str> = stations.iter().map(|s| s.0.as_str()).collect();
+    let models: std::collections::BTreeSet<&str> = stations.iter().map(|s| s.2.as_str()).collect();
+    assert!(buses.len() >= 2, "{stations:?}");
+    assert!(stations.len() >= 3, "{stations:?}");
+    assert!(models.len() >= 2, "{stations:?}");
+    for (bus, drive, _) in &stations {
+        assert!(
+            events
+                .iter()
+                .any(|e| event_is(e, "availability", bus, drive)
+                    && e["online"] == false
+                    && e["reason"] == "the service stopped"),
+            "{bus}/{drive} reported offline at the end"
+        );
+    }
+}

@@ -484,3 +484,61 @@ fn a_restarted_broker_is_reconnected_to_and_the_states_come_back() {
         t == "vfd/status" && p == "online"
     });
 }
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients); .ci/run installs it"
+)]
+fn demo_plant_publishes_every_station_and_takes_50_hz_but_not_999() {
+    let dir = temp_dir("demo");
+    let broker = Broker::start(&dir);
+    let everything = broker.subscribe("vfd/#");
+    let _demo = Service(
+        Command::new(env!("CARGO_BIN_EXE_vfd"))
+            .args(["demo", "--plant", "--seconds", "30"])
+            .args(["--mqtt", &format!("mqtt://127.0.0.1:{}", broker.port)])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("vfd demo starts"),
+    );
+    // The built-in plant: line1 fc51 pump1, pump2, vf-as1 fan1; line2 yd1000 conveyor1, vf-as1 fan2.
+    for (bus, drive) in [
+        ("line1", "pump1"),
+        ("line1", "pump2"),
+        ("line1", "fan1"),
+        ("line2", "conveyor1"),
+        ("line2", "fan2"),
+    ] {
+        let available = format!("vfd/{bus}/{drive}/available");
+        everything.wait_for(Duration::from_secs(15), &available, |t, p| {
+            t == available && p == "online"
+        });
+        let state = format!("vfd/{bus}/{drive}/");
+        everything.wait_for(Duration::from_secs(5), "a state", |t, p| {
+            t.starts_with(&state) && p.starts_with('{')
+        });
+    }
+    broker.publish("vfd/line1/fan1/FA01/set", "50 Hz");
+    broker.publish("vfd/line1/fan1/FA01/set", "999 Hz");
+    everything.wait_for(Duration::from_secs(5), "50 Hz carried out", |t, p| {
+        t == "vfd/line1/fan1/FA01/set/result"
+            && p.contains("\"request\":\"50 Hz\"")
+            && p.contains("\"ok\":true")
+    });
+    everything.wait_for(
+        Duration::from_secs(5),
+        "999 Hz refused, nothing sent",
+        |t, p| {
+            t == "vfd/line1/fan1/FA01/set/result"
+                && p.contains("\"request\":\"999 Hz\"")
+                && p.contains("\"ok\":false")
+                && p.contains("\"sent\":false")
+        },
+    );
+    everything.wait_for(Duration::from_secs(5), "50 Hz read back", |t, p| {
+        t == "vfd/line1/fan1/FA01" && p.contains("\"value\":50.0")
+    });
+}
