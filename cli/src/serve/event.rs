@@ -102,6 +102,37 @@ pub struct WriteOutcome {
     pub time: String,
 }
 
+impl WriteOutcome {
+    /// The outcome of `request` not yet decided: not carried out, nothing sent, stamped
+    /// now.
+    pub fn pending(request: &WriteRequest) -> WriteOutcome {
+        WriteOutcome {
+            bus: request.bus.clone(),
+            drive: request.drive.clone(),
+            code: request.register.clone(),
+            request: request.value.clone(),
+            id: request.id,
+            ok: false,
+            sent: false,
+            value: None,
+            unit: String::new(),
+            raw: None,
+            error: None,
+            error_code: None,
+            error_meaning: None,
+            time: crate::record::now().0,
+        }
+    }
+
+    /// `request` refused before anything was sent, for `error`.
+    pub fn refused(request: &WriteRequest, error: String) -> WriteOutcome {
+        WriteOutcome {
+            error: Some(error),
+            ..WriteOutcome::pending(request)
+        }
+    }
+}
+
 /// A bus's port was opened, or could not be opened or failed.
 #[derive(Debug, Clone, Serialize)]
 pub struct PortState {

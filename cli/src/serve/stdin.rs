@@ -79,20 +79,11 @@ fn request(line: &str, id: u64) -> Result<WriteRequest, serde_json::Error> {
 }
 
 fn refusal(request: &WriteRequest, id: u64, error: String) -> super::event::Event {
-    super::event::Event::Written(WriteOutcome {
-        bus: request.bus.clone(),
-        drive: request.drive.clone(),
-        code: request.register.clone(),
-        request: request.value.clone(),
-        id,
-        ok: false,
-        sent: false,
-        value: None,
-        unit: String::new(),
-        raw: None,
-        error: Some(error),
-        error_code: None,
-        error_meaning: None,
-        time: crate::record::now().0,
-    })
+    super::event::Event::Written(WriteOutcome::refused(
+        &WriteRequest {
+            id,
+            ..request.clone()
+        },
+        error,
+    ))
 }

@@ -287,22 +287,8 @@ impl Worker {
     }
 
     fn refuse(&self, request: &WriteRequest, error: String) {
-        self.reporter.event(Event::Written(WriteOutcome {
-            bus: request.bus.clone(),
-            drive: request.drive.clone(),
-            code: request.register.clone(),
-            request: request.value.clone(),
-            id: request.id,
-            ok: false,
-            sent: false,
-            value: None,
-            unit: String::new(),
-            raw: None,
-            error: Some(error),
-            error_code: None,
-            error_meaning: None,
-            time: crate::record::now().0,
-        }));
+        self.reporter
+            .event(Event::Written(WriteOutcome::refused(request, error)));
     }
 
     fn port_state(&self, open: bool, error: Option<String>) {

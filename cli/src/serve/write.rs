@@ -15,22 +15,7 @@ use std::time::Instant;
 /// on the way (an unplugged adapter), why. A written register that is polled is made due,
 /// so its new value is read back at once.
 pub fn write(link: &mut Link, request: &WriteRequest) -> (WriteOutcome, Option<String>) {
-    let mut outcome = WriteOutcome {
-        bus: request.bus.clone(),
-        drive: request.drive.clone(),
-        code: request.register.clone(),
-        request: request.value.clone(),
-        id: request.id,
-        ok: false,
-        sent: false,
-        value: None,
-        unit: String::new(),
-        raw: None,
-        error: None,
-        error_code: None,
-        error_meaning: None,
-        time: String::new(),
-    };
+    let mut outcome = WriteOutcome::pending(request);
     let mut line_failed = None;
     match attempt(link, request, &mut outcome) {
         Ok(()) => outcome.ok = true,
