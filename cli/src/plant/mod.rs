@@ -37,6 +37,7 @@ pub fn load(path: &Path) -> Result<Plant, Diagnostics> {
 
 /// Like [`load`], for a plant file's text already in memory (`path` names it in messages,
 /// and relative drive file paths start at its folder).
+#[cfg_attr(not(all(unix, feature = "pty")), allow(dead_code))] // the plant demo's
 pub fn load_str(text: &str, path: &Path) -> Result<Plant, Diagnostics> {
     load_source(&SourceFile::from_text(path, text.to_owned()))
 }
