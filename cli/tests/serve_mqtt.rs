@@ -10,7 +10,8 @@
 //! - a station whose plug is pulled goes `offline` within its bound while the other
 //!   stations on its bus keep their polling rate;
 //! - the broker killed and started again (without persistence: its retained states are
-//!   gone) is reconnected to, and the states come back.
+//!   gone) is reconnected to, and the states come back;
+//! - SIGTERM: the broker is told every station and the service are offline.
 //!
 //! Without mosquitto these are `#[ignore]`d with the reason (cli/build.rs); under CI they
 //! run (`.ci/run` installs mosquitto).
@@ -469,7 +470,7 @@ fn states_writes_refusals_and_a_pulled_plug_through_the_broker() {
 fn a_restarted_broker_is_reconnected_to_and_the_states_come_back() {
     let dir = temp_dir("restart");
     let mut broker = Broker::start(&dir);
-    let (_bus1, _bus2, _service) = plant(&dir, &broker);
+    let (_bus1, _bus2, service) = plant(&dir, &broker);
     {
         let first = broker.subscribe("vfd/#");
         all_states(&first, Duration::from_secs(15));
@@ -483,6 +484,27 @@ fn a_restarted_broker_is_reconnected_to_and_the_states_come_back() {
     again.wait_for(Duration::from_secs(5), "the service's status", |t, p| {
         t == "vfd/status" && p == "online"
     });
+    // SIGTERM: the broker is told every station and the service are offline. (A new
+    // subscriber: its retained messages are the latest, `online`; `offline` comes live.)
+    let last = broker.subscribe("vfd/#");
+    last.wait_for(Duration::from_secs(5), "the retained status", |t, p| {
+        t == "vfd/status" && p == "online"
+    });
+    let again = last;
+    let stopped = Instant::now();
+    drop(service);
+    for (bus, name, ..) in STATIONS {
+        let topic = format!("vfd/{bus}/{name}/available");
+        again.wait_for(
+            Duration::from_secs(5),
+            &format!("{topic} offline"),
+            |t, p| t == topic && p == "offline",
+        );
+    }
+    let (at, _, _) = again.wait_for(Duration::from_secs(5), "the service offline", |t, p| {
+        t == "vfd/status" && p == "offline"
+    });
+    assert!(at >= stopped, "offline only once stopped");
 }
 
 #[test]
