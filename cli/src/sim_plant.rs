@@ -1,97 +1,24 @@
-//! The built-in virtual plant behind `vfd demo --plant`: two multi-drop buses, each a
-//! pseudo-terminal served by a thread of its own, with five virtual stations of three drive
-//! models, and the plant file (YAML, docs/plant.md) that polls them, pseudo-terminal paths
-//! filled in. Line `line1`, Modbus RTU at 9600 baud 8E1: fc51 at 1 and 2, vf-as1 at 3;
-//! line `line2`, Toshiba binary at 9600 baud 8E1: yd1000 at 1, vf-as1 at 2 (each drive takes
-//! 9600 baud, even parity). Which registers are polled is named by code here and looked up
-//! in each drive's description when the plant is started, so a code a description lacks is
-//! an error, not a silent gap.
+//! The built-in virtual plant behind `vfd demo --plant`: the plant file `sim_plant.yaml`
+//! (two multi-drop buses, five stations of three drive models: every fact about them is
+//! there, none here), each bus a pseudo-terminal served by a thread of its own with a
+//! virtual drive per station, and the plant file with each bus's `port:` replaced by its
+//! pseudo-terminal.
 
-use crate::sim_station::{self, SimStation};
-use crate::{lookup, Failure};
-use std::fmt::Write as _;
+use crate::plant::Plant;
+use crate::Failure;
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
-use vfd_runtime::serial::{Parity, SerialSettings};
+use vfd_runtime::serial::SerialSettings;
 use vfd_runtime::transport::PseudoTerminal;
 use vfd_runtime::virtual_drive::{serve_bus, BusStation, Simulator};
 
-/// One station of the built-in plant: its name, drive, protocol, address, the registers
-/// polled every second and the one that may be written (RAM).
-struct Planned {
-    name: &'static str,
-    drive: &'static str,
-    protocol: &'static str,
-    address: u8,
-    poll: &'static [&'static str],
-    write: &'static str,
-}
+/// The built-in plant file; each bus's `port:` names its virtual line.
+const PLANT_FILE: &str = include_str!("sim_plant.yaml");
 
-/// The built-in plant's buses: a name and the stations on it.
-const PLANT: [(&str, &[Planned]); 2] = [
-    (
-        "line1",
-        &[
-            Planned {
-                name: "pump1",
-                drive: "fc51",
-                protocol: "modbus",
-                address: 1,
-                poll: &["MAV", "REF", "STW"],
-                write: "REF",
-            },
-            Planned {
-                name: "pump2",
-                drive: "fc51",
-                protocol: "modbus",
-                address: 2,
-                poll: &["MAV", "REF", "STW"],
-                write: "REF",
-            },
-            Planned {
-                name: "fan1",
-                drive: "vf-as1",
-                protocol: "modbus",
-                address: 3,
-                poll: &["FD00", "FA01", "FD01", "FD03"],
-                write: "FA01",
-            },
-        ],
-    ),
-    (
-        "line2",
-        &[
-            Planned {
-                name: "conveyor1",
-                drive: "yd1000",
-                protocol: "binary",
-                address: 1,
-                poll: &["FD00", "FA01", "FE01", "FE03"],
-                write: "FA01",
-            },
-            Planned {
-                name: "fan2",
-                drive: "vf-as1",
-                protocol: "binary",
-                address: 2,
-                poll: &["FD00", "FA01", "FD01", "FD03"],
-                write: "FA01",
-            },
-        ],
-    ),
-];
-
-/// The line every bus of the built-in plant runs at: 9600 baud, 8 data bits, even parity,
-/// 1 stop bit.
-fn line_settings() -> SerialSettings {
-    SerialSettings {
-        baud: 9600,
-        parity: Parity::Even,
-        data_bits: 8,
-        stop_bits: 1,
-    }
-}
+/// The name the built-in plant file goes by in messages.
+const PLANT_NAME: &str = "demo-plant.yaml";
 
 /// A station of the running plant, to unplug it or look at what it saw.
 #[derive(Debug, Clone)]
@@ -167,72 +94,75 @@ impl Drop for VirtualPlant {
     }
 }
 
-/// Starts the built-in virtual plant: one pseudo-terminal and one server thread per bus.
+/// The built-in plant file, read and checked (its ports still the virtual lines' names).
+fn template() -> Result<Plant, Failure> {
+    crate::plant::load_str(PLANT_FILE, Path::new(PLANT_NAME)).map_err(|problems| {
+        Failure::new(format!("the built-in plant file is refused:\n{problems}"))
+    })
+}
+
+/// Starts the built-in virtual plant: one pseudo-terminal and one server thread per bus,
+/// one virtual drive per station of the plant file.
 pub fn start() -> Result<VirtualPlant, Failure> {
-    let settings = line_settings();
+    let template = template()?;
     let stop = Arc::new(AtomicBool::new(false));
     let mut plant = VirtualPlant {
         buses: Vec::new(),
         stations: Vec::new(),
-        plant_file: String::from(
-            "# The built-in virtual plant of `vfd demo --plant`: two multi-drop buses of virtual\n\
-             # drives on pseudo-terminals (docs/plant.md describes every key).\nbuses:\n",
-        ),
+        plant_file: PLANT_FILE.to_owned(),
         stop: Arc::clone(&stop),
         servers: Vec::new(),
     };
-    for (bus_name, planned) in PLANT {
-        let mut stations: Vec<SimStation> = Vec::new();
-        for p in planned {
-            let drive = lookup::drive(p.drive)?;
-            let protocol = lookup::protocol(drive, Some(p.protocol))?;
-            for code in p.poll.iter().chain([&p.write]) {
-                lookup::register(drive, code)?;
-            }
-            stations.push(sim_station::station(drive, protocol, p.address));
-        }
-        sim_station::check_line(&stations, &settings)?;
+    for bus in &template.buses {
+        let stations: Vec<BusStation> = bus
+            .stations
+            .iter()
+            .map(|station| {
+                let simulator = Simulator::new(station.drive);
+                let address = station
+                    .address
+                    .unwrap_or_else(|| station.protocol.address_range.0.max(1));
+                simulator.lock().set_address(address);
+                if let Some(port) = station.port {
+                    simulator.lock().set_port(port.id);
+                }
+                BusStation {
+                    simulator,
+                    protocol: station.protocol,
+                }
+            })
+            .collect();
         let pty = PseudoTerminal::open()
             .map_err(|e| Failure::new(format!("cannot open a pseudo-terminal: {e}")))?;
         let device = pty.slave_path().display().to_string();
         let mut transport = pty
             .master()
             .map_err(|e| Failure::new(format!("cannot use the pseudo-terminal: {e}")))?;
-        let bus: Vec<BusStation> = stations.iter().map(|s| s.bus.clone()).collect();
-        let server = {
-            let stop = Arc::clone(&stop);
-            std::thread::Builder::new()
-                .name(format!("virtual bus {bus_name}"))
-                .spawn(move || serve_bus(&bus, &mut transport, settings, &stop))
-                .map_err(|e| Failure::new(format!("cannot start virtual bus {bus_name}: {e}")))?
-        };
-        plant.servers.push(server);
-        let _ = writeln!(
-            plant.plant_file,
-            "  - name: {bus_name}\n    port: {device}\n    baud: {}\n    parity: even\n    drives:",
-            settings.baud
-        );
-        for (p, station) in planned.iter().zip(&stations) {
-            let _ = writeln!(
-                plant.plant_file,
-                "      - name: {}\n        drive: {}\n        protocol: {}\n        station: {}\n        poll:\n          - every: 1s\n            registers: [{}]\n        write:\n          - {}",
-                p.name,
-                p.drive,
-                p.protocol,
-                p.address,
-                p.poll.iter().map(|c| format!("\"{c}\"")).collect::<Vec<_>>().join(", "),
-                format_args!("\"{}\"", p.write),
-            );
+        for (station, served) in bus.stations.iter().zip(&stations) {
             plant.stations.push(PlantStation {
-                bus: bus_name.to_string(),
-                name: p.name.to_string(),
-                address: p.address,
-                drive: p.drive,
-                simulator: station.bus.simulator.clone(),
+                bus: bus.name.clone(),
+                name: station.name.clone(),
+                address: served.simulator.lock().address(),
+                drive: station.drive.id,
+                simulator: served.simulator.clone(),
             });
         }
+        let settings = bus.settings;
+        let name = bus.name.clone();
+        let server = std::thread::Builder::new()
+            .name(format!("virtual bus {name}"))
+            .spawn({
+                let stop = Arc::clone(&stop);
+                move || serve_bus(&stations, &mut transport, settings, &stop)
+            })
+            .map_err(|e| Failure::new(format!("cannot start virtual bus {name}: {e}")))?;
+        plant.servers.push(server);
+        plant.plant_file = plant.plant_file.replace(
+            &format!("port: {}\n", bus.port),
+            &format!("port: {device}\n"),
+        );
         plant.buses.push(PlantBus {
-            name: bus_name.to_string(),
+            name: bus.name.clone(),
             device,
             settings,
         });
@@ -268,38 +198,65 @@ mod tests {
         let plant = start().unwrap();
         assert!(plant.buses.len() >= 2);
         assert!(plant.stations.len() >= 3);
-        for (bus_name, planned) in PLANT {
-            let bus = plant.buses.iter().find(|b| b.name == bus_name).unwrap();
-            assert!(plant.plant_file.contains(&format!("port: {}", bus.device)));
-            for p in planned {
-                let mut session =
-                    Session::open(&line_args(p.drive, p.protocol, &bus.device, p.address))
-                        .unwrap_or_else(|f| panic!("{bus_name} {}: {}", p.name, f.message));
-                let drive = lookup::drive(p.drive).unwrap();
-                for code in p.poll {
-                    let info = lookup::register(drive, code).unwrap();
-                    session
-                        .read(info)
-                        .unwrap_or_else(|f| panic!("{bus_name} {} {code}: {}", p.name, f.message));
+        // The plant file as served: every port is a pseudo-terminal now.
+        let served = crate::plant::load_str(&plant.plant_file, Path::new(PLANT_NAME)).unwrap();
+        for bus in &served.buses {
+            let device = &plant
+                .buses
+                .iter()
+                .find(|b| b.name == bus.name)
+                .unwrap()
+                .device;
+            assert_eq!(&bus.port, device);
+            for station in &bus.stations {
+                let address = station.address.unwrap();
+                let mut session = Session::open(&line_args(
+                    station.drive.id,
+                    &station.protocol.id,
+                    device,
+                    address,
+                ))
+                .unwrap_or_else(|f| panic!("{} {}: {}", bus.name, station.name, f.message));
+                for poll in &station.polls {
+                    session.read(poll.register).unwrap_or_else(|f| {
+                        panic!(
+                            "{} {} {}: {}",
+                            bus.name, station.name, poll.register.code, f.message
+                        )
+                    });
                 }
-                let station = plant.station(bus_name, p.name).unwrap();
-                assert_eq!(
-                    station.simulator.tally().addressed,
-                    station.simulator.tally().answered
-                );
-                assert!(station.simulator.tally().answered >= p.poll.len() as u64);
+                let virtual_station = plant.station(&bus.name, &station.name).unwrap();
+                let tally = virtual_station.simulator.tally();
+                assert_eq!(tally.addressed, tally.answered);
+                assert!(tally.answered >= station.polls.len() as u64);
             }
         }
-        // A station unplugged: silent, the others still answer.
-        let pump2 = plant.station("line1", "pump2").unwrap();
-        pump2.simulator.set_unplugged(true);
+        // A station unplugged: silent, the others on its bus still answer.
+        let line1 = &served.buses[0];
+        let (first, second) = (&line1.stations[0], &line1.stations[1]);
+        plant
+            .station(&line1.name, &second.name)
+            .unwrap()
+            .simulator
+            .set_unplugged(true);
         let device = &plant.buses[0].device;
-        let mav = lookup::register(lookup::drive("fc51").unwrap(), "MAV").unwrap();
-        let mut two = Session::open(&line_args("fc51", "modbus", device, 2)).unwrap();
-        assert!(two.read(mav).is_err());
-        let mut one = Session::open(&line_args("fc51", "modbus", device, 1)).unwrap();
-        one.read(mav).unwrap();
-        assert!(plant.plant_file.contains("write:\n          - \"REF\""));
+        let register = second.polls[0].register;
+        let mut two = Session::open(&line_args(
+            second.drive.id,
+            &second.protocol.id,
+            device,
+            second.address.unwrap(),
+        ))
+        .unwrap();
+        assert!(two.read(register).is_err());
+        let mut one = Session::open(&line_args(
+            first.drive.id,
+            &first.protocol.id,
+            device,
+            first.address.unwrap(),
+        ))
+        .unwrap();
+        one.read(first.polls[0].register).unwrap();
         plant.stop().unwrap();
     }
 }
