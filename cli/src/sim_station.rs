@@ -3,9 +3,10 @@
 //! on the line, a line speed every drive can be set to), or the one station `-d/--drive`
 //! and `--address` give.
 
+use crate::plant::framing::Framing;
 use crate::{lookup, Failure};
 use vfd_runtime::serial::SerialSettings;
-use vfd_runtime::virtual_drive::{same_framing, BusStation, Simulator};
+use vfd_runtime::virtual_drive::{BusStation, Simulator};
 use vfd_runtime::{DriveInfo, Protocol};
 
 /// One virtual drive of the line, as `vfd sim` serves and names it.
@@ -107,7 +108,9 @@ pub fn check_line(stations: &[SimStation], settings: &SerialSettings) -> Result<
             ))
             .hint("each station of a line needs its own address: add @N to the station"));
         }
-        if !same_framing(first.bus.protocol, station.bus.protocol) {
+        // The plant file's rule, so `vfd sim` and `vfd serve --check` agree on which
+        // drives can share a line.
+        if Framing::of(first.bus.protocol) != Framing::of(station.bus.protocol) {
             return Err(Failure::new(format!(
                 "station {} ({}, {}) cannot share the line with station {} ({}, {}): a line \
                  carries one framing",

@@ -5,7 +5,7 @@
 
 pub mod check;
 pub mod file;
-mod framing;
+pub mod framing;
 pub mod interval;
 mod line;
 pub mod model;
