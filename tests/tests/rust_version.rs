@@ -3,7 +3,10 @@
 //! newer Rust than the crate itself.
 //!
 //! The resolve is the workspace's (features unified over every member, and dependencies of
-//! every platform), so the walk can only see more than a user's build, never less.
+//! every platform where they can be had), so the walk can only see more than a user's
+//! build, never less. A fresh clone has only this platform's crates on disk: the test then
+//! lets cargo fetch the others, and without a network reads this platform's resolve alone
+//! (said on stderr) instead of failing.
 
 use std::collections::{BTreeSet, HashMap};
 use std::path::Path;
@@ -21,20 +24,75 @@ fn version(text: &str) -> Vec<u64> {
     parts
 }
 
+/// The workspace's resolve as `cargo metadata` prints it, read as widely as this machine
+/// allows: every platform's dependencies from the local cache; failing that (a fresh clone
+/// whose build fetched only this platform's crates), every platform's fetched from the
+/// registry; failing that too (no network), this platform's alone, said on stderr.
 fn metadata() -> Value {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned());
-    let output = Command::new(cargo)
-        .current_dir(&root)
-        .args(["metadata", "--format-version", "1", "--locked", "--offline"])
-        .output()
-        .expect("cargo metadata runs");
-    assert!(
-        output.status.success(),
-        "cargo metadata --locked --offline failed (is Cargo.lock up to date?):\n{}",
-        String::from_utf8_lossy(&output.stderr)
+    let host = host_triple();
+    let attempts: [(&str, Vec<&str>); 3] = [
+        ("every platform, offline", vec!["--offline"]),
+        ("every platform, fetched", vec![]),
+        (
+            "this platform only, offline",
+            vec!["--offline", "--filter-platform", host.as_str()],
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (what, extra) in attempts {
+        match cargo_metadata(&extra) {
+            Ok(json) => {
+                if !failures.is_empty() {
+                    eprintln!(
+                        "rust_version: read the resolve for {what}; before that:\n{}",
+                        failures.join("\n")
+                    );
+                }
+                return json;
+            }
+            Err(why) => failures.push(format!("  {what}: {why}")),
+        }
+    }
+    panic!(
+        "cargo metadata --locked failed every way (is Cargo.lock up to date?):\n{}",
+        failures.join("\n")
     );
-    serde_json::from_slice(&output.stdout).expect("cargo metadata prints JSON")
+}
+
+/// `cargo metadata --format-version 1 --locked` with `extra` arguments, at the workspace root.
+fn cargo_metadata(extra: &[&str]) -> Result<Value, String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let output = Command::new(cargo())
+        .current_dir(&root)
+        .args(["metadata", "--format-version", "1", "--locked"])
+        .args(extra)
+        .output()
+        .map_err(|e| format!("cargo did not start: {e}"))?;
+    if !output.status.success() {
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        let last = stderr.lines().rev().find(|l| !l.trim().is_empty());
+        return Err(last.unwrap_or("no message").trim().to_owned());
+    }
+    serde_json::from_slice(&output.stdout).map_err(|e| format!("not JSON: {e}"))
+}
+
+fn cargo() -> String {
+    std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_owned())
+}
+
+/// The host's target triple, from `rustc -vV` (the `host:` line).
+fn host_triple() -> String {
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".to_owned());
+    let output = Command::new(rustc)
+        .arg("-vV")
+        .output()
+        .expect("rustc -vV runs");
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .find_map(|line| line.strip_prefix("host: "))
+        .expect("rustc -vV names the host")
+        .trim()
+        .to_owned()
 }
 
 #[test]
