@@ -74,9 +74,9 @@ pub fn parse(text: &str) -> Result<Duration, (String, String)> {
 /// `every` as a plant file would write it (`1s`, `250ms`, `2.5s`, `1min`).
 pub fn show(every: Duration) -> String {
     let millis = every.as_millis();
-    if millis % 3_600_000 == 0 {
+    if millis.is_multiple_of(3_600_000) {
         format!("{}h", millis / 3_600_000)
-    } else if millis % 60_000 == 0 {
+    } else if millis.is_multiple_of(60_000) {
         format!("{}min", millis / 60_000)
     } else if millis >= 1000 {
         format!("{}s", every.as_secs_f64())

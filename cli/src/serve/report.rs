@@ -37,7 +37,7 @@ impl Reporter {
             Ok(()) | Err(TrySendError::Disconnected(_)) => {}
             Err(TrySendError::Full(_)) => {
                 let dropped = self.dropped.fetch_add(1, Ordering::Relaxed) + 1;
-                if dropped == 1 || dropped % 10_000 == 0 {
+                if dropped == 1 || dropped.is_multiple_of(10_000) {
                     log::warn!(
                         target: super::LOG_TARGET,
                         "the outputs fall behind: {dropped} reading(s) dropped so far"

@@ -681,7 +681,7 @@ pub(super) fn parse_bits(text: &str) -> Option<(u8, u8)> {
 /// Parses `"2F 50 FA"` (spaces optional between pairs).
 pub fn parse_hex(text: &str) -> Result<Vec<u8>, String> {
     let digits: String = text.chars().filter(|c| !c.is_whitespace()).collect();
-    if digits.len() % 2 != 0 {
+    if !digits.len().is_multiple_of(2) {
         return Err(format!("`{text}` has an odd number of hex digits"));
     }
     (0..digits.len())

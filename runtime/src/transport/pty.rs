@@ -289,7 +289,7 @@ fn wait(fds: &mut [PollFd], remaining: Duration) -> nix::Result<nix::libc::c_int
 #[cfg_attr(any(target_os = "linux", target_os = "android"), allow(dead_code))]
 fn poll_timeout(remaining: Duration) -> PollTimeout {
     let mut millis = remaining.as_millis();
-    if remaining.subsec_nanos() % 1_000_000 != 0 {
+    if !remaining.subsec_nanos().is_multiple_of(1_000_000) {
         millis += 1;
     }
     PollTimeout::from(u16::try_from(millis).unwrap_or(u16::MAX))

@@ -273,7 +273,7 @@ impl VirtualDrive {
         }
         // Consecutive one-word registers (a Modbus write of several registers), each of its
         // own: the data carries one word per register.
-        if own != 2 || size % 2 != 0 {
+        if own != 2 || !size.is_multiple_of(2) {
             return Err(Refusal::OutOfRange);
         }
         for _ in 1..size / 2 {

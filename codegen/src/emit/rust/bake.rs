@@ -585,143 +585,48 @@ impl Bake for Step {
     }
 }
 
-/// The layout `layout` as a const whose plan is compiled: the layout's tokens (its plan
-/// naming the functions `decode` and `encode`) and those two functions, which run the
-/// plan's steps one after the other with constant arguments through the runtime's
-/// [`vfd_runtime::plan::Decoder`] and [`vfd_runtime::plan::Encoder`], so the compiler
-/// makes straight-line code of them. Without a plan, the layout's tokens alone.
+/// A layout with a plan, written once: its parts as a `const` slice, its steps lowered from
+/// them by the compiler (`plan::steps`), and its compiled functions written by
+/// `compiled_plan!` from the two; the layout `const` names all three. `(items, value)`:
+/// the items to put beside the layout and the layout's value. A layout without a plan is
+/// its value alone.
 pub(crate) fn compiled_plan(
     layout: &FrameLayout,
+    constant: &proc_macro2::Ident,
     decode: &proc_macro2::Ident,
     encode: &proc_macro2::Ident,
 ) -> (TokenStream, TokenStream) {
-    let Some(plan) = &layout.plan else {
-        return (layout.bake(), TokenStream::new());
-    };
+    if layout.plan.is_none() {
+        return (TokenStream::new(), layout.bake());
+    }
     let name = layout.name.as_ref();
     let parts = layout.parts.iter().map(Bake::bake);
-    let steps = plan.steps.iter().map(Bake::bake);
     let encoding = match layout.encoding {
         Encoding::Binary => quote!(Binary),
         Encoding::HexPairs => quote!(HexPairs),
     };
-    let layout_tokens = quote!(FrameLayout {
+    let parts_name = quote::format_ident!("{constant}_PARTS");
+    let steps_name = quote::format_ident!("{constant}_STEPS");
+    let count = int_literal(layout.parts.len());
+    let indexes = (0..layout.parts.len()).map(int_literal);
+    let items = quote! {
+        const #parts_name: &[Part] = &[#(#parts),*];
+        const #steps_name: [::vfd_runtime::plan::Step; #count] = ::vfd_runtime::plan::steps(#parts_name);
+        ::vfd_runtime::compiled_plan!(#decode, #encode: #parts_name, #steps_name, [#(#indexes)*]);
+    };
+    let value = quote!(FrameLayout {
         name: Cow::Borrowed(#name),
-        parts: Cow::Borrowed(&[#(#parts),*]),
+        parts: Cow::Borrowed(#parts_name),
         encoding: Encoding::#encoding,
         plan: Some(::vfd_runtime::plan::FramePlan {
-            steps: Cow::Borrowed(&[#(#steps),*]),
+            steps: Cow::Borrowed(&#steps_name),
             compiled: Some(::vfd_runtime::plan::Compiled {
                 decode: #decode,
                 encode: #encode,
             }),
         }),
     });
-    let count = int_literal(layout.parts.len());
-    let mut decoding = Vec::new();
-    let mut encoding_steps = Vec::new();
-    let mut lengths_checked = Vec::new();
-    let mut lengths_filled = Vec::new();
-    let mut sums_filled = Vec::new();
-    for (index, (step, part)) in plan.steps.iter().zip(layout.parts.iter()).enumerate() {
-        let at = int_literal(index);
-        let part_name = part.name();
-        let included = quote!(::vfd_runtime::plan::included(include, #part_name));
-        match (step, part) {
-            (Step::Literal { optional }, Part::Literal { bytes, .. }) => {
-                let bytes = Literal::byte_string(bytes);
-                decoding.push(quote!(d.literal(#at, #bytes, #optional)?;));
-                let present = if *optional { included } else { quote!(true) };
-                encoding_steps.push(quote!(e.literal(#at, #bytes, #present)?;));
-            }
-            (Step::Field(step), Part::Field(field)) => {
-                let baked = step.bake();
-                let allowed = int_slice(&field.allowed);
-                let fold_case = field.fold_case;
-                // The decoder reads the broadcast encodings only to tell whether an optional
-                // station is there and to pass open digits on.
-                let broadcast = match &field.broadcast {
-                    Some(_) if step.optional.is_some() || step.open_digits => {
-                        let spec = field.bake();
-                        quote!({
-                            const FIELD: &FieldSpec = &#spec;
-                            FIELD.broadcast.as_ref()
-                        })
-                    }
-                    _ => quote!(None),
-                };
-                decoding.push(quote!(d.field(#at, #baked, #allowed, #fold_case, #broadcast)?;));
-                let role = step.role.bake();
-                let has_broadcast = field.broadcast.is_some();
-                let present = if step.optional.is_some() {
-                    quote!(roles.value(#role).is_some() || #included)
-                } else {
-                    quote!(true)
-                };
-                encoding_steps.push(quote!(
-                    e.field(#at, #baked, roles.value(#role), #present, data_size, #has_broadcast)?;
-                ));
-            }
-            (Step::Word { format }, Part::Word(word)) => {
-                let format = format.bake();
-                let bits = word.fields.iter().map(Bake::bake);
-                let bits = quote!({
-                    const BITS: &[BitsSpec] = &[#(#bits),*];
-                    BITS
-                });
-                decoding.push(quote!(d.word(#at, #format, #bits)?;));
-                encoding_steps.push(quote!(e.word(#at, #format, #bits, roles)?;));
-            }
-            (Step::Length(step), Part::Length(_)) => {
-                let baked = step.bake();
-                let format = step.format.bake();
-                decoding.push(quote!(d.length(#at, #baked, #count)?;));
-                encoding_steps.push(quote!(e.length(#at, #format)?;));
-                lengths_checked.push(quote!(d.check_length(#at, #baked)?;));
-                lengths_filled.push(quote!(e.fill_length(#at, #baked, data_size)?;));
-            }
-            (Step::Checksum(step), Part::Checksum(spec)) => {
-                let baked = step.bake();
-                let marker = Literal::byte_string(&spec.marker);
-                let marker_len = int_literal(spec.marker.len());
-                decoding.push(quote!(d.checksum(#at, #baked, #marker)?;));
-                let present = if step.optional {
-                    included
-                } else {
-                    quote!(true)
-                };
-                encoding_steps.push(quote!(e.checksum(#at, #baked, #marker, #present)?;));
-                sums_filled.push(quote!(e.fill_checksum(#at, #baked, #marker_len)?;));
-            }
-            // FramePlan::of gives each part the step of its kind.
-            _ => return (layout.bake(), TokenStream::new()),
-        }
-    }
-    let functions = quote! {
-        fn #decode(bytes: &[u8]) -> Option<::vfd_runtime::plan::PlannedFrame> {
-            let mut d = ::vfd_runtime::plan::Decoder::new(bytes);
-            #(#decoding)*
-            #(#lengths_checked)*
-            Some(d.finish())
-        }
-        fn #encode(
-            roles: &::vfd_runtime::Roles,
-            data_size: u8,
-            include: &[Cow<'static, str>],
-            out: &mut [u8],
-        ) -> Option<usize> {
-            let _ = include;
-            if data_size > 4 {
-                return None;
-            }
-            let mut e = ::vfd_runtime::plan::Encoder::new(out);
-            #(#encoding_steps)*
-            #(#lengths_filled)*
-            #(#sums_filled)*
-            Some(e.finish())
-        }
-    };
-    (layout_tokens, functions)
+    (items, value)
 }
 
 #[cfg(test)]

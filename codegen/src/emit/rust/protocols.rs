@@ -21,11 +21,11 @@ pub(crate) fn layouts_module(files: &[&ProtocolFileIr]) -> TokenStream {
             let doc = doc_text(format!("The `{}` layout.", layout.name));
             let decode = format_ident!("decode_{}", crate::naming::module_name(&layout.name));
             let encode = format_ident!("encode_{}", crate::naming::module_name(&layout.name));
-            let (value, functions) = super::bake::compiled_plan(layout, &decode, &encode);
+            let (items, value) = super::bake::compiled_plan(layout, &name, &decode, &encode);
             quote! {
                 #[doc = #doc]
                 pub const #name: FrameLayout = #value;
-                #functions
+                #items
             }
         });
         let imports = layout_imports(file);
