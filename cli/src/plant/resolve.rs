@@ -46,7 +46,7 @@ pub fn plant(file: &PlantFile, dir: &Path, problems: &mut Problems<'_>) -> Plant
                 continue;
             };
             let polls = registers::polls(head.drive, &drive.poll, &at, problems);
-            let writes = registers::writes(head.drive, &drive.write, &at, problems);
+            let writes = registers::writes(&head, &drive.write, &at, problems);
             stations.push(Station {
                 name: drive.name.clone(),
                 drive: head.drive,
