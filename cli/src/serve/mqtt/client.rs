@@ -378,8 +378,78 @@ fn connect_failure(error: &ConnectionError, options: &MqttOptions) -> Failure {
         ConnectionError::ConnectionRefused(code) => Failure::new(format!(
             "the MQTT broker at {url} refused the connection ({code:?})"
         )),
-        other => Failure::new(format!("cannot connect to the MQTT broker at {url}: {}", describe(other)))
-            .hint("is the broker running and listening there? (mosquitto: `listener PORT`)"),
+        other => match tls_problem(other) {
+            Some(problem) => tls_failure(problem, options),
+            None if url.tls && closed_in_handshake(other) => Failure::new(format!(
+                "the MQTT broker at {url} closed the connection during the TLS handshake: {}",
+                describe(other)
+            ))
+            .hint(format!(
+                "does port {} speak TLS? (mqtt:// for a plain listener; mosquitto: `certfile` and `keyfile` on the listener)",
+                url.port
+            )),
+            None => Failure::new(format!("cannot connect to the MQTT broker at {url}: {}", describe(other)))
+                .hint("is the broker running and listening there? (mosquitto: `listener PORT`)"),
+        },
+    }
+}
+
+/// The TLS error under a connection error, where the handshake failed.
+fn tls_problem(error: &ConnectionError) -> Option<&rustls::Error> {
+    let io = match error {
+        ConnectionError::Tls(rumqttc::TlsError::TLS(tls)) => return Some(tls),
+        ConnectionError::Tls(rumqttc::TlsError::Io(io)) | ConnectionError::Io(io) => io,
+        _ => return None,
+    };
+    io.get_ref()?.downcast_ref::<rustls::Error>()
+}
+
+/// Whether the connection ended during the TLS handshake (a listener that does not speak
+/// TLS closes it on the first bytes).
+fn closed_in_handshake(error: &ConnectionError) -> bool {
+    use std::io::ErrorKind;
+    matches!(
+        error,
+        ConnectionError::Tls(rumqttc::TlsError::Io(io))
+            if matches!(io.kind(), ErrorKind::UnexpectedEof | ErrorKind::ConnectionReset | ErrorKind::ConnectionAborted)
+    )
+}
+
+/// A failed TLS handshake, with what to check: the CA file for a certificate nobody
+/// trusted, the host name in the URL for a certificate of another name.
+fn tls_failure(problem: &rustls::Error, options: &MqttOptions) -> Failure {
+    use rustls::CertificateError;
+    let url = &options.url;
+    let failure = Failure::new(format!(
+        "the TLS handshake with the MQTT broker at {url} failed: {problem}"
+    ));
+    let ca = match &options.ca_file {
+        Some(file) => format!("the CA file {} (--mqtt-ca-file)", file.display()),
+        None => "the system's CA certificates (no --mqtt-ca-file given)".to_owned(),
+    };
+    match problem {
+        rustls::Error::InvalidCertificate(CertificateError::UnknownIssuer | CertificateError::BadSignature) => failure.hint(format!(
+            "the broker's certificate is not signed by a CA this service trusts: {ca}; give the CA that signed the broker's certificate with --mqtt-ca-file FILE (PEM)"
+        )),
+        rustls::Error::InvalidCertificate(
+            CertificateError::NotValidForName | CertificateError::NotValidForNameContext { .. },
+        ) => failure.hint(format!(
+            "the broker's certificate is not for the host name `{}`: use the name (or address) the certificate names in the URL (mqtts://NAME:{}), or have a certificate made for `{}`",
+            url.host, url.port, url.host
+        )),
+        rustls::Error::InvalidCertificate(
+            CertificateError::Expired
+            | CertificateError::ExpiredContext { .. }
+            | CertificateError::NotValidYet
+            | CertificateError::NotValidYetContext { .. },
+        ) => failure.hint("the broker's certificate is outside its validity period: renew it, or check this host's clock"),
+        rustls::Error::InvalidMessage(_) => failure.hint(format!(
+            "the broker did not answer as a TLS server: does port {} speak TLS? (mqtt:// for a plain listener; mosquitto: `certfile` and `keyfile` on the listener)",
+            url.port
+        )),
+        _ => failure.hint(format!(
+            "check {ca}, and that the host name in the URL is one the broker's certificate names"
+        )),
     }
 }
 

@@ -14,6 +14,8 @@ mod topic;
 mod broker;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tls_tests;
 
 pub use client::Mqtt;
 #[cfg(test)]

@@ -14,7 +14,7 @@ use std::time::Duration;
 
 /// One bus `line1` with one station `pump` polling the first two registers of the first
 /// built-in drive.
-fn plant() -> Plant {
+pub(super) fn plant() -> Plant {
     let drive = crate::catalogue::all_drives()[0];
     let polls = drive
         .registers
@@ -57,7 +57,7 @@ fn plant() -> Plant {
     }
 }
 
-fn options(broker: &Broker, name: &str) -> MqttOptions {
+pub(super) fn options(broker: &Broker, name: &str) -> MqttOptions {
     let mut options =
         MqttOptions::new(&broker.url(), None).unwrap_or_else(|f| panic!("{}", f.message));
     options.client_id = format!("vfd-test-{name}-{}", broker.port);
@@ -546,118 +546,6 @@ fn a_set_redelivered_after_a_crash_mid_write_is_answered_never_applied_again() {
         "the redelivered set was applied again"
     );
     mqtt.shutdown();
-}
-
-#[test]
-#[cfg_attr(
-    missing_mosquitto,
-    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
-)]
-fn mqtts_trusts_the_given_ca_and_refuses_an_unknown_one() {
-    let dir = std::env::temp_dir().join(format!("vfd-mqtt-tls-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let openssl = |args: &[&str]| {
-        let status = std::process::Command::new("openssl")
-            .current_dir(&dir)
-            .args(args)
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .status();
-        assert!(
-            status.is_ok_and(|s| s.success()),
-            "openssl {args:?} failed (is openssl installed?)"
-        );
-    };
-    let ec = [
-        "-newkey",
-        "ec",
-        "-pkeyopt",
-        "ec_paramgen_curve:prime256v1",
-        "-nodes",
-    ];
-    openssl(
-        &[
-            &["req", "-x509"][..],
-            &ec,
-            &[
-                "-keyout",
-                "ca.key",
-                "-out",
-                "ca.crt",
-                "-days",
-                "2",
-                "-subj",
-                "/CN=vfd test CA",
-            ],
-        ]
-        .concat(),
-    );
-    openssl(
-        &[
-            &["req"][..],
-            &ec,
-            &[
-                "-keyout",
-                "server.key",
-                "-out",
-                "server.csr",
-                "-subj",
-                "/CN=127.0.0.1",
-            ],
-        ]
-        .concat(),
-    );
-    std::fs::write(
-        dir.join("ext.cnf"),
-        "subjectAltName=IP:127.0.0.1\nbasicConstraints=CA:FALSE\nextendedKeyUsage=serverAuth\n",
-    )
-    .unwrap();
-    openssl(&[
-        "x509",
-        "-req",
-        "-in",
-        "server.csr",
-        "-CA",
-        "ca.crt",
-        "-CAkey",
-        "ca.key",
-        "-CAcreateserial",
-        "-out",
-        "server.crt",
-        "-days",
-        "2",
-        "-extfile",
-        "ext.cnf",
-    ]);
-    // Run as root, mosquitto drops to its own user, which must read the key.
-    for file in ["server.key", "server.crt", "ca.crt"] {
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(dir.join(file), std::fs::Permissions::from_mode(0o644)).unwrap();
-    }
-    let broker = Broker::start(
-        "tls",
-        &format!(
-            "allow_anonymous true\ncafile {0}/ca.crt\ncertfile {0}/server.crt\nkeyfile {0}/server.key\n",
-            dir.display()
-        ),
-    );
-    let mut options = options(&broker, "tls");
-    options.url = super::parse_url(&format!("mqtts://127.0.0.1:{}", broker.port))
-        .unwrap_or_else(|f| panic!("{}", f.message));
-    options.ca_file = Some(dir.join("ca.crt"));
-    let mqtt = Mqtt::connect(&options, &plant(), WriteRouter::default())
-        .unwrap_or_else(|f| panic!("{}", f.message));
-    mqtt.shutdown();
-    options.ca_file = None; // the system's roots do not know the test CA
-    let failure = Mqtt::connect(&options, &plant(), WriteRouter::default())
-        .err()
-        .expect("an unknown CA refused");
-    assert!(
-        failure.message.contains("TLS") || failure.message.contains("certificate"),
-        "{}",
-        failure.message
-    );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
