@@ -447,13 +447,18 @@ fn home_assistant_discovery_configs_are_retained_with_their_keys() {
     missing_mosquitto,
     ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
 )]
-fn the_documented_acl_file_lets_only_the_operator_write_set_topics() {
+fn the_documented_acl_file_lets_everyone_read_and_only_the_operator_write_set_topics() {
     let acl = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/mqtt-acl.conf");
     assert!(acl.exists(), "{} is missing", acl.display());
     let dir = std::env::temp_dir().join(format!("vfd-mqtt-acl-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let passwords = dir.join("passwd");
-    for (create, user, password) in [(true, "vfd-serve", "svc-pw"), (false, "operator", "op-pw")] {
+    // `reader` is a user of the password file the ACL does not name.
+    for (create, user, password) in [
+        (true, "vfd-serve", "svc-pw"),
+        (false, "operator", "op-pw"),
+        (false, "reader", "rd-pw"),
+    ] {
         let mut command = std::process::Command::new("mosquitto_passwd");
         command.arg("-b");
         if create {
@@ -485,17 +490,27 @@ fn the_documented_acl_file_lets_only_the_operator_write_set_topics() {
     let mqtt =
         Mqtt::connect(&options, &plant(), router).unwrap_or_else(|f| panic!("{}", f.message));
     mqtt.publish(&reading(1.0));
-    // Everyone reads the states.
+    // Everyone reads the states: anonymous clients, the operator, and a named user the
+    // ACL file does not mention.
     assert!(
         broker.first(&state_topic(), 5).is_some(),
         "an anonymous reader got no state"
     );
+    for user in [("reader", "rd-pw"), ("operator", "op-pw")] {
+        assert!(
+            broker.first_as(user, &state_topic(), 5).is_some(),
+            "{} got no state",
+            user.0
+        );
+    }
     let topic = format!("{}/set", state_topic());
-    // An anonymous client may not write a set topic: the broker drops the message.
+    // Neither an anonymous client nor the reader may write a set topic: the broker drops
+    // the message.
     broker.publish(&topic, "1", false);
+    broker.publish_as(Some(("reader", "rd-pw")), &topic, "3", false);
     assert!(
         rx.recv_timeout(Duration::from_millis(700)).is_err(),
-        "an anonymous set got through the ACL"
+        "an anonymous or reader's set got through the ACL"
     );
     // The operator may.
     broker.publish_as(Some(("operator", "op-pw")), &topic, "2", false);
