@@ -8,7 +8,9 @@
 //!   while another bus keeps its polling rate;
 //! - a port that is not there at the start is opened once it appears;
 //! - SIGTERM ends the service within a bound, every station reported offline;
-//! - a closed standard output ends it quietly; no output chosen is a clear error.
+//! - a closed standard output ends it quietly; no output chosen is a clear error;
+//! - a request of 200 KB gets a short result and log line; result ids differ from one
+//!   run to the next.
 //!
 //! The multi-drop bus (several stations on one line) and MQTT are tested in
 //! `serve_plant.rs` and `serve_mqtt.rs`.
@@ -507,4 +509,55 @@ fn demo_plant_polls_every_station_of_both_buses_and_ends() {
             "{bus}/{drive} reported offline at the end"
         );
     }
+}
+
+#[test]
+fn a_huge_request_gets_a_short_answer_and_ids_differ_across_restarts() {
+    let dir = temp_dir("ids");
+    let sim = TcpSim::start(&dir, "sim", "127.0.0.1:0");
+    let plant = plant(&dir, &[("line1", &sim.port)], "500ms");
+    let mut ids = Vec::new();
+    for run in 0..2 {
+        let mut service = Service::start(&plant);
+        service.wait_for(Duration::from_secs(10), "online", |e| {
+            event_is(e, "availability", "line1", "pump1") && e["online"] == true
+        });
+        // A 200 KB value, then a plain one, on standard input.
+        service.write("line1", "pump1", "FA01", &"5".repeat(200 * 1024));
+        service.write("line1", "pump1", "FA01", "999");
+        let (_, long) = service.wait_for(Duration::from_secs(5), "the long line refused", |e| {
+            e["event"] == "written" && e["error"].as_str().unwrap_or_default().contains("bytes")
+        });
+        let text = long.to_string();
+        assert!(text.len() < 1024, "a {} byte result", text.len());
+        assert!(
+            long["request"]
+                .as_str()
+                .unwrap_or_default()
+                .contains("bytes)"),
+            "{long}"
+        );
+        let (_, plain) = service.wait_for(Duration::from_secs(5), "999 refused", |e| {
+            e["event"] == "written" && e["request"] == "999"
+        });
+        ids.push((long["id"].clone(), plain["id"].clone()));
+        service.terminate(Duration::from_secs(3));
+        let stderr = service.stderr.lock().unwrap().clone();
+        assert!(
+            stderr.lines().all(|l| l.len() < 1024),
+            "run {run}: a log line of {} bytes",
+            stderr.lines().map(str::len).max().unwrap_or(0)
+        );
+    }
+    // `RUN-N`, RUN the start time and process id: never the same in two runs.
+    for (long, plain) in &ids {
+        for id in [long, plain] {
+            let text = id.as_str().unwrap_or_else(|| panic!("a text id: {id}"));
+            let parts: Vec<&str> = text.split('-').collect();
+            assert_eq!(parts.len(), 3, "{text}");
+            assert!(parts.iter().all(|p| p.parse::<u64>().is_ok()), "{text}");
+        }
+    }
+    assert_ne!(ids[0].0, ids[1].0, "{ids:?}");
+    assert_ne!(ids[0].1, ids[1].1, "{ids:?}");
 }

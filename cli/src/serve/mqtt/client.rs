@@ -8,10 +8,11 @@ use super::discovery;
 use super::options::{tls_config, MqttOptions};
 use super::outbox::{Item, Kind, Outbox, READING_CAP};
 use super::payload;
-use super::set::{Decision, SetLedger};
+use super::set::{ack_of, Decision, SetLedger};
 use super::topic::Topics;
 use crate::plant::Plant;
 use crate::serve::event::{Event, WriteRouter};
+use crate::serve::request_text::echo_text;
 use crate::Failure;
 use rumqttc::{
     Client, ConnectReturnCode, ConnectionError, Event as MqttEvent, LastWill, Packet, QoS,
@@ -33,6 +34,13 @@ const BACKOFF_CAP: Duration = Duration::from_secs(15);
 const WAKE_TOPIC: &str = "vfd-serve/wake";
 /// The longest [`Mqtt::shutdown`] waits for the last messages to go out.
 const SHUTDOWN_WAIT: Duration = Duration::from_secs(3);
+/// The largest packet MQTT 3.1.1 can carry (its remaining length, 256 MiB - 1), taken in
+/// both directions. Anything smaller would let one large message the broker forwards end
+/// the connection, and the broker would send it again after every reconnect (the session
+/// is persistent): a loop that takes the service off the broker. Each incoming packet is
+/// read whole before it is looked at, so a large `set` costs its size in memory until it
+/// is refused; docs/mqtt.md shows the broker setting that bounds it.
+const MAX_PACKET: usize = 268_435_455;
 
 /// A connected MQTT output and `set` input.
 pub struct Mqtt {
@@ -64,7 +72,7 @@ impl Mqtt {
         mqtt.set_keep_alive(Duration::from_secs(15))
             .set_clean_session(false)
             .set_manual_acks(true)
-            .set_max_packet_size(256 * 1024, 256 * 1024)
+            .set_max_packet_size(MAX_PACKET, MAX_PACKET)
             .set_last_will(LastWill::new(
                 topics.status(),
                 "offline",
@@ -111,13 +119,18 @@ impl Mqtt {
                             }
                             Ok(MqttEvent::Incoming(Packet::Publish(publish))) => {
                                 let decision = ledger.lock().unwrap_or_else(|e| e.into_inner()).receive(&publish);
+                                let ack = Item::Ack(Box::new(ack_of(&publish)));
                                 match decision {
                                     Decision::Sent | Decision::Wait => {}
-                                    Decision::AckOnly => outbox.push(Item::Ack(Box::new(publish))),
+                                    Decision::AckOnly => outbox.push(ack),
                                     Decision::Refuse { topic, outcome } => {
-                                        log::warn!("MQTT: refused {}: {}", publish.topic, outcome.error.as_deref().unwrap_or(""));
+                                        log::warn!("MQTT: refused {}: {}", echo_text(&publish.topic), outcome.error.as_deref().unwrap_or(""));
                                         outbox.push(Item::Message { topic, payload: payload::outcome(&outcome) });
-                                        outbox.push(Item::Ack(Box::new(publish)));
+                                        outbox.push(ack);
+                                    }
+                                    Decision::Drop { reason } => {
+                                        log::warn!("MQTT: dropped a set message on {} ({} bytes): {reason}", echo_text(&publish.topic), publish.payload.len());
+                                        outbox.push(ack);
                                     }
                                 }
                             }

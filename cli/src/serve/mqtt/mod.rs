@@ -8,6 +8,7 @@ mod options;
 mod outbox;
 mod payload;
 mod set;
+mod set_value;
 mod topic;
 
 #[cfg(test)]

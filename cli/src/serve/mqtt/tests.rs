@@ -103,7 +103,7 @@ fn online() -> Event {
     })
 }
 
-fn state_topic() -> String {
+pub(super) fn state_topic() -> String {
     format!(
         "vfd/line1/pump/{}",
         super::topic::segment(plant().buses[0].stations[0].polls[0].register.code)
@@ -202,7 +202,8 @@ fn a_set_message_becomes_a_write_request_and_its_outcome_is_published() {
     let outcome = json(results.finish().first().expect("an outcome on set/result"));
     assert_eq!(outcome["ok"], true);
     assert_eq!(outcome["value"], 50.0);
-    assert_eq!(outcome["id"], request.id);
+    // Named with this run's id, so that no result of another run has it.
+    assert_eq!(outcome["id"], crate::serve::run_id::name(request.id));
     // A JSON value is taken too.
     broker.publish(&topic, r#"{"value": 42}"#, false);
     assert_eq!(
