@@ -285,6 +285,51 @@ fn retained_sets_and_unknown_stations_are_refused_and_nothing_is_queued() {
     missing_mosquitto,
     ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
 )]
+fn a_live_retained_set_is_applied_once_and_its_stored_copy_refused_at_the_next_start() {
+    let broker = Broker::start("live-retained", "");
+    let (mqtt, rx) = connect(&broker, "live-retained");
+    let topic = format!("{}/set", state_topic());
+    // Published with the retain flag while the service is subscribed: the broker forwards
+    // it with the flag cleared (MQTT 3.1.1, 3.3.1.3), like any write. Applied.
+    broker.publish(&topic, "7", true);
+    let request = rx
+        .recv_timeout(Duration::from_secs(5))
+        .expect("the live retained set is applied");
+    assert_eq!(request.value, "7");
+    mqtt.publish(&Event::Written(WriteOutcome {
+        ok: true,
+        sent: true,
+        ..WriteOutcome::pending(&request)
+    }));
+    mqtt.shutdown();
+    // The broker stored it. The next start subscribes again and gets it flagged retained:
+    // refused, not applied a second time.
+    let results = broker.sub_child(&format!("{topic}/result"), 1, 10);
+    let (mqtt, rx) = connect(&broker, "live-retained");
+    let outcome = json(results.finish().first().expect("the stored copy answered"));
+    assert_eq!(
+        (outcome["ok"].clone(), outcome["sent"].clone()),
+        (false.into(), false.into())
+    );
+    assert!(
+        outcome["error"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("retained set message is never applied"),
+        "{outcome}"
+    );
+    assert!(
+        rx.recv_timeout(Duration::from_millis(500)).is_err(),
+        "the stored retained set was applied again"
+    );
+    mqtt.shutdown();
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients)"
+)]
 fn after_a_broker_restart_the_states_are_republished_and_sets_work_again() {
     let mut broker = Broker::start("restart", "");
     let (mqtt, rx) = connect(&broker, "restart");
