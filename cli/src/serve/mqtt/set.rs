@@ -16,8 +16,8 @@
 //! (its result topic would be longer than MQTT allows), is dropped with a log line; either
 //! way it is acknowledged. A message longer than any value is refused before it is read,
 //! and a result repeats at most the first characters of a request
-//! ([`crate::serve::request_text`]). What the ledger keeps of a message is its topic,
-//! packet id and a hash of its payload, never the payload.
+//! ([`crate::serve::request_text`]). What the ledger keeps of a message is its packet id,
+//! its size and a hash of its topic and payload, never the message.
 
 use super::set_value::set_value;
 use super::topic::{segment, Topics};
@@ -59,18 +59,15 @@ pub enum Decision {
     },
 }
 
-/// A message identified for redelivery: topic, packet id, the payload's size and hash.
-type Key = (String, u16, usize, u64);
+/// A message identified for redelivery: its packet id, its payload's size, and a hash of
+/// its topic and payload (a remembered message costs a few bytes, however long it was).
+type Key = (u16, usize, u64);
 
 fn key(publish: &Publish) -> Key {
     let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    publish.topic.hash(&mut hasher);
     publish.payload.hash(&mut hasher);
-    (
-        publish.topic.clone(),
-        publish.pkid,
-        publish.payload.len(),
-        hasher.finish(),
-    )
+    (publish.pkid, publish.payload.len(), hasher.finish())
 }
 
 /// What acknowledging `publish` needs (its QoS and packet id), without its payload.
