@@ -398,9 +398,13 @@ fn main() -> ExitCode {
     match run(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
-            eprintln!("vfd: {}", failure.message);
+            // Not `eprintln!`, which panics when standard error is a closed pipe
+            // (`vfd ... 2>&1 | head -1`): the exit status says it.
+            use std::io::Write as _;
+            let mut stderr = std::io::stderr().lock();
+            let _ = writeln!(stderr, "vfd: {}", failure.message);
             if let Some(hint) = failure.hint {
-                eprintln!("  hint: {hint}");
+                let _ = writeln!(stderr, "  hint: {hint}");
             }
             ExitCode::FAILURE
         }

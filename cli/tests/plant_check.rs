@@ -100,3 +100,46 @@ fn a_missing_plant_file_is_one_error_and_exit_status_1() {
     assert!(text.contains("cannot read the file"), "{text}");
     assert!(text.contains("plants/no-such-plant.yaml:1:1"), "{text}");
 }
+
+/// `vfd serve --check PLANT`, its standard output (and, with `stderr_too`, its standard
+/// error) a pipe whose reader has gone before it writes, as after `| head -1`: the pipe's
+/// reader is closed at once, and the check starts 0.3 s later (through `sh`, which hands
+/// on its exit status). Its exit status and standard error (empty with `stderr_too`).
+#[cfg(unix)]
+fn check_into_closed_pipe(plant: &str, stderr_too: bool) -> (Option<i32>, String) {
+    let script = if stderr_too {
+        "sleep 0.3; exec \"$0\" serve --check \"$1\" 2>&1"
+    } else {
+        "sleep 0.3; exec \"$0\" serve --check \"$1\""
+    };
+    let errors = std::env::temp_dir().join(format!(
+        "vfd-check-pipe-{}-{stderr_too}.txt",
+        std::process::id()
+    ));
+    let mut child = Command::new("sh")
+        .args(["-c", script, env!("CARGO_BIN_EXE_vfd"), plant])
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::fs::File::create(&errors).expect("a file for standard error"))
+        .spawn()
+        .expect("sh runs");
+    drop(child.stdout.take());
+    let status = child.wait().expect("it ends");
+    let stderr = std::fs::read_to_string(&errors).unwrap_or_default();
+    let _ = std::fs::remove_file(&errors);
+    (status.code(), stderr)
+}
+
+#[cfg(unix)]
+#[test]
+fn the_exit_status_is_the_checks_when_the_reader_stops_early() {
+    let broken = format!("{FIXTURES}/registers.yaml");
+    let (code, stderr) = check_into_closed_pipe(&broken, false);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains("registers.yaml has 6 problems"), "{stderr}");
+    // Standard error closed as well (`2>&1 | head -1`): still 1, not a panic (101).
+    assert_eq!(check_into_closed_pipe(&broken, true).0, Some(1));
+    let (code, stderr) = check_into_closed_pipe("plants/example.yaml", true);
+    assert_eq!(code, Some(0), "{stderr}");
+}

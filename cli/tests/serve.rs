@@ -8,7 +8,10 @@
 //!   while another bus keeps its polling rate;
 //! - a port that is not there at the start is opened once it appears;
 //! - SIGTERM ends the service within a bound, every station reported offline;
-//! - a closed standard output ends it quietly; no output chosen is a clear error.
+//! - a closed standard output ends it quietly; no output chosen is a clear error;
+//! - a request of 200 KB gets a short result and log line; result ids differ from one
+//!   run to the next;
+//! - the bit-field example of docs/mqtt.md is a value a shipped drive takes.
 //!
 //! The multi-drop bus (several stations on one line) and MQTT are tested in
 //! `serve_plant.rs` and `serve_mqtt.rs`.
@@ -28,19 +31,16 @@ struct TcpSim {
 }
 
 impl TcpSim {
+    /// A VF-AS1 on Modbus RTU at station 1.
     fn start(dir: &Path, name: &str, listen: &str) -> TcpSim {
+        TcpSim::start_drive(dir, name, listen, "vf-as1", "modbus")
+    }
+
+    /// A `drive` speaking `protocol` at station 1.
+    fn start_drive(dir: &Path, name: &str, listen: &str, drive: &str, protocol: &str) -> TcpSim {
         let log = dir.join(format!("{name}.log"));
         let mut child = Command::new(env!("CARGO_BIN_EXE_vfd"))
-            .args([
-                "sim",
-                "-d",
-                "vf-as1",
-                "-p",
-                "modbus",
-                "--address",
-                "1",
-                "-v",
-            ])
+            .args(["sim", "-d", drive, "-p", protocol, "--address", "1", "-v"])
             .args(["--listen", listen])
             .stdout(Stdio::piped())
             .stderr(std::fs::File::create(&log).expect("log file"))
@@ -501,4 +501,104 @@ fn demo_plant_polls_every_station_of_both_buses_and_ends() {
             "{bus}/{drive} reported offline at the end"
         );
     }
+}
+
+#[test]
+fn a_huge_request_gets_a_short_answer_and_ids_differ_across_restarts() {
+    let dir = temp_dir("ids");
+    let sim = TcpSim::start(&dir, "sim", "127.0.0.1:0");
+    let plant = plant(&dir, &[("line1", &sim.port)], "500ms");
+    let mut ids = Vec::new();
+    for run in 0..2 {
+        let mut service = Service::start(&plant);
+        service.wait_for(Duration::from_secs(10), "online", |e| {
+            event_is(e, "availability", "line1", "pump1") && e["online"] == true
+        });
+        // A 200 KB value, then a plain one, on standard input.
+        service.write("line1", "pump1", "FA01", &"5".repeat(200 * 1024));
+        service.write("line1", "pump1", "FA01", "999");
+        let (_, long) = service.wait_for(Duration::from_secs(5), "the long line refused", |e| {
+            e["event"] == "written" && e["error"].as_str().unwrap_or_default().contains("bytes")
+        });
+        let text = long.to_string();
+        assert!(text.len() < 1024, "a {} byte result", text.len());
+        assert!(
+            long["request"]
+                .as_str()
+                .unwrap_or_default()
+                .contains("bytes)"),
+            "{long}"
+        );
+        let (_, plain) = service.wait_for(Duration::from_secs(5), "999 refused", |e| {
+            e["event"] == "written" && e["request"] == "999"
+        });
+        ids.push((long["id"].clone(), plain["id"].clone()));
+        service.terminate(Duration::from_secs(3));
+        let stderr = service.stderr.lock().unwrap().clone();
+        assert!(
+            stderr.lines().all(|l| l.len() < 1024),
+            "run {run}: a log line of {} bytes",
+            stderr.lines().map(str::len).max().unwrap_or(0)
+        );
+    }
+    // `RUN-N`, RUN the start time and process id: never the same in two runs.
+    for (long, plain) in &ids {
+        for id in [long, plain] {
+            let text = id.as_str().unwrap_or_else(|| panic!("a text id: {id}"));
+            let parts: Vec<&str> = text.split('-').collect();
+            assert_eq!(parts.len(), 3, "{text}");
+            assert!(parts.iter().all(|p| p.parse::<u64>().is_ok()), "{text}");
+        }
+    }
+    assert_ne!(ids[0].0, ids[1].0, "{ids:?}");
+    assert_ne!(ids[0].1, ids[1].1, "{ids:?}");
+}
+
+/// The bit-field value docs/mqtt.md gives as its example: the backquoted text after "bit
+/// fields by name (", and the drive and register it names.
+fn documented_bit_fields() -> (String, String, String) {
+    let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/mqtt.md"))
+        .expect("docs/mqtt.md")
+        .replace('\n', " ");
+    let after = docs
+        .split_once("bit fields by name (`")
+        .expect("docs/mqtt.md gives a bit-field example")
+        .1;
+    let (value, rest) = after.split_once('`').expect("a closing backquote");
+    // "`VALUE` on a DRIVE's REGISTER"
+    let rest = rest
+        .strip_prefix(" on a ")
+        .expect("the example names its drive: `VALUE` on a DRIVE's REGISTER");
+    let (drive, rest) = rest.split_once("'s ").expect("DRIVE's");
+    let register: String = rest
+        .chars()
+        .take_while(|c| c.is_ascii_alphanumeric())
+        .collect();
+    (value.to_owned(), drive.to_lowercase(), register)
+}
+
+#[test]
+fn the_documented_bit_field_example_is_written_by_a_shipped_drive() {
+    let (value, drive, register) = documented_bit_fields();
+    let dir = temp_dir("bits");
+    let sim = TcpSim::start_drive(&dir, "sim", "127.0.0.1:0", &drive, "binary");
+    let text = format!(
+        "buses:\n  - name: line1\n    port: {}\n    drives:\n      - name: belt1\n        drive: {drive}\n        protocol: binary\n        station: 1\n        poll:\n          - every: 500ms\n            registers: [FA01]\n        write: [{register}]\n",
+        sim.port
+    );
+    let path = dir.join("plant.yaml");
+    std::fs::write(&path, text).expect("plant file");
+    let mut service = Service::start(&path);
+    service.wait_for(Duration::from_secs(10), "online", |e| {
+        event_is(e, "availability", "line1", "belt1") && e["online"] == true
+    });
+    service.write("line1", "belt1", &register, &value);
+    let (_, outcome) = service.wait_for(Duration::from_secs(5), "the example's outcome", |e| {
+        e["event"] == "written" && e["request"] == value.as_str()
+    });
+    assert_eq!(
+        outcome["ok"], true,
+        "{drive} {register} = {value}: {outcome}"
+    );
+    assert_eq!(outcome["sent"], true, "{outcome}");
 }

@@ -12,7 +12,10 @@
 //!   period (rates are measured by the plant bench, not asserted here);
 //! - the broker killed and started again (without persistence: its retained states are
 //!   gone) is reconnected to, and the states come back;
-//! - SIGTERM: the broker is told every station and the service are offline.
+//! - SIGTERM: the broker is told every station and the service are offline;
+//! - hostile `set` messages (several MiB, not UTF-8, deeply nested JSON, huge numbers,
+//!   empty) each get a short refusal, the service never loses the broker, and a good
+//!   `set` afterwards is carried out.
 //!
 //! Without mosquitto these are `#[ignore]`d with the reason (cli/build.rs); under CI they
 //! run (`.ci/run` installs mosquitto).
@@ -93,6 +96,22 @@ impl Broker {
             .status()
             .expect("mosquitto_pub runs");
         assert!(status.success());
+    }
+
+    /// Publishes `payload` (any bytes, of any size; empty: a zero-length message) on
+    /// `topic` at QoS 1, from a file in `dir`.
+    fn publish_bytes(&self, dir: &Path, topic: &str, payload: &[u8]) {
+        let mut command = Command::new("mosquitto_pub");
+        command.args(["-h", "127.0.0.1", "-p", &self.port.to_string(), "-q", "1"]);
+        command.args(["-t", topic]);
+        if payload.is_empty() {
+            command.arg("-n");
+        } else {
+            let file = dir.join("payload.bin");
+            std::fs::write(&file, payload).expect("payload file");
+            command.arg("-f").arg(file);
+        }
+        assert!(command.status().expect("mosquitto_pub runs").success());
     }
 
     /// Every message on `filter` (retained ones first) as (time seen, topic, payload),
@@ -611,4 +630,91 @@ fn demo_plant_publishes_every_station_and_takes_50_hz_but_not_999() {
     everything.wait_for(Duration::from_secs(5), "50 Hz read back", |t, p| {
         t == "vfd/line1/fan1/FA01" && p.contains("\"value\":50.0")
     });
+}
+
+#[test]
+#[cfg_attr(
+    missing_mosquitto,
+    ignore = "mosquitto is not installed (apt-get install mosquitto mosquitto-clients); .ci/run installs it"
+)]
+fn hostile_set_messages_are_refused_and_never_cost_the_connection() {
+    let dir = temp_dir("hostile");
+    let broker = Broker::start(&dir);
+    let topic = "vfd/line1/fan1/FA01/set";
+    let states = broker.subscribe("vfd/+/+/+");
+    // Only the results: the `set` messages themselves are not text.
+    let results = broker.subscribe(&format!("{topic}/result"));
+    let (_bus1, _bus2, _service) = plant(&dir, &broker);
+    all_states(&states, Duration::from_secs(15));
+    let deep_json = format!("{{\"value\": {}{}}}", "[".repeat(400), "]".repeat(400));
+    let binary: Vec<u8> = (0u32..5 * 1024 * 1024)
+        .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+        .collect();
+    let hostile: Vec<(&str, Vec<u8>)> = vec![
+        // Larger than rumqttc's default limit (256 KiB), which used to end the connection.
+        ("300 KiB of digits", vec![b'5'; 300 * 1024]),
+        ("5 MiB of binary", binary),
+        (
+            "1 MiB in JSON",
+            format!("{{\"value\": \"{}\"}}", "A".repeat(1024 * 1024)).into_bytes(),
+        ),
+        ("not UTF-8", vec![0xff, 0xfe, 0x00, 0x80, 0xc3]),
+        ("deeply nested JSON", deep_json.into_bytes()),
+        ("100 KB of brackets", "[".repeat(100_000).into_bytes()),
+        ("a huge number", b"1e999999".to_vec()),
+        ("a huge JSON number", b"{\"value\": 1e999999}".to_vec()),
+        ("a thousand digits", vec![b'9'; 1000]),
+        ("null", b"{\"value\": null}".to_vec()),
+        ("empty", Vec::new()),
+    ];
+    for (count, (what, payload)) in hostile.iter().enumerate() {
+        broker.publish_bytes(&dir, topic, payload);
+        results.wait_for(
+            Duration::from_secs(10),
+            &format!("the refusal of {what}"),
+            |_, _| results.messages().len() > count,
+        );
+        let (_, _, result) = results.messages()[count].clone();
+        assert!(
+            result.len() < 1024,
+            "{what}: a {} byte result",
+            result.len()
+        );
+        let result: serde_json::Value = serde_json::from_str(&result).expect("JSON");
+        assert_eq!(result["ok"], false, "{what}: {result}");
+        assert_eq!(result["sent"], false, "{what}: {result}");
+        assert!(result["error"].is_string(), "{what}: {result}");
+    }
+    // The 300 KiB message's result repeats its start and its size only.
+    let first: serde_json::Value = serde_json::from_str(&results.messages()[0].2).expect("JSON");
+    assert_eq!(
+        first["request"],
+        format!("{}… (307200 bytes)", "5".repeat(64)),
+        "{first}"
+    );
+    // A good set is still carried out and read back.
+    broker.publish(topic, "50 Hz");
+    let (_, _, result) = results.wait_for(Duration::from_secs(5), "the result of 50 Hz", |_, p| {
+        p.contains("\"request\":\"50 Hz\"")
+    });
+    assert!(result.contains("\"ok\":true"), "{result}");
+    states.wait_for(Duration::from_secs(5), "FA01 read back as 50 Hz", |t, p| {
+        t == "vfd/line1/fan1/FA01" && p.contains("\"value\":50.0")
+    });
+    // The connection was never lost, and no line of the log repeats a request whole.
+    let log = std::fs::read_to_string(dir.join("serve.log")).expect("the service's log");
+    assert!(
+        !log.contains("lost the broker") && !log.contains("reconnected"),
+        "{log}"
+    );
+    assert!(
+        log.lines().all(|line| line.len() < 1024),
+        "a log line of {} bytes",
+        log.lines().map(str::len).max().unwrap_or(0)
+    );
+    assert_eq!(
+        results.messages().len(),
+        hostile.len() + 1,
+        "one result each"
+    );
 }

@@ -1,9 +1,9 @@
 //! Writes the seed corpora: every example frame of every described drive (as printed and as
 //! corrected) into `corpus/<protocol file>_request/` and `_reply/` (requests also, behind a
 //! selector byte, into `corpus/virtual_drive/`; and behind a protocol and a command byte, into
-//! `corpus/plan_agreement/`), and every drive file and broken-description
-//! fixture into `corpus/description/`. Run from `fuzz/`:
-//! `cargo run --example seed_corpus`.
+//! `corpus/plan_agreement/`), every drive file and broken-description
+//! fixture into `corpus/description/`, and `set` message payloads into
+//! `corpus/set_value/`. Run from `fuzz/`: `cargo run --example seed_corpus`.
 
 use std::fs;
 use std::path::Path;
@@ -89,6 +89,26 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 }
             }
         }
+    }
+    // The set-message reader of `vfd serve --mqtt`: values as text and as JSON, and a few
+    // that are refused.
+    let dir = corpus.join("set_value");
+    fs::create_dir_all(&dir)?;
+    let seeds: [&[u8]; 10] = [
+        b"50",
+        b"50 Hz",
+        b"command_enabled,frequency_enabled,run",
+        b"\"50 Hz\"",
+        br#"{"value": 42.5}"#,
+        br#"{"value": "50 Hz"}"#,
+        br#"{"value": [[1]]}"#,
+        br#"{"value": 1e999999}"#,
+        b"\xff\xfe",
+        b"",
+    ];
+    for (n, seed) in seeds.iter().enumerate() {
+        fs::write(dir.join(format!("seed_{n}")), seed)?;
+        written += 1;
     }
     println!("{written} seeds written under {}", corpus.display());
     Ok(())

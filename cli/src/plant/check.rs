@@ -1,29 +1,33 @@
 //! `vfd serve --check PLANT`: the plant file's problems as `vfd check` prints a drive
 //! file's (errors, then warnings, each at file:line:column with a hint; exit status 1 on
-//! errors), or a summary of what the service would poll and allow. Nothing is opened.
+//! errors), or a summary of what the service would poll and allow. Nothing is opened. The
+//! exit status is the check's whatever becomes of the output: a reader that stops early
+//! (`vfd serve --check PLANT | head -1`) changes nothing.
 
 use super::interval;
 use super::model::{Bus, Plant};
-use crate::out::say;
 use crate::Failure;
+use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::Path;
 
 /// Checks the plant file at `path` and prints the outcome.
 pub fn run(path: &Path) -> Result<(), Failure> {
-    match super::load(path) {
+    let mut text = String::new();
+    let outcome = match super::load(path) {
         Ok(plant) => {
-            summary(&plant);
+            summary(&plant, &mut text);
             if !plant.warnings.is_empty() {
-                say!("{}", plant.warnings);
+                let _ = writeln!(text, "{}", plant.warnings);
             }
             Ok(())
         }
         Err(mut diagnostics) => {
             let warnings = diagnostics.take_warnings();
             let errors = diagnostics.items.len();
-            say!("{diagnostics}");
+            let _ = writeln!(text, "{diagnostics}");
             if !warnings.is_empty() {
-                say!("{warnings}");
+                let _ = writeln!(text, "{warnings}");
             }
             Err(Failure::new(format!(
                 "{} has {errors} problem{}",
@@ -32,6 +36,21 @@ pub fn run(path: &Path) -> Result<(), Failure> {
             ))
             .hint("fix them and run `vfd serve --check` again; docs/plant.md describes every key"))
         }
+    };
+    print(&text);
+    outcome
+}
+
+/// Writes `text` on standard output. A closed pipe ends the writing, not the program: the
+/// exit status stays the check's. Another write error is said on standard error.
+fn print(text: &str) {
+    let mut out = std::io::stdout().lock();
+    let written = out.write_all(text.as_bytes()).and_then(|()| out.flush());
+    match written {
+        Err(error) if error.kind() != std::io::ErrorKind::BrokenPipe => {
+            let _ = writeln!(std::io::stderr(), "vfd: cannot write the output: {error}");
+        }
+        _ => {}
     }
 }
 
@@ -41,7 +60,7 @@ pub fn load_for_service(path: &Path) -> Result<Plant, Failure> {
     match super::load(path) {
         Ok(plant) => {
             if !plant.warnings.is_empty() {
-                eprintln!("{}", plant.warnings);
+                let _ = writeln!(std::io::stderr(), "{}", plant.warnings);
             }
             Ok(plant)
         }
@@ -51,7 +70,7 @@ pub fn load_for_service(path: &Path) -> Result<Plant, Failure> {
                 .iter()
                 .filter(|d| d.severity == vfd_codegen::Severity::Error)
                 .count();
-            eprintln!("{diagnostics}");
+            let _ = writeln!(std::io::stderr(), "{diagnostics}");
             Err(Failure::new(format!(
                 "{} has {errors} problem{}; nothing was opened",
                 path.display(),
@@ -71,7 +90,7 @@ fn rate(bus: &Bus) -> f64 {
 }
 
 /// The plant in a few lines: totals, then each bus and drive.
-fn summary(plant: &Plant) {
+fn summary(plant: &Plant, text: &mut String) {
     let stations: usize = plant.buses.iter().map(|b| b.stations.len()).sum();
     let polled: usize = plant
         .buses
@@ -88,7 +107,8 @@ fn summary(plant: &Plant) {
     let reads: f64 = plant.buses.iter().map(rate).fold(0.0, |sum, r| sum + r);
     let plural =
         |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
-    say!(
+    let _ = writeln!(
+        text,
         "{}: ok ({}, {}, {} polled at {reads:.1} reads/s, {} writable)",
         plant.path.display(),
         plural(plant.buses.len(), "bus", "buses"),
@@ -98,7 +118,8 @@ fn summary(plant: &Plant) {
     );
     for bus in &plant.buses {
         let s = &bus.settings;
-        say!(
+        let _ = writeln!(
+            text,
             "  bus {}: {} at {} baud {}{}{}, {}, {reads:.1} reads/s",
             bus.name,
             bus.port,
@@ -139,7 +160,8 @@ fn summary(plant: &Plant) {
                     )
                 })
                 .collect();
-            say!(
+            let _ = writeln!(
+                text,
                 "    {} = {} {}{}{}",
                 station.name,
                 station.drive.id,
@@ -154,9 +176,10 @@ fn summary(plant: &Plant) {
                     .unwrap_or_default(),
             );
             if !polls.is_empty() {
-                say!("      poll {}", polls.join("; "));
+                let _ = writeln!(text, "      poll {}", polls.join("; "));
             }
-            say!(
+            let _ = writeln!(
+                text,
                 "      write {}",
                 if writes.is_empty() {
                     "nothing".to_owned()

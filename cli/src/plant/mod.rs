@@ -8,6 +8,7 @@ pub mod file;
 pub mod framing;
 pub mod interval;
 mod line;
+mod line_load;
 pub mod model;
 mod names;
 mod problems;

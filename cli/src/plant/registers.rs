@@ -1,13 +1,16 @@
 //! A drive's poll list and write allow-list, resolved to its registers: each name found as
 //! `vfd read` and `vfd write` find it, and refused where the register cannot do what the
 //! list asks (a write-only register polled, a read-only one allowed to be written,
-//! `persistent` on a RAM-only register), or where a register is listed twice.
+//! `persistent` on a RAM-only register or on one the bus's protocol cannot write
+//! persistently), or where a register is listed twice.
 
 use super::file::{PollFile, WriteEntry};
 use super::interval;
 use super::model::{Allowed, Poll};
 use super::problems::Problems;
-use vfd_runtime::{Access, DataType, DriveInfo, RegisterInfo};
+use super::station::Head;
+use vfd_runtime::transaction::{script, Exchange, Station};
+use vfd_runtime::{Access, CommandKind, DataType, DriveInfo, Protocol, RegisterInfo, Request};
 
 /// The poll list of the drive entry at `path`.
 pub fn polls(
@@ -80,13 +83,14 @@ pub fn polls(
     polls
 }
 
-/// The write allow-list of the drive entry at `path`.
+/// The write allow-list of the drive entry at `path`, resolved to `head`.
 pub fn writes(
-    drive: &'static DriveInfo,
+    head: &Head,
     entries: &[WriteEntry],
     path: &str,
     problems: &mut Problems<'_>,
 ) -> Vec<Allowed> {
+    let drive = head.drive;
     let mut writes: Vec<Allowed> = Vec::new();
     let mut seen: Vec<(&'static RegisterInfo, String)> = Vec::new();
     for (w, entry) in entries.iter().enumerate() {
@@ -130,6 +134,39 @@ pub fn writes(
             );
             continue;
         }
+        if entry.persistent && !writes_persistently(head.protocol, head, register) {
+            let others: Vec<&str> = drive
+                .protocols
+                .iter()
+                .filter(|other| writes_persistently(other, head, register))
+                .map(|other| other.id.as_ref())
+                .collect();
+            problems.error(
+                &format!("{at}.persistent"),
+                format!(
+                    "{} cannot be written persistently over protocol `{}`: it has no persistent write for it{}",
+                    register.label(),
+                    head.protocol.id,
+                    if head.protocol.persistence.is_some() {
+                        ", and the drive's persistence selector does not govern it"
+                    } else {
+                        ""
+                    }
+                ),
+                if others.is_empty() {
+                    format!(
+                        "leave `persistent` out: a write goes where the drive's description says (`vfd info {} {}`)",
+                        drive.id, register.code
+                    )
+                } else {
+                    format!(
+                        "leave `persistent` out, or put the drive on a protocol that writes it persistently: {}",
+                        others.join(", ")
+                    )
+                },
+            );
+            continue;
+        }
         if entry.persistent && register.persistent_write_to_ram {
             problems.warning(
                 &format!("{at}.persistent"),
@@ -156,4 +193,28 @@ pub fn writes(
         });
     }
     writes
+}
+
+/// Whether `protocol` carries a persistent write of `register` (on `head`'s port, to its
+/// station): a persistent command the runtime can encode for it, or a plain write the
+/// drive's persistence selector governs (DV1 07-11).
+fn writes_persistently(
+    protocol: &'static Protocol,
+    head: &Head,
+    register: &'static RegisterInfo,
+) -> bool {
+    let register = head.port.map_or(register, |port| port.register(register));
+    let request = Request::for_register(CommandKind::WritePersistent, register, 0);
+    if protocol
+        .persistence
+        .as_ref()
+        .is_some_and(|selector| selector.governs_request(&request))
+    {
+        return true;
+    }
+    let station = Station {
+        address: head.address.or(protocol.default_address()),
+        reply_wait: 0,
+    };
+    script(protocol, &Exchange::single(request), &station, None).is_ok()
 }

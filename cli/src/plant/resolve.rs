@@ -7,7 +7,7 @@ use super::model::{Bus, Plant, Station};
 use super::problems::Problems;
 use super::station::Placed;
 use super::unique::Keyed;
-use super::{framing, line, names, registers, station, unique};
+use super::{framing, line, line_load, names, registers, station, unique};
 use std::path::Path;
 
 /// Resolves and checks `file`, read from `problems.source`; drive files are found from
@@ -46,7 +46,7 @@ pub fn plant(file: &PlantFile, dir: &Path, problems: &mut Problems<'_>) -> Plant
                 continue;
             };
             let polls = registers::polls(head.drive, &drive.poll, &at, problems);
-            let writes = registers::writes(head.drive, &drive.write, &at, problems);
+            let writes = registers::writes(&head, &drive.write, &at, problems);
             stations.push(Station {
                 name: drive.name.clone(),
                 drive: head.drive,
@@ -101,6 +101,14 @@ pub fn plant(file: &PlantFile, dir: &Path, problems: &mut Problems<'_>) -> Plant
         );
         framing::check(&entry.name, &placed, problems);
         let line = line::line(entry, &path, &placed, problems);
+        line_load::check(
+            &path,
+            &entry.name,
+            &stations,
+            &line.settings,
+            line.min_gap,
+            problems,
+        );
         buses.push(Bus {
             name: entry.name.clone(),
             port: entry.port.trim().to_owned(),

@@ -6,7 +6,7 @@ use super::file::DriveFile;
 use super::problems::Problems;
 use crate::Failure;
 use std::path::Path;
-use vfd_runtime::{DriveInfo, Port, Protocol};
+use vfd_runtime::{DriveInfo, Port, Protocol, Role};
 
 /// A drive entry with everything but its registers resolved.
 #[derive(Debug, Clone, Copy)]
@@ -113,6 +113,23 @@ pub fn resolve(
             );
             Some(station)
         }
+        Some(station) if broadcast_address(protocol) == Some(station) => {
+            problems.error(
+                &format!("{path}.station"),
+                format!(
+                    "station {station} is the broadcast address of protocol `{}`: every drive on the line carries out a request to it and none answers",
+                    protocol.id
+                ),
+                if station == min {
+                    format!("set the drive's station address to one of {} to {max}, and write that here", min + 1)
+                } else if station == max {
+                    format!("set the drive's station address to one of {min} to {}, and write that here", max - 1)
+                } else {
+                    format!("set the drive's station address to one of {min} to {max} other than {station}, and write that here")
+                },
+            );
+            Some(station)
+        }
         Some(station) => Some(station),
         None if alone => protocol.default_address(),
         None => {
@@ -133,6 +150,17 @@ pub fn resolve(
         address,
         port,
     })
+}
+
+/// The station number that addresses every station at once on `protocol` (Modbus 0,
+/// Toshiba binary FFh), where its station field has one: the protocol file's `broadcast`.
+fn broadcast_address(protocol: &Protocol) -> Option<u8> {
+    protocol
+        .commands
+        .iter()
+        .filter_map(|command| command.request.field(Role::Address))
+        .find_map(|field| field.broadcast.as_ref()?.all_value)
+        .and_then(|value| u8::try_from(value).ok())
 }
 
 /// The drive `name` names: a drive file by its path (a relative path starts at the plant

@@ -78,9 +78,12 @@ pub struct WriteOutcome {
     pub drive: String,
     /// The register as the request named it (its code where it was found).
     pub code: String,
-    /// The request's value as received (`50`, `50 Hz`, a code name, bit fields).
+    /// The request's value as received (`50`, `50 Hz`, a code name, bit fields), cut to
+    /// its first characters and its size when long ([`super::request_text::echo`]).
     pub request: String,
-    /// Where the request came from (`mqtt`), and its id there, for the output to answer it.
+    /// The request's number in this run, for the input to answer it; written `RUN-N`
+    /// ([`super::run_id`]), unique across restarts.
+    #[serde(serialize_with = "super::run_id::serialize")]
     pub id: u64,
     /// The write was carried out (and its reply accepted).
     pub ok: bool,
@@ -110,7 +113,7 @@ impl WriteOutcome {
             bus: request.bus.clone(),
             drive: request.drive.clone(),
             code: request.register.clone(),
-            request: request.value.clone(),
+            request: super::request_text::echo_text(&request.value),
             id: request.id,
             ok: false,
             sent: false,
@@ -159,9 +162,10 @@ pub struct WriteRequest {
     pub drive: String,
     /// The register as named in the topic (a code, id or name).
     pub register: String,
-    /// The value (`50`, `50 Hz`, a code name, `run,forward`).
+    /// The value (`50`, `50 Hz`, a code name, bit fields such as
+    /// `command_enabled,frequency_enabled,run`).
     pub value: String,
-    /// The input's own id for the request, echoed in the outcome.
+    /// The request's number in this run ([`super::run_id::next`]), echoed in the outcome.
     pub id: u64,
 }
 

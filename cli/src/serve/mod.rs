@@ -11,6 +11,8 @@ pub mod mqtt;
 mod mqtt_output;
 pub mod output;
 mod report;
+pub mod request_text;
+pub mod run_id;
 mod schedule;
 mod station;
 mod stdin;
@@ -143,10 +145,12 @@ pub fn run(args: &ServeArgs) -> Result<(), Failure> {
     let outputs = outputs(args, &plant, &parts)?;
     log::info!(
         target: LOG_TARGET,
-        "serving {} bus(es), {} station(s) from {}",
+        "serving {} bus(es), {} station(s) from {} (run {}: write results are numbered {}-N)",
         plant.buses.len(),
         plant.buses.iter().map(|b| b.stations.len()).sum::<usize>(),
-        plant.path.display()
+        plant.path.display(),
+        run_id::run(),
+        run_id::run()
     );
     let result = serve(&plant, outputs, parts, args.stdin_writes, stop);
     log::info!(target: LOG_TARGET, "stopped");

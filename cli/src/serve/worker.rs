@@ -248,7 +248,7 @@ impl Worker {
                 self.bus.name,
                 request.drive,
                 outcome.code,
-                request.value
+                outcome.request
             );
         } else {
             log::warn!(
@@ -257,7 +257,7 @@ impl Worker {
                 self.bus.name,
                 request.drive,
                 outcome.code,
-                request.value,
+                outcome.request,
                 outcome.error.as_deref().unwrap_or("")
             );
         }

@@ -98,6 +98,11 @@ impl Broker {
         self.sub(topic, 1, wait).pop()
     }
 
+    /// [`Broker::first`] as `user` (name, password).
+    pub fn first_as(&self, user: (&str, &str), topic: &str, wait: u64) -> Option<String> {
+        self.sub_child_as(Some(user), topic, 1, wait).finish().pop()
+    }
+
     /// `count` messages on `topic` within `wait` seconds.
     pub fn sub(&self, topic: &str, count: usize, wait: u64) -> Vec<String> {
         self.sub_child(topic, count, wait).finish()
@@ -105,7 +110,22 @@ impl Broker {
 
     /// A mosquitto_sub started now, to read later.
     pub fn sub_child(&self, topic: &str, count: usize, wait: u64) -> Sub {
-        let child = Command::new("mosquitto_sub")
+        self.sub_child_as(None, topic, count, wait)
+    }
+
+    /// [`Broker::sub_child`] as `user` (name, password), or anonymously.
+    pub fn sub_child_as(
+        &self,
+        user: Option<(&str, &str)>,
+        topic: &str,
+        count: usize,
+        wait: u64,
+    ) -> Sub {
+        let mut command = Command::new("mosquitto_sub");
+        if let Some((name, password)) = user {
+            command.args(["-u", name, "-P", password]);
+        }
+        let child = command
             .args(["-h", "127.0.0.1", "-p", &self.port.to_string(), "-t", topic])
             .args(["-C", &count.to_string(), "-W", &wait.to_string(), "-i"])
             .arg(format!("sub-{}-{}", std::process::id(), rand_suffix()))

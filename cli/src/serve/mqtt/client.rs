@@ -8,10 +8,11 @@ use super::discovery;
 use super::options::{tls_config, MqttOptions};
 use super::outbox::{Item, Kind, Outbox, READING_CAP};
 use super::payload;
-use super::set::{Decision, SetLedger};
+use super::set::{ack_of, Decision, SetLedger};
 use super::topic::Topics;
 use crate::plant::Plant;
 use crate::serve::event::{Event, WriteRouter};
+use crate::serve::request_text::echo_text;
 use crate::Failure;
 use rumqttc::{
     Client, ConnectReturnCode, ConnectionError, Event as MqttEvent, LastWill, Packet, QoS,
@@ -33,6 +34,13 @@ const BACKOFF_CAP: Duration = Duration::from_secs(15);
 const WAKE_TOPIC: &str = "vfd-serve/wake";
 /// The longest [`Mqtt::shutdown`] waits for the last messages to go out.
 const SHUTDOWN_WAIT: Duration = Duration::from_secs(3);
+/// The largest packet MQTT 3.1.1 can carry (its remaining length, 256 MiB - 1), taken in
+/// both directions. Anything smaller would let one large message the broker forwards end
+/// the connection, and the broker would send it again after every reconnect (the session
+/// is persistent): a loop that takes the service off the broker. Each incoming packet is
+/// read whole before it is looked at, so a large `set` costs its size in memory until it
+/// is refused; docs/mqtt.md shows the broker setting that bounds it.
+const MAX_PACKET: usize = 268_435_455;
 
 /// A connected MQTT output and `set` input.
 pub struct Mqtt {
@@ -64,7 +72,7 @@ impl Mqtt {
         mqtt.set_keep_alive(Duration::from_secs(15))
             .set_clean_session(false)
             .set_manual_acks(true)
-            .set_max_packet_size(256 * 1024, 256 * 1024)
+            .set_max_packet_size(MAX_PACKET, MAX_PACKET)
             .set_last_will(LastWill::new(
                 topics.status(),
                 "offline",
@@ -111,13 +119,18 @@ impl Mqtt {
                             }
                             Ok(MqttEvent::Incoming(Packet::Publish(publish))) => {
                                 let decision = ledger.lock().unwrap_or_else(|e| e.into_inner()).receive(&publish);
+                                let ack = Item::Ack(Box::new(ack_of(&publish)));
                                 match decision {
                                     Decision::Sent | Decision::Wait => {}
-                                    Decision::AckOnly => outbox.push(Item::Ack(Box::new(publish))),
+                                    Decision::AckOnly => outbox.push(ack),
                                     Decision::Refuse { topic, outcome } => {
-                                        log::warn!("MQTT: refused {}: {}", publish.topic, outcome.error.as_deref().unwrap_or(""));
+                                        log::warn!("MQTT: refused {}: {}", echo_text(&publish.topic), outcome.error.as_deref().unwrap_or(""));
                                         outbox.push(Item::Message { topic, payload: payload::outcome(&outcome) });
-                                        outbox.push(Item::Ack(Box::new(publish)));
+                                        outbox.push(ack);
+                                    }
+                                    Decision::Drop { reason } => {
+                                        log::warn!("MQTT: dropped a set message on {} ({} bytes): {reason}", echo_text(&publish.topic), publish.payload.len());
+                                        outbox.push(ack);
                                     }
                                 }
                             }
@@ -378,8 +391,78 @@ fn connect_failure(error: &ConnectionError, options: &MqttOptions) -> Failure {
         ConnectionError::ConnectionRefused(code) => Failure::new(format!(
             "the MQTT broker at {url} refused the connection ({code:?})"
         )),
-        other => Failure::new(format!("cannot connect to the MQTT broker at {url}: {}", describe(other)))
-            .hint("is the broker running and listening there? (mosquitto: `listener PORT`)"),
+        other => match tls_problem(other) {
+            Some(problem) => tls_failure(problem, options),
+            None if url.tls && closed_in_handshake(other) => Failure::new(format!(
+                "the MQTT broker at {url} closed the connection during the TLS handshake: {}",
+                describe(other)
+            ))
+            .hint(format!(
+                "does port {} speak TLS? (mqtt:// for a plain listener; mosquitto: `certfile` and `keyfile` on the listener)",
+                url.port
+            )),
+            None => Failure::new(format!("cannot connect to the MQTT broker at {url}: {}", describe(other)))
+                .hint("is the broker running and listening there? (mosquitto: `listener PORT`)"),
+        },
+    }
+}
+
+/// The TLS error under a connection error, where the handshake failed.
+fn tls_problem(error: &ConnectionError) -> Option<&rustls::Error> {
+    let io = match error {
+        ConnectionError::Tls(rumqttc::TlsError::TLS(tls)) => return Some(tls),
+        ConnectionError::Tls(rumqttc::TlsError::Io(io)) | ConnectionError::Io(io) => io,
+        _ => return None,
+    };
+    io.get_ref()?.downcast_ref::<rustls::Error>()
+}
+
+/// Whether the connection ended during the TLS handshake (a listener that does not speak
+/// TLS closes it on the first bytes).
+fn closed_in_handshake(error: &ConnectionError) -> bool {
+    use std::io::ErrorKind;
+    matches!(
+        error,
+        ConnectionError::Tls(rumqttc::TlsError::Io(io))
+            if matches!(io.kind(), ErrorKind::UnexpectedEof | ErrorKind::ConnectionReset | ErrorKind::ConnectionAborted)
+    )
+}
+
+/// A failed TLS handshake, with what to check: the CA file for a certificate nobody
+/// trusted, the host name in the URL for a certificate of another name.
+fn tls_failure(problem: &rustls::Error, options: &MqttOptions) -> Failure {
+    use rustls::CertificateError;
+    let url = &options.url;
+    let failure = Failure::new(format!(
+        "the TLS handshake with the MQTT broker at {url} failed: {problem}"
+    ));
+    let ca = match &options.ca_file {
+        Some(file) => format!("the CA file {} (--mqtt-ca-file)", file.display()),
+        None => "the system's CA certificates (no --mqtt-ca-file given)".to_owned(),
+    };
+    match problem {
+        rustls::Error::InvalidCertificate(CertificateError::UnknownIssuer | CertificateError::BadSignature) => failure.hint(format!(
+            "the broker's certificate is not signed by a CA this service trusts: {ca}; give the CA that signed the broker's certificate with --mqtt-ca-file FILE (PEM)"
+        )),
+        rustls::Error::InvalidCertificate(
+            CertificateError::NotValidForName | CertificateError::NotValidForNameContext { .. },
+        ) => failure.hint(format!(
+            "the broker's certificate is not for the host name `{}`: use the name (or address) the certificate names in the URL (mqtts://NAME:{}), or have a certificate made for `{}`",
+            url.host, url.port, url.host
+        )),
+        rustls::Error::InvalidCertificate(
+            CertificateError::Expired
+            | CertificateError::ExpiredContext { .. }
+            | CertificateError::NotValidYet
+            | CertificateError::NotValidYetContext { .. },
+        ) => failure.hint("the broker's certificate is outside its validity period: renew it, or check this host's clock"),
+        rustls::Error::InvalidMessage(_) => failure.hint(format!(
+            "the broker did not answer as a TLS server: does port {} speak TLS? (mqtt:// for a plain listener; mosquitto: `certfile` and `keyfile` on the listener)",
+            url.port
+        )),
+        _ => failure.hint(format!(
+            "check {ca}, and that the host name in the URL is one the broker's certificate names"
+        )),
     }
 }
 

@@ -8,12 +8,15 @@ mod options;
 mod outbox;
 mod payload;
 mod set;
+mod set_value;
 mod topic;
 
 #[cfg(test)]
 mod broker;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tls_tests;
 
 pub use client::Mqtt;
 #[cfg(test)]
