@@ -132,7 +132,7 @@ pub fn info(drive: &str, names: &[String], format: Format) -> Result<(), Failure
             drive.model,
             drive.name_zh,
             drive.name,
-            drive.manual
+            drive.manual_title
         );
         let protocols: Vec<&str> = drive.protocols.iter().map(|p| p.id.as_ref()).collect();
         say!(

@@ -67,6 +67,7 @@
 mod builder;
 mod diagnostics;
 mod emit;
+pub use emit::wrap::unwrap_markdown;
 mod frames;
 pub mod ir;
 mod load;

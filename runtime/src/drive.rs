@@ -21,8 +21,11 @@ pub struct DriveInfo {
     pub name: &'static str,
     /// The manual's Chinese name.
     pub name_zh: &'static str,
-    /// Source manual.
+    /// Source manual: its file name.
     pub manual: &'static str,
+    /// The manual as people name it: its title (with the title it prints, in Chinese) and
+    /// document number; the file name when the description gives no title.
+    pub manual_title: &'static str,
     /// Serial settings.
     pub serial: &'static SerialSpec,
     /// Protocols, by id.

@@ -129,7 +129,9 @@ fn fe_copies_follow_the_live_values_between_trips_and_hold_them_while_tripped() 
 
 fn page(name: &str) -> String {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../generated-docs/").to_owned() + name;
-    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
+    let page = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    // Paragraphs and list items on one line each, as the assertions read them.
+    vfd_codegen::unwrap_markdown(&page)
 }
 
 #[test]

@@ -18,8 +18,13 @@ fn shipped() -> Vec<(DriveIr, String)> {
         .unwrap_or_else(|error| panic!("the drive files do not generate:\n{error}"))
         .drives
         .into_iter()
-        .map(|d| (d.ir, d.markdown))
+        .map(|d| (d.ir, unwrapped(&d.markdown)))
         .collect()
+}
+
+/// A page with its paragraphs and list items on one line each, as the assertions read it.
+fn unwrapped(page: &str) -> String {
+    vfd_codegen::unwrap_markdown(page)
 }
 
 fn shipped_page(id: &str) -> (DriveIr, String) {
@@ -38,7 +43,7 @@ fn fixture_page() -> (DriveIr, String) {
     )
     .unwrap_or_else(|d| panic!("the fixture compiles:\n{d:?}"));
     let page = vfd_codegen::markdown_page(&ir, &OutputNames::default()).expect("renders");
-    (ir, page)
+    (ir, unwrapped(&page))
 }
 
 /// The text of a protocol's section (from its `### ... — `id`` heading to the next `###`

@@ -7,3 +7,4 @@ pub mod markdown;
 pub mod rust;
 pub mod tests;
 pub mod words;
+pub mod wrap;

@@ -31,6 +31,10 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
         name: model.drive.name.clone(),
         name_zh: model.drive.name_zh.clone(),
         manual: model.drive.manual.clone(),
+        manual_title: model.drive.manual_title.trim().to_owned(),
+        manual_title_zh: model.drive.manual_title_zh.trim().to_owned(),
+        manual_document: model.drive.manual_document.trim().to_owned(),
+        manual_note: model.drive.manual_note.trim().to_owned(),
         description: model.drive.description.trim().to_owned(),
         file: drive.source.path.display().to_string().replace('\\', "/"),
         serial: SerialIr {

@@ -35,6 +35,14 @@ pub struct DriveIr {
     pub name_zh: String,
     /// The manual's file name.
     pub manual: String,
+    /// The manual's title in English (empty when the description gives none).
+    pub manual_title: String,
+    /// The manual's title as it prints it.
+    pub manual_title_zh: String,
+    /// The manual's document number and edition.
+    pub manual_document: String,
+    /// A note on the copy of the manual (where its title comes from).
+    pub manual_note: String,
     /// What the description covers.
     pub description: String,
     /// The drive file's path, as given to the generator (or relative to a display root).

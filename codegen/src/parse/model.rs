@@ -726,6 +726,22 @@ pub struct DriveMeta {
     pub name_zh: String,
     /// The manual's file name (in the manuals folder) every `source` refers to.
     pub manual: String,
+    /// The manual's title in English, as the pages and the generated docs name it (the
+    /// file name is shown beside it); a translation of `manual_title_zh`, or a title of
+    /// the description's own when the copy has none (say so in `manual_note`).
+    #[serde(default)]
+    pub manual_title: String,
+    /// The manual's title as it prints it (in Chinese).
+    #[serde(default)]
+    pub manual_title_zh: String,
+    /// The manual's document number and edition as it prints them (`E6581315`,
+    /// `IL550-0501001, September 2017`), when it has one.
+    #[serde(default)]
+    pub manual_document: String,
+    /// Anything to say about the copy of the manual: where its title comes from when it
+    /// prints none.
+    #[serde(default)]
+    pub manual_note: String,
     /// Prose for the top of the reference page.
     #[serde(default)]
     pub description: String,

@@ -14,6 +14,8 @@ mod topic;
 #[cfg(test)]
 mod broker;
 #[cfg(test)]
+mod test_plant;
+#[cfg(test)]
 mod tests;
 #[cfg(test)]
 mod tls_tests;

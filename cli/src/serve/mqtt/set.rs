@@ -316,7 +316,7 @@ mod tests {
             prefix: "vfd".into(),
         };
         (
-            SetLedger::new(topics, &super::super::tests::plant(), router),
+            SetLedger::new(topics, &super::super::test_plant::plant(), router),
             rx,
         )
     }
@@ -328,7 +328,7 @@ mod tests {
     }
 
     fn set_topic() -> String {
-        format!("{}/set", super::super::tests::state_topic())
+        format!("{}/set", super::super::test_plant::state_topic())
     }
 
     fn refusal(decision: Decision) -> WriteOutcome {

@@ -4,7 +4,8 @@
 //! itself for a plain listener), never "is the broker running".
 
 use super::broker::Broker;
-use super::tests::{options, plant};
+use super::test_plant::plant;
+use super::tests::options;
 use super::Mqtt;
 use crate::serve::event::WriteRouter;
 

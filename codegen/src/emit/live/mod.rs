@@ -27,6 +27,7 @@ pub fn drive_info(ir: &DriveIr) -> &'static DriveInfo {
         name: text(&ir.name),
         name_zh: text(&ir.name_zh),
         manual: text(&ir.manual),
+        manual_title: text(&ir.manual_named()),
         serial: leak(serial(ir)),
         protocols: list(
             ir.protocols

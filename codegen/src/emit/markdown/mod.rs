@@ -56,7 +56,8 @@ pub fn index_page_with(drives: &[DriveIr], names: &OutputNames) -> Result<String
     Ok(tidy(&text))
 }
 
-/// Collapses runs of blank lines and ends the file with one newline.
+/// Collapses runs of blank lines, wraps prose ([`crate::emit::wrap`]) and ends the file
+/// with one newline.
 fn tidy(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     let mut blank = 0;
@@ -76,5 +77,5 @@ fn tidy(text: &str) -> String {
     while out.ends_with("\n\n") {
         out.pop();
     }
-    out
+    crate::emit::wrap::wrap_markdown(&out, crate::emit::wrap::WIDTH)
 }

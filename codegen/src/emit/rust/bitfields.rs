@@ -82,8 +82,9 @@ fn bitfield_tokens(drive: &DriveIr, bitfield: &BitfieldIr) -> TokenStream {
     }
     docs.push(String::new());
     docs.push(format!(
-        "Source: `{}`, section {}.",
-        drive.manual, bitfield.source
+        "Source: {}, section {}.",
+        drive.manual_cited(),
+        bitfield.source
     ));
     let docs = doc_texts(&docs);
     let reserved = hex_u16(bitfield.reserved_mask());

@@ -140,8 +140,9 @@ fn code_table_tokens(drive: &DriveIr, table: &CodeTableIr) -> TokenStream {
     }
     docs.push(String::new());
     docs.push(format!(
-        "Source: `{}`, section {}.",
-        drive.manual, table.source
+        "Source: {}, section {}.",
+        drive.manual_cited(),
+        table.source
     ));
     let values: Vec<Value<'_>> = table
         .values

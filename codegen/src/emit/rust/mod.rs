@@ -49,8 +49,11 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
         ),
         String::new(),
         format!(
-            "Generated from `{}`, transcribed from the manual `{}`. {}",
-            drive.file, drive.manual, drive.description
+            "Generated from `{}`, transcribed from the manual {} (`{}`). {}",
+            drive.file,
+            drive.manual_named(),
+            drive.manual,
+            drive.description
         ),
     ];
     let mut docs = docs.to_vec();
@@ -63,6 +66,7 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
     }
     let docs = doc_texts(&docs);
     let (id, vendor, model, manual) = (&drive.id, &drive.vendor, &drive.model, &drive.manual);
+    let manual_title = drive.manual_named();
     let (name, name_zh) = (&drive.name, &drive.name_zh);
     let (layouts_path, own_layouts) = match layouts {
         Layouts::Inside => {
@@ -94,6 +98,8 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
             pub const MODEL: &str = #model;
             /// The manual the description was transcribed from (its file name).
             pub const MANUAL: &str = #manual;
+            /// The manual as people name it: its title and document number.
+            pub const MANUAL_TITLE: &str = #manual_title;
             /// The drive as a type: its registers and protocols name it, so a register of
             /// this drive cannot be used with another drive's protocol or master.
             #[derive(Debug, Clone, Copy)]
@@ -107,6 +113,7 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
                 name: #name,
                 name_zh: #name_zh,
                 manual: MANUAL,
+                manual_title: MANUAL_TITLE,
                 serial: &SERIAL,
                 protocols: &protocols::ALL,
                 registers: &registers::ALL,
@@ -148,9 +155,11 @@ fn doc_text(text: impl AsRef<str>) -> String {
     }
 }
 
-/// [`doc_text`] for each line.
+/// [`doc_text`] for each line, prose wrapped ([`crate::emit::wrap`]): one `#[doc]`
+/// attribute, one `///` line, each.
 fn doc_texts(lines: &[String]) -> Vec<String> {
-    lines.iter().map(doc_text).collect()
+    let wrapped = crate::emit::wrap::wrap_markdown(&lines.join("\n"), crate::emit::wrap::WIDTH - 4);
+    wrapped.split('\n').map(doc_text).collect()
 }
 
 /// A string literal, the same token as `Literal::string(text)`, made faster where it is

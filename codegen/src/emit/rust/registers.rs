@@ -77,8 +77,9 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
     }
     lines.push(String::new());
     lines.push(format!(
-        "Source: `{}`, section {}.",
-        drive.manual, register.source
+        "Source: {}, section {}.",
+        drive.manual_cited(),
+        register.source
     ));
     lines
 }
