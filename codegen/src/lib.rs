@@ -17,7 +17,7 @@
 //! | 5 | validate | `validate/` (one file per check) | `validate::Context` (stages 2-4) | problems, or nothing |
 //! | 6 | IR | [`ir`] (`ir/types.rs`, `ir/lower.rs`) | `validate::Context` | [`DriveIr`]: plain, ordered, typed, serialisable; dump it with `vfd generate --dump-ir DRIVE` |
 //! | 7 | emit | `emit/` (`rust/`, `live/`, `markdown/`, `tests.rs`, `words.rs`) | [`DriveIr`] only | Rust tokens (quote, then prettyplease), the same drive as run-time values ([`drive_info`]), Markdown (minijinja), golden tests |
-//! | 8 | rehearse | `rehearse.rs` | [`DriveIr`] and the drive file | each example's request played to the virtual drive built from the IR (stage 7's run-time values): its reply must be the example's, byte for byte, or the example says why not (`not_simulated:`) |
+//! | 8 | rehearse | `rehearse.rs` (`rehearse/prepare.rs`: the state an example's frames show; `rehearse/difference.rs`: what differs) | [`DriveIr`] and the drive file | each example's request played to the virtual drive built from the IR (stage 7's run-time values), in the state its frames show: its reply must be the example's, byte for byte (silence for `no_reply: true`); a warning names what differs, unless the example says why (`not_simulated:`) |
 //!
 //! [`Builder`] (`builder.rs`) runs stages 1-7 for many drives and writes files, and
 //! [`OutputNames`] says how the output names anything outside a description. [`schemas`]
@@ -186,7 +186,7 @@ fn compile_source(
         });
     };
     attach(&mut diagnostics);
-    let warnings = diagnostics.take_warnings();
+    let mut warnings = diagnostics.take_warnings();
     if !diagnostics.is_empty() {
         return Compiled {
             drive: Err(diagnostics),
@@ -195,8 +195,10 @@ fn compile_source(
     }
     let ir = ir::lower(&context);
     rehearse::examples(&context.source, &context.model, &ir, &mut diagnostics);
+    attach(&mut diagnostics);
+    warnings.items.extend(diagnostics.take_warnings().items);
+    attach(&mut warnings);
     if !diagnostics.is_empty() {
-        attach(&mut diagnostics);
         return Compiled {
             drive: Err(diagnostics),
             warnings,

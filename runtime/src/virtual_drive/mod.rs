@@ -5,14 +5,15 @@
 //! motor on a clock that tests advance. Nothing here names a drive or a protocol.
 //!
 //! One concern per file: `storage` (RAM, EEPROM, values in effect), `motor` (the behaviour
-//! model), `respond` (one request, one reply), `outcome` (a reply or silence, and why a
-//! request is refused), `reply` (encoding replies and error replies), `bad_checksum`
-//! (requests whose checksum does not match), `data_width` (data of another width than the
-//! register's), `broadcast`, `consecutive` (runs of registers), `block` (block transfers),
-//! `pages` (paged registers), `unsupported` (function codes the drive does not know),
-//! `faults` (misbehaviour on request), `tally` (what a station saw on its line), `link`
-//! (in-process transport) and `serve` (a loop over any transport, in wall time, for one
-//! drive or several stations of a multi-drop bus).
+//! model), `held` (registers shown at a value), `respond` (one request, one reply),
+//! `outcome` (a reply or silence, and why a request is refused), `reply` (encoding replies
+//! and error replies), `bad_checksum` (requests whose checksum does not match),
+//! `data_width` (data of another width than the register's), `broadcast`, `consecutive`
+//! (runs of registers), `block` (block transfers), `pages` (paged registers),
+//! `unsupported` (function codes the drive does not know), `faults` (misbehaviour on
+//! request), `tally` (what a station saw on its line), `link` (in-process transport) and
+//! `serve` (a loop over any transport, in wall time, for one drive or several stations of
+//! a multi-drop bus).
 //!
 //! In process, a typed master is two lines away:
 //!
@@ -29,6 +30,7 @@ mod broadcast;
 mod consecutive;
 mod data_width;
 mod faults;
+mod held;
 mod link;
 mod motor;
 mod outcome;
@@ -97,6 +99,9 @@ pub struct VirtualDrive {
     /// The command code and bytes of the last reply, while its master's follow-up is
     /// awaited ([`crate::protocol::FollowUp`]).
     awaiting_follow_up: Option<(u32, Vec<u8>)>,
+    /// Registers shown at a value whatever the behaviour model computes
+    /// ([`VirtualDrive::hold`]), until a power cycle.
+    held: Vec<(&'static RegisterInfo, u32)>,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -143,6 +148,7 @@ impl VirtualDrive {
             port: None,
             page: None,
             awaiting_follow_up: None,
+            held: Vec::new(),
         };
         virtual_drive.refresh();
         virtual_drive
@@ -231,6 +237,7 @@ impl VirtualDrive {
         self.persistent_writes = false;
         self.page = None;
         self.awaiting_follow_up = None;
+        self.held.clear();
         self.refresh();
     }
 
