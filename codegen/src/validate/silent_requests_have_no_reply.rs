@@ -17,18 +17,16 @@ use vfd_runtime::Protocol;
 pub fn silent_requests_have_no_reply(drive: &Context, out: &mut Diagnostics) {
     for (index, (example, decoded)) in drive.model.examples.iter().zip(&drive.frames).enumerate() {
         let base = format!("examples[{index}]");
-        if example.no_reply {
-            if example.reply.is_some() {
-                out.push(
-                    drive
-                        .source
-                        .error(
-                            &format!("{base}.no_reply"),
-                            "`no_reply: true` says nothing comes back, and the example gives a `reply`",
-                        )
-                        .hint("keep what the manual shows: the reply, or `no_reply: true` without one"),
-                );
-            }
+        if example.no_reply && example.reply.is_some() {
+            out.push(
+                drive
+                    .source
+                    .error(
+                        &format!("{base}.no_reply"),
+                        "`no_reply: true` says nothing comes back, and the example gives a `reply`",
+                    )
+                    .hint("keep what the manual shows: the reply, or `no_reply: true` without one"),
+            );
         }
         // An example saying why the described drive does not give its reply records a
         // reply the manual prints that the description knowingly departs from.

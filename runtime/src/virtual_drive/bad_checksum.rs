@@ -15,8 +15,9 @@ use crate::protocol::{DecodedRequest, Found, Protocol};
 
 /// What the bytes at the start of the input are, read with their checksum put right.
 pub(super) enum Repaired<'p> {
-    /// A whole request whose only fault is its checksum.
-    Frame(DecodedRequest<'p>),
+    /// A whole request whose only fault is its checksum (boxed: a decoded request is
+    /// large, and the other variants carry nothing).
+    Frame(Box<DecodedRequest<'p>>),
     /// The start of such a request: more bytes may complete it.
     Incomplete,
     /// No request of the protocol, whatever its checksum.
@@ -44,7 +45,7 @@ pub(super) fn repaired<'p>(protocol: &'p Protocol, bytes: &[u8], exact: bool) ->
         };
         match protocol.decode_request(&mended) {
             Ok(Found::Frame { frame, .. }) if !exact || frame.len == bytes.len() => {
-                return Repaired::Frame(frame)
+                return Repaired::Frame(Box::new(frame))
             }
             Ok(Found::Incomplete) if !exact => incomplete = true,
             _ => {}
