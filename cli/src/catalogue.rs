@@ -3,7 +3,11 @@
 //! file named by its path. A file is compiled when the command starts, its protocol files
 //! found as the generator finds them (`protocols/` next to it, or `--protocols DIR`, then
 //! the protocol files shipped inside `vfd`), with exactly the diagnostics of `vfd check`:
-//! with a problem, the command stops before it opens or sends anything.
+//! with a problem on the wire (framing, checksums, registers, codes, the frames and values
+//! of the manual's examples), the command stops before it opens or sends anything. Problems
+//! only in parts that document the drive or rehearse it on the virtual drive (an example's
+//! `not_simulated` or `settings`, the behaviour model, errata) are reported on standard
+//! error, and the command goes on without those parts (`vfd_codegen::Compiled::usable`).
 
 use crate::Failure;
 use std::path::{Path, PathBuf};
@@ -50,23 +54,12 @@ pub fn compile(path: &Path) -> vfd_codegen::Compiled {
 
 /// The drive in the file at `path`, compiled now; a failure carries every diagnostic, the
 /// errors and then the warnings, as `vfd check` prints them. (A file without errors is
-/// used as it is; its warnings are `vfd check`'s to show.)
+/// used as it is; its warnings are `vfd check`'s to show. A file whose errors are all off
+/// the wire is used without the parts that have them, after a warning saying so.)
 pub fn load(path: &Path) -> Result<&'static DriveInfo, Failure> {
-    load_file(path).map_err(|refused| {
-        let mut text = refused.errors.to_string();
-        if !refused.warnings.items.is_empty() {
-            text = format!("{text}\n{}", refused.warnings);
-        }
-        Failure::new(format!(
-            "{} cannot be used: it has {} problem(s)\n{text}",
-            path.display(),
-            refused.errors.items.len()
-        ))
-        .hint(format!(
-            "fix them and run `vfd check {}`; nothing was opened or sent",
-            path.display()
-        ))
-    })
+    load_file(path)
+        .map(|loaded| loaded.drive)
+        .map_err(|refused| refused.failure(path))
 }
 
 /// Why a drive file cannot be used: its errors, and the warnings it also earns.
@@ -75,10 +68,39 @@ struct Refused {
     warnings: vfd_codegen::Diagnostics,
 }
 
-/// The drive in the file at `path`, compiled once per process.
-fn load_file(path: &Path) -> Result<&'static DriveInfo, Refused> {
-    type Loaded = std::sync::Mutex<Vec<(PathBuf, &'static DriveInfo)>>;
-    static LOADED: OnceLock<Loaded> = OnceLock::new();
+impl Refused {
+    /// The failure a command ends with: every diagnostic, and the command that lists them.
+    fn failure(&self, path: &Path) -> Failure {
+        let mut text = self.errors.to_string();
+        if !self.warnings.items.is_empty() {
+            text = format!("{text}\n{}", self.warnings);
+        }
+        Failure::new(format!(
+            "{} cannot be used: it has {} problem(s)\n{text}",
+            path.display(),
+            self.errors.items.len()
+        ))
+        .hint(format!(
+            "fix them and run `vfd check {}`; nothing was opened or sent",
+            path.display()
+        ))
+    }
+}
+
+/// A drive file compiled for use.
+#[derive(Clone, Copy)]
+struct Loaded {
+    drive: &'static DriveInfo,
+    /// Errors it has off the wire, left out with the parts that have them.
+    off_the_wire: usize,
+}
+
+/// The drive in the file at `path`, compiled once per process. A file with errors off the
+/// wire only is used without the parts that have them; the first time, a warning on
+/// standard error names them.
+fn load_file(path: &Path) -> Result<Loaded, Refused> {
+    type Cache = std::sync::Mutex<Vec<(PathBuf, Loaded)>>;
+    static LOADED: OnceLock<Cache> = OnceLock::new();
     let loaded = LOADED.get_or_init(Default::default);
     let key = path.canonicalize().unwrap_or_else(|_| path.to_owned());
     let known = loaded
@@ -89,15 +111,41 @@ fn load_file(path: &Path) -> Result<&'static DriveInfo, Refused> {
         return Ok(drive);
     }
     let compiled = compile(path);
-    let ir = compiled.drive.map_err(|errors| Refused {
-        errors,
-        warnings: compiled.warnings,
-    })?;
-    let drive = vfd_codegen::drive_info(&ir);
+    let (ir, off_the_wire) = match (compiled.drive, compiled.usable) {
+        (Ok(ir), _) => (ir, 0),
+        (Err(errors), Some(usable)) => {
+            warn_off_the_wire(path, &errors);
+            (usable, errors.items.len())
+        }
+        (Err(errors), None) => {
+            return Err(Refused {
+                errors,
+                warnings: compiled.warnings,
+            })
+        }
+    };
+    let found = Loaded {
+        drive: vfd_codegen::drive_info(&ir),
+        off_the_wire,
+    };
     if let Ok(mut list) = loaded.lock() {
-        list.push((key, drive));
+        list.push((key, found));
     }
-    Ok(drive)
+    Ok(found)
+}
+
+/// Says on standard error that the file at `path` has `errors` that do not concern the wire,
+/// where they are, and that the command goes on without the parts that have them.
+fn warn_off_the_wire(path: &Path, errors: &vfd_codegen::Diagnostics) {
+    let mut places: Vec<&str> = errors.items.iter().map(|d| d.path.as_str()).collect();
+    places.dedup();
+    eprintln!(
+        "vfd: warning: {} has {} problem(s) that do not concern the wire, at {}; going on without those parts (`vfd check {}` lists them)",
+        path.display(),
+        errors.items.len(),
+        places.join(", "),
+        path.display()
+    );
 }
 
 /// Whether `name` names a file rather than a drive id: it has a path separator or a
@@ -135,8 +183,8 @@ pub fn search_path() -> &'static [PathBuf] {
 
 /// A drive of the search path and what became of it.
 pub enum Found {
-    /// The file compiled.
-    Drive(PathBuf, &'static DriveInfo),
+    /// The file compiled (possibly with problems off the wire, left out: their count).
+    Drive(PathBuf, &'static DriveInfo, usize),
     /// The file has problems (`vfd check FILE` lists them).
     Broken(PathBuf, usize),
 }
@@ -146,7 +194,7 @@ pub fn search_path_drives() -> Vec<Found> {
     search_path_files()
         .into_iter()
         .map(|file| match load_file(&file) {
-            Ok(drive) => Found::Drive(file, drive),
+            Ok(loaded) => Found::Drive(file, loaded.drive, loaded.off_the_wire),
             Err(refused) => Found::Broken(file, refused.errors.items.len()),
         })
         .collect()
@@ -177,12 +225,22 @@ pub fn drive(name: &str) -> Result<&'static DriveInfo, Failure> {
             .and_then(|s| s.to_str())
             .is_some_and(|stem| stem.eq_ignore_ascii_case(name))
     };
+    let mut broken = None;
     for file in files.iter().filter(|f| named(f)).chain(files.iter()) {
-        if let Ok(drive) = load_file(file) {
-            if drive.id.eq_ignore_ascii_case(name) {
-                return Ok(drive);
+        match load_file(file) {
+            Ok(loaded) if loaded.drive.id.eq_ignore_ascii_case(name) => return Ok(loaded.drive),
+            Ok(_) => {}
+            // A file that has problems and names this drive (by its file name or its
+            // `drive.id`) is the one meant: say what is wrong with it, not that the drive
+            // is unknown.
+            Err(refused) if broken.is_none() && (named(file) || declares_id(file, name)) => {
+                broken = Some(refused.failure(file));
             }
+            Err(_) => {}
         }
+    }
+    if let Some(failure) = broken {
+        return Err(failure);
     }
     Err(
         Failure::new(format!("unknown drive `{name}`")).hint(format!(
@@ -204,12 +262,25 @@ pub fn drive(name: &str) -> Result<&'static DriveInfo, Failure> {
     )
 }
 
+/// Whether the drive file at `path` says its `drive.id` is `name` (read as text, for a
+/// file that does not compile).
+fn declares_id(path: &Path, name: &str) -> bool {
+    let Ok(source) = vfd_codegen::yaml::SourceFile::read(path) else {
+        return false;
+    };
+    source
+        .tree()
+        .and_then(|tree| tree.find("drive.id"))
+        .and_then(|id| id.text())
+        .is_some_and(|id| id.eq_ignore_ascii_case(name))
+}
+
 /// Every drive `vfd` knows without a path: compiled in, then the search path's (a file
 /// whose id is built in is left out: by id, the built-in drive is meant).
 pub fn all_drives() -> Vec<&'static DriveInfo> {
     let mut all: Vec<&'static DriveInfo> = vfd_drives::ALL_DRIVES.to_vec();
     for found in search_path_drives() {
-        if let Found::Drive(_, drive) = found {
+        if let Found::Drive(_, drive, _) = found {
             if !all.iter().any(|d| d.id == drive.id) {
                 all.push(drive);
             }

@@ -18,7 +18,7 @@ pub fn list(format: Format) -> Result<(), Failure> {
             emitter.record(&DriveRecord::new(drive, None));
         }
         for found in catalogue::search_path_drives() {
-            if let catalogue::Found::Drive(file, drive) = found {
+            if let catalogue::Found::Drive(file, drive, _) = found {
                 if !vfd_drives::ALL_DRIVES.iter().any(|d| d.id == drive.id) {
                     emitter.record(&DriveRecord::new(drive, Some(&file)));
                 }
@@ -32,7 +32,14 @@ pub fn list(format: Format) -> Result<(), Failure> {
     }
     for found in catalogue::search_path_drives() {
         match found {
-            catalogue::Found::Drive(file, drive) => {
+            catalogue::Found::Drive(file, drive, off_the_wire) => {
+                if off_the_wire > 0 {
+                    say!(
+                        "{}: usable on the wire, {off_the_wire} problem(s) elsewhere (`vfd check {}` lists them)",
+                        file.display(),
+                        file.display()
+                    );
+                }
                 if vfd_drives::ALL_DRIVES.iter().any(|d| d.id == drive.id) {
                     say!(
                         "{}: drive {} is also built in; by id, vfd uses the built-in one (name the file by its path to use it)",

@@ -229,6 +229,11 @@ pub fn check(files: &[String], deny_warnings: bool) -> Result<(), String> {
             Err(diagnostics) => {
                 failed += 1;
                 say!("{diagnostics}");
+                if compiled.usable.is_some() {
+                    say!(
+                        "{file}: the problems above do not concern the wire: `vfd read`, `write`, `decode` and `sim` use the file without the parts that have them, after a warning"
+                    );
+                }
             }
         }
         if warnings > 0 {

@@ -67,11 +67,11 @@ fn errors_come_before_warnings() {
     let text = stdout(&output);
     assert!(!output.status.success(), "{text}");
     let error = text
-        .find("error: the virtual drive built from this file answers")
+        .find("error: the virtual drive gives this example's reply")
         .expect("the error");
     let warning = text
         .find("warning: the drive has no `behaviour:`")
         .expect("the warning");
     assert!(error < warning, "{text}");
-    assert!(text.contains("examples[0].reply"), "{text}");
+    assert!(text.contains("examples[0].not_simulated"), "{text}");
 }

@@ -297,3 +297,152 @@ fn a_local_copy_of_a_shipped_protocol_file_that_differs_is_warned_about() {
     let denied = vfd_in(&dir, None, &["check", "--deny-warnings", "pump.yaml"]);
     assert!(!denied.status.success(), "{}", text(&denied));
 }
+
+/// `tests/fixtures/integrator/NAME` copied into a fresh folder outside the workspace (the
+/// shipped protocol files serve it), and its path there.
+fn integrator_file(name: &str, folder: &str) -> (PathBuf, PathBuf) {
+    let dir = outside_folder(folder);
+    let source = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/fixtures/integrator")
+        .join(name);
+    std::fs::copy(source, dir.join(name)).expect("the fixture drive file");
+    let file = dir.join(name);
+    (dir, file)
+}
+
+/// Drive files written by an integrator whose example replies show a running drive (an
+/// output frequency of 60 Hz, which the virtual drive at power-up does not have): `vfd
+/// check` accepts them (one with a warning naming what still differs), `vfd decode` reads
+/// their frames, and `vfd read` reads them from `vfd sim` serving the same file.
+#[test]
+fn files_whose_examples_show_a_running_drive_check_ok_and_work_on_a_line() {
+    let cases = [
+        (
+            "ts15_like.yaml",
+            "(01RFD001770&BA)\r",
+            "ts15_like.yaml: ok (5 registers, 4 examples)",
+        ),
+        (
+            "hx_e_like.yaml",
+            "\x020117702\x0362\r",
+            "hx_e_like.yaml: ok (5 registers, 4 examples, 1 warning)",
+        ),
+    ];
+    for (name, reply, ok) in cases {
+        let (dir, file) = integrator_file(name, "integrator");
+        let check = vfd_in(&dir, None, &["check", name]);
+        assert!(check.status.success(), "{}", text(&check));
+        assert!(text(&check).contains(ok), "{}", text(&check));
+        assert!(!text(&check).contains("error"), "{}", text(&check));
+
+        let decode = vfd_in(&dir, None, &["decode", "--drive", name, "--reply", reply]);
+        assert!(decode.status.success(), "{}", text(&decode));
+        assert!(text(&decode).contains("checksum ok"), "{}", text(&decode));
+        assert!(
+            text(&decode).contains("60.00 Hz") || text(&decode).contains("6000 (1770h)"),
+            "{}",
+            text(&decode)
+        );
+
+        let path = file.to_str().expect("a UTF-8 path");
+        let sim = Sim::spawn(&["--drive", path]);
+        let read = vfd_in(
+            &dir,
+            None,
+            &[
+                "read",
+                "--drive",
+                name,
+                "--port",
+                &sim.port,
+                "output_frequency",
+            ],
+        );
+        assert!(read.status.success(), "{name}: {}", text(&read));
+        assert!(text(&read).contains("0.00 Hz"), "{name}: {}", text(&read));
+    }
+}
+
+/// A file whose only error lies off the wire (an example's `not_simulated` that the virtual
+/// drive contradicts) fails `vfd check`, but `vfd decode`, `vfd read` and `vfd sim` use it,
+/// after a warning naming where the problem is and the command that lists it.
+#[test]
+fn a_problem_off_the_wire_is_reported_and_does_not_stop_wire_commands() {
+    let (dir, file) = integrator_file("ts15_like.yaml", "off-the-wire");
+    let good = std::fs::read_to_string(&file).unwrap();
+    let claimed = good.replacen(
+        "    value: 60.0\n",
+        "    value: 60.0\n    not_simulated: \"Believed to need a running motor.\"\n",
+        1,
+    );
+    assert_ne!(good, claimed, "the fixture has the example to change");
+    std::fs::write(&file, claimed).unwrap();
+
+    let check = vfd_in(&dir, None, &["check", "ts15_like.yaml"]);
+    assert!(!check.status.success(), "{}", text(&check));
+    assert!(
+        text(&check).contains("error: the virtual drive gives this example's reply"),
+        "{}",
+        text(&check)
+    );
+    assert!(
+        text(&check).contains("do not concern the wire"),
+        "{}",
+        text(&check)
+    );
+
+    let decode = vfd_in(
+        &dir,
+        None,
+        &["decode", "--drive", "ts15_like.yaml", "(01RFD001770&BA)\r"],
+    );
+    assert!(decode.status.success(), "{}", text(&decode));
+    assert!(text(&decode).contains("60.00 Hz"), "{}", text(&decode));
+    let warned = String::from_utf8_lossy(&decode.stderr);
+    assert!(
+        warned.contains("problem(s) that do not concern the wire, at examples[0].not_simulated"),
+        "{warned}"
+    );
+    assert!(warned.contains("`vfd check ts15_like.yaml`"), "{warned}");
+
+    let path = file.to_str().expect("a UTF-8 path");
+    let sim = Sim::spawn(&["--drive", path]);
+    let read = vfd_in(
+        &dir,
+        None,
+        &[
+            "read",
+            "--drive",
+            "ts15_like.yaml",
+            "--port",
+            &sim.port,
+            "ACC",
+        ],
+    );
+    assert!(read.status.success(), "{}", text(&read));
+    assert!(text(&read).contains("10.0 s"), "{}", text(&read));
+}
+
+/// A drive of the search path whose file has problems on the wire, named by its id: the
+/// command says the file has problems and lists them, not that the drive is unknown.
+#[test]
+fn a_broken_file_named_by_its_id_says_what_is_wrong_with_it() {
+    for file_name in ["demo_pump.yaml", "pump-copy.yaml"] {
+        let dir = outside_folder("broken-by-id");
+        let good = std::fs::read_to_string(dir.join("pump.yaml")).unwrap();
+        std::fs::remove_file(dir.join("pump.yaml")).unwrap();
+        let broken = good.replacen("default: 5.0", "default: 999.0", 1);
+        std::fs::write(dir.join(file_name), broken).unwrap();
+        let elsewhere = outside_folder("broken-by-id-cwd");
+        let info = vfd_in(&elsewhere, Some(&dir), &["info", "demo_pump"]);
+        assert!(!info.status.success());
+        let said = text(&info);
+        assert!(!said.contains("unknown drive"), "{file_name}: {said}");
+        assert!(
+            said.contains(&format!("{file_name} cannot be used: it has 1 problem(s)")),
+            "{file_name}: {said}"
+        );
+        assert!(said.contains("registers[0].default"), "{file_name}: {said}");
+        assert!(said.contains("vfd check"), "{file_name}: {said}");
+    }
+}

@@ -17,7 +17,12 @@
 //! | 5 | validate | `validate/` (one file per check) | `validate::Context` (stages 2-4) | problems, or nothing |
 //! | 6 | IR | [`ir`] (`ir/types.rs`, `ir/lower.rs`) | `validate::Context` | [`DriveIr`]: plain, ordered, typed, serialisable; dump it with `vfd generate --dump-ir DRIVE` |
 //! | 7 | emit | `emit/` (`rust/`, `live/`, `markdown/`, `tests.rs`, `words.rs`) | [`DriveIr`] only | Rust tokens (quote, then prettyplease), the same drive as run-time values ([`drive_info`]), Markdown (minijinja), golden tests |
-//! | 8 | rehearse | `rehearse.rs` | [`DriveIr`] and the drive file | each example's request played to the virtual drive built from the IR (stage 7's run-time values): its reply must be the example's, byte for byte, or the example says why not (`not_simulated:`) |
+//! | 8 | rehearse | `rehearse.rs` (`rehearse/prepare.rs`: the state an example's frames show; `rehearse/difference.rs`: what differs) | [`DriveIr`] and the drive file | each example's request played to the virtual drive built from the IR (stage 7's run-time values), in the state its frames show: its reply must be the example's, byte for byte (silence for `no_reply: true`); a warning names what differs, unless the example says why (`not_simulated:`) |
+//!
+//! A description with errors only in parts that do not reach the wire (examples'
+//! `not_simulated` and `settings`, the behaviour model, errata: `off_the_wire.rs`) is still
+//! lowered without those parts ([`Compiled::usable`]), so that a tool at a bus reports the
+//! problems and goes on.
 //!
 //! [`Builder`] (`builder.rs`) runs stages 1-7 for many drives and writes files, and
 //! [`OutputNames`] says how the output names anything outside a description. [`schemas`]
@@ -72,6 +77,7 @@ mod frames;
 pub mod ir;
 mod load;
 mod naming;
+mod off_the_wire;
 mod output_names;
 mod parse;
 mod protocols;
@@ -126,6 +132,7 @@ pub fn compile_with(path: &Path, protocols_dir: Option<&Path>, shipped: Shipped)
                 items: vec![problem],
             }),
             warnings: Diagnostics::default(),
+            usable: None,
         },
     }
 }
@@ -147,6 +154,12 @@ pub struct Compiled {
     /// Warnings: things that are valid but do not do what they seem to. They never stop
     /// generation; `vfd check --deny-warnings` fails on them. Printed after the errors.
     pub warnings: Diagnostics,
+    /// When `drive` has errors and none of them concerns the wire (they lie in parts that
+    /// document the drive or rehearse it on the virtual drive: an example's
+    /// `not_simulated`, `settings` or words, the behaviour model, errata), the drive
+    /// without those parts: what a tool at a bus may use after reporting the problems.
+    /// `None` when the drive compiled, or a problem concerns the wire.
+    pub usable: Option<DriveIr>,
 }
 
 /// The pipeline, stage by stage: parse and load, lower protocols, decode examples,
@@ -163,6 +176,7 @@ fn compile_source(
         return Compiled {
             drive: Err(diagnostics),
             warnings: Diagnostics::default(),
+            usable: None,
         };
     };
     let read_problems = diagnostics.items.len();
@@ -187,18 +201,22 @@ fn compile_source(
         });
     };
     attach(&mut diagnostics);
-    let warnings = diagnostics.take_warnings();
+    let mut warnings = diagnostics.take_warnings();
     if !diagnostics.is_empty() {
         return Compiled {
+            usable: off_the_wire::usable(&context, &diagnostics),
             drive: Err(diagnostics),
             warnings,
         };
     }
     let ir = ir::lower(&context);
     rehearse::examples(&context.source, &context.model, &ir, &mut diagnostics);
+    attach(&mut diagnostics);
+    warnings.items.extend(diagnostics.take_warnings().items);
+    attach(&mut warnings);
     if !diagnostics.is_empty() {
-        attach(&mut diagnostics);
         return Compiled {
+            usable: off_the_wire::none_concern_the_wire(&context, &diagnostics).then_some(ir),
             drive: Err(diagnostics),
             warnings,
         };
@@ -206,6 +224,7 @@ fn compile_source(
     Compiled {
         drive: Ok(ir),
         warnings,
+        usable: None,
     }
 }
 

@@ -1,25 +1,33 @@
-//! Stage 8: rehearsal. Each example's request is played to the virtual drive built from the
-//! description itself (its run-time values, [`crate::emit::live`]), at the request's
-//! station, set to the example's protocol variant and under its `settings`; the virtual drive must answer with the
-//! example's reply, byte for byte, unless the example says why it cannot
-//! (`not_simulated:`). So whatever `vfd check` accepts, `vfd sim` answers as the manual
-//! prints it, or the description says where and why it does not.
+//! Stage 8: rehearsal. Each example's request is played to the virtual drive built from
+//! the description itself (its run-time values, [`crate::emit::live`]), at the request's
+//! station, set to the example's protocol variant, under its `settings` and in the state
+//! its frames show (`prepare`: the value its reply reads, the mode and bounds its write
+//! needs), so that frames are compared, not states. The virtual drive must answer with the
+//! example's reply, byte for byte, and stay silent to an example's request that gets none
+//! (`no_reply: true`). Where it does not, `vfd check` warns, naming the bytes and fields
+//! that differ (`difference`), unless the example says why it cannot (`not_simulated:`);
+//! an example saying so whose reply the drive gives after all is an error. So whatever
+//! `vfd check` accepts without warnings, `vfd sim` answers as the manual prints it.
+
+mod difference;
+mod prepare;
 
 use crate::diagnostics::Diagnostics;
 use crate::ir::{DriveIr, ExampleIr, FrameIr};
 use crate::parse::model::DriveFile;
 use crate::parse::SourceFile;
 use vfd_runtime::virtual_drive::{Outcome, VirtualDrive};
-use vfd_runtime::{DriveInfo, RegisterInfo};
+use vfd_runtime::{DriveInfo, Protocol, RegisterInfo};
 
-/// Plays every example with a request and the reply that answers it; problems go to `out`.
+/// Plays every example with a request and the reply that answers it, or a request that
+/// gets none; problems (errors and warnings) go to `out`.
 pub(crate) fn examples(
     source: &SourceFile,
     model: &DriveFile,
     ir: &DriveIr,
     out: &mut Diagnostics,
 ) {
-    if !ir.examples.iter().any(|e| e.answers) {
+    if !ir.examples.iter().any(|e| e.answers || e.no_reply) {
         return;
     }
     let drive = crate::emit::live::drive_info(ir);
@@ -28,9 +36,12 @@ pub(crate) fn examples(
             continue;
         };
         let base = format!("examples[{index}]");
-        let heard = match rehearse(drive, example) {
-            Some(heard) => heard,
-            None => continue,
+        if example.no_reply {
+            unanswered(source, drive, example, &base, out);
+            continue;
+        }
+        let Some((protocol, heard)) = rehearse(drive, example) else {
+            continue;
         };
         let Some(reply) = &example.reply else {
             continue;
@@ -48,10 +59,10 @@ pub(crate) fn examples(
             ),
             (false, None) => out.push(
                 source
-                    .error(
+                    .warning(
                         &format!("{base}.reply"),
                         format!(
-                            "the virtual drive built from this file {}, not with the example's reply {}",
+                            "the virtual drive built from this file {}, not with the example's reply {}{}",
                             match &heard {
                                 Outcome::Reply(bytes) => format!(
                                     "answers the request with {}{}",
@@ -60,22 +71,59 @@ pub(crate) fn examples(
                                 ),
                                 Outcome::Silent(why) => format!("stays silent ({why})"),
                             },
-                            shown(reply, &reply.bytes)
+                            shown(reply, &reply.bytes),
+                            match &heard {
+                                Outcome::Reply(bytes) => format!(
+                                    ": {}",
+                                    difference::difference(&protocol, reply, bytes)
+                                ),
+                                Outcome::Silent(_) => String::new(),
+                            }
                         ),
                     )
                     .hint(
-                        "where the reply reads a parameter set otherwise than its default, give its value in the example's `settings:`; where a register's storage, access or range makes the drive refuse, check them against the manual; where the virtual drive cannot reach the state, say why in `not_simulated:`",
+                        "the rehearsal set what the example shows (the value its reply reads, the mode and bounds its write needs) before playing it; where the reply still differs, give the settings the frames assume in `settings:`, check the register's storage, access, range and scale against the manual, or say in `not_simulated:` why the virtual drive cannot give this reply",
                     ),
             ),
         }
     }
 }
 
-/// What the virtual drive answers to the example's request; `None` when the example has no
-/// request, no reply, or a reply that does not answer its request.
-fn rehearse(drive: &'static DriveInfo, example: &ExampleIr) -> Option<Outcome> {
-    let (request, reply) = (example.request.as_ref()?, example.reply.as_ref()?);
-    if !example.answers {
+/// Plays an example whose request gets no reply (`no_reply: true`): the virtual drive must
+/// stay silent, else a warning says what it answers.
+fn unanswered(
+    source: &SourceFile,
+    drive: &'static DriveInfo,
+    example: &ExampleIr,
+    base: &str,
+    out: &mut Diagnostics,
+) {
+    let Some((_, Outcome::Reply(bytes))) = rehearse(drive, example) else {
+        return;
+    };
+    let Some(request) = &example.request else {
+        return;
+    };
+    out.push(
+        source
+            .warning(
+                &format!("{base}.no_reply"),
+                format!(
+                    "the virtual drive built from this file answers the request with {}{}, although the example says nothing comes back",
+                    shown(request, &bytes),
+                    refusal(drive, example, &bytes)
+                ),
+            )
+            .hint("if the manual says the drive does not answer, describe why: the command's `reply: none` in its protocol file, the register's `no_reply: true`, or the protocol entry's `broadcast` rule (`answered_by: none`)"),
+    );
+}
+
+/// The protocol (in the example's variant) and what the virtual drive answers to the
+/// example's request; `None` when the example has no request, or (unless it gets no reply)
+/// no reply that answers it.
+fn rehearse(drive: &'static DriveInfo, example: &ExampleIr) -> Option<(Protocol, Outcome)> {
+    let request = example.request.as_ref()?;
+    if !example.no_reply && !example.answers {
         return None;
     }
     let lowered = drive.protocol(&example.protocol)?;
@@ -90,9 +138,9 @@ fn rehearse(drive: &'static DriveInfo, example: &ExampleIr) -> Option<Outcome> {
         virtual_drive.select_variant(protocol);
     }
     // A broadcast is answered by the station the reply names.
-    let station = match request.meaning.broadcast {
-        Some(_) => reply.meaning.address,
-        None => request.meaning.address,
+    let station = match (request.meaning.broadcast, &example.reply) {
+        (Some(_), Some(reply)) => reply.meaning.address,
+        _ => request.meaning.address,
     };
     if let Some(station) = station {
         virtual_drive.set_address(station);
@@ -102,7 +150,11 @@ fn rehearse(drive: &'static DriveInfo, example: &ExampleIr) -> Option<Outcome> {
             virtual_drive.preset(code, raw_of(info, *value));
         }
     }
-    Some(virtual_drive.respond(protocol, &request.bytes))
+    if let Some(reply) = &example.reply {
+        prepare::prepare(&mut virtual_drive, drive, example, request, reply);
+    }
+    let heard = virtual_drive.respond(protocol, &request.bytes);
+    Some((protocol.clone(), heard))
 }
 
 /// The raw word for `value` in `info`'s unit (a code for code tables), as the panel would

@@ -5,8 +5,8 @@
 //! sequence golden-tested by a suite that runs (`tests/golden.rs` for `drives/`,
 //! `tests/external_crate.rs` for the outside crate), so "ok" implies those tests passed.
 //! `fixtures/broken/sequence_replay.yaml` shows a file whose golden test would fail being
-//! refused (and `example_not_simulated.yaml` one whose virtual drive would not answer as
-//! printed).
+//! refused (and `example_not_simulated.yaml` one saying its virtual drive cannot answer as
+//! printed where it does).
 
 use std::path::{Path, PathBuf};
 use vfd_codegen::{DriveIr, OutputNames};

@@ -845,6 +845,7 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                     decoded.printed_answers.as_ref(),
                 ),
                 answers: decoded.answers.as_ref().is_some_and(Result::is_ok),
+                no_reply: example.no_reply,
                 ignored_request: match (&example.unanswered_request, &decoded.unanswered) {
                     (Some(model), Some(frame)) => match (&frame.bytes, &frame.meaning) {
                         (Ok(bytes), Some(Err(error))) => Some(UnansweredIr {

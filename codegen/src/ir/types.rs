@@ -1058,6 +1058,9 @@ pub struct ExampleIr {
     pub register: Option<String>,
     /// The example has both frames, and its reply answers its request.
     pub answers: bool,
+    /// The manual says nothing comes back to the request (`no_reply: true`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub no_reply: bool,
     /// A request the drive does not answer (the decoder refuses it).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ignored_request: Option<UnansweredIr>,

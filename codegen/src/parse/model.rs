@@ -1477,6 +1477,11 @@ pub struct ExampleModel {
     pub request: Option<FrameModel>,
     /// The reply frame, if the manual gives one.
     pub reply: Option<FrameModel>,
+    /// The manual prints the request and says nothing comes back (a broadcast no station
+    /// answers, a command never answered): the example gives no `reply`, and `vfd check`
+    /// plays the request to the virtual drive, which must stay silent.
+    #[serde(default)]
+    pub no_reply: bool,
     /// A request the manual prints as one the drive does not answer (a format error): the
     /// decoder refuses it and the virtual drive stays silent.
     pub unanswered_request: Option<UnansweredModel>,

@@ -31,6 +31,7 @@ mod scales_are_positive;
 mod sequences_replay;
 mod sequences_resolve;
 mod serial_settings_are_consistent;
+mod silent_requests_have_no_reply;
 mod storage_rules_are_consistent;
 mod units_are_known;
 mod value_examples_match;
@@ -57,7 +58,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 26] = [
+    let checks: [fn(&Context, &mut Diagnostics); 27] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -73,6 +74,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         serial_settings_are_consistent::serial_settings_are_consistent,
         examples_decode::examples_decode,
         replies_answer_requests::replies_answer_requests,
+        silent_requests_have_no_reply::silent_requests_have_no_reply,
         examples_re_encode::examples_re_encode,
         value_examples_match::value_examples_match,
         bit_examples_match::bit_examples_match,

@@ -5,13 +5,15 @@
 //! motor on a clock that tests advance. Nothing here names a drive or a protocol.
 //!
 //! One concern per file: `storage` (RAM, EEPROM, values in effect), `motor` (the behaviour
-//! model), `respond` (one request, one reply), `outcome` (a reply or silence, and why a
-//! request is refused), `reply` (encoding replies and error replies), `broadcast`,
-//! `consecutive` (runs of registers), `block` (block transfers), `pages` (paged
-//! registers), `unsupported` (function codes the drive does not know), `faults`
-//! (misbehaviour on request), `tally` (what a station saw on its line), `link` (in-process
-//! transport) and `serve` (a loop over any transport, in wall time, for one drive or
-//! several stations of a multi-drop bus).
+//! model), `held` (registers shown at a value), `respond` (one request, one reply),
+//! `outcome` (a reply or silence, and why a request is refused), `reply` (encoding replies
+//! and error replies), `bad_checksum` (requests whose checksum does not match),
+//! `data_width` (data of another width than the register's), `broadcast`, `consecutive`
+//! (runs of registers), `block` (block transfers), `pages` (paged registers),
+//! `unsupported` (function codes the drive does not know), `faults` (misbehaviour on
+//! request), `tally` (what a station saw on its line), `link` (in-process transport) and
+//! `serve` (a loop over any transport, in wall time, for one drive or several stations of
+//! a multi-drop bus).
 //!
 //! In process, a typed master is two lines away:
 //!
@@ -22,10 +24,13 @@
 //!
 //! (see `vfd_drives::guide` for a complete, tested example).
 
+mod bad_checksum;
 mod block;
 mod broadcast;
 mod consecutive;
+mod data_width;
 mod faults;
+mod held;
 mod link;
 mod motor;
 mod outcome;
@@ -94,6 +99,9 @@ pub struct VirtualDrive {
     /// The command code and bytes of the last reply, while its master's follow-up is
     /// awaited ([`crate::protocol::FollowUp`]).
     awaiting_follow_up: Option<(u32, Vec<u8>)>,
+    /// Registers shown at a value whatever the behaviour model computes
+    /// ([`VirtualDrive::hold`]), until a power cycle.
+    held: Vec<(&'static RegisterInfo, u32)>,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -140,6 +148,7 @@ impl VirtualDrive {
             port: None,
             page: None,
             awaiting_follow_up: None,
+            held: Vec::new(),
         };
         virtual_drive.refresh();
         virtual_drive
@@ -228,6 +237,7 @@ impl VirtualDrive {
         self.persistent_writes = false;
         self.page = None;
         self.awaiting_follow_up = None;
+        self.held.clear();
         self.refresh();
     }
 
@@ -448,15 +458,20 @@ impl VirtualDrive {
                     .others
                     .iter()
                     .find_map(|other| other.decode_request_exact(frame).ok());
-                match other {
-                    Some(request) => {
+                if let Some(request) = other {
+                    self.requests += 1;
+                    return self.answer_mismatch(protocol, &request, variants.mismatch);
+                }
+                match bad_checksum::repaired(protocol, frame, true) {
+                    bad_checksum::Repaired::Frame(request) => {
                         self.requests += 1;
-                        self.answer_mismatch(protocol, &request, variants.mismatch)
+                        self.count_addressed(&request);
+                        self.answer_bad_checksum(protocol, &request)
                     }
-                    None if error.kind() == DecodeErrorKind::ChecksumMismatch => {
+                    _ if error.kind() == DecodeErrorKind::ChecksumMismatch => {
                         self.refuse(protocol, None, Refusal::BadChecksum)
                     }
-                    None => Outcome::Silent("not a request frame"),
+                    _ => Outcome::Silent("not a request frame"),
                 }
             }
         }
@@ -653,24 +668,32 @@ impl VirtualDrive {
                     (outcome, frame.len)
                 }
                 Ok(Ok(Found::Incomplete)) => break,
-                Ok(Err(error)) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
-                    let outcome = self.refuse(protocol, None, Refusal::BadChecksum);
-                    (outcome, input.len().min(start.len().max(1)))
-                }
-                Ok(Err(_)) => match unsupported::lacking(protocol, input, settled) {
-                    unsupported::Lacking::Wait => break,
-                    unsupported::Lacking::Frame {
-                        len,
-                        address,
-                        function,
-                    } => {
+                Ok(Err(error)) => match bad_checksum::repaired(protocol, input, false) {
+                    bad_checksum::Repaired::Frame(request) => {
                         self.requests += 1;
-                        (self.answer_lacking(protocol, address, function), len)
+                        self.count_addressed(&request);
+                        (self.answer_bad_checksum(protocol, &request), request.len)
                     }
-                    unsupported::Lacking::No => (
-                        Outcome::Silent("framing error"),
-                        if start.is_empty() { input.len() } else { 1 },
-                    ),
+                    bad_checksum::Repaired::Incomplete if !settled => break,
+                    _ if error.kind() == DecodeErrorKind::ChecksumMismatch => {
+                        let outcome = self.refuse(protocol, None, Refusal::BadChecksum);
+                        (outcome, input.len().min(start.len().max(1)))
+                    }
+                    _ => match unsupported::lacking(protocol, input, settled) {
+                        unsupported::Lacking::Wait => break,
+                        unsupported::Lacking::Frame {
+                            len,
+                            address,
+                            function,
+                        } => {
+                            self.requests += 1;
+                            (self.answer_lacking(protocol, address, function), len)
+                        }
+                        unsupported::Lacking::No => (
+                            Outcome::Silent("framing error"),
+                            if start.is_empty() { input.len() } else { 1 },
+                        ),
+                    },
                 },
             };
             let request: Vec<u8> = input.drain(..used).collect();

@@ -264,8 +264,15 @@ impl VirtualDrive {
         self.motor.trip
     }
 
-    /// Writes the monitors and status words from the motor state.
+    /// Writes the monitors and status words from the motor state; held registers keep the
+    /// value they are held at.
     pub(crate) fn refresh(&mut self) {
+        self.follow_model();
+        self.show_held();
+    }
+
+    /// Writes the monitors and status words from the motor state.
+    fn follow_model(&mut self) {
         let Some(behaviour) = self.behaviour() else {
             return;
         };

@@ -3,6 +3,7 @@
 //! and the master's answer to a reply ([`crate::protocol::FollowUp`]): an acknowledgement
 //! ends the exchange, a request to send again repeats the last reply.
 
+use super::data_width;
 use super::outcome::{Outcome, Refusal};
 use super::VirtualDrive;
 use crate::protocol::{DecodedRequest, Protocol};
@@ -67,6 +68,9 @@ impl VirtualDrive {
                 };
                 let page = self.page.unwrap_or(paging.initial);
                 return Paged::Done(self.reply(protocol, request, u32::from(page), 0));
+            }
+            if data_width::wrong_width(protocol, command, paging.select_data_type) {
+                return Paged::Done(Outcome::Silent(data_width::MALFORMED));
             }
             let page = u16::try_from(request.data)
                 .ok()

@@ -4,6 +4,7 @@
 //! broadcasts, runs of consecutive registers and block transfers each have a file of
 //! their own.
 
+use super::data_width;
 use super::motor::engineering;
 use super::outcome::{Outcome, Refusal};
 use super::pages::Paged;
@@ -50,6 +51,12 @@ impl VirtualDrive {
             }
             None => request,
         };
+        if self
+            .target_of(request)
+            .is_ok_and(|info| data_width::wrong_width(protocol, request.command, info.data_type))
+        {
+            return Outcome::Silent(data_width::MALFORMED);
+        }
         if request.command.no_reply {
             self.unanswered(protocol, request);
             return Outcome::Silent("the command is never answered");

@@ -288,8 +288,8 @@ struct ExampleView<'a> {
     settings_display: String,
     request: Option<FrameView<'a>>,
     reply: Option<FrameView<'a>>,
-    /// The request is never answered (its command's `reply: none`, or a write of a register
-    /// with `no_reply: true`).
+    /// The request is never answered (its command's `reply: none`, a write of a register
+    /// with `no_reply: true`, or an example saying nothing comes back).
     unanswered: bool,
     /// The bytes of the request the drive ignores, for a table cell.
     ignored_shown: String,
@@ -762,10 +762,10 @@ impl<'a> DriveView<'a> {
                             }),
                         })
                     };
-                    let unanswered = example
-                        .request
-                        .as_ref()
-                        .is_some_and(|frame| request_unanswered(drive, example, frame, described));
+                    let unanswered = example.no_reply
+                        || example.request.as_ref().is_some_and(|frame| {
+                            request_unanswered(drive, example, frame, described)
+                        });
                     ExampleView {
                         unanswered,
                         ignored_shown: example
