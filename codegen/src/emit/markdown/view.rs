@@ -1409,17 +1409,45 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
             .filter_map(layout)
             .map(|layout| {
                 let used = codes_in_layout(protocol, &layout.name);
+                let lacking = lacking_function_note(protocol, &layout.name);
                 LayoutView {
                     name: layout.name.to_string(),
                     parts: layout
                         .parts
                         .iter()
-                        .map(|part| part_view(part, &layout.parts, &used))
+                        .map(|part| {
+                            let mut view = part_view(part, &layout.parts, &used);
+                            let is_command = matches!(part, vfd_runtime::layout::Part::Field(f) if f.role == Role::Command);
+                            if let (true, Some(note)) = (is_command, &lacking) {
+                                view.notes = if view.notes.is_empty() {
+                                    note.clone()
+                                } else {
+                                    format!("{}; {note}", view.notes)
+                                };
+                            }
+                            view
+                        })
                         .collect(),
                 }
             })
             .collect(),
     }
+}
+
+/// For the error reply of a protocol whose drive answers functions it lacks: that its
+/// function field then carries any other function, marked as the commands' are (Modbus:
+/// + 80h), with the `unsupported_function` error code.
+fn lacking_function_note(protocol: &ProtocolIr, name: &str) -> Option<String> {
+    let entry = protocol.unsupported_function.as_ref()?;
+    if protocol.error_reply.as_deref() != Some(name) {
+        return None;
+    }
+    let first = protocol.commands.first()?;
+    let offset = first.error_code?.wrapping_sub(first.code);
+    Some(format!(
+        "or any other function + {offset:02X}h, with error code {:02X}h: the reply to a function the drive lacks",
+        entry.error_code
+    ))
 }
 
 /// The command codes the drive's commands of `protocol` put in the layout `name`: their
