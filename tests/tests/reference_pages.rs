@@ -365,6 +365,8 @@ fn shared_protocol_text_shows_only_what_applies_to_the_drive() {
                         .find(|l| l.contains("field (command)"))
                         .expect("command field");
                     let listed = line.split("one of ").nth(1).unwrap_or("");
+                    // What follows a `;` is the reply to a function the drive lacks.
+                    let listed = listed.split(';').next().unwrap_or("");
                     for code in listed.trim_end_matches(" |").split(", ") {
                         let value = u32::from_str_radix(code.trim_end_matches('h'), 16).unwrap();
                         assert!(
@@ -494,4 +496,29 @@ fn the_dv1_monitor_block_gaps_are_on_the_page() {
     for gap in ["1016h", "1018h", "1021h-1026h"] {
         assert!(note.contains(gap), "{gap} not in the 1014h note: {note}");
     }
+}
+
+#[test]
+fn the_library_s_default_for_bytes_before_the_start_is_marked_assumed() {
+    for (ir, page) in shipped() {
+        for protocol in &ir.protocols {
+            let section = protocol_section(&page, &protocol.id);
+            let Some(line) = section.lines().find(|l| l.contains("are skipped")) else {
+                continue;
+            };
+            assert_eq!(
+                line.contains("(assumed"),
+                !protocol.before_start_stated,
+                "{}/{}: {line}",
+                ir.id,
+                protocol.id
+            );
+        }
+    }
+    // The YD1000 manual states it (3, ASCII 方式 (1): 变频器忽略‘(’以前的数据); the DV1's does not.
+    let (ir, _) = shipped_page("yd1000");
+    assert!(ir.protocols.iter().all(|p| p.before_start_stated));
+    let (_, page) = shipped_page("dv1");
+    assert!(protocol_section(&page, "eaton")
+        .contains("skipped: the frame begins at its start (assumed"));
 }

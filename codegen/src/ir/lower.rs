@@ -687,6 +687,10 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         block_note: block_model(model, &protocol.id)
             .map_or_else(String::new, |b| b.note.trim().to_owned()),
         timing: runtime.timing.clone(),
+        before_start_stated: model
+            .protocols
+            .iter()
+            .any(|p| p.id == protocol.id && p.before_start.is_some()),
         broadcast: runtime.broadcast.clone(),
         wire_numbers: runtime.wire_numbers.to_vec(),
         paging: runtime.paging.clone(),

@@ -494,6 +494,11 @@ pub struct ProtocolIr {
     pub block_note: String,
     /// The drive's timing rules beyond the gap in characters.
     pub timing: vfd_runtime::serial::LinkTiming,
+    /// The drive's entry states `before_start` (the manual says what bytes before a
+    /// frame's start do); `false`: `timing.before_start` is the library's default, which
+    /// the page marks assumed.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub before_start_stated: bool,
     /// The drive's broadcast rule, when it takes broadcasts over this protocol.
     pub broadcast: Option<vfd_runtime::broadcast::BroadcastRule>,
     /// Registers with their own numbers on the wire in this protocol.

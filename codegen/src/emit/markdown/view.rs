@@ -1537,8 +1537,11 @@ fn link_rules(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
             BeforeStart::Reject => {
                 "Bytes before a frame's start sequence reject the frame (it is not answered)."
             }
-            BeforeStart::Skip => {
+            BeforeStart::Skip if protocol.before_start_stated => {
                 "Bytes before a frame's start sequence are skipped: the frame begins at its start."
+            }
+            BeforeStart::Skip => {
+                "Bytes before a frame's start sequence are skipped: the frame begins at its start (assumed: the library's default, not from the manual)."
             }
         }
         .to_owned());
