@@ -81,12 +81,19 @@ fn list_drive(drive: &DriveInfo, file: Option<&std::path::Path>) {
             }
         );
         for protocol in drive.protocols {
+            // A protocol whose character format a setting chooses (DV1 Modbus RTU: 8E1).
+            let own = drive.serial.default_for(&protocol.id);
             say!(
-                "    {:<10} {} (stations {}-{})",
+                "    {:<10} {} (stations {}-{}{})",
                 protocol.id,
                 protocol.name,
                 protocol.address_range.0,
-                protocol.address_range.1
+                protocol.address_range.1,
+                if own == serial {
+                    String::new()
+                } else {
+                    format!(", {}", own.format_label())
+                }
             );
         }
         if let Some(file) = file {

@@ -38,7 +38,8 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             note: serial.note.trim().to_owned(),
             baud_rates: serial.baud_rates.clone(),
             parities: serial.parities.clone(),
-            data_bits: serial.data_bits,
+            data_bits: serial.data_bits.choices(),
+            protocol_lines: super::protocol_lines::protocol_lines(model),
             // The drive's choice: it sends and needs what it is set to (the factory setting).
             stop_bits_sent: serial.stop_bits_sent.unwrap_or(serial.default.stop_bits),
             stop_bits_received: serial

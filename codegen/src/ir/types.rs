@@ -381,8 +381,13 @@ pub struct SerialIr {
     pub baud_rates: Vec<u32>,
     /// Supported parities.
     pub parities: Vec<Parity>,
-    /// Data bits per character.
-    pub data_bits: u8,
+    /// The data bits the drive can use (one when fixed; `[7, 8]` when a setting chooses).
+    pub data_bits: Vec<u8>,
+    /// The character formats a setting offers each protocol (from the code tables whose
+    /// values set the line and choose a protocol), the factory one marked; other
+    /// protocols speak the defaults below.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub protocol_lines: Vec<ProtocolLineIr>,
     /// Stop bits the drive sends.
     pub stop_bits_sent: u8,
     /// Stop bits the drive needs.
@@ -408,6 +413,25 @@ pub struct SerialIr {
     pub assumed_timing: Vec<TimingField>,
     /// Line-level facts, when the description gives any.
     pub line: Option<LineIr>,
+}
+
+/// A character format a setting offers a protocol.
+#[derive(Debug, Clone, Serialize)]
+pub struct ProtocolLineIr {
+    /// The protocol's id.
+    pub protocol: String,
+    /// Data bits.
+    pub data_bits: u8,
+    /// Parity.
+    pub parity: Parity,
+    /// Stop bits.
+    pub stop_bits: u8,
+    /// The code of the register whose value chooses it, and that value.
+    pub selector: String,
+    /// See `selector`.
+    pub value: u16,
+    /// The selector's factory value chooses it.
+    pub factory: bool,
 }
 
 /// Station numbers.

@@ -743,8 +743,9 @@ pub struct SerialModel {
     pub baud_rates: Vec<u32>,
     /// Every parity the drive can be set to.
     pub parities: Vec<Parity>,
-    /// Data bits per character.
-    pub data_bits: u8,
+    /// Data bits per character (`8`), or the data bits the drive can be set to (`[7, 8]`:
+    /// a setting chooses, the factory setting being `default.data_bits`).
+    pub data_bits: DataBitsModel,
     /// Stop bits the drive sends, when fixed; left out with `stop_bits`.
     pub stop_bits_sent: Option<u8>,
     /// Stop bits the drive needs to receive, when fixed; left out with `stop_bits`.
@@ -762,6 +763,26 @@ pub struct SerialModel {
     /// Line-level facts from the manual's specification table (duplex, topology,
     /// synchronisation, bit order); each may be left out.
     pub line: Option<LineModel>,
+}
+
+/// Data bits per character: fixed, or the drive's choice.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum DataBitsModel {
+    /// Every character carries this many data bits.
+    Fixed(u8),
+    /// The drive can be set to any of these (`[7, 8]`).
+    Choice(Vec<u8>),
+}
+
+impl DataBitsModel {
+    /// The data bits the drive can use, in the file's order.
+    pub fn choices(&self) -> Vec<u8> {
+        match self {
+            DataBitsModel::Fixed(bits) => vec![*bits],
+            DataBitsModel::Choice(bits) => bits.clone(),
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]

@@ -967,7 +967,28 @@ fn line_formats(drive: &DriveIr) -> Vec<(String, String)> {
                     })
                 })
                 .collect();
-            rows.push((protocol.id.clone(), choices.join(", ")));
+            let mut row = choices.join(", ");
+            if let Some(line) = drive
+                .serial
+                .protocol_lines
+                .iter()
+                .find(|l| l.protocol == protocol.id)
+                .filter(|_| {
+                    !drive
+                        .serial
+                        .protocol_lines
+                        .iter()
+                        .any(|l| l.protocol == protocol.id && l.factory)
+                })
+            {
+                row.push_str(&format!(
+                    "; the factory setting chooses another protocol: a master starts from {} ({} = {}, the first offered; assumed)",
+                    format((line.data_bits, line.parity, line.stop_bits)),
+                    line.selector,
+                    line.value
+                ));
+            }
+            rows.push((protocol.id.clone(), row));
         }
     }
     rows
