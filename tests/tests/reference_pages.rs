@@ -522,3 +522,17 @@ fn the_library_s_default_for_bytes_before_the_start_is_marked_assumed() {
     assert!(protocol_section(&page, "eaton")
         .contains("skipped: the frame begins at its start (assumed"));
 }
+
+#[test]
+fn the_dv1_longest_modbus_frames_are_its_twelve_register_writes() {
+    // 10h with 12 registers (l. 427, 439): 33 bytes in RTU, 67 characters in ASCII.
+    let (ir, page) = shipped_page("dv1");
+    for (id, longest) in [("modbus", 33), ("modbus_ascii", 67)] {
+        let protocol = ir.protocols.iter().find(|p| p.id == id).expect(id);
+        assert_eq!(protocol.max_frame_len, longest, "{id}");
+        assert!(
+            protocol_section(&page, id).contains(&format!("- Longest frame: {longest} bytes.")),
+            "{id}"
+        );
+    }
+}

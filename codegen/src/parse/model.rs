@@ -857,6 +857,11 @@ pub struct ProtocolRef {
     /// The most registers one write of several carries on this drive, where fewer than the
     /// protocol file's `max_words_per_write` (DV1: `12`); left out: the protocol file's.
     pub max_words_per_write: Option<u16>,
+    /// The longest frame on the wire in bytes, where the drive's manual makes it shorter
+    /// than the protocol file's `max_frame_len` (DV1 Modbus RTU: `33`, a write of its 12
+    /// registers); it sizes buffers and reply timeouts. At least the longest frame the
+    /// drive's commands make at its word limits; left out: the protocol file's.
+    pub max_frame_len: Option<u16>,
     /// A read or write of several registers is carried out for the registers that can be,
     /// and refused only when none can (DV1 l. 473: 若有 1 个及以上可以操作就不视为错误): a
     /// register that does not exist reads as 0, one that does not exist or refuses its
