@@ -540,8 +540,14 @@ impl<'a> Report<'a> {
         });
         if let Some(error) = meaning.error_code {
             let text = match protocol.error_code(error) {
-                Some(info) => format!("{error} ({}/{}): {}", info.name, info.name_zh, info.meaning),
-                None => format!("{error} (not in the manual's table)"),
+                Some(info) => format!(
+                    "{} ({}/{}): {}",
+                    info.shown(),
+                    info.name,
+                    info.name_zh,
+                    info.meaning
+                ),
+                None => format!("{error} ({error:02X}h, not in the manual's table)"),
             };
             self.add("error", text);
         }

@@ -81,7 +81,10 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
                 .filter(|p| drive_table_applies(model, &p.id))
                 .map(|p| p.id.clone())
                 .collect(),
-            codes: lower_error_codes(&model.error_codes.codes),
+            codes: lower_error_codes(
+                &model.error_codes.codes,
+                model.error_codes.notation.as_ref(),
+            ),
             silent: model.error_codes.silent.clone(),
         },
         code_tables: model
@@ -598,7 +601,10 @@ fn protocol_files(protocols: &[LoweredProtocol]) -> Vec<ProtocolFileIr> {
     files
 }
 
-fn lower_error_codes(codes: &[ErrorCodeModel]) -> Vec<ErrorCodeIr> {
+fn lower_error_codes(
+    codes: &[ErrorCodeModel],
+    notation: Option<&crate::parse::model::CodeNotationModel>,
+) -> Vec<ErrorCodeIr> {
     codes
         .iter()
         .map(|c| ErrorCodeIr {
@@ -608,6 +614,7 @@ fn lower_error_codes(codes: &[ErrorCodeModel]) -> Vec<ErrorCodeIr> {
             name: c.name.clone(),
             name_zh: c.name_zh.clone(),
             meaning: c.meaning.clone(),
+            printed: notation.map_or_else(String::new, |n| n.print(c.code)),
         })
         .collect()
 }
@@ -711,7 +718,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
             ErrorTableIr::Protocol(ErrorCodesIr {
                 source: table.source.clone(),
                 protocols: vec![protocol.id.clone()],
-                codes: lower_error_codes(&table.codes),
+                codes: lower_error_codes(&table.codes, table.notation.as_ref()),
                 silent: Vec::new(),
             })
         } else if drive_table_applies(model, &protocol.id) {
@@ -727,7 +734,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
                 |table| ErrorCodesIr {
                     source: table.source.clone(),
                     protocols: vec![protocol.id.clone()],
-                    codes: lower_error_codes(&table.codes),
+                    codes: lower_error_codes(&table.codes, table.notation.as_ref()),
                     silent: Vec::new(),
                 },
             ))

@@ -655,6 +655,10 @@ pub struct ErrorCodeIr {
     pub name_zh: String,
     /// The manual's explanation.
     pub meaning: String,
+    /// The code as the manual prints it (`H0C`), from its table's `notation`; empty when
+    /// the table states none.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub printed: String,
 }
 
 /// A code table.

@@ -1094,6 +1094,9 @@ pub struct ErrorCodesModel {
     /// codes; left out: every one of them. A protocol not listed names its error codes
     /// from its protocol file's own `error_codes`.
     pub protocols: Option<Vec<String>>,
+    /// How the manual prints the codes (`{ prefix: H, digits: 2 }`: H0C); left out:
+    /// two hex digits and `h` (0Ch).
+    pub notation: Option<CodeNotationModel>,
     /// The codes an error reply may carry.
     pub codes: Vec<ErrorCodeModel>,
     /// Conditions in which the drive does not answer at all (documentation only).
@@ -1850,8 +1853,53 @@ pub struct BasedOnModel {
 pub struct ProtocolErrorCodesModel {
     /// Where the codes are defined (a specification, or the manuals that print them).
     pub source: String,
+    /// How the manual or specification prints the codes (`{ digits: 2 }`: 01); left out:
+    /// two hex digits and `h` (01h).
+    pub notation: Option<CodeNotationModel>,
     /// The codes an error reply may carry.
     pub codes: Vec<ErrorCodeModel>,
+}
+
+/// How a manual prints a table's codes: in hex (`H0C`, `000Ch`, `01`) or decimal (`17`),
+/// at least `digits` digits, between a prefix and a suffix.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CodeNotationModel {
+    /// `hex` (the default) or `decimal`.
+    #[serde(default)]
+    pub base: CodeBase,
+    /// The fewest digits printed (leading zeros); default 1.
+    #[serde(default = "one")]
+    pub digits: u8,
+    /// Text before the digits (`H` for H0C).
+    #[serde(default)]
+    pub prefix: String,
+    /// Text after the digits (`h` for 000Ch).
+    #[serde(default)]
+    pub suffix: String,
+}
+
+impl CodeNotationModel {
+    /// `code` as the manual prints it.
+    pub fn print(&self, code: u32) -> String {
+        let width = usize::from(self.digits);
+        let digits = match self.base {
+            CodeBase::Hex => format!("{code:0width$X}"),
+            CodeBase::Decimal => format!("{code:0width$}"),
+        };
+        format!("{}{digits}{}", self.prefix, self.suffix)
+    }
+}
+
+/// The base a manual prints codes in.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum CodeBase {
+    /// Hexadecimal digits, upper case.
+    #[default]
+    Hex,
+    /// Decimal digits.
+    Decimal,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]

@@ -37,7 +37,7 @@ pub fn space_from_name(name: &str) -> Option<Space> {
     Space::ALL.into_iter().find(|s| s.as_str() == name)
 }
 
-pub(crate) use error_codes::drive_table_applies;
+pub(crate) use error_codes::{check_notation, drive_table_applies};
 pub use parts::parse_hex;
 
 /// A protocol as one drive uses it, lowered into the runtime's terms.

@@ -174,7 +174,11 @@ fn error_codes_view(table: &ErrorCodesIr, digits: usize) -> ErrorCodesView<'_> {
             .iter()
             .map(|code| ErrorCodeView {
                 code,
-                code_hex: format!("{:0digits$X}h", code.code),
+                code_hex: if code.printed.is_empty() {
+                    format!("{:0digits$X}h", code.code)
+                } else {
+                    code.printed.clone()
+                },
             })
             .collect(),
         protocols_display: table
@@ -348,7 +352,17 @@ fn sequence_view<'a>(drive: &'a DriveIr, sequence: &'a crate::ir::SequenceIr) ->
         result_display: match &sequence.result {
             SequenceResultIr::Value(v) => value(*v),
             SequenceResultIr::Written => "written".to_owned(),
-            SequenceResultIr::Error(code, id) => format!("refused with {code:02X}h `{id}`"),
+            SequenceResultIr::Error(code, id) => {
+                let shown = drive
+                    .protocols
+                    .iter()
+                    .find(|p| p.id == sequence.protocol)
+                    .map_or_else(
+                        || format!("{code:02X}h"),
+                        |p| printed_error(drive, p, *code),
+                    );
+                format!("refused with {shown} `{id}`")
+            }
         },
         register_code: code,
         steps: sequence
@@ -793,6 +807,23 @@ impl<'a> DriveView<'a> {
     }
 }
 
+/// `code`, an error code of `protocol`, as the manual prints it (its table's `notation`:
+/// the DV1's H0C), else in hex with [`error_code_digits`] digits and `h`.
+fn printed_error(drive: &DriveIr, protocol: &ProtocolIr, code: u16) -> String {
+    let table = match &protocol.error_table {
+        ErrorTableIr::Drive => &drive.error_codes,
+        ErrorTableIr::Protocol(table) => table,
+    };
+    table
+        .codes
+        .iter()
+        .find(|c| c.code == code && !c.printed.is_empty())
+        .map_or_else(
+            || format!("{:0w$X}h", code, w = error_code_digits(drive, protocol)),
+            |c| c.printed.clone(),
+        )
+}
+
 /// How many hex digits an error code of `protocol` is written with: two when its error
 /// reply carries the code in one byte (or two digits), else four.
 fn error_code_digits(drive: &DriveIr, protocol: &ProtocolIr) -> usize {
@@ -875,7 +906,7 @@ fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
         ));
     }
     let answer = |protocol: &ProtocolIr, code: Option<u16>| match code {
-        Some(code) => format!("{:0w$X}h", code, w = error_code_digits(drive, protocol)),
+        Some(code) => printed_error(drive, protocol, code),
         None => "no reply".to_owned(),
     };
     let mut refusal_names = vec![
