@@ -22,6 +22,7 @@ mod generate;
 mod line;
 mod lookup;
 mod out;
+mod paged;
 mod plant;
 mod poll;
 mod ports;

@@ -172,3 +172,21 @@ fn error_codes_are_shown_as_the_manual_prints_them() {
         text(&fc51)
     );
 }
+
+#[test]
+fn decode_shows_the_page_switch_as_a_step_not_a_register() {
+    let decoded = text(&vfd(&[
+        "decode",
+        "--drive",
+        "dv1",
+        "-p",
+        "eaton",
+        "\\x0500FF00001DD\\r",
+    ]));
+    assert!(
+        decoded.contains("step:     page switch (wire number 00FFh)")
+            && decoded.contains("page:     1\n")
+            && !decoded.contains("register:"),
+        "{decoded}"
+    );
+}
