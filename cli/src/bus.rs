@@ -449,7 +449,7 @@ impl Session {
             .drive
             .register_for(step.space, step.register, true)
             .map_or_else(|| format!("register {:04X}h", step.register), |r| r.label());
-        let target = if persist { "RAM and EEPROM" } else { "RAM" };
+        let target = crate::storage::target(info, persist);
         let why = match &self.protocol.persistence {
             Some(selector) if (selector.space, selector.register) == (step.space, step.register) => {
                 let to = if step.data == selector.ram {
@@ -461,13 +461,30 @@ impl Session {
             }
             _ => format!("writing {step_name} = {}, which the protocol sends first to choose where the write goes", step.data),
         };
+        // Whether the drive refused the step as it refuses a write while the motor runs
+        // (its code for that, where the description gives one); a step that got no
+        // answer, or another refusal, has nothing to do with the motor.
+        let refused_while_running = match &error.kind {
+            TransactionErrorKind::Rejected { code, .. } => {
+                let said = self.drive.behaviour.and_then(|b| {
+                    b.refusals
+                        .iter()
+                        .find(|r| r.protocol == self.protocol.id)
+                        .and_then(|r| r.while_running)
+                });
+                said.is_none_or(|while_running| while_running == *code)
+            }
+            _ => false,
+        };
+        let refused = matches!(error.kind, TransactionErrorKind::Rejected { .. });
         let cause = self.failure(error);
         let mut failure = Failure::new(format!(
-            "cannot write {} ({target}): the step before it was refused: {why}; {}",
+            "cannot write {} ({target}): the step before it {}: {why}; {}",
             info.label(),
+            if refused { "was refused" } else { "failed" },
             cause.message
         ));
-        if !info.writable_while_running {
+        if !info.writable_while_running && !info.while_running_unknown && refused_while_running {
             failure = failure.hint(format!(
                 "the manual allows {} to change only while the motor is stopped: stop it first (the drive refuses the first frame of the write)",
                 info.code
@@ -719,25 +736,44 @@ impl Session {
     fn failure(&self, error: TransactionError) -> Failure {
         let hint = match &error.kind {
             TransactionErrorKind::Timeout { .. } => Some(format!(
-                "check baud rate, parity and station address: {} baud, parity {}, protocol {}, \
-                 station {} (--baud, --parity, --protocol, --address){}, and the wiring; a slow \
-                 drive may need --timeout",
+                "check baud rate, parity and station address: {} baud {}, protocol {}, \
+                 station {} (--baud, --parity, --data-bits, --stop-bits{}, --address){}, and the \
+                 wiring; a slow drive may need --timeout",
                 self.settings.baud,
-                self.settings.parity.as_str(),
+                self.settings.format_label(),
                 self.protocol.id,
                 self.address_text(),
+                // A drive of one protocol needs no --protocol.
+                if self.drive.protocols.len() > 1 {
+                    ", --protocol"
+                } else {
+                    ""
+                },
                 self.variant_hint()
             )),
-            TransactionErrorKind::Encode(EncodeError::UnsupportedCommand { .. }) => Some(format!(
-                "protocol {} cannot carry this request; try another with --protocol ({})",
-                self.protocol.id,
-                self.drive
+            TransactionErrorKind::Encode(EncodeError::UnsupportedCommand {
+                kind,
+                space,
+                data_type,
+                ..
+            }) => crate::storage::missing_write_hint(
+                self.drive,
+                self.protocol,
+                *kind,
+                *space,
+                *data_type,
+            )
+            .or_else(|| {
+                let others: Vec<&str> = self
+                    .drive
                     .protocols
                     .iter()
+                    .filter(|p| p.id != self.protocol.id)
+                    .filter(|p| p.command_for(*kind, *space, *data_type).is_some())
                     .map(|p| p.id.as_ref())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )),
+                    .collect();
+                (!others.is_empty()).then(|| format!("try --protocol {}", others.join(" or ")))
+            }),
             TransactionErrorKind::Io(io)
                 if matches!(
                     io.kind(),

@@ -75,10 +75,31 @@ struct Refused {
     warnings: vfd_codegen::Diagnostics,
 }
 
+/// The drive files compiled so far, by their canonical paths.
+type Loaded = std::sync::Mutex<Vec<(PathBuf, &'static DriveInfo)>>;
+static LOADED: OnceLock<Loaded> = OnceLock::new();
+
+/// How a command line names `drive` so that it is found again: its id where the id finds
+/// this very drive (compiled in, or in the search path), else the path of the file it was
+/// loaded from (a drive named by its path: its id alone finds nothing).
+pub fn name_for(drive: &DriveInfo) -> String {
+    let by_id = self::drive(drive.id).ok();
+    if by_id.is_some_and(|found| std::ptr::eq(found, drive)) {
+        return drive.id.to_owned();
+    }
+    LOADED
+        .get()
+        .and_then(|loaded| loaded.lock().ok())
+        .and_then(|list| {
+            list.iter()
+                .find(|(_, d)| std::ptr::eq(*d, drive))
+                .map(|(path, _)| path.display().to_string())
+        })
+        .unwrap_or_else(|| drive.id.to_owned())
+}
+
 /// The drive in the file at `path`, compiled once per process.
 fn load_file(path: &Path) -> Result<&'static DriveInfo, Refused> {
-    type Loaded = std::sync::Mutex<Vec<(PathBuf, &'static DriveInfo)>>;
-    static LOADED: OnceLock<Loaded> = OnceLock::new();
     let loaded = LOADED.get_or_init(Default::default);
     let key = path.canonicalize().unwrap_or_else(|_| path.to_owned());
     let known = loaded

@@ -146,7 +146,7 @@ pub fn info(drive: &str, names: &[String], format: Format) -> Result<(), Failure
             "protocols: {}; {} registers (`vfd info {} REGISTER` for one in full)",
             protocols.join(", "),
             drive.registers.len(),
-            drive.id
+            crate::catalogue::name_for(drive)
         );
         if let Some(ports) = drive.ports {
             for port in ports.ports {
@@ -303,18 +303,7 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
         Access::ReadWrite => "read-write",
     };
     say!("  access      {access}");
-    say!(
-        "  storage     {}",
-        if r.ram_only {
-            "RAM only (no persistent write)"
-        } else if r.persistent_write_to_ram {
-            "RAM only (a persistent write is accepted, kept in RAM)"
-        } else if r.access == Access::ReadOnly {
-            "—"
-        } else {
-            "RAM, or RAM and EEPROM with --persist"
-        }
-    );
+    say!("  storage     {}", crate::storage::storage_line(drive, r));
     say!(
         "  while run   {}",
         if r.writable_while_running {
