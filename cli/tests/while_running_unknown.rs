@@ -51,12 +51,6 @@ fn restore_writes_an_unknown_value_while_running_and_reports_the_answer() {
     let file = dir.join("vf-as1.yaml");
     let file_arg = file.to_str().unwrap();
     let sim = Sim::start("vf-as1", "binary");
-    // ACC and DEC have no factory setting, and the virtual drive's 0 is outside their
-    // range: give them values a backup can restore.
-    for code in ["ACC", "DEC"] {
-        let wrote = sim.vfd("vf-as1", "binary", &["write", code, "10"]);
-        assert!(wrote.status.success(), "{}", text(&wrote));
-    }
     let saved = sim.vfd("vf-as1", "binary", &["backup", "--to", file_arg]);
     assert!(saved.status.success(), "{}", text(&saved));
     // F803 (no while-running column) changes, then the motor runs.
