@@ -173,7 +173,8 @@ pub fn backup(line: &LineArgs, to: &Path, format: Format) -> Result<(), Failure>
             "# vfd backup of a {} ({}): restore with `vfd restore --drive {} --from FILE`\n{}",
             backup.model,
             drive.id,
-            drive.id,
+            // A drive loaded by its path is named by it: its id alone finds nothing.
+            crate::catalogue::name_for(drive),
             yaml_serde::to_string(&backup).map_err(|e| Failure::new(e.to_string()))?
         )
     };
@@ -237,7 +238,13 @@ pub fn restore(
             backup.drive,
             drive.id
         ))
-        .hint("restore a backup onto the model it was taken from"));
+        .hint(format!(
+            "restore it onto a {} with --drive {} (or the path of its drive file); a backup of this {} is made with `vfd backup --drive {}`",
+            backup.drive,
+            backup.drive,
+            drive.id,
+            crate::catalogue::name_for(drive)
+        )));
     }
     // Every entry is checked before anything is sent.
     let mut refused = Vec::new();
@@ -302,6 +309,21 @@ pub fn restore(
         })
         .collect();
     let target = if persist { "RAM and EEPROM" } else { "RAM" };
+    // Writes the protocol cannot send as asked are refused before anything is sent, with
+    // the way they can be sent.
+    check_sendable(&session, &writes, persist)?;
+    // Registers the drive keeps in RAM whatever the command (`persistent_write_to_ram`).
+    let kept_in_ram: Vec<&'static RegisterInfo> = writes
+        .iter()
+        .map(|(info, _, _)| *info)
+        .filter(|info| persist && info.persistent_write_to_ram)
+        .collect();
+    let kept_note = (!kept_in_ram.is_empty()).then(|| {
+        format!(
+            "the drive keeps {} in RAM only, whatever the command (`vfd info` says so)",
+            list(&kept_in_ram)
+        )
+    });
     if dry_run {
         for (info, now, raw) in &writes {
             say!(
@@ -339,6 +361,8 @@ pub fn restore(
     // old or new, and running it again writes only what still differs.
     let bar = progress(writes.len(), "writing");
     let mut failed = Vec::new();
+    // Whether every failure is the drive's refusal, which running again does not change.
+    let mut only_refusals = true;
     let mut written = 0usize;
     for (info, now, raw) in &writes {
         bar.inc(1);
@@ -365,14 +389,26 @@ pub fn restore(
                 back.raw
                     .map_or_else(|| "no data".to_owned(), |b| values::short(info, b))
             )),
-            Err(failure) => failed.push(format!("{}: {}", info.code, failure.message)),
+            Err(failure) => {
+                only_refusals &= failure
+                    .read_error
+                    .as_ref()
+                    .is_some_and(|e| e.kind == "error_reply");
+                failed.push(format!("{}: {}", info.code, failure.message))
+            }
         }
     }
     bar.finish_and_clear();
     say!(
         "restored {written} value(s) to {target}, each read back; {same} unchanged, {read_only} read-only kept for reference"
     );
-    if !persist && written > 0 {
+    if let Some(note) = kept_note.filter(|_| written > 0) {
+        say!("{note}");
+    }
+    let persistable = writes.iter().any(|(info, _, _)| {
+        !info.persistent_write_to_ram && crate::storage::writes(session.protocol, info).persistent
+    });
+    if !persist && written > 0 && persistable {
         say!("RAM only: the restored values are lost at power-off (restore with --persist to keep them in EEPROM)");
     }
     if failed.is_empty() {
@@ -386,8 +422,73 @@ pub fn restore(
             failed.len(),
             writes.len()
         ))
-        .hint("run the same restore again: it writes only the values that still differ"))
+        .hint(if only_refusals {
+            "the drive refused them (the reasons above): correct those entries of the file, then restore again"
+        } else {
+            "run the same restore again: it writes only the values that still differ"
+        }))
     }
+}
+
+/// Refuses a restore whose writes the session's protocol cannot send as asked (RAM, or
+/// with `--persist` persistent), naming the way they can be sent: the other storage, or
+/// another protocol of the drive.
+fn check_sendable(
+    session: &Session,
+    writes: &[(&'static RegisterInfo, u32, u32)],
+    persist: bool,
+) -> Result<(), Failure> {
+    let sendable = |protocol: &vfd_runtime::Protocol, info: &RegisterInfo| {
+        let can = crate::storage::writes(protocol, info);
+        if persist {
+            can.persistent
+        } else {
+            can.ram
+        }
+    };
+    let stuck: Vec<&'static RegisterInfo> = writes
+        .iter()
+        .map(|(info, _, _)| *info)
+        .filter(|info| !sendable(session.protocol, info))
+        .collect();
+    if stuck.is_empty() {
+        return Ok(());
+    }
+    let other_storage = stuck.iter().all(|info| {
+        let can = crate::storage::writes(session.protocol, info);
+        if persist {
+            can.ram
+        } else {
+            can.persistent
+        }
+    });
+    let others: Vec<&str> = session
+        .drive
+        .protocols
+        .iter()
+        .filter(|p| p.id != session.protocol.id && stuck.iter().all(|info| sendable(p, info)))
+        .map(|p| p.id.as_ref())
+        .collect();
+    let hint = match (other_storage, persist, others.is_empty()) {
+        (true, false, _) => format!(
+            "protocol {} writes them only persistently: restore with --persist",
+            session.protocol.id
+        ),
+        (true, true, _) => format!(
+            "protocol {} writes them to RAM only: restore without --persist",
+            session.protocol.id
+        ),
+        (false, _, false) => format!("restore over --protocol {}", others.join(" or ")),
+        (false, _, true) => "remove those entries from the file, then restore again".to_owned(),
+    };
+    Err(Failure::new(format!(
+        "{} value(s) cannot be written {} over protocol {} ({}): nothing written",
+        stuck.len(),
+        if persist { "persistently" } else { "to RAM" },
+        session.protocol.id,
+        list(&stuck)
+    ))
+    .hint(hint))
 }
 
 /// `FH, UL, ...` (at most eight, then `...`).

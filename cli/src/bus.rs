@@ -52,9 +52,16 @@ pub struct LineArgs {
     /// Baud rate (default: the drive's factory setting).
     #[arg(long, value_name = "BAUD")]
     pub baud: Option<u32>,
-    /// Parity (default: the drive's factory setting).
+    /// Parity (default: the drive's factory setting for the protocol).
     #[arg(long, value_enum)]
     pub parity: Option<ParityArg>,
+    /// Data bits per character, 7 or 8 (default: the drive's factory setting for the
+    /// protocol; the DV1 speaks Modbus RTU at 8E1, Eaton at 8N1).
+    #[arg(long, value_name = "BITS", value_parser = clap::value_parser!(u8).range(7..=8))]
+    pub data_bits: Option<u8>,
+    /// Stop bits, 1 or 2 (default: the drive's factory setting for the protocol).
+    #[arg(long, value_name = "BITS", value_parser = clap::value_parser!(u8).range(1..=2))]
+    pub stop_bits: Option<u8>,
     /// Station address (default: none where the protocol allows it, else its lowest station, at least 1).
     #[arg(long, value_name = "N")]
     pub address: Option<u8>,
@@ -122,21 +129,97 @@ pub struct Session {
     pub port: Option<Port>,
 }
 
-/// The drive's factory serial settings with the baud rate and parity given on the command
-/// line.
+/// The character format given on the command line (`--baud`, `--parity`, `--data-bits`,
+/// `--stop-bits`); each left out is the drive's factory setting for the protocol.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LineFormat {
+    /// `--baud`.
+    pub baud: Option<u32>,
+    /// `--parity`.
+    pub parity: Option<ParityArg>,
+    /// `--data-bits`.
+    pub data_bits: Option<u8>,
+    /// `--stop-bits`.
+    pub stop_bits: Option<u8>,
+}
+
+impl LineArgs {
+    /// The character format these options give.
+    pub fn format(&self) -> LineFormat {
+        LineFormat {
+            baud: self.baud,
+            parity: self.parity,
+            data_bits: self.data_bits,
+            stop_bits: self.stop_bits,
+        }
+    }
+}
+
+/// The drive's factory serial settings for `protocol` (its own character format where a
+/// setting chooses one: the DV1's Modbus RTU at 8E1), with what the command line gives;
+/// data and stop bits the drive cannot be set to are refused.
 pub fn line_settings(
     drive: &DriveInfo,
-    baud: Option<u32>,
-    parity: Option<ParityArg>,
-) -> SerialSettings {
-    let mut settings = drive.serial.default;
-    if let Some(baud) = baud {
+    protocol: &str,
+    given: LineFormat,
+) -> Result<SerialSettings, Failure> {
+    let serial = drive.serial;
+    let mut settings = serial.default_for(protocol);
+    if let Some(baud) = given.baud {
         settings.baud = baud;
     }
-    if let Some(parity) = parity {
+    if let Some(parity) = given.parity {
         settings.parity = parity.into();
     }
-    settings
+    let list = |bits: &[u8]| {
+        bits.iter()
+            .map(u8::to_string)
+            .collect::<Vec<_>>()
+            .join(" or ")
+    };
+    if let Some(bits) = given.data_bits {
+        if !serial.data_bits.contains(&bits) {
+            return Err(Failure::new(format!(
+                "{} cannot use {bits} data bits: its description gives {}",
+                drive.id,
+                list(serial.data_bits)
+            ))
+            .hint(format!(
+                "leave --data-bits out for its factory setting over {protocol} ({})",
+                settings.data_bits
+            )));
+        }
+        settings.data_bits = bits;
+    }
+    if let Some(bits) = given.stop_bits {
+        let choices = serial.stop_bits_choices();
+        if !choices.contains(&bits) {
+            return Err(Failure::new(format!(
+                "{} cannot use {bits} stop bits: its description gives {}",
+                drive.id,
+                list(choices)
+            ))
+            .hint(format!(
+                "leave --stop-bits out for its factory setting over {protocol} ({})",
+                settings.stop_bits
+            )));
+        }
+        settings.stop_bits = bits;
+    }
+    // A protocol whose format a setting chooses speaks only the formats it offers (the
+    // DV1's Modbus ASCII: 7N2, 7E1, 7O1).
+    let offered: Vec<_> = serial.formats_for(protocol).collect();
+    if !offered.is_empty() && !offered.iter().any(|l| l.fits(&settings)) {
+        let labels: Vec<String> = offered.iter().map(|l| l.label()).collect();
+        return Err(Failure::new(format!(
+            "{} cannot speak {protocol} at {}: its setting offers {}",
+            drive.id,
+            settings.format_label(),
+            labels.join(", ")
+        ))
+        .hint("give --data-bits, --parity and --stop-bits of one of those formats, or leave them out for the factory setting"));
+    }
+    Ok(settings)
 }
 
 impl Session {
@@ -145,7 +228,7 @@ impl Session {
         let drive = lookup::drive(&args.drive)?;
         let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
         let protocol = lookup::variant(protocol, args.variant.as_deref())?;
-        let settings = line_settings(drive, args.baud, args.parity);
+        let settings = line_settings(drive, &protocol.id, args.format())?;
         let mut line = open_line(&args.port, &settings)?;
         if args.trace {
             line = Traced::on_stderr(line, drive, protocol);
@@ -258,7 +341,7 @@ impl Session {
         line: Line,
         address: Option<u8>,
     ) -> Session {
-        let settings = drive.serial.default;
+        let settings = drive.serial.default_for(&protocol.id);
         let master = Master::for_protocol(line, protocol, settings, drive.serial.timing)
             .with_address(address);
         Session::with_master(drive, protocol, settings, master, address)
@@ -366,7 +449,7 @@ impl Session {
             .drive
             .register_for(step.space, step.register, true)
             .map_or_else(|| format!("register {:04X}h", step.register), |r| r.label());
-        let target = if persist { "RAM and EEPROM" } else { "RAM" };
+        let target = crate::storage::target(info, persist);
         let why = match &self.protocol.persistence {
             Some(selector) if (selector.space, selector.register) == (step.space, step.register) => {
                 let to = if step.data == selector.ram {
@@ -378,13 +461,30 @@ impl Session {
             }
             _ => format!("writing {step_name} = {}, which the protocol sends first to choose where the write goes", step.data),
         };
+        // Whether the drive refused the step as it refuses a write while the motor runs
+        // (its code for that, where the description gives one); a step that got no
+        // answer, or another refusal, has nothing to do with the motor.
+        let refused_while_running = match &error.kind {
+            TransactionErrorKind::Rejected { code, .. } => {
+                let said = self.drive.behaviour.and_then(|b| {
+                    b.refusals
+                        .iter()
+                        .find(|r| r.protocol == self.protocol.id)
+                        .and_then(|r| r.while_running)
+                });
+                said.is_none_or(|while_running| while_running == *code)
+            }
+            _ => false,
+        };
+        let refused = matches!(error.kind, TransactionErrorKind::Rejected { .. });
         let cause = self.failure(error);
         let mut failure = Failure::new(format!(
-            "cannot write {} ({target}): the step before it was refused: {why}; {}",
+            "cannot write {} ({target}): the step before it {}: {why}; {}",
             info.label(),
+            if refused { "was refused" } else { "failed" },
             cause.message
         ));
-        if !info.writable_while_running {
+        if !info.writable_while_running && !info.while_running_unknown && refused_while_running {
             failure = failure.hint(format!(
                 "the manual allows {} to change only while the motor is stopped: stop it first (the drive refuses the first frame of the write)",
                 info.code
@@ -636,25 +736,44 @@ impl Session {
     fn failure(&self, error: TransactionError) -> Failure {
         let hint = match &error.kind {
             TransactionErrorKind::Timeout { .. } => Some(format!(
-                "check baud rate, parity and station address: {} baud, parity {}, protocol {}, \
-                 station {} (--baud, --parity, --protocol, --address){}, and the wiring; a slow \
-                 drive may need --timeout",
+                "check baud rate, parity and station address: {} baud {}, protocol {}, \
+                 station {} (--baud, --parity, --data-bits, --stop-bits{}, --address){}, and the \
+                 wiring; a slow drive may need --timeout",
                 self.settings.baud,
-                self.settings.parity.as_str(),
+                self.settings.format_label(),
                 self.protocol.id,
                 self.address_text(),
+                // A drive of one protocol needs no --protocol.
+                if self.drive.protocols.len() > 1 {
+                    ", --protocol"
+                } else {
+                    ""
+                },
                 self.variant_hint()
             )),
-            TransactionErrorKind::Encode(EncodeError::UnsupportedCommand { .. }) => Some(format!(
-                "protocol {} cannot carry this request; try another with --protocol ({})",
-                self.protocol.id,
-                self.drive
+            TransactionErrorKind::Encode(EncodeError::UnsupportedCommand {
+                kind,
+                space,
+                data_type,
+                ..
+            }) => crate::storage::missing_write_hint(
+                self.drive,
+                self.protocol,
+                *kind,
+                *space,
+                *data_type,
+            )
+            .or_else(|| {
+                let others: Vec<&str> = self
+                    .drive
                     .protocols
                     .iter()
+                    .filter(|p| p.id != self.protocol.id)
+                    .filter(|p| p.command_for(*kind, *space, *data_type).is_some())
                     .map(|p| p.id.as_ref())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )),
+                    .collect();
+                (!others.is_empty()).then(|| format!("try --protocol {}", others.join(" or ")))
+            }),
             TransactionErrorKind::Io(io)
                 if matches!(
                     io.kind(),

@@ -95,12 +95,33 @@ struct Loaded {
     off_the_wire: usize,
 }
 
+/// The drive files compiled so far, by their canonical paths.
+type Cache = std::sync::Mutex<Vec<(PathBuf, Loaded)>>;
+static LOADED: OnceLock<Cache> = OnceLock::new();
+
+/// How a command line names `drive` so that it is found again: its id where the id finds
+/// this very drive (compiled in, or in the search path), else the path of the file it was
+/// loaded from (a drive named by its path: its id alone finds nothing).
+pub fn name_for(drive: &DriveInfo) -> String {
+    let by_id = self::drive(drive.id).ok();
+    if by_id.is_some_and(|found| std::ptr::eq(found, drive)) {
+        return drive.id.to_owned();
+    }
+    LOADED
+        .get()
+        .and_then(|loaded| loaded.lock().ok())
+        .and_then(|list| {
+            list.iter()
+                .find(|(_, loaded)| std::ptr::eq(loaded.drive, drive))
+                .map(|(path, _)| path.display().to_string())
+        })
+        .unwrap_or_else(|| drive.id.to_owned())
+}
+
 /// The drive in the file at `path`, compiled once per process. A file with errors off the
 /// wire only is used without the parts that have them; the first time, a warning on
 /// standard error names them.
 fn load_file(path: &Path) -> Result<Loaded, Refused> {
-    type Cache = std::sync::Mutex<Vec<(PathBuf, Loaded)>>;
-    static LOADED: OnceLock<Cache> = OnceLock::new();
     let loaded = LOADED.get_or_init(Default::default);
     let key = path.canonicalize().unwrap_or_else(|_| path.to_owned());
     let known = loaded

@@ -69,7 +69,7 @@ pub fn run(drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
     let stop = Arc::new(AtomicBool::new(false));
     let server = {
         let (sim, stop) = (sim.clone(), stop.clone());
-        let settings = drive.serial.default;
+        let settings = drive.serial.default_for(&protocol.id);
         std::thread::spawn(move || serve(&sim, protocol, &mut served, settings, &stop))
     };
     let line = PtyTransport::open_path(std::path::Path::new(&port))

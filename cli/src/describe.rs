@@ -88,12 +88,19 @@ fn list_drive(drive: &DriveInfo, file: Option<&std::path::Path>) {
             }
         );
         for protocol in drive.protocols {
+            // A protocol whose character format a setting chooses (DV1 Modbus RTU: 8E1).
+            let own = drive.serial.default_for(&protocol.id);
             say!(
-                "    {:<10} {} (stations {}-{})",
+                "    {:<10} {} (stations {}-{}{})",
                 protocol.id,
                 protocol.name,
                 protocol.address_range.0,
-                protocol.address_range.1
+                protocol.address_range.1,
+                if own == serial {
+                    String::new()
+                } else {
+                    format!(", {}", own.format_label())
+                }
             );
         }
         if let Some(file) = file {
@@ -146,7 +153,7 @@ pub fn info(drive: &str, names: &[String], format: Format) -> Result<(), Failure
             "protocols: {}; {} registers (`vfd info {} REGISTER` for one in full)",
             protocols.join(", "),
             drive.registers.len(),
-            drive.id
+            crate::catalogue::name_for(drive)
         );
         if let Some(ports) = drive.ports {
             for port in ports.ports {
@@ -303,18 +310,7 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
         Access::ReadWrite => "read-write",
     };
     say!("  access      {access}");
-    say!(
-        "  storage     {}",
-        if r.ram_only {
-            "RAM only (no persistent write)"
-        } else if r.persistent_write_to_ram {
-            "RAM only (a persistent write is accepted, kept in RAM)"
-        } else if r.access == Access::ReadOnly {
-            "—"
-        } else {
-            "RAM, or RAM and EEPROM with --persist"
-        }
-    );
+    say!("  storage     {}", crate::storage::storage_line(drive, r));
     say!(
         "  while run   {}",
         if r.writable_while_running {

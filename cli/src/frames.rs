@@ -4,6 +4,7 @@
 
 use crate::emit::{Emitter, Format};
 use crate::out::say;
+use crate::paged::{page_switch, paged_text};
 use crate::record::ValueRecord;
 use crate::{lookup, values, Failure};
 use vfd_runtime::codec::FrameValues;
@@ -540,8 +541,14 @@ impl<'a> Report<'a> {
         });
         if let Some(error) = meaning.error_code {
             let text = match protocol.error_code(error) {
-                Some(info) => format!("{error} ({}/{}): {}", info.name, info.name_zh, info.meaning),
-                None => format!("{error} (not in the manual's table)"),
+                Some(info) => format!(
+                    "{} ({}/{}): {}",
+                    info.shown(),
+                    info.name,
+                    info.name_zh,
+                    info.meaning
+                ),
+                None => format!("{error} ({error:02X}h, not in the manual's table)"),
             };
             self.add("error", text);
         }
@@ -565,10 +572,30 @@ impl<'a> Report<'a> {
                         .filter(|c| Some(c.kind) == meaning.kind);
                     of_kind.next().filter(|_| of_kind.next().is_none())
                 });
-                self.add("register", paged_text(drive, protocol, command, wire))
+                match page_switch(protocol, command, wire) {
+                    // A step of the protocol, not a register of the drive (`pages:`).
+                    Some(true) => self.add(
+                        "step",
+                        format!("page switch (wire number {wire:04X}h): selects the page of the paged requests that follow"),
+                    ),
+                    Some(false) => self.add(
+                        "step",
+                        format!("page read (wire number {wire:04X}h): asks which page is selected"),
+                    ),
+                    None => self.add("register", paged_text(drive, protocol, command, wire)),
+                }
             }
             _ => {}
         }
+        // The page switch carries a page, not a register's value.
+        let paging = meaning.register.is_none()
+            && meaning.wire_register.is_some_and(|wire| {
+                protocol
+                    .commands
+                    .iter()
+                    .filter(|c| Some(c.kind) == meaning.kind)
+                    .any(|c| page_switch(protocol, Some(c), wire).is_some())
+            });
         if let Some(index) = meaning.index {
             self.add("index", index.to_string());
         }
@@ -600,6 +627,7 @@ impl<'a> Report<'a> {
                         }
                     }
                 }
+                (None, None) if paging => self.add("page", data.to_string()),
                 (None, None) => self.add("value", format!("{data} ({data:04X}h)")),
             }
         }
@@ -853,50 +881,4 @@ fn value_shown(field: &vfd_runtime::FieldSpec, value: u32) -> String {
         Ok(len) if field.format.is_digits() => escaped(&out[..len]),
         _ => format!("{value:02X}h"),
     }
-}
-
-/// A wire number no register owns: on a protocol with pages, the offset it is and the
-/// registers it is on each page (the frame alone does not say which page is selected);
-/// the page register itself; else just the number.
-fn paged_text(
-    drive: &'static vfd_runtime::DriveInfo,
-    protocol: &Protocol,
-    command: Option<&vfd_runtime::protocol::CommandSpec>,
-    wire: u16,
-) -> String {
-    let plain = format!("wire number {wire:04X}h");
-    let (Some(paging), Some(command)) = (&protocol.paging, command) else {
-        return plain;
-    };
-    let select = if command.kind.is_write() {
-        Some(paging.select_write)
-    } else {
-        paging.select_read
-    };
-    if select == Some(wire) {
-        return format!("{plain}: the page register (selects the page of later requests)");
-    }
-    let Some(offset) = command.address_map.from_wire(wire) else {
-        return plain;
-    };
-    let on_pages: Vec<String> = paging
-        .ranges
-        .iter()
-        .flat_map(|range| {
-            let pages = range.last.saturating_sub(range.first) / range.size.max(1);
-            let last = range.first_page.saturating_add(pages);
-            range.first_page..=last
-        })
-        .filter_map(|page| {
-            let number = paging.register(page, offset)?;
-            let info = drive.register_at(Space::Parameter, number)?;
-            Some(format!("page {page}: {}", info.label()))
-        })
-        .collect();
-    let described = if on_pages.is_empty() {
-        "no described register lies there on any page".to_owned()
-    } else {
-        on_pages.join("; ")
-    };
-    format!("{plain}: offset {offset} ({offset:02X}h) of the page selected before ({described})")
 }

@@ -133,7 +133,7 @@ pub fn register(drive: &DriveInfo, name: &str) -> Result<&'static RegisterInfo, 
         [] => Err(
             Failure::new(format!("drive {} has no register `{name}`", drive.id)).hint(format!(
                 "name it by code (FA01), address (0xFA01), id or name; `vfd info {}` lists them",
-                drive.id
+                crate::catalogue::name_for(drive)
             )),
         ),
         many => {

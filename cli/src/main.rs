@@ -22,6 +22,7 @@ mod generate;
 mod line;
 mod lookup;
 mod out;
+mod paged;
 mod plant;
 mod poll;
 mod ports;
@@ -35,6 +36,7 @@ mod sim_log;
 #[cfg(all(unix, feature = "pty"))]
 mod sim_plant;
 mod sim_station;
+mod storage;
 mod trace;
 mod trip_flag;
 mod values;
@@ -88,8 +90,14 @@ enum Command {
         after_help = "Registers are found by code (FA01, FH, 3-03), address (0xFA01), id, or English or Chinese name (最高频率), without regard to case.\n\nExamples:\n  vfd info yd1000\n  vfd info yd1000 FH FA00\n  vfd info fc51 3-03"
     )]
     Info {
-        /// Drive id (`vfd list`) or the path of a drive file.
-        drive: String,
+        /// Drive id (`vfd list`) or the path of a drive file (or give it with --drive,
+        /// as the other commands take it).
+        #[arg(required_unless_present = "drive_option")]
+        drive: Option<String>,
+        /// The drive, as the other commands name it: `vfd info --drive ./my_drive.yaml FH`.
+        /// With it, every word after `info` is a register.
+        #[arg(long = "drive", short = 'd', value_name = "DRIVE")]
+        drive_option: Option<String>,
         /// Registers to show in full (all, one line each, when none is given).
         registers: Vec<String>,
         /// Output format (docs/output.md names every field).
@@ -416,9 +424,17 @@ fn run(command: Command) -> Result<(), Failure> {
         Command::List { format } => describe::list(format),
         Command::Info {
             drive,
+            drive_option,
             registers,
             format,
-        } => describe::info(&drive, &registers, format),
+        } => match drive_option {
+            // `--drive D R1 R2`: the first word is a register, not the drive.
+            Some(named) => {
+                let registers: Vec<String> = drive.into_iter().chain(registers).collect();
+                describe::info(&named, &registers, format)
+            }
+            None => describe::info(drive.as_deref().unwrap_or_default(), &registers, format),
+        },
         Command::Read {
             line,
             command,

@@ -77,6 +77,7 @@ mod tests {
             name: std::borrow::Cow::Borrowed("Busy"),
             name_zh: std::borrow::Cow::Borrowed("忙"),
             meaning: std::borrow::Cow::Borrowed("The drive is busy."),
+            printed_as: std::borrow::Cow::Borrowed(""),
         };
         let refused = kind_of(TransactionErrorKind::Rejected {
             code: 6,

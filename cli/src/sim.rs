@@ -46,9 +46,17 @@ pub struct SimArgs {
     /// Baud rate the timing follows (default: the drive's factory setting).
     #[arg(long)]
     pub baud: Option<u32>,
-    /// Parity the timing follows (default: the drive's factory setting).
+    /// Parity the timing follows (default: the drive's factory setting for the protocol).
     #[arg(long, value_enum)]
     pub parity: Option<ParityArg>,
+    /// Data bits the timing follows, 7 or 8 (default: the drive's factory setting for the
+    /// protocol).
+    #[arg(long, value_name = "BITS", value_parser = clap::value_parser!(u8).range(7..=8))]
+    pub data_bits: Option<u8>,
+    /// Stop bits the timing follows, 1 or 2 (default: the drive's factory setting for the
+    /// protocol).
+    #[arg(long, value_name = "BITS", value_parser = clap::value_parser!(u8).range(1..=2))]
+    pub stop_bits: Option<u8>,
     /// Log each exchange, in hex and decoded, on standard error.
     #[arg(long, short = 'v')]
     pub verbose: bool,
@@ -131,21 +139,32 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
     let first = stations
         .first()
         .ok_or_else(|| Failure::new("vfd sim: no station to serve"))?;
-    let settings = crate::bus::line_settings(first.drive, args.baud, args.parity);
+    let settings = crate::bus::line_settings(
+        first.drive,
+        &first.bus.protocol.id,
+        crate::bus::LineFormat {
+            baud: args.baud,
+            parity: args.parity,
+            data_bits: args.data_bits,
+            stop_bits: args.stop_bits,
+        },
+    )?;
     if banner_one.is_none() {
         sim_station::check_line(&stations, &settings)?;
     }
     let stop = crate::watch::stop_flag()?;
     let banner = |place: &str| match &banner_one {
         Some(banner) => eprintln!(
-            "vfd sim: virtual {banner} on {place}, {} baud; Ctrl-C stops",
-            settings.baud
+            "vfd sim: virtual {banner} on {place}, {} baud {}; Ctrl-C stops",
+            settings.baud,
+            settings.format_label()
         ),
         None => {
             eprintln!(
-                "vfd sim: {} virtual stations on {place}, {} baud; Ctrl-C stops",
+                "vfd sim: {} virtual stations on {place}, {} baud {}; Ctrl-C stops",
                 stations.len(),
-                settings.baud
+                settings.baud,
+                settings.format_label()
             );
             for station in &stations {
                 eprintln!("  station {}: {}", station.address, station.describe());

@@ -182,6 +182,8 @@ mod tests {
             port: port.into(),
             baud: Some(9600),
             parity: Some(crate::bus::ParityArg::Even),
+            data_bits: None,
+            stop_bits: None,
             address: Some(address),
             timeout: None,
             port_kind: None,

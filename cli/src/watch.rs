@@ -142,7 +142,7 @@ pub fn write(
     let percent_of = session.named_command().and_then(|c| c.percent_of.clone());
     let (info, raw) = checked_value(&mut session, info, text)?;
     let (echo, tripped) = session.write(info, raw, persist)?;
-    let target = if persist { "RAM and EEPROM" } else { "RAM" };
+    let target = crate::storage::target(info, persist);
     let echo = match echo {
         Some(echo) if echo != raw => format!("; the drive reports {}", values::short(info, echo)),
         Some(_) => "; the drive confirms it".to_owned(),
@@ -212,12 +212,13 @@ pub fn broadcast_write(
     let raw = values::parse(info, text).map_err(|m| {
         Failure::new(m).hint(format!(
             "nothing was sent; `vfd info {} {}` shows the range",
-            drive.id, info.code
+            crate::catalogue::name_for(drive),
+            info.code
         ))
     })?;
     let mut session = Session::open(line)?;
     let (echo, responder) = session.broadcast_write(info, raw, persist, to, reply_from)?;
-    let target = if persist { "RAM and EEPROM" } else { "RAM" };
+    let target = crate::storage::target(info, persist);
     let answered = match (reply_from, echo) {
         (Some(station), Some(echo)) if echo != raw => {
             format!("; station {station} reports {}", values::short(info, echo))

@@ -23,7 +23,8 @@ pub fn checked_value(
         values::parse(info, text).map_err(|m| {
             Failure::new(m).hint(format!(
                 "nothing was sent; `vfd info {} {}` shows the range",
-                drive.id, info.code
+                crate::catalogue::name_for(drive),
+                info.code
             ))
         })
     };

@@ -410,7 +410,7 @@ fn line_errors_are_one_clear_line_with_a_hint() {
     assert!(!refused.status.success());
     let message = text(&refused);
     assert!(
-        message.contains("error 0 (0000h) Cannot execute (无法执行)")
+        message.contains("error 0000h Cannot execute (无法执行)")
             && message.contains("cannot be changed while running"),
         "{message}"
     );

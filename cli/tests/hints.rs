@@ -95,7 +95,7 @@ fn a_refused_step_names_the_register_asked_for_and_the_step() {
     assert!(
         message.contains("the step before it was refused: setting the persistence selector")
             && message.contains("07-11")
-            && message.contains("error 3 (0003h) Illegal data value"),
+            && message.contains("error H03 Illegal data value"),
         "{message}"
     );
     assert!(

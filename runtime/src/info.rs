@@ -631,6 +631,10 @@ pub struct ErrorCodeInfo {
     pub name_zh: Text,
     /// The manual's explanation.
     pub meaning: Text,
+    /// The code as the manual prints it (`H0C`, `000Ch`, `17`); empty: not stated, shown as
+    /// two hex digits and `h` ([`ErrorCodeInfo::shown`]).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "str::is_empty"))]
+    pub printed_as: Text,
 }
 
 impl ErrorCodeInfo {
@@ -642,12 +646,35 @@ impl ErrorCodeInfo {
         name_zh: &'static str,
         meaning: &'static str,
     ) -> ErrorCodeInfo {
+        ErrorCodeInfo::new_printed(code, id, name, name_zh, meaning, "")
+    }
+
+    /// An entry of a generated error-code table whose manual prints the code as `printed`
+    /// (the DV1's `H0C`).
+    pub const fn new_printed(
+        code: u16,
+        id: &'static str,
+        name: &'static str,
+        name_zh: &'static str,
+        meaning: &'static str,
+        printed: &'static str,
+    ) -> ErrorCodeInfo {
         ErrorCodeInfo {
             code,
             id: Cow::Borrowed(id),
             name: Cow::Borrowed(name),
             name_zh: Cow::Borrowed(name_zh),
             meaning: Cow::Borrowed(meaning),
+            printed_as: Cow::Borrowed(printed),
+        }
+    }
+
+    /// The code in the manual's notation (`H0C`), else as two hex digits and `h` (`0Ch`).
+    pub fn shown(&self) -> String {
+        if self.printed_as.is_empty() {
+            format!("{:02X}h", self.code)
+        } else {
+            self.printed_as.to_string()
         }
     }
 }

@@ -130,6 +130,7 @@ fn layout_data_serialises_with_borrowed_and_owned_lists() {
         name: "Data error".into(),
         name_zh: "数据错误".into(),
         meaning: "".into(),
+        printed_as: "".into(),
     };
     assert!(yaml_serde::to_string(&entry)
         .unwrap()

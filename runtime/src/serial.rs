@@ -183,8 +183,17 @@ pub struct SerialSpec {
     pub baud_rates: &'static [u32],
     /// Supported parities.
     pub parities: &'static [Parity],
-    /// Factory settings (what the drive expects out of the box).
+    /// Factory settings (what the drive expects out of the box); a protocol whose
+    /// character format a setting chooses has its own ([`SerialSpec::default_for`]).
     pub default: SerialSettings,
+    /// The data bits the drive can use: one when fixed, `[7, 8]` when a setting chooses
+    /// (the DV1's 07-03 and 07-07).
+    pub data_bits: &'static [u8],
+    /// The character formats a setting offers each protocol (the DV1's 07-07: Modbus RTU
+    /// at 8N2, 8E1 or 8O1, 8E1 from the factory); a protocol not listed speaks
+    /// [`SerialSpec::default`]'s format (or what `data_bits`, `parities` and the stop bits
+    /// allow).
+    pub protocol_lines: &'static [ProtocolLine],
     /// Stop bits the drive sends.
     pub stop_bits_sent: u8,
     /// Stop bits the drive needs to receive.
@@ -195,6 +204,92 @@ pub struct SerialSpec {
     pub stop_bits: &'static [u8],
     /// Timing facts.
     pub timing: DriveTiming,
+}
+
+/// A character format a setting of the drive offers a protocol: the DV1's 07-07 offers
+/// Modbus RTU at 8N2, 8E1 and 8O1, 8E1 being its factory setting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ProtocolLine {
+    /// The protocol's id in the drive.
+    pub protocol: &'static str,
+    /// Data bits per character.
+    pub data_bits: u8,
+    /// Parity.
+    pub parity: Parity,
+    /// Stop bits.
+    pub stop_bits: u8,
+    /// The setting's factory value chooses this format.
+    pub factory: bool,
+}
+
+impl ProtocolLine {
+    /// `8E1`: data bits, parity letter, stop bits.
+    pub fn label(&self) -> String {
+        format_label(self.data_bits, self.parity, self.stop_bits)
+    }
+
+    /// Whether `settings` use this format.
+    pub fn fits(&self, settings: &SerialSettings) -> bool {
+        (settings.data_bits, settings.parity, settings.stop_bits)
+            == (self.data_bits, self.parity, self.stop_bits)
+    }
+}
+
+impl SerialSettings {
+    /// The character format, `8E1`: data bits, parity letter, stop bits.
+    pub fn format_label(&self) -> String {
+        format_label(self.data_bits, self.parity, self.stop_bits)
+    }
+}
+
+fn format_label(data_bits: u8, parity: Parity, stop_bits: u8) -> String {
+    let parity = match parity {
+        Parity::None => 'N',
+        Parity::Even => 'E',
+        Parity::Odd => 'O',
+    };
+    format!("{data_bits}{parity}{stop_bits}")
+}
+
+impl SerialSpec {
+    /// The factory settings for speaking `protocol`: [`SerialSpec::default`] with the
+    /// protocol's own character format where a setting chooses one (the DV1 speaks Eaton
+    /// at 8N1 and Modbus RTU at 8E1 out of the box). When the setting's factory value
+    /// chooses another protocol, the first format it offers this one (the DV1's Modbus
+    /// ASCII: 7N2), an assumption a master starts from.
+    pub fn default_for(&self, protocol: &str) -> SerialSettings {
+        let offered = || {
+            self.protocol_lines
+                .iter()
+                .filter(|l| l.protocol == protocol)
+        };
+        match offered().find(|l| l.factory).or_else(|| offered().next()) {
+            Some(line) => SerialSettings {
+                data_bits: line.data_bits,
+                parity: line.parity,
+                stop_bits: line.stop_bits,
+                ..self.default
+            },
+            None => self.default,
+        }
+    }
+
+    /// The formats a setting offers `protocol` (empty: any the drive's data bits, parities
+    /// and stop bits allow).
+    pub fn formats_for<'a>(&'a self, protocol: &'a str) -> impl Iterator<Item = &'a ProtocolLine> {
+        self.protocol_lines
+            .iter()
+            .filter(move |l| l.protocol == protocol)
+    }
+
+    /// The stop bits the drive can be set to: its choices, or the fixed ones it needs.
+    pub fn stop_bits_choices(&self) -> &[u8] {
+        if self.stop_bits.is_empty() {
+            std::slice::from_ref(&self.stop_bits_received)
+        } else {
+            self.stop_bits
+        }
+    }
 }
 
 #[cfg(test)]

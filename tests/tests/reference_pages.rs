@@ -262,9 +262,16 @@ fn the_serial_table_gives_each_protocols_character_format_with_its_factory_setti
 }
 
 #[test]
-fn error_codes_are_hex_as_wide_as_the_protocols_error_field() {
+fn error_codes_are_printed_in_the_manuals_notation() {
     for (ir, page) in shipped() {
-        // Example rows: "error 0Ch", never "error 12".
+        // Every table the drive's protocols name their error replies from.
+        let tables: Vec<&vfd_codegen::ir::ErrorCodesIr> = std::iter::once(&ir.error_codes)
+            .chain(ir.protocols.iter().filter_map(|p| match &p.error_table {
+                vfd_codegen::ir::ErrorTableIr::Protocol(table) => Some(table),
+                vfd_codegen::ir::ErrorTableIr::Drive => None,
+            }))
+            .collect();
+        // Example rows: the code as the manual prints it (the DV1's H0C), else in hex.
         for line in page
             .lines()
             .filter(|l| l.contains("| error reply") && l.contains(": error "))
@@ -274,16 +281,22 @@ fn error_codes_are_hex_as_wide_as_the_protocols_error_field() {
                 .nth(1)
                 .and_then(|rest| rest.split_whitespace().next())
                 .unwrap_or_else(|| panic!("{}: no code in {line}", ir.id));
+            let printed = tables
+                .iter()
+                .flat_map(|t| t.codes.iter())
+                .any(|c| !c.printed.is_empty() && c.printed == code);
+            let hex = code.ends_with('h')
+                && code[..code.len() - 1]
+                    .chars()
+                    .all(|c| c.is_ascii_hexdigit());
             assert!(
-                code.ends_with('h')
-                    && code[..code.len() - 1]
-                        .chars()
-                        .all(|c| c.is_ascii_hexdigit()),
-                "{}: error code {code:?} not in hex: {line}",
+                printed || hex,
+                "{}: error code {code:?} neither as printed nor in hex: {line}",
                 ir.id
             );
         }
-        // A protocol whose error reply carries one byte shows its codes as two digits.
+        // A protocol whose error reply carries one byte, and whose table states no
+        // notation, shows its codes as two hex digits.
         for protocol in &ir.protocols {
             let file = ir
                 .protocol_files
@@ -306,17 +319,26 @@ fn error_codes_are_hex_as_wide_as_the_protocols_error_field() {
                 let table = &table[..table[4..].find("\n#").map_or(table.len(), |e| e + 4)];
                 for line in table.lines().filter(|l| l.starts_with("| 0")) {
                     let code = line.split(' ').nth(1).unwrap();
-                    assert_eq!(code.len(), 3, "{}: {code} is not one byte: {line}", ir.id);
+                    assert!(
+                        code.len() == 3 || !code.ends_with('h'),
+                        "{}: {code} is not one byte: {line}",
+                        ir.id
+                    );
                 }
             }
         }
     }
     let (_, dv1) = shipped_page("dv1");
-    assert!(dv1.contains("error 0Ch Data range error"));
+    assert!(dv1.contains("error H0C Data range error"));
+    assert!(dv1.contains("| H0C | Data range error |"));
+    assert!(!dv1.contains("error 12"));
+    let (_, fc51) = shipped_page("fc51");
+    // The FC 51 prints its Errornum in decimal: 17, not 11h.
+    assert!(fc51.contains("| 17 | Cannot change in the current mode |"));
     let (_, vf_as1) = shipped_page("vf-as1");
-    assert!(vf_as1.contains("| 01h | Command code error |"));
+    assert!(vf_as1.contains("| 01 | Command code error |"));
     // A Modbus exception in an example is named from the Modbus table, not the drive's.
-    assert!(vf_as1.contains("error reply `83h`: error 03h Data range error"));
+    assert!(vf_as1.contains("error reply `83h`: error 03 Data range error"));
 }
 
 #[test]
@@ -370,6 +392,8 @@ fn shared_protocol_text_shows_only_what_applies_to_the_drive() {
                         .find(|l| l.contains("field (command)"))
                         .expect("command field");
                     let listed = line.split("one of ").nth(1).unwrap_or("");
+                    // What follows a `;` is the reply to a function the drive lacks.
+                    let listed = listed.split(';').next().unwrap_or("");
                     for code in listed.trim_end_matches(" |").split(", ") {
                         let value = u32::from_str_radix(code.trim_end_matches('h'), 16).unwrap();
                         assert!(
@@ -498,5 +522,44 @@ fn the_dv1_monitor_block_gaps_are_on_the_page() {
     let note = row(&dv1, "- **H1014**");
     for gap in ["1016h", "1018h", "1021h-1026h"] {
         assert!(note.contains(gap), "{gap} not in the 1014h note: {note}");
+    }
+}
+
+#[test]
+fn the_library_s_default_for_bytes_before_the_start_is_marked_assumed() {
+    for (ir, page) in shipped() {
+        for protocol in &ir.protocols {
+            let section = protocol_section(&page, &protocol.id);
+            let Some(line) = section.lines().find(|l| l.contains("are skipped")) else {
+                continue;
+            };
+            assert_eq!(
+                line.contains("(assumed"),
+                !protocol.before_start_stated,
+                "{}/{}: {line}",
+                ir.id,
+                protocol.id
+            );
+        }
+    }
+    // The YD1000 manual states it (3, ASCII 方式 (1): 变频器忽略‘(’以前的数据); the DV1's does not.
+    let (ir, _) = shipped_page("yd1000");
+    assert!(ir.protocols.iter().all(|p| p.before_start_stated));
+    let (_, page) = shipped_page("dv1");
+    assert!(protocol_section(&page, "eaton")
+        .contains("skipped: the frame begins at its start (assumed"));
+}
+
+#[test]
+fn the_dv1_longest_modbus_frames_are_its_twelve_register_writes() {
+    // 10h with 12 registers (l. 427, 439): 33 bytes in RTU, 67 characters in ASCII.
+    let (ir, page) = shipped_page("dv1");
+    for (id, longest) in [("modbus", 33), ("modbus_ascii", 67)] {
+        let protocol = ir.protocols.iter().find(|p| p.id == id).expect(id);
+        assert_eq!(protocol.max_frame_len, longest, "{id}");
+        assert!(
+            protocol_section(&page, id).contains(&format!("- Longest frame: {longest} bytes.")),
+            "{id}"
+        );
     }
 }

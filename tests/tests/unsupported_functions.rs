@@ -138,3 +138,61 @@ fn a_request_the_drive_has_is_answered_after_a_lacking_one() {
     assert_eq!(early.len(), 1, "{early:02X?}");
     assert_eq!(&early[0][..3], &[0x01, 0x03, 0x02]);
 }
+
+#[test]
+fn the_reply_to_a_lacking_function_decodes_as_the_drives_error_reply() {
+    use vfd_runtime::protocol::Reply;
+    let cases: [(&str, &vfd_runtime::DriveInfo, &Protocol, Vec<u8>); 4] = [
+        (
+            "dv1 modbus",
+            &dv1::DRIVE,
+            dv1::protocols::MODBUS.protocol(),
+            rtu(&[0x01, 0x01, 0x00, 0x00, 0x00, 0x10]),
+        ),
+        (
+            "dv1 modbus 2Bh",
+            &dv1::DRIVE,
+            dv1::protocols::MODBUS.protocol(),
+            rtu(&[0x01, 0x2B, 0x0E, 0x01, 0x00]),
+        ),
+        (
+            "dv1 modbus_ascii",
+            &dv1::DRIVE,
+            dv1::protocols::MODBUS_ASCII.protocol(),
+            ascii(&[0x01, 0x04, 0x00, 0xC3, 0x00, 0x01]),
+        ),
+        (
+            "vf-as1 modbus",
+            &vf_as1::DRIVE,
+            vf_as1::protocols::MODBUS.protocol(),
+            rtu(&[0x01, 0x01, 0x00, 0x00, 0x00, 0x10]),
+        ),
+    ];
+    for (what, drive, protocol, request) in cases {
+        let sim = Simulator::new(drive);
+        let (early, settled) = answers(&sim, protocol, &request);
+        let reply = early.into_iter().chain(settled).next().expect(what);
+        let found = protocol.decode_reply(None, &reply);
+        let Ok(vfd_runtime::protocol::Found::Frame {
+            frame: Reply::Error {
+                code, error, info, ..
+            },
+            ..
+        }) = found
+        else {
+            panic!("{what}: {reply:02X?} does not decode as an error reply: {found:?}");
+        };
+        let function = if protocol.id == "modbus_ascii" {
+            0x04
+        } else {
+            request[1]
+        };
+        assert_eq!((code, error), (u32::from(function) | 0x80, 0x01), "{what}");
+        assert!(info.is_some(), "{what}: exception 01 is named");
+    }
+    // Exception 02 under a function the drive lacks is no reply of the drive's.
+    let protocol = dv1::protocols::MODBUS.protocol();
+    assert!(protocol
+        .decode_reply(None, &rtu(&[0x01, 0x81, 0x02]))
+        .is_err());
+}

@@ -30,11 +30,15 @@ pub struct BusFile {
     /// Baud rate; default: the first drive's factory setting. Every drive on the bus must
     /// be settable to it.
     pub baud: Option<u32>,
-    /// Parity (`none`, `even`, `odd`); default: the first drive's factory setting.
+    /// Parity (`none`, `even`, `odd`); default: the first drive's factory setting for
+    /// the protocol it speaks.
     pub parity: Option<ParityName>,
-    /// Data bits per character (7 or 8); default: the first drive's factory setting.
+    /// Data bits per character (7 or 8); default: the first drive's factory setting for
+    /// the protocol it speaks. Every drive must be able to use it.
     pub data_bits: Option<u8>,
-    /// Stop bits (1 or 2); default: the first drive's factory setting.
+    /// Stop bits (1 or 2); default: the first drive's factory setting for the protocol it
+    /// speaks. Where a setting chooses a protocol's character format (DV1 07-07), data
+    /// bits, parity and stop bits together must be one it offers.
     pub stop_bits: Option<u8>,
     /// The time a drive may take to start answering, in milliseconds, instead of each
     /// drive's manual (the wire time of both frames and the host latency are added).

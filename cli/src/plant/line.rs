@@ -66,7 +66,9 @@ pub fn port(bus: &BusFile, path: &str, problems: &mut Problems<'_>) {
 /// The bus's line settings and timing; `placed`: its drives resolved, each of which must
 /// be settable to the line settings.
 pub fn line(bus: &BusFile, path: &str, placed: &[Placed], problems: &mut Problems<'_>) -> Line {
-    let factory = placed.first().map(|p| p.head.drive.serial.default);
+    let factory = placed
+        .first()
+        .map(|p| p.head.drive.serial.default_for(&p.head.protocol.id));
     let mut settings = factory.unwrap_or(SerialSettings {
         baud: 9600,
         data_bits: 8,
@@ -176,13 +178,10 @@ fn settings_fit(
     let first = placed.first().map(|p| p.head.drive.id).unwrap_or("");
     for Placed { path: at, head, .. } in placed {
         let serial = head.drive.serial;
-        let stop_bits: &[u8] = if serial.stop_bits.is_empty() {
-            std::slice::from_ref(&serial.stop_bits_received)
-        } else {
-            serial.stop_bits
-        };
+        let stop_bits = serial.stop_bits_choices();
         let list = |items: Vec<String>| items.join(", ");
-        let checks: [(&str, bool, String, String); 4] = [
+        let offered: Vec<_> = serial.formats_for(&head.protocol.id).collect();
+        let checks: [(&str, bool, String, String); 5] = [
             (
                 "baud",
                 serial.baud_rates.contains(&settings.baud),
@@ -203,15 +202,22 @@ fn settings_fit(
             ),
             (
                 "data_bits",
-                serial.default.data_bits == settings.data_bits,
+                serial.data_bits.contains(&settings.data_bits),
                 format!("{} data bits", settings.data_bits),
-                serial.default.data_bits.to_string(),
+                list(serial.data_bits.iter().map(u8::to_string).collect()),
             ),
             (
                 "stop_bits",
                 stop_bits.contains(&settings.stop_bits),
                 format!("{} stop bits", settings.stop_bits),
                 list(stop_bits.iter().map(u8::to_string).collect()),
+            ),
+            // A protocol whose format a setting chooses (DV1 07-07) takes only those.
+            (
+                "format",
+                offered.is_empty() || offered.iter().any(|l| l.fits(settings)),
+                format!("{} over {}", settings.format_label(), head.protocol.id),
+                list(offered.iter().map(|l| l.label()).collect()),
             ),
         ];
         for (key, fits, setting, choices) in checks {
@@ -222,7 +228,22 @@ fn settings_fit(
                 "baud" => bus.baud.is_some(),
                 "parity" => bus.parity.is_some(),
                 "data_bits" => bus.data_bits.is_some(),
+                "format" => {
+                    bus.data_bits.is_some() || bus.parity.is_some() || bus.stop_bits.is_some()
+                }
                 _ => bus.stop_bits.is_some(),
+            };
+            let allows = if key == "format" {
+                format!("only {choices} over {}", head.protocol.id)
+            } else {
+                format!("{key}: {choices}")
+            };
+            // The format is given by the bus's data_bits, parity and stop_bits together.
+            let key = match key {
+                "format" if bus.data_bits.is_some() => "data_bits",
+                "format" if bus.parity.is_some() => "parity",
+                "format" => "stop_bits",
+                key => key,
             };
             let (place, whence) = if given {
                 (format!("{path}.{key}"), "")
@@ -244,7 +265,7 @@ fn settings_fit(
                     head.drive.id, bus.name
                 ),
                 format!(
-                    "its manual allows {key}: {choices}; give `{key}:` on the bus, one every drive on it can use, or put the drive on a bus of its own"
+                    "its manual allows {allows}; give `{key}:` on the bus, one every drive on it can use, or put the drive on a bus of its own"
                 ),
             );
         }

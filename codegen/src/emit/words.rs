@@ -191,8 +191,13 @@ pub fn meaning_text(
     let label = vfd_runtime::protocol::code_label;
     if let Some(code) = meaning.error_code {
         let entry = errors.codes.iter().find(|c| c.code == code);
+        // In the manual's notation where the table states it (the DV1's H0C).
+        let shown = entry
+            .map(|e| e.printed.clone())
+            .filter(|p| !p.is_empty())
+            .unwrap_or_else(|| format!("{code:0error_digits$X}h"));
         return format!(
-            "error reply{}: error {code:0error_digits$X}h{}",
+            "error reply{}: error {shown}{}",
             meaning
                 .code
                 .map(|c| format!(" `{}`", label(c)))

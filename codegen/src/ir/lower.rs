@@ -42,7 +42,8 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             note: serial.note.trim().to_owned(),
             baud_rates: serial.baud_rates.clone(),
             parities: serial.parities.clone(),
-            data_bits: serial.data_bits,
+            data_bits: serial.data_bits.choices(),
+            protocol_lines: super::protocol_lines::protocol_lines(model),
             // The drive's choice: it sends and needs what it is set to (the factory setting).
             stop_bits_sent: serial.stop_bits_sent.unwrap_or(serial.default.stop_bits),
             stop_bits_received: serial
@@ -84,7 +85,10 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
                 .filter(|p| drive_table_applies(model, &p.id))
                 .map(|p| p.id.clone())
                 .collect(),
-            codes: lower_error_codes(&model.error_codes.codes),
+            codes: lower_error_codes(
+                &model.error_codes.codes,
+                model.error_codes.notation.as_ref(),
+            ),
             silent: model.error_codes.silent.clone(),
         },
         code_tables: model
@@ -601,7 +605,10 @@ fn protocol_files(protocols: &[LoweredProtocol]) -> Vec<ProtocolFileIr> {
     files
 }
 
-fn lower_error_codes(codes: &[ErrorCodeModel]) -> Vec<ErrorCodeIr> {
+fn lower_error_codes(
+    codes: &[ErrorCodeModel],
+    notation: Option<&crate::parse::model::CodeNotationModel>,
+) -> Vec<ErrorCodeIr> {
     codes
         .iter()
         .map(|c| ErrorCodeIr {
@@ -611,6 +618,7 @@ fn lower_error_codes(codes: &[ErrorCodeModel]) -> Vec<ErrorCodeIr> {
             name: c.name.clone(),
             name_zh: c.name_zh.clone(),
             meaning: c.meaning.clone(),
+            printed: notation.map_or_else(String::new, |n| n.print(c.code)),
         })
         .collect()
 }
@@ -691,6 +699,10 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
         block_note: block_model(model, &protocol.id)
             .map_or_else(String::new, |b| b.note.trim().to_owned()),
         timing: runtime.timing.clone(),
+        before_start_stated: model
+            .protocols
+            .iter()
+            .any(|p| p.id == protocol.id && p.before_start.is_some()),
         broadcast: runtime.broadcast.clone(),
         wire_numbers: runtime.wire_numbers.to_vec(),
         paging: runtime.paging.clone(),
@@ -710,7 +722,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
             ErrorTableIr::Protocol(ErrorCodesIr {
                 source: table.source.clone(),
                 protocols: vec![protocol.id.clone()],
-                codes: lower_error_codes(&table.codes),
+                codes: lower_error_codes(&table.codes, table.notation.as_ref()),
                 silent: Vec::new(),
             })
         } else if drive_table_applies(model, &protocol.id) {
@@ -726,7 +738,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
                 |table| ErrorCodesIr {
                     source: table.source.clone(),
                     protocols: vec![protocol.id.clone()],
-                    codes: lower_error_codes(&table.codes),
+                    codes: lower_error_codes(&table.codes, table.notation.as_ref()),
                     silent: Vec::new(),
                 },
             ))

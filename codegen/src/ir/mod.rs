@@ -6,6 +6,7 @@
 
 mod behaviour;
 mod lower;
+mod protocol_lines;
 mod types;
 
 pub(crate) use lower::lower;

@@ -389,8 +389,13 @@ pub struct SerialIr {
     pub baud_rates: Vec<u32>,
     /// Supported parities.
     pub parities: Vec<Parity>,
-    /// Data bits per character.
-    pub data_bits: u8,
+    /// The data bits the drive can use (one when fixed; `[7, 8]` when a setting chooses).
+    pub data_bits: Vec<u8>,
+    /// The character formats a setting offers each protocol (from the code tables whose
+    /// values set the line and choose a protocol), the factory one marked; other
+    /// protocols speak the defaults below.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub protocol_lines: Vec<ProtocolLineIr>,
     /// Stop bits the drive sends.
     pub stop_bits_sent: u8,
     /// Stop bits the drive needs.
@@ -416,6 +421,25 @@ pub struct SerialIr {
     pub assumed_timing: Vec<TimingField>,
     /// Line-level facts, when the description gives any.
     pub line: Option<LineIr>,
+}
+
+/// A character format a setting offers a protocol.
+#[derive(Debug, Clone, Serialize)]
+pub struct ProtocolLineIr {
+    /// The protocol's id.
+    pub protocol: String,
+    /// Data bits.
+    pub data_bits: u8,
+    /// Parity.
+    pub parity: Parity,
+    /// Stop bits.
+    pub stop_bits: u8,
+    /// The code of the register whose value chooses it, and that value.
+    pub selector: String,
+    /// See `selector`.
+    pub value: u16,
+    /// The selector's factory value chooses it.
+    pub factory: bool,
 }
 
 /// Station numbers.
@@ -502,6 +526,11 @@ pub struct ProtocolIr {
     pub block_note: String,
     /// The drive's timing rules beyond the gap in characters.
     pub timing: vfd_runtime::serial::LinkTiming,
+    /// The drive's entry states `before_start` (the manual says what bytes before a
+    /// frame's start do); `false`: `timing.before_start` is the library's default, which
+    /// the page marks assumed.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub before_start_stated: bool,
     /// The drive's broadcast rule, when it takes broadcasts over this protocol.
     pub broadcast: Option<vfd_runtime::broadcast::BroadcastRule>,
     /// Registers with their own numbers on the wire in this protocol.
@@ -634,6 +663,10 @@ pub struct ErrorCodeIr {
     pub name_zh: String,
     /// The manual's explanation.
     pub meaning: String,
+    /// The code as the manual prints it (`H0C`), from its table's `notation`; empty when
+    /// the table states none.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub printed: String,
 }
 
 /// A code table.

@@ -759,8 +759,9 @@ pub struct SerialModel {
     pub baud_rates: Vec<u32>,
     /// Every parity the drive can be set to.
     pub parities: Vec<Parity>,
-    /// Data bits per character.
-    pub data_bits: u8,
+    /// Data bits per character (`8`), or the data bits the drive can be set to (`[7, 8]`:
+    /// a setting chooses, the factory setting being `default.data_bits`).
+    pub data_bits: DataBitsModel,
     /// Stop bits the drive sends, when fixed; left out with `stop_bits`.
     pub stop_bits_sent: Option<u8>,
     /// Stop bits the drive needs to receive, when fixed; left out with `stop_bits`.
@@ -778,6 +779,26 @@ pub struct SerialModel {
     /// Line-level facts from the manual's specification table (duplex, topology,
     /// synchronisation, bit order); each may be left out.
     pub line: Option<LineModel>,
+}
+
+/// Data bits per character: fixed, or the drive's choice.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(untagged)]
+pub enum DataBitsModel {
+    /// Every character carries this many data bits.
+    Fixed(u8),
+    /// The drive can be set to any of these (`[7, 8]`).
+    Choice(Vec<u8>),
+}
+
+impl DataBitsModel {
+    /// The data bits the drive can use, in the file's order.
+    pub fn choices(&self) -> Vec<u8> {
+        match self {
+            DataBitsModel::Fixed(bits) => vec![*bits],
+            DataBitsModel::Choice(bits) => bits.clone(),
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
@@ -852,6 +873,11 @@ pub struct ProtocolRef {
     /// The most registers one write of several carries on this drive, where fewer than the
     /// protocol file's `max_words_per_write` (DV1: `12`); left out: the protocol file's.
     pub max_words_per_write: Option<u16>,
+    /// The longest frame on the wire in bytes, where the drive's manual makes it shorter
+    /// than the protocol file's `max_frame_len` (DV1 Modbus RTU: `33`, a write of its 12
+    /// registers); it sizes buffers and reply timeouts. At least the longest frame the
+    /// drive's commands make at its word limits; left out: the protocol file's.
+    pub max_frame_len: Option<u16>,
     /// A read or write of several registers is carried out for the registers that can be,
     /// and refused only when none can (DV1 l. 473: 若有 1 个及以上可以操作就不视为错误): a
     /// register that does not exist reads as 0, one that does not exist or refuses its
@@ -1084,6 +1110,9 @@ pub struct ErrorCodesModel {
     /// codes; left out: every one of them. A protocol not listed names its error codes
     /// from its protocol file's own `error_codes`.
     pub protocols: Option<Vec<String>>,
+    /// How the manual prints the codes (`{ prefix: H, digits: 2 }`: H0C); left out:
+    /// two hex digits and `h` (0Ch).
+    pub notation: Option<CodeNotationModel>,
     /// The codes an error reply may carry.
     pub codes: Vec<ErrorCodeModel>,
     /// Conditions in which the drive does not answer at all (documentation only).
@@ -1845,8 +1874,53 @@ pub struct BasedOnModel {
 pub struct ProtocolErrorCodesModel {
     /// Where the codes are defined (a specification, or the manuals that print them).
     pub source: String,
+    /// How the manual or specification prints the codes (`{ digits: 2 }`: 01); left out:
+    /// two hex digits and `h` (01h).
+    pub notation: Option<CodeNotationModel>,
     /// The codes an error reply may carry.
     pub codes: Vec<ErrorCodeModel>,
+}
+
+/// How a manual prints a table's codes: in hex (`H0C`, `000Ch`, `01`) or decimal (`17`),
+/// at least `digits` digits, between a prefix and a suffix.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CodeNotationModel {
+    /// `hex` (the default) or `decimal`.
+    #[serde(default)]
+    pub base: CodeBase,
+    /// The fewest digits printed (leading zeros); default 1.
+    #[serde(default = "one")]
+    pub digits: u8,
+    /// Text before the digits (`H` for H0C).
+    #[serde(default)]
+    pub prefix: String,
+    /// Text after the digits (`h` for 000Ch).
+    #[serde(default)]
+    pub suffix: String,
+}
+
+impl CodeNotationModel {
+    /// `code` as the manual prints it.
+    pub fn print(&self, code: u32) -> String {
+        let width = usize::from(self.digits);
+        let digits = match self.base {
+            CodeBase::Hex => format!("{code:0width$X}"),
+            CodeBase::Decimal => format!("{code:0width$}"),
+        };
+        format!("{}{digits}{}", self.prefix, self.suffix)
+    }
+}
+
+/// The base a manual prints codes in.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum CodeBase {
+    /// Hexadecimal digits, upper case.
+    #[default]
+    Hex,
+    /// Decimal digits.
+    Decimal,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]

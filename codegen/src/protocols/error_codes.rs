@@ -4,7 +4,7 @@
 
 use super::Input;
 use crate::diagnostics::Diagnostics;
-use crate::parse::model::{DriveFile, ErrorCodeModel, ProtocolErrorCodesModel};
+use crate::parse::model::{CodeNotationModel, DriveFile, ErrorCodeModel, ProtocolErrorCodesModel};
 use crate::parse::SourceFile;
 use std::borrow::Cow;
 use vfd_runtime::ErrorCodeInfo;
@@ -23,27 +23,35 @@ pub(crate) fn drive_table_applies(drive: &DriveFile, id: &str) -> bool {
 /// the drive's protocol entry's own table, else the drive's (where it applies), else the
 /// protocol file's.
 pub(super) fn error_table(input: &Input<'_>) -> Vec<ErrorCodeInfo> {
-    let codes: &[ErrorCodeModel] = if let Some(table) = &input.reference.error_codes {
-        &table.codes
-    } else if drive_table_applies(input.drive, &input.reference.id) {
-        &input.drive.error_codes.codes
-    } else {
-        input
-            .file
-            .error_codes
-            .as_ref()
-            .map_or(&[], |table| &table.codes)
-    };
-    codes.iter().map(runtime_entry).collect()
+    let (codes, notation): (&[ErrorCodeModel], _) =
+        if let Some(table) = &input.reference.error_codes {
+            (&table.codes, table.notation.as_ref())
+        } else if drive_table_applies(input.drive, &input.reference.id) {
+            (
+                &input.drive.error_codes.codes,
+                input.drive.error_codes.notation.as_ref(),
+            )
+        } else {
+            input
+                .file
+                .error_codes
+                .as_ref()
+                .map_or((&[], None), |table| (&table.codes, table.notation.as_ref()))
+        };
+    codes
+        .iter()
+        .map(|code| runtime_entry(code, notation))
+        .collect()
 }
 
-fn runtime_entry(code: &ErrorCodeModel) -> ErrorCodeInfo {
+fn runtime_entry(code: &ErrorCodeModel, notation: Option<&CodeNotationModel>) -> ErrorCodeInfo {
     ErrorCodeInfo {
         code: code.code as u16,
         id: Cow::Owned(code.id.clone()),
         name: Cow::Owned(code.name.clone()),
         name_zh: Cow::Owned(code.name_zh.clone()),
         meaning: Cow::Owned(code.meaning.clone()),
+        printed_as: Cow::Owned(notation.map_or_else(String::new, |n| n.print(code.code))),
     }
 }
 
@@ -76,12 +84,32 @@ pub(super) fn check_error_codes(input: &Input<'_>, out: &mut Diagnostics) {
     }
 }
 
+/// A table's `notation` prints at least one digit and at most eight (a code has 16 bits).
+pub(crate) fn check_notation(
+    notation: Option<&CodeNotationModel>,
+    at: &str,
+    source: &SourceFile,
+    out: &mut Diagnostics,
+) {
+    if let Some(digits) = notation.map(|n| n.digits).filter(|d| !(1..=8).contains(d)) {
+        out.push(
+            source
+                .error(
+                    &format!("{at}.notation.digits"),
+                    format!("{digits} digits: a code is printed with 1 to 8"),
+                )
+                .hint("give the fewest digits the manual prints (H0C: `{ prefix: H, digits: 2 }`)"),
+        );
+    }
+}
+
 fn check_table(
     table: &ProtocolErrorCodesModel,
     at: &str,
     source: &SourceFile,
     out: &mut Diagnostics,
 ) {
+    check_notation(table.notation.as_ref(), at, source, out);
     for (j, code) in table.codes.iter().enumerate() {
         let path = |key: &str| format!("{at}.codes[{j}].{key}");
         if code.code > u32::from(u16::MAX) {

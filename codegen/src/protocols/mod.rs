@@ -13,6 +13,7 @@
 mod block;
 mod commands;
 mod error_codes;
+mod frame_len;
 mod layouts;
 mod link;
 mod lowered_command;
@@ -36,7 +37,7 @@ pub fn space_from_name(name: &str) -> Option<Space> {
     Space::ALL.into_iter().find(|s| s.as_str() == name)
 }
 
-pub(crate) use error_codes::drive_table_applies;
+pub(crate) use error_codes::{check_notation, drive_table_applies};
 pub use parts::parse_hex;
 
 /// A protocol as one drive uses it, lowered into the runtime's terms.
@@ -141,6 +142,13 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
     let out_of_band = check_station_range(input, out);
     let max_words_per_read = max_words_per_read(input, &commands, out);
     let max_words_per_write = max_words_per_write(input, &commands, file_writes_blocks, out);
+    let max_frame_len = frame_len::max_frame_len(
+        input,
+        &commands,
+        max_words_per_read,
+        max_words_per_write,
+        out,
+    );
     let frame_gap_chars = link::frame_gap_chars(input, out);
     let timing = link::timing(input, out);
     let broadcast = link::broadcast(input, &commands, out);
@@ -156,7 +164,7 @@ fn lower_protocol(input: &Input<'_>, out: &mut Diagnostics) -> Option<Protocol> 
         commands: Cow::Owned(commands.into_iter().map(|c| c.spec).collect()),
         error_reply,
         lowercase_means_tripped: meta.lowercase_means_tripped,
-        max_frame_len: meta.max_frame_len,
+        max_frame_len,
         address_range: station_range(input, out_of_band),
         default_optional_parts: Cow::Owned(
             meta.default_optional_parts

@@ -1,4 +1,5 @@
-//! Check: code-table values and error codes are unique and fit 16 bits.
+//! Check: code-table values and error codes are unique and fit 16 bits, and the error
+//! table's notation prints them.
 
 use crate::diagnostics::Diagnostics;
 use crate::validate::Context;
@@ -37,6 +38,12 @@ pub fn code_values_are_unique(drive: &Context, out: &mut Diagnostics) {
             }
         }
     }
+    crate::protocols::check_notation(
+        drive.model.error_codes.notation.as_ref(),
+        "error_codes",
+        &drive.source,
+        out,
+    );
     let mut seen: HashMap<u32, usize> = HashMap::new();
     for (j, code) in drive.model.error_codes.codes.iter().enumerate() {
         if code.code > 0xFFFF {

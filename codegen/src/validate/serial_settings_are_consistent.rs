@@ -47,6 +47,7 @@ pub fn serial_settings_are_consistent(drive: &Context, out: &mut Diagnostics) {
         );
     }
     stop_bits(drive, out);
+    data_bits(drive, out);
     if drive.model.addressing.min > drive.model.addressing.max {
         out.push(
             drive
@@ -108,6 +109,43 @@ fn stop_bits(drive: &Context, out: &mut Diagnostics) {
                     ),
                 )
                 .hint("the factory setting is one of the stop bits the drive can be set to"),
+        );
+    }
+}
+
+/// Data bits are 7 or 8, and the factory setting is one the drive can use.
+fn data_bits(drive: &Context, out: &mut Diagnostics) {
+    let serial = &drive.model.serial;
+    let choices = serial.data_bits.choices();
+    if let Some(bad) = choices.iter().find(|b| !(7..=8).contains(*b)) {
+        out.push(
+            drive
+                .source
+                .error("serial.data_bits", format!("{bad} data bits"))
+                .hint("a character carries 7 or 8 data bits"),
+        );
+    }
+    if choices.is_empty() {
+        out.push(
+            drive
+                .source
+                .error("serial.data_bits", "no data bits listed")
+                .hint("give the data bits (`data_bits: 8`), or those the drive can be set to (`data_bits: [7, 8]`)"),
+        );
+    } else if (7..=8).contains(&serial.default.data_bits)
+        && !choices.contains(&serial.default.data_bits)
+    {
+        out.push(
+            drive
+                .source
+                .error(
+                    "serial.default.data_bits",
+                    format!(
+                        "default data bits {} are not in `data_bits`",
+                        serial.default.data_bits
+                    ),
+                )
+                .hint("the factory setting is one of the data bits the drive can use"),
         );
     }
 }

@@ -81,12 +81,50 @@ impl Protocol {
                 }),
             });
         };
+        let error = match self.try_error_layout(layout, bytes, false) {
+            Err(error) => error,
+            found => return found,
+        };
+        // A drive answering functions it lacks marks any function, not only those the
+        // protocol file's layout lists (the DV1's 81h to a request with function 01).
+        match self.lacking_function_reply() {
+            Some(any) => self.try_error_layout(&any, bytes, true).map_err(|_| error),
+            None => Err(error),
+        }
+    }
+
+    /// The error reply in `layout`, if `bytes` hold one; `lacking`: only the drive's answer
+    /// to a function it lacks ([`Protocol::is_lacking_function_reply`]).
+    fn try_error_layout(
+        &self,
+        layout: &FrameLayout,
+        bytes: &[u8],
+        lacking: bool,
+    ) -> Result<Option<Reply<'_>>, DecodeError> {
         match crate::plan::decode(layout, bytes)? {
             DecodeStatus::Incomplete => Ok(None),
             DecodeStatus::Complete { values, len } => {
                 no_open_station(layout, &values)?;
                 self.station_in_range(layout, &values)?;
-                self.error_function_known(layout, &values)?;
+                let lacking_reply = {
+                    let code = values.get(layout, Role::Command).unwrap_or(0);
+                    let error = values.get(layout, Role::ErrorCode).unwrap_or(0);
+                    self.is_lacking_function_reply(code, error)
+                };
+                if lacking && !lacking_reply {
+                    // Any other function stays refused as the file's layout refuses it.
+                    return Err(DecodeError::NoLayoutMatches {
+                        protocol: self.id.clone(),
+                        what: "error reply",
+                        closest: Box::new(DecodeError::Truncated {
+                            layout: layout.name.clone(),
+                            len: bytes.len(),
+                        }),
+                    });
+                }
+                if !lacking_reply {
+                    self.error_function_known(layout, &values)?;
+                }
                 Ok(Some(self.error_reply_from(layout, values, len)))
             }
         }

@@ -197,14 +197,23 @@ impl fmt::Display for TransactionError {
                 info,
                 tripped,
             } => {
-                write!(
-                    f,
-                    "drive rejected {}: error {code} ({code:04X}h) ",
-                    request()
-                )?;
+                // The code in the manual's notation (the DV1's H0C) where the table states
+                // it, else as a number and in hex.
                 match info {
-                    Some(info) => write!(f, "{} ({}): {}", info.name, info.name_zh, info.meaning)?,
-                    None => f.write_str("(code not in the manual's table)")?,
+                    Some(info) => write!(
+                        f,
+                        "drive rejected {}: error {} {} ({}): {}",
+                        request(),
+                        info.shown(),
+                        info.name,
+                        info.name_zh,
+                        info.meaning
+                    )?,
+                    None => write!(
+                        f,
+                        "drive rejected {}: error {code} ({code:04X}h) (code not in the manual's table)",
+                        request()
+                    )?,
                 }
                 if *tripped {
                     f.write_str("; the drive reports it is tripped")?;

@@ -22,13 +22,46 @@ pub(crate) struct Storage {
     in_effect: HashMap<Key, u32>,
 }
 
+/// The raw value a register holds in the virtual drive's factory state: its default, else
+/// 0 when every range it can have (its own, and each scale another register may choose for
+/// it) takes 0, else the lowest raw value all of them take (the VF-AS1's ACC, 0.1-6000 s
+/// with no factory setting given, starts at 0.1 s), so that a fresh drive holds only values
+/// it would accept and a backup of it restores onto it.
+pub(crate) fn factory_raw(info: &RegisterInfo) -> u32 {
+    if let Some(raw) = info.default_raw {
+        return raw;
+    }
+    let mut ranges = vec![(info.raw_min, info.raw_max)];
+    if let Some(by) = info.scale_by {
+        ranges.extend(by.scales().map(|r| (r.raw_min, r.raw_max)));
+    }
+    let takes = |raw: i64| ranges.iter().all(|(min, max)| (*min..=*max).contains(&raw));
+    let start = if takes(0) {
+        0
+    } else {
+        ranges
+            .iter()
+            .map(|(min, _)| *min)
+            .filter(|low| takes(*low))
+            .min()
+            .unwrap_or(info.raw_min.max(0))
+    };
+    // A negative start of a signed register is its two's complement in the register's width.
+    let mask = if info.data_type.size() == 4 {
+        u32::MAX
+    } else {
+        u32::from(u16::MAX)
+    };
+    (start as u32) & mask
+}
+
 impl Storage {
-    /// Storage holding every register's default (0 where the manual gives none).
+    /// Storage holding every register's factory value ([`factory_raw`]).
     pub(crate) fn new(registers: &[&RegisterInfo]) -> Storage {
         let mut eeprom = HashMap::new();
         for info in registers {
             for index in 0..u16::from(info.array_len.max(1)) {
-                eeprom.insert(key(info, index), info.default_raw.unwrap_or(0));
+                eeprom.insert(key(info, index), factory_raw(info));
             }
         }
         let mut storage = Storage {

@@ -158,8 +158,10 @@ impl VirtualDrive {
         address: Option<u32>,
         function: u32,
     ) -> Outcome {
-        let (Some(code), Some(error)) = (protocol.unsupported_function, &protocol.error_reply)
-        else {
+        let (Some(code), Some(layout)) = (
+            protocol.unsupported_function,
+            protocol.lacking_function_reply(),
+        ) else {
             return Outcome::Silent("the manual gives no reply to a function the drive lacks");
         };
         if self.starting_up() {
@@ -170,19 +172,6 @@ impl VirtualDrive {
         }
         let Some(marked) = protocol.error_code_of_function(function) else {
             return Outcome::Silent("the protocol cannot mark the function as an error");
-        };
-        let Some(function_at) = error.index_of(Role::Command) else {
-            return Outcome::Silent("the error reply carries no function");
-        };
-        // The reply's function is any marked function, not only the commands' codes.
-        let mut parts: Vec<Part> = error.parts.to_vec();
-        if let Part::Field(field) = &mut parts[function_at] {
-            field.allowed = Cow::Borrowed(&[]);
-        }
-        let layout = FrameLayout {
-            parts: Cow::Owned(parts),
-            plan: None,
-            ..error.clone()
         };
         let mut values = FrameValues::default();
         for name in protocol.default_optional_parts.iter() {

@@ -13,7 +13,7 @@ mod registers;
 mod relations;
 
 use crate::ir::DriveIr;
-use vfd_runtime::serial::{DriveTiming, SerialSettings, SerialSpec};
+use vfd_runtime::serial::{DriveTiming, ProtocolLine, SerialSettings, SerialSpec};
 use vfd_runtime::DriveInfo;
 
 /// The drive of `ir` as the runtime's data, as the generated module's `DRIVE` static holds
@@ -60,6 +60,20 @@ fn serial(ir: &DriveIr) -> SerialSpec {
             parity: serial.default_parity,
             stop_bits: serial.default_stop_bits,
         },
+        data_bits: list(serial.data_bits.clone()),
+        protocol_lines: list(
+            serial
+                .protocol_lines
+                .iter()
+                .map(|line| ProtocolLine {
+                    protocol: text(&line.protocol),
+                    data_bits: line.data_bits,
+                    parity: line.parity,
+                    stop_bits: line.stop_bits,
+                    factory: line.factory,
+                })
+                .collect(),
+        ),
         stop_bits_sent: serial.stop_bits_sent,
         stop_bits_received: serial.stop_bits_received,
         stop_bits: list(serial.stop_bits.clone()),

@@ -115,5 +115,6 @@ fn error_code(code: &ErrorCodeIr) -> ErrorCodeInfo {
         name: Cow::Owned(code.name.clone()),
         name_zh: Cow::Owned(code.name_zh.clone()),
         meaning: Cow::Owned(code.meaning.clone()),
+        printed_as: Cow::Owned(code.printed.clone()),
     }
 }

@@ -174,7 +174,11 @@ fn error_codes_view(table: &ErrorCodesIr, digits: usize) -> ErrorCodesView<'_> {
             .iter()
             .map(|code| ErrorCodeView {
                 code,
-                code_hex: format!("{:0digits$X}h", code.code),
+                code_hex: if code.printed.is_empty() {
+                    format!("{:0digits$X}h", code.code)
+                } else {
+                    code.printed.clone()
+                },
             })
             .collect(),
         protocols_display: table
@@ -348,7 +352,17 @@ fn sequence_view<'a>(drive: &'a DriveIr, sequence: &'a crate::ir::SequenceIr) ->
         result_display: match &sequence.result {
             SequenceResultIr::Value(v) => value(*v),
             SequenceResultIr::Written => "written".to_owned(),
-            SequenceResultIr::Error(code, id) => format!("refused with {code:02X}h `{id}`"),
+            SequenceResultIr::Error(code, id) => {
+                let shown = drive
+                    .protocols
+                    .iter()
+                    .find(|p| p.id == sequence.protocol)
+                    .map_or_else(
+                        || format!("{code:02X}h"),
+                        |p| printed_error(drive, p, *code),
+                    );
+                format!("refused with {shown} `{id}`")
+            }
         },
         register_code: code,
         steps: sequence
@@ -793,6 +807,23 @@ impl<'a> DriveView<'a> {
     }
 }
 
+/// `code`, an error code of `protocol`, as the manual prints it (its table's `notation`:
+/// the DV1's H0C), else in hex with [`error_code_digits`] digits and `h`.
+fn printed_error(drive: &DriveIr, protocol: &ProtocolIr, code: u16) -> String {
+    let table = match &protocol.error_table {
+        ErrorTableIr::Drive => &drive.error_codes,
+        ErrorTableIr::Protocol(table) => table,
+    };
+    table
+        .codes
+        .iter()
+        .find(|c| c.code == code && !c.printed.is_empty())
+        .map_or_else(
+            || format!("{:0w$X}h", code, w = error_code_digits(drive, protocol)),
+            |c| c.printed.clone(),
+        )
+}
+
 /// How many hex digits an error code of `protocol` is written with: two when its error
 /// reply carries the code in one byte (or two digits), else four.
 fn error_code_digits(drive: &DriveIr, protocol: &ProtocolIr) -> usize {
@@ -875,7 +906,7 @@ fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
         ));
     }
     let answer = |protocol: &ProtocolIr, code: Option<u16>| match code {
-        Some(code) => format!("{:0w$X}h", code, w = error_code_digits(drive, protocol)),
+        Some(code) => printed_error(drive, protocol, code),
         None => "no reply".to_owned(),
     };
     let mut refusal_names = vec![
@@ -967,7 +998,28 @@ fn line_formats(drive: &DriveIr) -> Vec<(String, String)> {
                     })
                 })
                 .collect();
-            rows.push((protocol.id.clone(), choices.join(", ")));
+            let mut row = choices.join(", ");
+            if let Some(line) = drive
+                .serial
+                .protocol_lines
+                .iter()
+                .find(|l| l.protocol == protocol.id)
+                .filter(|_| {
+                    !drive
+                        .serial
+                        .protocol_lines
+                        .iter()
+                        .any(|l| l.protocol == protocol.id && l.factory)
+                })
+            {
+                row.push_str(&format!(
+                    "; the factory setting chooses another protocol: a master starts from {} ({} = {}, the first offered; assumed)",
+                    format((line.data_bits, line.parity, line.stop_bits)),
+                    line.selector,
+                    line.value
+                ));
+            }
+            rows.push((protocol.id.clone(), row));
         }
     }
     rows
@@ -1409,17 +1461,45 @@ fn protocol_view<'a>(drive: &'a DriveIr, protocol: &'a ProtocolIr) -> ProtocolVi
             .filter_map(layout)
             .map(|layout| {
                 let used = codes_in_layout(protocol, &layout.name);
+                let lacking = lacking_function_note(protocol, &layout.name);
                 LayoutView {
                     name: layout.name.to_string(),
                     parts: layout
                         .parts
                         .iter()
-                        .map(|part| part_view(part, &layout.parts, &used))
+                        .map(|part| {
+                            let mut view = part_view(part, &layout.parts, &used);
+                            let is_command = matches!(part, vfd_runtime::layout::Part::Field(f) if f.role == Role::Command);
+                            if let (true, Some(note)) = (is_command, &lacking) {
+                                view.notes = if view.notes.is_empty() {
+                                    note.clone()
+                                } else {
+                                    format!("{}; {note}", view.notes)
+                                };
+                            }
+                            view
+                        })
                         .collect(),
                 }
             })
             .collect(),
     }
+}
+
+/// For the error reply of a protocol whose drive answers functions it lacks: that its
+/// function field then carries any other function, marked as the commands' are (Modbus:
+/// + 80h), with the `unsupported_function` error code.
+fn lacking_function_note(protocol: &ProtocolIr, name: &str) -> Option<String> {
+    let entry = protocol.unsupported_function.as_ref()?;
+    if protocol.error_reply.as_deref() != Some(name) {
+        return None;
+    }
+    let first = protocol.commands.first()?;
+    let offset = first.error_code?.wrapping_sub(first.code);
+    Some(format!(
+        "or any other function + {offset:02X}h, with error code {:02X}h: the reply to a function the drive lacks",
+        entry.error_code
+    ))
 }
 
 /// The command codes the drive's commands of `protocol` put in the layout `name`: their
@@ -1509,8 +1589,11 @@ fn link_rules(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
             BeforeStart::Reject => {
                 "Bytes before a frame's start sequence reject the frame (it is not answered)."
             }
-            BeforeStart::Skip => {
+            BeforeStart::Skip if protocol.before_start_stated => {
                 "Bytes before a frame's start sequence are skipped: the frame begins at its start."
+            }
+            BeforeStart::Skip => {
+                "Bytes before a frame's start sequence are skipped: the frame begins at its start (assumed: the library's default, not from the manual)."
             }
         }
         .to_owned());

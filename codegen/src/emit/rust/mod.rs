@@ -209,6 +209,25 @@ fn serial_spec(drive: &DriveIr) -> TokenStream {
         int_literal(serial.stop_bits_received),
     );
     let stop_choices = serial.stop_bits.iter().map(|b| int_literal(*b));
+    let data_choices = serial.data_bits.iter().map(|b| int_literal(*b));
+    let protocol_lines = serial.protocol_lines.iter().map(|line| {
+        let (protocol, data_bits, parity, stop_bits, factory) = (
+            line.protocol.as_str(),
+            int_literal(line.data_bits),
+            line.parity.bake(),
+            int_literal(line.stop_bits),
+            line.factory,
+        );
+        quote! {
+            ::vfd_runtime::serial::ProtocolLine {
+                protocol: #protocol,
+                data_bits: #data_bits,
+                parity: #parity,
+                stop_bits: #stop_bits,
+                factory: #factory,
+            }
+        }
+    });
     let (startup, allowance, abandon) = (
         int_literal(serial.startup_delay_ms),
         int_literal(serial.processing_allowance_ms),
@@ -234,6 +253,8 @@ fn serial_spec(drive: &DriveIr) -> TokenStream {
                     parity: #default_parity,
                     stop_bits: #stop_bits,
                 },
+                data_bits: &[#(#data_choices),*],
+                protocol_lines: &[#(#protocol_lines),*],
                 stop_bits_sent: #sent,
                 stop_bits_received: #received,
                 stop_bits: &[#(#stop_choices),*],

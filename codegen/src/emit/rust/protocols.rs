@@ -156,7 +156,12 @@ pub(crate) fn protocols_module(drive: &DriveIr, layouts: &TokenStream) -> TokenS
 fn error_code_tokens(code: &ErrorCodeIr) -> TokenStream {
     let value = int_literal(code.code);
     let (id, name, name_zh, meaning) = (&code.id, &code.name, &code.name_zh, &code.meaning);
-    quote!(ErrorCodeInfo::new(#value, #id, #name, #name_zh, #meaning))
+    if code.printed.is_empty() {
+        quote!(ErrorCodeInfo::new(#value, #id, #name, #name_zh, #meaning))
+    } else {
+        let printed = &code.printed;
+        quote!(ErrorCodeInfo::new_printed(#value, #id, #name, #name_zh, #meaning, #printed))
+    }
 }
 
 fn command_tokens(command: &CommandIr, file: &Ident) -> TokenStream {
