@@ -166,7 +166,15 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
         ),
     ];
     for (path, word, bits) in words {
-        if word.is_empty() || index.find(word).is_none() {
+        let Some(register) = index.find(word).filter(|_| !word.is_empty()) else {
+            continue;
+        };
+        // A `bitfield:` naming no bit field is `references_resolve`'s to report, once.
+        let undefined = register
+            .bitfield
+            .as_deref()
+            .is_some_and(|id| !model.bitfields.iter().any(|b| b.id == id));
+        if undefined {
             continue;
         }
         let Some(bitfield) = bitfield_of(word) else {
@@ -355,6 +363,16 @@ behaviour:
     fn accepts_a_model_naming_what_exists() {
         assert!(check_yaml(check, VALID).is_empty());
         let found = check_yaml(check, &with_behaviour(("", "")));
+        assert!(found.is_empty(), "{found:#?}");
+    }
+
+    #[test]
+    fn leaves_a_word_whose_bit_field_is_undefined_to_references_resolve() {
+        let yaml = format!("{VALID}{BEHAVIOUR}").replace(
+            "bitfield: command_word, ram_only",
+            "bitfield: command_wordx, ram_only",
+        );
+        let found = check_yaml(check, &yaml);
         assert!(found.is_empty(), "{found:#?}");
     }
 

@@ -78,6 +78,9 @@ pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
                 out,
             );
         }
+        // Frames of the example in another variant share one cause (the example names no
+        // `variant`): the first such frame reports it.
+        let mut variant_reported = false;
         for (key, model, frame, printed_answers) in [
             ("request", &example.request, &decoded.request, None),
             (
@@ -95,6 +98,7 @@ pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
                     frame,
                     printed_answers,
                     written_in.map(|runtime| (runtime, direction_of(key))),
+                    &mut variant_reported,
                     out,
                 );
             }
@@ -132,6 +136,8 @@ fn check_settings(
             .and_then(|id| drive.model.codes.iter().find(|t| &t.id == id));
         let fits = match table {
             Some(table) => table.values.iter().any(|v| f64::from(v.value) == *value),
+            // A scale that is not positive is `scales_are_positive`'s to report.
+            None if !ranges::has_sound_scale(register) => true,
             None => {
                 let raw = (value / ranges::scale_of(register)).round() as i64;
                 let (min, max) = index.raw_range(register);
@@ -201,6 +207,7 @@ fn check_frame(
     frame: &DecodedFrame,
     printed_answers: Option<&Result<(), NotAnAnswer>>,
     written_in: Option<(&vfd_runtime::Protocol, Direction)>,
+    variant_reported: &mut bool,
     out: &mut Diagnostics,
 ) {
     if let Err(message) = &frame.bytes {
@@ -236,7 +243,9 @@ fn check_frame(
     };
     match &frame.meaning {
         None => {}
+        Some(Err(_)) if !other_variants.is_empty() && *variant_reported => {}
         Some(Err(error)) if !other_variants.is_empty() => {
+            *variant_reported = true;
             let first = protocol_variant_label(written_in.map(|(p, _)| p));
             out.push(
                 drive
@@ -499,6 +508,13 @@ fn check_example_value(
     out: &mut Diagnostics,
 ) {
     let path = format!("{base}.value");
+    // Frames that do not decode are reported as such; the value has nothing to be judged by.
+    if example
+        .reply_then_request()
+        .all(|frame| frame.decoded().is_none())
+    {
+        return;
+    }
     // The value belongs to the data of the reply, else of the request.
     let mut register = None;
     let mut data = None;
@@ -531,6 +547,9 @@ fn check_example_value(
         );
         return;
     };
+    if !ranges::has_sound_scale(register) {
+        return; // `scales_are_positive` reports the scale.
+    }
     let scale = ranges::scale_of(register);
     let data_type = register.data_type.unwrap_or(vfd_runtime::DataType::Word);
     let raw = vfd_runtime::units::raw_to_number(data, register.signed, data_type);
