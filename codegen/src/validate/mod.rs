@@ -11,6 +11,7 @@ pub(crate) mod ranges;
 mod behaviour_resolves;
 mod bit_examples_match;
 mod bit_fields_do_not_overlap;
+mod bit_fields_fit_their_registers;
 mod byte_registers_have_commands;
 mod code_values_are_unique;
 mod defaults_are_in_range;
@@ -57,7 +58,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 26] = [
+    let checks: [fn(&Context, &mut Diagnostics); 27] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -69,6 +70,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         defaults_are_in_range::defaults_are_in_range,
         references_resolve::references_resolve,
         bit_fields_do_not_overlap::bit_fields_do_not_overlap,
+        bit_fields_fit_their_registers::bit_fields_fit_their_registers,
         code_values_are_unique::code_values_are_unique,
         serial_settings_are_consistent::serial_settings_are_consistent,
         examples_decode::examples_decode,
