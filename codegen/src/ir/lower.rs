@@ -65,6 +65,12 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             min: model.addressing.min,
             max: model.addressing.max,
             note: model.addressing.note.trim().to_owned(),
+            register: model
+                .addressing
+                .register
+                .as_ref()
+                .and_then(|name| index.find(name))
+                .map(|r| r.id.clone()),
         },
         protocol_files: protocol_files(&drive.protocols),
         protocols: drive
@@ -103,7 +109,12 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
                         variant: type_name(&value.id),
                         name: value.name.clone(),
                         name_zh: value.name_zh.clone(),
-                        line: value.line.map(|l| (l.data_bits, l.parity, l.stop_bits)),
+                        line: value.line.map(|l| LineSettingIr {
+                            baud: l.baud,
+                            data_bits: l.data_bits,
+                            parity: l.parity,
+                            stop_bits: l.stop_bits,
+                        }),
                         protocol: value.protocol.clone(),
                     })
                     .collect(),

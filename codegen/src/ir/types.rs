@@ -280,6 +280,12 @@ pub struct BehaviourIr {
     pub reference: Vec<String>,
     /// Output current model: monitors, value at zero output, value at the span.
     pub current: Option<(Vec<String>, f64, f64)>,
+    /// The output current at and above which the drive reports an overload.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub current_overload: Option<AmountIr>,
+    /// The output frequency at and above which the drive reports the frequency detected.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frequency_detection: Option<AmountIr>,
     /// Status-word registers.
     pub status_registers: Vec<String>,
     /// Status bits: running, reverse, at reference, tripped, enabled, always.
@@ -329,6 +335,12 @@ pub struct StatusBitsIr {
     pub at_reference: Vec<BitRefIr>,
     /// Set while tripped.
     pub tripped: Vec<BitRefIr>,
+    /// Set while the output current is at or above the overload level.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub overload: Vec<BitRefIr>,
+    /// Set while running at or above the detection frequency.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub frequency_detected: Vec<BitRefIr>,
     /// Set unless coasting.
     pub enabled: Vec<BitRefIr>,
     /// Always set.
@@ -419,6 +431,9 @@ pub struct AddressingIr {
     pub max: u8,
     /// Remarks.
     pub note: String,
+    /// Id of the register holding the station number.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub register: Option<String>,
 }
 
 /// A protocol file (`protocols/<id>.yaml`): its frame layouts, shared by every drive that
@@ -662,12 +677,36 @@ pub struct CodeValueIr {
     pub name: String,
     /// Chinese name.
     pub name_zh: String,
-    /// The character format it sets on the line: data bits, parity, stop bits.
+    /// What it sets on the line: the baud rate and the parts of the character format.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub line: Option<(u8, vfd_runtime::serial::Parity, u8)>,
+    pub line: Option<LineSettingIr>,
     /// The id of the protocol it chooses.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub protocol: Option<String>,
+}
+
+/// What a code value sets on the line; each part `None` where it sets nothing of it.
+#[derive(Debug, Clone, Copy, Serialize, PartialEq, Eq)]
+pub struct LineSettingIr {
+    /// The baud rate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub baud: Option<u32>,
+    /// Data bits per character.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub data_bits: Option<u8>,
+    /// Parity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parity: Option<vfd_runtime::serial::Parity>,
+    /// Stop bits.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stop_bits: Option<u8>,
+}
+
+impl LineSettingIr {
+    /// The whole character format (data bits, parity, stop bits), when it sets all of it.
+    pub fn format(&self) -> Option<(u8, vfd_runtime::serial::Parity, u8)> {
+        Some((self.data_bits?, self.parity?, self.stop_bits?))
+    }
 }
 
 /// A bit-field layout of a word.

@@ -446,6 +446,10 @@ pub struct FrequencyBehaviourModel {
     /// Ids of the monitors that show the frequency command in use.
     #[serde(default)]
     pub reference: Vec<String>,
+    /// The output frequency at and above which the drive reports the frequency detected
+    /// (`status.frequency_detected`; an output-frequency detection setting): a number in
+    /// the command's units or a register.
+    pub detection: Option<AmountModel>,
 }
 
 /// Output current: `at_zero + (at_span - at_zero) x |output| / span` while running, 0 when stopped.
@@ -458,6 +462,9 @@ pub struct CurrentBehaviourModel {
     pub at_zero: f64,
     /// Value at an output of `span`.
     pub at_span: f64,
+    /// The current at and above which the drive reports an overload (`status.overload`):
+    /// a number in the monitors' units or a register.
+    pub overload: Option<AmountModel>,
 }
 
 /// The status-word bits; each entry lists bits of the status word's bit field.
@@ -481,6 +488,14 @@ pub struct StatusBehaviourModel {
     /// Set while tripped.
     #[serde(default)]
     pub tripped: Vec<BitRefModel>,
+    /// Set while the output current is at or above `current.overload` (an overload
+    /// alarm).
+    #[serde(default)]
+    pub overload: Vec<BitRefModel>,
+    /// Set while running with the output frequency at or above `frequency.detection`
+    /// (frequency detected).
+    #[serde(default)]
+    pub frequency_detected: Vec<BitRefModel>,
     /// Set unless a coast stop is commanded.
     #[serde(default)]
     pub enabled: Vec<BitRefModel>,
@@ -802,6 +817,10 @@ pub struct AddressingModel {
     /// What the manual says about addressing (broadcast, panel setting).
     #[serde(default)]
     pub note: String,
+    /// Code or id of the register holding the drive's station number (DV1 07-01): the
+    /// virtual drive answers at the station it holds (the value in effect: after a reset
+    /// for a register that takes effect then), and a write to it moves the station.
+    pub register: Option<String>,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
@@ -1132,24 +1151,30 @@ pub struct CodeValueModel {
     /// The register (code or id) this value selects, in a code table of selector registers
     /// (a block transfer's: F870 = 1 selects FA00).
     pub register: Option<String>,
-    /// The character format this value sets on the line, in a code table of a format
-    /// setting (DV1 07-07 = 0: `{ data_bits: 7, parity: none, stop_bits: 2 }`).
+    /// What this value sets on the line, in a code table of a line setting: the whole
+    /// character format (DV1 07-07 = 0: `{ data_bits: 7, parity: none, stop_bits: 2 }`) or
+    /// the part one register sets (a baud-rate register's `{ baud: 9600 }`, a parity
+    /// register's `{ parity: even }`).
     pub line: Option<LineFormatModel>,
     /// The id of the drive's protocol this value chooses (DV1 07-07 = 0-2: `modbus_ascii`).
     pub protocol: Option<String>,
 }
 
-/// A character format on the line (`codes[].values[].line`).
+/// What a code value sets on the line (`codes[].values[].line`): any of the baud rate and
+/// the character format's data bits, parity and stop bits, at least one.
 #[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LineFormatModel {
+    /// The baud rate (one of `serial.baud_rates`).
+    pub baud: Option<u32>,
     /// Data bits per character (7 or 8).
-    pub data_bits: u8,
+    pub data_bits: Option<u8>,
     /// `none`, `even` or `odd`.
-    pub parity: Parity,
+    pub parity: Option<Parity>,
     /// Stop bits (1 or 2).
-    pub stop_bits: u8,
+    pub stop_bits: Option<u8>,
 }
+
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]

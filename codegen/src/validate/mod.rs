@@ -32,6 +32,7 @@ mod scales_are_positive;
 mod sequences_replay;
 mod sequences_resolve;
 mod serial_settings_are_consistent;
+mod station_register_resolves;
 mod storage_rules_are_consistent;
 mod units_are_known;
 mod value_examples_match;
@@ -58,7 +59,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 27] = [
+    let checks: [fn(&Context, &mut Diagnostics); 28] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -73,6 +74,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         bit_fields_fit_their_registers::bit_fields_fit_their_registers,
         code_values_are_unique::code_values_are_unique,
         serial_settings_are_consistent::serial_settings_are_consistent,
+        station_register_resolves::station_register_resolves,
         examples_decode::examples_decode,
         replies_answer_requests::replies_answer_requests,
         examples_re_encode::examples_re_encode,

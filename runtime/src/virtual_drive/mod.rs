@@ -33,6 +33,7 @@ mod pages;
 mod reply;
 mod respond;
 mod serve;
+mod station;
 mod storage;
 mod tally;
 mod unsupported;
@@ -141,6 +142,7 @@ impl VirtualDrive {
             page: None,
             awaiting_follow_up: None,
         };
+        virtual_drive.place_station();
         virtual_drive.refresh();
         virtual_drive
     }
@@ -155,9 +157,11 @@ impl VirtualDrive {
         self.address
     }
 
-    /// Sets its station number.
+    /// Sets its station number (and the register holding it, where the description names
+    /// one: `addressing.register`, as if set on the panel before power-on).
     pub fn set_address(&mut self, address: u8) {
         self.address = address;
+        self.set_station_register(address);
     }
 
     /// The serial port it serves, for a drive with several (`None`: not chosen).
@@ -438,6 +442,7 @@ impl VirtualDrive {
                 self.requests += 1;
                 self.count_addressed(&request);
                 let outcome = self.answer(protocol, &request);
+                self.follow_station_register();
                 if matches!(outcome, Outcome::Reply(_)) {
                     self.tally.answered += 1;
                 }
@@ -645,6 +650,9 @@ impl VirtualDrive {
                         }
                         (_, outcome) => outcome,
                     };
+                    // A write of the station register moves the station (its reply is
+                    // already made, from the station addressed).
+                    self.follow_station_register();
                     let reply = match &outcome {
                         Outcome::Reply(bytes) => Some(bytes.as_slice()),
                         Outcome::Silent(_) => None,

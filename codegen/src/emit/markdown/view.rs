@@ -47,6 +47,8 @@ pub(super) struct DriveView<'a> {
     /// The character format per protocol, where the drive's code tables say which format
     /// a protocol speaks; empty when the table's one format holds for every protocol.
     line_formats: Vec<(String, String)>,
+    /// The code of the register holding the station number, when the description names one.
+    station_register: Option<String>,
 }
 
 #[derive(Serialize)]
@@ -436,6 +438,12 @@ impl<'a> DriveView<'a> {
             },
             any_inferred: drive.registers.iter().any(|r| !r.inferred.is_empty()),
             line_formats: line_formats(drive),
+            station_register: drive
+                .addressing
+                .register
+                .as_deref()
+                .and_then(|id| drive.register(id))
+                .map(|r| r.code.clone()),
             warning_lines: drive
                 .warnings
                 .iter()
@@ -874,6 +882,22 @@ fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
             codes(&behaviour.status_registers)
         ));
     }
+    let mut levels = Vec::new();
+    if let Some(level) = &behaviour.current_overload {
+        levels.push(format!(
+            "overload while the output current is at or above {}",
+            amount(level, "").trim_end()
+        ));
+    }
+    if let Some(level) = &behaviour.frequency_detection {
+        levels.push(format!(
+            "frequency detected while running at or above {}",
+            amount(level, "Hz")
+        ));
+    }
+    if !levels.is_empty() {
+        model_lines.push(format!("Status levels: {}.", levels.join("; ")));
+    }
     let answer = |protocol: &ProtocolIr, code: Option<u16>| match code {
         Some(code) => format!("{:0w$X}h", code, w = error_code_digits(drive, protocol)),
         None => "no reply".to_owned(),
@@ -940,7 +964,10 @@ fn line_formats(drive: &DriveIr) -> Vec<(String, String)> {
             let values: Vec<&CodeValueIr> = table
                 .values
                 .iter()
-                .filter(|v| v.line.is_some() && v.protocol.as_deref() == Some(&protocol.id))
+                .filter(|v| {
+                    v.line.is_some_and(|l| l.format().is_some())
+                        && v.protocol.as_deref() == Some(&protocol.id)
+                })
                 .collect();
             if values.is_empty() {
                 continue;
@@ -956,7 +983,7 @@ fn line_formats(drive: &DriveIr) -> Vec<(String, String)> {
             let choices: Vec<String> = values
                 .iter()
                 .filter_map(|v| {
-                    let line = format(v.line?);
+                    let line = format(v.line?.format()?);
                     Some(if Some(v.value) == factory {
                         format!(
                             "**{line}** ({} = {}, the factory setting)",
@@ -1203,20 +1230,33 @@ fn block_lines(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
 /// bits, no parity, 2 stop bits; protocol `modbus_ascii``), empty when it says neither.
 fn code_value_sets(value: &CodeValueIr) -> String {
     let mut parts = Vec::new();
-    if let Some((data_bits, parity, stop_bits)) = value.line {
-        let parity = match parity {
-            vfd_runtime::serial::Parity::None => "no parity",
-            vfd_runtime::serial::Parity::Even => "even parity",
-            vfd_runtime::serial::Parity::Odd => "odd parity",
-        };
-        let stops = if stop_bits == 1 {
-            "stop bit"
-        } else {
-            "stop bits"
-        };
-        parts.push(format!(
-            "line: {data_bits} data bits, {parity}, {stop_bits} {stops}"
-        ));
+    if let Some(line) = value.line {
+        let mut sets = Vec::new();
+        if let Some(baud) = line.baud {
+            sets.push(format!("{baud} bps"));
+        }
+        if let Some(data_bits) = line.data_bits {
+            sets.push(format!("{data_bits} data bits"));
+        }
+        if let Some(parity) = line.parity {
+            sets.push(
+                match parity {
+                    vfd_runtime::serial::Parity::None => "no parity",
+                    vfd_runtime::serial::Parity::Even => "even parity",
+                    vfd_runtime::serial::Parity::Odd => "odd parity",
+                }
+                .to_owned(),
+            );
+        }
+        if let Some(stop_bits) = line.stop_bits {
+            let stops = if stop_bits == 1 {
+                "stop bit"
+            } else {
+                "stop bits"
+            };
+            sets.push(format!("{stop_bits} {stops}"));
+        }
+        parts.push(format!("line: {}", sets.join(", ")));
     }
     if let Some(protocol) = &value.protocol {
         parts.push(format!("protocol `{protocol}`"));
