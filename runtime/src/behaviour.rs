@@ -245,6 +245,24 @@ pub struct Refusals {
     /// A write to the command word or the frequency command outside the mode the model
     /// requires ([`CommandBehaviour::require_mode`]).
     pub wrong_mode: Option<u16>,
+    /// A frame holding a character no frame of the protocol carries (a character error).
+    pub bad_character: Option<u16>,
+    /// A frame that cannot be read otherwise, whose station can be (a protocol error).
+    pub malformed: Option<u16>,
+    /// The code answering an unreadable frame once more than `after` came in a row (bad
+    /// characters, malformed frames, bad checksums): the computer link's NAK error.
+    pub retries_exceeded: Option<RetriesExceeded>,
+}
+
+/// The error a drive answers once too many unreadable frames came in a row
+/// ([`Refusals::retries_exceeded`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RetriesExceeded {
+    /// The error code.
+    pub code: u16,
+    /// How many unreadable frames in a row get their own errors (a number, or the register
+    /// setting the allowed retries); the next gets `code`.
+    pub after: Amount,
 }
 
 impl Refusals {
@@ -257,6 +275,9 @@ impl Refusals {
         while_running: None,
         bad_checksum: None,
         wrong_mode: None,
+        bad_character: None,
+        malformed: None,
+        retries_exceeded: None,
     };
 }
 

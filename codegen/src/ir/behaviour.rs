@@ -116,6 +116,12 @@ pub(crate) fn lower(
                 while_running: r.while_running,
                 bad_checksum: r.bad_checksum,
                 wrong_mode: r.wrong_mode,
+                bad_character: r.bad_character,
+                malformed: r.malformed,
+                retries_exceeded: r
+                    .retries_exceeded
+                    .as_ref()
+                    .map(|rule| (rule.code, amount(&rule.after))),
             })
             .collect(),
     }

@@ -365,6 +365,15 @@ pub struct RefusalsIr {
     pub wrong_mode: Option<u16>,
     /// Bad checksum.
     pub bad_checksum: Option<u16>,
+    /// A character no frame of the protocol carries.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bad_character: Option<u16>,
+    /// A frame that cannot be read otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub malformed: Option<u16>,
+    /// The code after too many consecutive unreadable frames, and how many are allowed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub retries_exceeded: Option<(u16, AmountIr)>,
 }
 
 /// Line-level facts of the serial link; `None` where the description does not say.

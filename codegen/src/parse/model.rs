@@ -551,6 +551,29 @@ pub struct RefusalsModel {
     /// A write to the command word or the frequency command outside the mode
     /// `command.require_mode` names.
     pub wrong_mode: Option<u16>,
+    /// A frame holding a character its protocol's frames never carry (in a text framing, a
+    /// character other than the digits, letters and control codes of its layouts: the
+    /// computer link's character error).
+    pub bad_character: Option<u16>,
+    /// A frame the drive cannot read otherwise (a missing or wrong fixed character, a field
+    /// of the wrong length: the computer link's protocol error), whose station it can read.
+    pub malformed: Option<u16>,
+    /// After more consecutive unreadable frames (bad characters, malformed frames, bad
+    /// checksums) than the drive allows, the code it answers the next with instead (the
+    /// computer link's NAK error): `{ code: 0x00, after: retries }`.
+    pub retries_exceeded: Option<RetriesExceededModel>,
+}
+
+/// The error after too many consecutive unreadable frames (`refusals.<p>.retries_exceeded`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RetriesExceededModel {
+    /// The error code.
+    pub code: u16,
+    /// How many consecutive unreadable frames the drive answers with their own errors: a
+    /// number or the register setting it (the allowed number of retries); the next gets
+    /// `code`.
+    pub after: AmountModel,
 }
 
 /// A safety warning: what can go wrong, and where the manual says so.

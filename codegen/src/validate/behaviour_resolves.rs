@@ -240,7 +240,7 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
                 problem(
                     "behaviour.refusals".to_owned(),
                     format!("protocol `{}` has no refusals: the virtual drive would not answer a refused request over it", protocol.id),
-                    "give its error codes (unknown_register, read_only, out_of_range, while_running, bad_checksum, wrong_mode) as the manual lists them, or `{}` where it gives none",
+                    "give its error codes (unknown_register, read_only, out_of_range, while_running, bad_checksum, wrong_mode, bad_character, malformed, retries_exceeded) as the manual lists them, or `{}` where it gives none",
                 );
             }
         }

@@ -24,6 +24,7 @@ mod names_are_unique;
 mod ranges_resolve;
 mod reference_scaling_resolves;
 mod references_resolve;
+mod refusal_codes_resolve;
 mod register_addresses_are_unique;
 mod relations_resolve;
 mod replies_answer_requests;
@@ -59,7 +60,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 28] = [
+    let checks: [fn(&Context, &mut Diagnostics); 29] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -82,6 +83,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         bit_examples_match::bit_examples_match,
         reference_scaling_resolves::reference_scaling_resolves,
         behaviour_resolves::behaviour_resolves,
+        refusal_codes_resolve::refusal_codes_resolve,
         relations_resolve::relations_resolve,
         sequences_resolve::sequences_resolve,
         sequences_replay::sequences_replay,

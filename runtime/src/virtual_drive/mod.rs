@@ -36,6 +36,7 @@ mod serve;
 mod station;
 mod storage;
 mod tally;
+mod unreadable;
 mod unsupported;
 
 pub use faults::Fault;
@@ -95,6 +96,9 @@ pub struct VirtualDrive {
     /// The command code and bytes of the last reply, while its master's follow-up is
     /// awaited ([`crate::protocol::FollowUp`]).
     awaiting_follow_up: Option<(u32, Vec<u8>)>,
+    /// Unreadable frames for this station in a row, since the last it could read
+    /// ([`crate::behaviour::Refusals::retries_exceeded`]).
+    unreadable_in_a_row: u32,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -141,6 +145,7 @@ impl VirtualDrive {
             port: None,
             page: None,
             awaiting_follow_up: None,
+            unreadable_in_a_row: 0,
         };
         virtual_drive.place_station();
         virtual_drive.refresh();
@@ -458,10 +463,18 @@ impl VirtualDrive {
                         self.requests += 1;
                         self.answer_mismatch(protocol, &request, variants.mismatch)
                     }
-                    None if error.kind() == DecodeErrorKind::ChecksumMismatch => {
-                        self.refuse(protocol, None, Refusal::BadChecksum)
+                    None => {
+                        let checksum = error.kind() == DecodeErrorKind::ChecksumMismatch;
+                        match self.unreadable(protocol, frame, checksum) {
+                            Some(unreadable::Unreadable::Frame { len, outcome })
+                                if len == frame.len() =>
+                            {
+                                outcome
+                            }
+                            _ if checksum => self.refuse(protocol, None, Refusal::BadChecksum),
+                            _ => Outcome::Silent("not a request frame"),
+                        }
                     }
-                    None => Outcome::Silent("not a request frame"),
                 }
             }
         }
@@ -662,8 +675,14 @@ impl VirtualDrive {
                 }
                 Ok(Ok(Found::Incomplete)) => break,
                 Ok(Err(error)) if error.kind() == DecodeErrorKind::ChecksumMismatch => {
-                    let outcome = self.refuse(protocol, None, Refusal::BadChecksum);
-                    (outcome, input.len().min(start.len().max(1)))
+                    match self.unreadable(protocol, input, true) {
+                        Some(unreadable::Unreadable::Frame { len, outcome }) => (outcome, len),
+                        Some(unreadable::Unreadable::Wait) if !settled => break,
+                        _ => {
+                            let outcome = self.refuse(protocol, None, Refusal::BadChecksum);
+                            (outcome, input.len().min(start.len().max(1)))
+                        }
+                    }
                 }
                 Ok(Err(_)) => match unsupported::lacking(protocol, input, settled) {
                     unsupported::Lacking::Wait => break,
@@ -675,10 +694,14 @@ impl VirtualDrive {
                         self.requests += 1;
                         (self.answer_lacking(protocol, address, function), len)
                     }
-                    unsupported::Lacking::No => (
-                        Outcome::Silent("framing error"),
-                        if start.is_empty() { input.len() } else { 1 },
-                    ),
+                    unsupported::Lacking::No => match self.unreadable(protocol, input, false) {
+                        Some(unreadable::Unreadable::Frame { len, outcome }) => (outcome, len),
+                        Some(unreadable::Unreadable::Wait) if !settled => break,
+                        _ => (
+                            Outcome::Silent("framing error"),
+                            if start.is_empty() { input.len() } else { 1 },
+                        ),
+                    },
                 },
             };
             let request: Vec<u8> = input.drain(..used).collect();
@@ -711,6 +734,7 @@ impl VirtualDrive {
     fn count_addressed(&mut self, request: &DecodedRequest<'_>) {
         if request.broadcast.is_some() || request.address.is_none_or(|a| a == self.address) {
             self.tally.addressed += 1;
+            self.unreadable_in_a_row = 0;
         }
     }
 

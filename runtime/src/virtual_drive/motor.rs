@@ -59,7 +59,7 @@ impl VirtualDrive {
         Some(engineering(self.scaled(info), raw))
     }
 
-    fn amount(&self, amount: Amount) -> f64 {
+    pub(super) fn amount(&self, amount: Amount) -> f64 {
         match amount {
             Amount::Value(value) => value,
             Amount::Register(id) => self.value_of(id).unwrap_or(0.0),

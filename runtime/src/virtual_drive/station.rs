@@ -18,11 +18,9 @@ impl VirtualDrive {
         let Some(info) = self.station_register() else {
             return;
         };
-        let (low, high) = self
-            .drive
-            .protocols
-            .first()
-            .map_or((1, u8::MAX), |p| (p.address_range.0.max(1), p.address_range.1));
+        let (low, high) = self.drive.protocols.first().map_or((1, u8::MAX), |p| {
+            (p.address_range.0.max(1), p.address_range.1)
+        });
         let held = self.storage.in_effect(info, 0);
         match u8::try_from(held).ok().filter(|s| (low..=high).contains(s)) {
             Some(station) => self.address = station,

@@ -98,6 +98,14 @@ pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
                     while_running: r.while_running,
                     bad_checksum: r.bad_checksum,
                     wrong_mode: r.wrong_mode,
+                    bad_character: r.bad_character,
+                    malformed: r.malformed,
+                    retries_exceeded: r.retries_exceeded.as_ref().map(|(code, after)| {
+                        vfd_runtime::behaviour::RetriesExceeded {
+                            code: *code,
+                            after: amount(after),
+                        }
+                    }),
                 })
                 .collect(),
         ),

@@ -902,16 +902,29 @@ fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
         Some(code) => format!("{:0w$X}h", code, w = error_code_digits(drive, protocol)),
         None => "no reply".to_owned(),
     };
-    let mut refusal_names = vec![
-        "Unknown register",
-        "Read-only register",
-        "Out of range",
-        "While running",
-        "Bad checksum",
+    // The refusals every model tells apart, then those only some models give.
+    type Cell = fn(&RefusalsIr) -> Option<u16>;
+    let mut columns: Vec<(&'static str, Cell)> = vec![
+        ("Unknown register", |r| r.unknown_register),
+        ("Read-only register", |r| r.read_only),
+        ("Out of range", |r| r.out_of_range),
+        ("While running", |r| r.while_running),
+        ("Bad checksum", |r| r.bad_checksum),
     ];
     if behaviour.require_mode.is_some() {
-        refusal_names.push("Outside the required mode");
+        columns.push(("Outside the required mode", |r| r.wrong_mode));
     }
+    let optional: [(&'static str, Cell); 3] = [
+        ("Bad character", |r| r.bad_character),
+        ("Malformed frame", |r| r.malformed),
+        ("Retries exceeded", |r| r.retries_exceeded.as_ref().map(|(code, _)| *code)),
+    ];
+    for (name, cell) in optional {
+        if behaviour.refusals.iter().any(|r| cell(r).is_some()) {
+            columns.push((name, cell));
+        }
+    }
+    let refusal_names = columns.iter().map(|(name, _)| *name).collect();
     let refusals = drive
         .protocols
         .iter()
@@ -920,24 +933,22 @@ fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
                 .refusals
                 .iter()
                 .find(|r| r.protocol == protocol.id);
-            let mut cells: Vec<String> = match entry {
-                Some(r) => [
-                    r.unknown_register,
-                    r.read_only,
-                    r.out_of_range,
-                    r.while_running,
-                    r.bad_checksum,
-                    r.wrong_mode,
-                ]
-                .into_iter()
-                .map(|code| answer(protocol, code))
-                .collect(),
-                None => vec!["no reply".to_owned(); 6],
-            };
-            cells.truncate(refusal_names.len());
+            let cells: Vec<String> = columns
+                .iter()
+                .map(|(_, cell)| answer(protocol, entry.and_then(cell)))
+                .collect();
             (protocol.id.clone(), cells)
         })
         .collect();
+    for rule in &behaviour.refusals {
+        if let Some((code, after)) = &rule.retries_exceeded {
+            model_lines.push(format!(
+                "Over `{}`, once more than {} unreadable frames (bad characters, malformed frames, bad checksums) came in a row, the next is answered {code:X}h.",
+                rule.protocol,
+                amount(after, "").trim_end()
+            ));
+        }
+    }
     VirtualDriveView {
         behaviour: Some(behaviour),
         model_lines,

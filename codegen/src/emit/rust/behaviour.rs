@@ -150,6 +150,14 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
             code(r.bad_checksum),
             code(r.wrong_mode),
         );
+        let (bad_character, malformed) = (code(r.bad_character), code(r.malformed));
+        let retries_exceeded = match &r.retries_exceeded {
+            Some((code, after)) => {
+                let (code, after) = (int_literal(*code), amount(after));
+                quote!(Some(RetriesExceeded { code: #code, after: #after }))
+            }
+            None => quote!(None),
+        };
         quote!(Refusals {
             protocol: #protocol,
             unknown_register: #unknown,
@@ -158,6 +166,9 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
             while_running: #while_running,
             bad_checksum: #bad_checksum,
             wrong_mode: #wrong_mode,
+            bad_character: #bad_character,
+            malformed: #malformed,
+            retries_exceeded: #retries_exceeded,
         })
     });
     let doc = doc_text(format!(

