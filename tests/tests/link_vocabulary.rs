@@ -131,3 +131,58 @@ mod dv1_unreadable_frames {
         assert!(info.meaning.contains("syntax error"), "{}", info.meaning);
     }
 }
+
+mod dv1_storage_by_instruction {
+    use super::*;
+    use dv1::registers::{FrequencyCommandEeprom, FrequencyCommandRam};
+    use vfd_runtime::prelude::*;
+    use vfd_runtime::{EncodeError, TransactionErrorKind};
+
+    fn eaton() -> (Simulator, vfd_runtime::transaction::Master<vfd_runtime::virtual_drive::SimLink, dv1::Drive>) {
+        let sim = Simulator::new(&dv1::DRIVE);
+        sim.lock().set_address(0);
+        let master = sim.master(&dv1::protocols::EATON);
+        (sim, master)
+    }
+
+    #[test]
+    fn hee_stores_in_eeprom_and_hed_in_ram() {
+        let (sim, mut master) = eaton();
+        // 1009h (HEE): a persistent write goes out with the plain write, and the drive
+        // keeps it over a power cycle.
+        master
+            .write_persistent::<FrequencyCommandEeprom>(Hertz(45.0))
+            .unwrap();
+        assert_eq!(sim.lock().eeprom_raw("H73-HEE"), Some(4500));
+        // 1002h (HED): RAM only.
+        master.write_ram::<FrequencyCommandRam>(Hertz(30.0)).unwrap();
+        assert_eq!(sim.lock().raw("H6D-HED"), Some(3000));
+        assert_eq!(sim.lock().eeprom_raw("H6D-HED"), Some(0));
+        sim.power_cycle();
+        assert_eq!(sim.lock().raw("H73-HEE"), Some(4500));
+        assert_eq!(sim.lock().raw("H6D-HED"), Some(0));
+    }
+
+    #[test]
+    fn a_ram_write_of_the_eeprom_instruction_is_refused_before_sending() {
+        let (sim, mut master) = eaton();
+        let error = master
+            .write_ram::<FrequencyCommandEeprom>(Hertz(45.0))
+            .unwrap_err();
+        assert!(
+            matches!(
+                error.kind,
+                TransactionErrorKind::Encode(EncodeError::StoredInEeprom { register: 0x1009, .. })
+            ),
+            "{error}"
+        );
+        assert_eq!(sim.lock().tally().addressed, 0, "nothing was sent");
+        // The frame the persistent write sends is the HEE write the manual lists.
+        let request = FrequencyCommandEeprom::write_persistent(Hertz(50.0)).unwrap();
+        let mut frame = [0u8; 16];
+        let len = dv1::protocols::EATON
+            .encode_request(&request, Some(0), &mut frame)
+            .unwrap();
+        assert_eq!(&frame[..len], eaton_frame("\x0500EE01388").as_slice());
+    }
+}

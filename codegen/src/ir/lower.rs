@@ -657,6 +657,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
                 no_reply: c.no_reply,
                 extra: c.extra,
                 lowercase_means_sender_tripped: c.lowercase_means_sender_tripped,
+                stored_by_instruction: c.stored_by_instruction,
                 registers: c.registers.to_vec(),
                 percent_of: c.percent_of.as_ref().map(|p| {
                     (

@@ -605,6 +605,9 @@ pub struct CommandIr {
     /// after a garbled reply.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub follow_up: Option<(String, String)>,
+    /// A plain write whose storage is the instruction's (`storage: by_instruction`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub stored_by_instruction: bool,
 }
 
 /// The people's side of a protocol's pages (`protocols[].pages`).

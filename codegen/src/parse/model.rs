@@ -2298,6 +2298,12 @@ pub struct CommandModel {
     /// allows several (a Modbus exception to function 0x03 carries 0x83); left out: the one
     /// code the error layout allows.
     pub error_code: Option<CodeModel>,
+    /// `by_instruction`: a plain write (`kind: write_ram`) whose storage is the
+    /// instruction's, that is the register's: the protocol writes RAM and EEPROM with
+    /// instructions of their own (a frequency written to RAM with one code and to EEPROM
+    /// with another), so a RAM-only register's write goes to RAM and any other's to RAM
+    /// and EEPROM. Said once here, not per register. Left out: the kind's storage.
+    pub storage: Option<WriteStorage>,
     /// What the master sends after this command's reply: `{ ok: LAYOUT, again: LAYOUT }`,
     /// the acknowledgement of a sound reply and the request to send a garbled one again
     /// (Eaton: C and F after a read's E). Neither is answered by a frame of its own.
@@ -2306,6 +2312,15 @@ pub struct CommandModel {
     #[serde(default)]
     #[allow(dead_code)]
     pub description: String,
+}
+
+/// Where a write command's writes go (`commands[].storage`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum WriteStorage {
+    /// Where the instruction (the register it addresses) stores: RAM for a RAM-only
+    /// register, RAM and EEPROM for any other.
+    ByInstruction,
 }
 
 /// The master's answer to a command's reply (`commands[].follow_up`).

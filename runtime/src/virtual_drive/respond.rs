@@ -382,6 +382,9 @@ impl VirtualDrive {
                 {
                     to_eeprom
                 }
+                // The instruction decides: a RAM-only register's in RAM, any other's in RAM
+                // and EEPROM.
+                _ if request.command.stored_by_instruction => !info.ram_only,
                 _ => persistent,
             };
             self.storage

@@ -1160,6 +1160,12 @@ fn command_notes(drive: &DriveIr, command: &CommandIr) -> String {
     if command.lowercase_means_sender_tripped {
         notes.push("lower case: the sender (master) has tripped".to_owned());
     }
+    if command.stored_by_instruction {
+        notes.push(
+            "storage by instruction: a RAM-only register's write goes to RAM, any other's to RAM and EEPROM (a persistent write is sent with it; a RAM write of such a register is refused before sending)"
+                .to_owned(),
+        );
+    }
     if !command.registers.is_empty() {
         let names: Vec<String> = command.registers.iter().map(|r| label(*r)).collect();
         notes.push(format!("addresses only {}", names.join(", ")));
