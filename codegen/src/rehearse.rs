@@ -102,6 +102,10 @@ fn rehearse(drive: &'static DriveInfo, example: &ExampleIr) -> Option<Outcome> {
             virtual_drive.preset(code, raw_of(info, *value));
         }
     }
+    // On the page the example names, as the manual's page switch before it left the drive.
+    if let Some(page) = example.page {
+        virtual_drive.set_page(protocol, page);
+    }
     Some(virtual_drive.respond(protocol, &request.bytes))
 }
 

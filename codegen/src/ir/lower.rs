@@ -837,8 +837,8 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
             };
             let register = decoded
                 .reply_then_request()
-                .filter_map(DecodedFrame::decoded)
-                .find_map(|meaning| register_of(&drive.model, meaning))
+                .filter_map(DecodedFrame::as_stated)
+                .find_map(|meaning| register_of(&drive.model, &meaning))
                 .and_then(|found| registers.iter().find(|r| r.id == found.id));
             ExampleIr {
                 id: example.id.clone(),
@@ -882,6 +882,7 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                     .collect(),
                 not_simulated: example.not_simulated.clone(),
                 variant: example.variant.clone(),
+                page: example.page,
             }
         })
         .collect()

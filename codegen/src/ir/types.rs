@@ -1113,6 +1113,9 @@ pub struct ExampleIr {
     /// The protocol variant the frames are in (`None`: the first).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub variant: Option<String>,
+    /// The page the drive is on for the frames, on a protocol with pages.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub page: Option<u16>,
 }
 
 /// A multi-step example: one call of the master and every frame it puts on the line.

@@ -1498,6 +1498,11 @@ pub struct ExampleModel {
     /// The protocol file's variant the frames are in (`cr_lf`: the terminator is CR LF);
     /// left out: the first variant, the one the layouts are written in.
     pub variant: Option<String>,
+    /// On a protocol with pages (`protocols[].pages`), the page the drive is on for these
+    /// frames: the request's register field is an offset on it, and `expect.register`
+    /// names the register it reaches there (checked); the virtual drive is put on the page
+    /// before the example is played to it.
+    pub page: Option<u16>,
     /// The manual section with the frame.
     pub source: String,
     /// What the exchange does, in English.

@@ -272,7 +272,21 @@ fn check_frame(
                     _ => "check the bytes against the manual; record a manual mistake as `printed:` + `erratum:`",
                 }),
         ),
-        Some(Ok(decoded)) => {
+        Some(Ok(_)) => {
+            // A paged offset stands for the register it reaches on the example's page.
+            let stated = frame.as_stated();
+            let decoded = stated.as_deref().expect("the frame decoded");
+            // Without its page, a paged offset names no register: the page is reported.
+            let page_reported;
+            let expect = if frame.register_unknown_for_its_page() {
+                page_reported = ExpectModel {
+                    register: None,
+                    ..expect.clone()
+                };
+                &page_reported
+            } else {
+                expect
+            };
             let mismatches = mismatches(expect, expected_code, decoded);
             if !mismatches.is_empty() {
                 out.push(drive.source.error(&format!("{path}.expect"), format!("the frame decodes differently: {}", mismatches.join("; "))).hint("`expect` states what the manual says the frame means (register numbers before the protocol's address map)"));
@@ -508,10 +522,15 @@ fn check_example_value(
     out: &mut Diagnostics,
 ) {
     let path = format!("{base}.value");
-    // Frames that do not decode are reported as such; the value has nothing to be judged by.
+    // Frames that do not decode are reported as such, and a paged offset without its page
+    // (paged_examples_name_their_place): the value has nothing to be judged by.
     if example
         .reply_then_request()
         .all(|frame| frame.decoded().is_none())
+        || example
+            .request
+            .as_ref()
+            .is_some_and(DecodedFrame::register_unknown_for_its_page)
     {
         return;
     }
@@ -520,10 +539,10 @@ fn check_example_value(
     let mut data = None;
     for decoded in example
         .reply_then_request()
-        .filter_map(DecodedFrame::decoded)
+        .filter_map(DecodedFrame::as_stated)
     {
         if register.is_none() {
-            register = register_of(&drive.model, decoded);
+            register = register_of(&drive.model, &decoded);
         }
         if data.is_none() {
             data = decoded.data;

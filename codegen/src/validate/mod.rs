@@ -21,6 +21,7 @@ mod identifiers_are_snake_case;
 mod inferred_facts_exist;
 mod line_formats_resolve;
 mod names_are_unique;
+mod paged_examples_name_their_place;
 mod ranges_resolve;
 mod reference_scaling_resolves;
 mod references_resolve;
@@ -60,7 +61,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 29] = [
+    let checks: [fn(&Context, &mut Diagnostics); 30] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -77,6 +78,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         serial_settings_are_consistent::serial_settings_are_consistent,
         station_register_resolves::station_register_resolves,
         examples_decode::examples_decode,
+        paged_examples_name_their_place::paged_examples_name_their_place,
         replies_answer_requests::replies_answer_requests,
         examples_re_encode::examples_re_encode,
         value_examples_match::value_examples_match,
