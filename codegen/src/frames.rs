@@ -80,12 +80,10 @@ impl DecodedFrame {
         self.decoded()?;
         let meaning = self.decoded()?;
         Some(match self.page_register {
-            Some(register) if meaning.register.is_none() => {
-                std::borrow::Cow::Owned(FrameMeaning {
-                    register: Some(register),
-                    ..meaning.clone()
-                })
-            }
+            Some(register) if meaning.register.is_none() => std::borrow::Cow::Owned(FrameMeaning {
+                register: Some(register),
+                ..meaning.clone()
+            }),
             _ => std::borrow::Cow::Borrowed(meaning),
         })
     }

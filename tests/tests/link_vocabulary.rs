@@ -45,7 +45,6 @@ fn silent(drive: &mut VirtualDrive, protocol: &Protocol, request: &[u8]) {
 mod dv1_station_register {
     use super::*;
     use dv1::registers::StationNumber;
-    use vfd_runtime::prelude::*;
 
     #[test]
     fn the_virtual_drive_answers_at_the_station_07_01_holds_after_a_reset() {
@@ -184,5 +183,143 @@ mod dv1_storage_by_instruction {
             .encode_request(&request, Some(0), &mut frame)
             .unwrap();
         assert_eq!(&frame[..len], eaton_frame("\x0500EE01388").as_slice());
+    }
+}
+
+vfd_macros::include_drive!(
+    "fixtures/link-vocabulary/kestrel_k7.yaml",
+    protocols = "../drives/protocols"
+);
+
+mod kestrel {
+    use super::*;
+    use kestrel_k7::registers::*;
+    use std::time::Duration;
+    use vfd_runtime::prelude::*;
+    use vfd_runtime::{EncodeError, Space, TransactionErrorKind};
+
+    fn link() -> &'static Protocol {
+        kestrel_k7::protocols::LINK.protocol()
+    }
+
+    #[test]
+    fn registers_known_by_their_wire_numbers_are_read_and_found_by_code() {
+        let status = kestrel_k7::DRIVE.register("H7A").unwrap();
+        assert!(!status.has_address, "no address of its own");
+        assert_eq!(status.label(), "register H7A (Inverter status)");
+        // Reached by its instruction code on the link, and by nothing else.
+        let own = link()
+            .wire_numbers
+            .iter()
+            .find(|w| w.register == status.address)
+            .unwrap();
+        assert_eq!((own.read, own.write), (Some(0x7A), None));
+        let sim = Simulator::new(&kestrel_k7::DRIVE);
+        let mut master = sim.master(&kestrel_k7::protocols::LINK);
+        assert!(!master.read::<InverterStatus>().unwrap().into_value().running());
+        // Its number is no register number a frame carries: a paged read of it is none.
+        assert_eq!(link().page_of(status.address), None);
+    }
+
+    #[test]
+    fn a_parameter_known_by_its_page_and_number_takes_its_number_from_the_pages() {
+        let detection = kestrel_k7::DRIVE.register("Pr.42").unwrap();
+        assert!(detection.has_address);
+        assert_eq!(detection.address, 42);
+        assert_eq!(link().page_of(42), Some((0, 0x2A)));
+        assert_eq!(
+            kestrel_k7::DRIVE.register_at(Space::Parameter, 117).map(|r| r.code),
+            Some("Pr.117")
+        );
+        let sim = Simulator::new(&kestrel_k7::DRIVE);
+        let mut master = sim.master(&kestrel_k7::protocols::LINK);
+        assert_eq!(
+            master.read::<FrequencyDetection>().unwrap().into_value(),
+            Hertz(6.0)
+        );
+    }
+
+    #[test]
+    fn the_instruction_decides_where_a_write_goes() {
+        let sim = Simulator::new(&kestrel_k7::DRIVE);
+        let mut master = sim.master(&kestrel_k7::protocols::LINK);
+        master.write_persistent::<FrequencyEeprom>(Hertz(50.0)).unwrap();
+        master.write_ram::<FrequencyRam>(Hertz(20.0)).unwrap();
+        // A parameter's plain write is an EEPROM one: persistent writes only.
+        master.write_persistent::<AccelerationTime>(Seconds(7.5)).unwrap();
+        let error = master.write_ram::<AccelerationTime>(Seconds(7.5)).unwrap_err();
+        assert!(
+            matches!(
+                error.kind,
+                TransactionErrorKind::Encode(EncodeError::StoredInEeprom { register: 7, .. })
+            ),
+            "{error}"
+        );
+        let drive = sim.lock();
+        assert_eq!(drive.eeprom_raw("H6E-HEE"), Some(5000));
+        assert_eq!(drive.eeprom_raw("Pr.7"), Some(75));
+        assert_eq!(drive.raw("H6D-HED"), Some(2000));
+        assert_eq!(drive.eeprom_raw("H6D-HED"), Some(0));
+    }
+
+    #[test]
+    fn the_drive_answers_at_the_station_its_register_holds() {
+        let mut drive = VirtualDrive::new(&kestrel_k7::DRIVE);
+        assert_eq!(drive.address(), 1, "Pr.117's factory value");
+        // Pr.117 = 4 (page 1, number 11h): the drive stays at 1 until a reset.
+        answers(&mut drive, link(), &eaton_frame("\x0501FF00001"), b"\x0601\r");
+        answers(&mut drive, link(), &eaton_frame("\x05019100004"), b"\x0601\r");
+        assert_eq!(drive.address(), 1);
+        drive.reset();
+        assert_eq!(drive.address(), 4);
+        drive.set_address(9);
+        assert_eq!(drive.raw("Pr.117"), Some(9), "setting the station sets Pr.117");
+    }
+
+    #[test]
+    fn unreadable_frames_get_the_manuals_errors_then_the_nak_error() {
+        let mut drive = VirtualDrive::new(&kestrel_k7::DRIVE);
+        // A character error (a `G` among the data's hex digits), then a second unreadable
+        // frame in a row: more than Pr.121 = 1 allows, the NAK error (H0).
+        answers(&mut drive, link(), &eaton_frame("\x0501ED0G388"), b"\x15017\r");
+        answers(&mut drive, link(), &eaton_frame("\x0501ED0138"), b"\x15010\r");
+        // A frame it reads starts the count again: a syntax error is H3 once more.
+        answers(&mut drive, link(), &eaton_frame("\x05017A0"), b"\x020100000\x0351\r");
+        answers(&mut drive, link(), &eaton_frame("\x0501ED0138"), b"\x15013\r");
+        answers(&mut drive, link(), b"\x0501ED0138800\r", b"\x15010\r");
+        let Ok(vfd_runtime::protocol::Found::Frame {
+            frame: vfd_runtime::Reply::Error { info, .. },
+            ..
+        }) = link().decode_reply(None, b"\x15010\r")
+        else {
+            panic!("an error reply");
+        };
+        assert_eq!(info.map(|i| i.id.as_ref()), Some("nak_error"));
+    }
+
+    #[test]
+    fn overload_and_frequency_detected_follow_their_levels() {
+        let sim = Simulator::new(&kestrel_k7::DRIVE);
+        let mut master = sim.master(&kestrel_k7::protocols::LINK);
+        master.write_ram::<FrequencyRam>(Hertz(60.0)).unwrap();
+        master
+            .write_ram::<RunCommand>(kestrel_k7::bits::RunCommand::new().with_forward(true))
+            .unwrap();
+        let status = |master: &mut vfd_runtime::transaction::Master<
+            vfd_runtime::virtual_drive::SimLink,
+            kestrel_k7::Drive,
+        >| master.read::<InverterStatus>().unwrap().into_value();
+        // Pr.7 = 5 s for 60 Hz: 0.4 s gives 4.8 Hz (below Pr.42 = 6 Hz), 1 s 12 Hz.
+        sim.advance(Duration::from_millis(400));
+        let early = status(&mut master);
+        assert!(early.running() && !early.frequency_detected() && !early.overload());
+        sim.advance(Duration::from_millis(600));
+        let later = status(&mut master);
+        assert!(later.frequency_detected() && !later.overload());
+        // 8 A at 46.7 Hz: overloaded at 60 Hz (10 A).
+        sim.advance(Duration::from_secs(5));
+        let full = status(&mut master);
+        assert!(full.up_to_frequency() && full.frequency_detected() && full.overload());
+        assert_eq!(master.read::<OutputCurrent>().unwrap().into_value(), Amperes(10.0));
     }
 }

@@ -334,6 +334,12 @@ fn lower_register(
         inferred: inferred_facts(register),
         warnings: register.warnings.clone(),
         no_reply: register.no_reply,
+        wire_only: register.given_address.is_none() && register.on_page.is_empty(),
+        on_page: register
+            .on_page
+            .iter()
+            .map(|(protocol, place)| (protocol.clone(), place.page, place.offset))
+            .collect(),
         held_at_trip_of: register
             .held_at_trip_of
             .as_ref()

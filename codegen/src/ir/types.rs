@@ -909,6 +909,14 @@ pub struct RegisterIr {
     /// Writes to it are never answered.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub no_reply: bool,
+    /// The manual gives it no number of its own: its protocols reach it by its wire numbers
+    /// only, and `address` is a number no frame carries.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub wire_only: bool,
+    /// Its place on pages as the description gives it (`on_page`): protocol id, page,
+    /// offset.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub on_page: Vec<(String, u16, u16)>,
     /// Code of the live register whose value this one holds from the last trip.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub held_at_trip_of: Option<String>,

@@ -1198,7 +1198,6 @@ pub struct LineFormatModel {
     pub stop_bits: Option<u8>,
 }
 
-
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BitfieldModel {
@@ -1295,7 +1294,17 @@ pub struct RangeModel {
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RegisterModel {
-    /// Communication number, 0x0000-0xFFFF, unique within its space.
+    /// Communication number, 0x0000-0xFFFF, unique within its space. Left out for a
+    /// register the manual gives no number of its own: one its protocols reach by its own
+    /// numbers on the wire (`wire_numbers`, an instruction code such as H7A) or by its place
+    /// on a page (`on_page`).
+    #[serde(rename = "address")]
+    pub given_address: Option<u32>,
+    /// The register's number in the description: `address` as given, else the number its
+    /// place on a page gives (`on_page`), else a number of its own that no frame carries
+    /// (a register known by its wire numbers only). Set when the file is loaded
+    /// (`load::register_numbers`).
+    #[serde(skip)]
     pub address: u32,
     /// Unique lower snake case name; it becomes a Rust type (`upper_limit_frequency` -> `UpperLimitFrequency`).
     pub id: String,
@@ -1382,6 +1391,12 @@ pub struct RegisterModel {
     /// cannot be used over that protocol.
     #[serde(default)]
     pub wire_numbers: BTreeMap<String, WireNumberModel>,
+    /// Its place on a page, per protocol with pages (`protocols[].pages`), where the manual
+    /// gives the register by page and number only (`{ eaton: { page: 1, offset: 0x5F } }`):
+    /// without an `address`, the register's number is the one the page ranges lay there;
+    /// with one, the two must agree.
+    #[serde(default)]
+    pub on_page: BTreeMap<String, PagePlaceModel>,
     /// The live register (code or id) whose value this register holds from the moment of
     /// the last trip (`FD00` for FE00): the virtual drive copies it when it trips.
     pub held_at_trip_of: Option<String>,
@@ -1531,6 +1546,17 @@ pub struct ExampleModel {
     /// it, `vfd check` plays the request to the virtual drive, under `settings`, and requires
     /// the example's reply byte for byte.
     pub not_simulated: Option<String>,
+}
+
+/// A register's place on a page of one protocol (`registers[].on_page`).
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PagePlaceModel {
+    /// The page.
+    pub page: u16,
+    /// Its number on the page, before the command's address map (the read code: P.195 is
+    /// 5Fh on page 1).
+    pub offset: u16,
 }
 
 /// A register's own numbers on the wire in one protocol (`registers[].wire_numbers`).

@@ -410,7 +410,10 @@ behaviour:
     #[test]
     fn a_status_role_set_by_a_level_needs_the_level() {
         let roles = "status: { registers: [FA00], running: [run], overload: [run], frequency_detected: [command_enabled] }";
-        let yaml = format!("{VALID}{}", BEHAVIOUR.replace("status: { registers: [FA00], running: [run] }", roles));
+        let yaml = format!(
+            "{VALID}{}",
+            BEHAVIOUR.replace("status: { registers: [FA00], running: [run] }", roles)
+        );
         let found = check_yaml(check, &yaml);
         let messages: Vec<&str> = found.iter().map(|d| d.message.as_str()).collect();
         assert_eq!(
@@ -422,7 +425,10 @@ behaviour:
         );
         let given = yaml
             .replace("span: FH }", "span: FH, detection: UL }")
-            .replace("refusals:", "current: { registers: [Acc], at_zero: 0, at_span: 10, overload: 8.0 }\n  refusals:");
+            .replace(
+            "refusals:",
+            "current: { registers: [Acc], at_zero: 0, at_span: 10, overload: 8.0 }\n  refusals:",
+        );
         let found = check_yaml(check, &given);
         assert!(found.is_empty(), "{found:#?}");
         let found = check_yaml(check, &given.replace("detection: UL", "detection: UX"));

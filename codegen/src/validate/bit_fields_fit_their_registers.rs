@@ -10,12 +10,7 @@ use vfd_runtime::DataType;
 
 /// Bit fields fit the registers that use them.
 pub fn bit_fields_fit_their_registers(drive: &Context, out: &mut Diagnostics) {
-    let widths: Vec<Option<Width>> = drive
-        .model
-        .registers
-        .iter()
-        .map(width_of)
-        .collect();
+    let widths: Vec<Option<Width>> = drive.model.registers.iter().map(width_of).collect();
     for (i, bitfield) in drive.model.bitfields.iter().enumerate() {
         let users: Vec<(usize, &RegisterModel, Width)> = drive
             .model
@@ -97,9 +92,10 @@ mod tests {
     fn reports_a_bit_beyond_a_byte_register() {
         // The test drive's command word (bits 15, 10 and reserved 14-11, 9-0) on a byte:
         // the lowest offending field is reported once, naming the register.
-        let yaml = valid_with(&[
-            ("bitfield: command_word, ram_only: true,", "bitfield: command_word, data_type: byte, ram_only: true,"),
-        ]);
+        let yaml = valid_with(&[(
+            "bitfield: command_word, ram_only: true,",
+            "bitfield: command_word, data_type: byte, ram_only: true,",
+        )]);
         let found = check_yaml(check, &yaml);
         assert_eq!(found.len(), 4, "{found:#?}");
         assert_at(
@@ -109,7 +105,13 @@ mod tests {
             "bit 10 (`run`) of `command_word` does not fit register FA00 (registers[4]): a byte, bits 7-0",
             "{ bit: 10, id: run,",
         );
-        let found = check_yaml(check, &yaml.replace(r#"{ bits: "9:0", reserved: true }"#, r#"{ bits: "7:0", reserved: true }"#));
+        let found = check_yaml(
+            check,
+            &yaml.replace(
+                r#"{ bits: "9:0", reserved: true }"#,
+                r#"{ bits: "7:0", reserved: true }"#,
+            ),
+        );
         assert_eq!(found.len(), 3, "{found:#?}");
         assert!(found[0].message.starts_with("bit 15 (`command_enabled`)"));
         assert!(found[1].message.starts_with("bits 14-11 (`reserved`)"));

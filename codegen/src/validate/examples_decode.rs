@@ -276,14 +276,23 @@ fn check_frame(
             // A paged offset stands for the register it reaches on the example's page.
             let stated = frame.as_stated();
             let decoded = stated.as_deref().expect("the frame decoded");
-            // Without its page, a paged offset names no register: the page is reported.
-            let page_reported;
+            // Without its page, a paged offset names no register: the page is reported. A
+            // register known by its wire numbers only has no number `expect` could state.
+            let wire_only = crate::frames::register_of(&drive.model, decoded)
+                .is_some_and(|r| r.given_address.is_none() && r.on_page.is_empty());
+            let adjusted;
             let expect = if frame.register_unknown_for_its_page() {
-                page_reported = ExpectModel {
+                adjusted = ExpectModel {
                     register: None,
                     ..expect.clone()
                 };
-                &page_reported
+                &adjusted
+            } else if wire_only && expect.register.is_none() {
+                adjusted = ExpectModel {
+                    register: decoded.register.map(u32::from),
+                    ..expect.clone()
+                };
+                &adjusted
             } else {
                 expect
             };

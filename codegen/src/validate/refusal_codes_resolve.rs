@@ -28,8 +28,10 @@ pub fn refusal_codes_resolve(drive: &Context, out: &mut Diagnostics) {
         if !table.is_empty() {
             for (key, code) in codes(refusals) {
                 if !table.iter().any(|entry| entry.code == code) {
-                    let known: Vec<String> =
-                        table.iter().map(|e| format!("{:X}h {}", e.code, e.id)).collect();
+                    let known: Vec<String> = table
+                        .iter()
+                        .map(|e| format!("{:X}h {}", e.code, e.id))
+                        .collect();
                     out.push(
                         drive
                             .source

@@ -38,7 +38,10 @@ pub fn station_register_resolves(drive: &Context, out: &mut Diagnostics) {
         || register.scale.is_some_and(|s| s != 1.0)
     {
         problem(
-            format!("register {} does not hold a plain station number", register.code),
+            format!(
+                "register {} does not hold a plain station number",
+                register.code
+            ),
             "a station-number register holds the number itself: no bit field, code table or scale",
         );
     }
@@ -70,7 +73,10 @@ mod tests {
 
     fn drive(register: &str, station: &str) -> String {
         valid_with(&[
-            ("  max: 31\n", &format!("  max: 31\n  register: {register}\n")),
+            (
+                "  max: 31\n",
+                &format!("  max: 31\n  register: {register}\n"),
+            ),
             ("registers:\n", &format!("registers:\n{station}")),
         ])
     }
@@ -85,7 +91,10 @@ mod tests {
         let found = check_yaml(check, &drive("F803", STATION));
         assert_eq!(only(&found).message, "no register `F803`");
         assert_eq!(only(&found).path, "addressing.register");
-        let found = check_yaml(check, &drive("F802", &STATION.replace("max: 31 }", "max: 99 }")));
+        let found = check_yaml(
+            check,
+            &drive("F802", &STATION.replace("max: 31 }", "max: 99 }")),
+        );
         assert_eq!(
             only(&found).message,
             "register F802's range reaches beyond the station numbers 0-31 (`addressing`)"

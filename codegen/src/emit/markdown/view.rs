@@ -496,7 +496,17 @@ impl<'a> DriveView<'a> {
                 .iter()
                 .map(|register| RegisterView {
                     register,
-                    address_display: address_label(register),
+                    address_display: if register.wire_only {
+                        "none: wire numbers only".to_owned()
+                    } else {
+                        let mut label = address_label(register);
+                        for (protocol, page, offset) in &register.on_page {
+                            label.push_str(&format!(
+                                ", {protocol} page {page} offset {offset:02X}h"
+                            ));
+                        }
+                        label
+                    },
                     address_hex: format!("{:04X}", register.address),
                     scale_display: format!("{}", register.scale),
                     range_display: match code_table_link(drive, register.code_table.as_deref()) {
@@ -917,7 +927,9 @@ fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
     let optional: [(&'static str, Cell); 3] = [
         ("Bad character", |r| r.bad_character),
         ("Malformed frame", |r| r.malformed),
-        ("Retries exceeded", |r| r.retries_exceeded.as_ref().map(|(code, _)| *code)),
+        ("Retries exceeded", |r| {
+            r.retries_exceeded.as_ref().map(|(code, _)| *code)
+        }),
     ];
     for (name, cell) in optional {
         if behaviour.refusals.iter().any(|r| cell(r).is_some()) {
