@@ -292,7 +292,11 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
         say!("  number      none of its own: reached by its wire numbers");
     }
     for protocol in drive.protocols {
-        if let Some(own) = protocol.wire_numbers.iter().find(|w| w.register == r.address) {
+        if let Some(own) = protocol
+            .wire_numbers
+            .iter()
+            .find(|w| w.register == r.address)
+        {
             let shown = |n: Option<u16>| n.map_or("-".to_owned(), |n| format!("{n:02X}h"));
             if own.read.is_some() || own.write.is_some() {
                 say!(

@@ -54,15 +54,33 @@ mod dv1_station_register {
         assert_eq!(drive.address(), 1);
         assert_eq!(drive.raw("07-01"), Some(1));
         drive.set_address(0);
-        assert_eq!(drive.raw("07-01"), Some(0), "setting the station sets 07-01");
+        assert_eq!(
+            drive.raw("07-01"),
+            Some(0),
+            "setting the station sets 07-01"
+        );
         // 07-01 = 5 over the link (page 0, offset 24h = P.36, write code A4h): acknowledged
         // at station 0; it takes effect after a reset, so the drive stays at station 0.
-        answers(&mut drive, eaton, &eaton_frame("\x0500FF00000"), b"\x0600\r");
-        answers(&mut drive, eaton, &eaton_frame("\x0500A400005"), b"\x0600\r");
+        answers(
+            &mut drive,
+            eaton,
+            &eaton_frame("\x0500FF00000"),
+            b"\x0600\r",
+        );
+        answers(
+            &mut drive,
+            eaton,
+            &eaton_frame("\x0500A400005"),
+            b"\x0600\r",
+        );
         assert_eq!(drive.raw("07-01"), Some(5));
         assert_eq!(drive.address(), 0);
         drive.reset();
-        assert_eq!(drive.address(), 5, "the station 07-01 holds, after the reset");
+        assert_eq!(
+            drive.address(),
+            5,
+            "the station 07-01 holds, after the reset"
+        );
         silent(&mut drive, eaton, &eaton_frame("\x05007A0"));
         answers(
             &mut drive,
@@ -98,10 +116,20 @@ mod dv1_unreadable_frames {
         let eaton = dv1::protocols::EATON.protocol();
         let mut drive = at_station_0();
         // Three data digits where four belong (例一 with one digit short).
-        answers(&mut drive, eaton, &eaton_frame("\x0500FA0000"), b"\x15003\r");
+        answers(
+            &mut drive,
+            eaton,
+            &eaton_frame("\x0500FA0000"),
+            b"\x15003\r",
+        );
         // A character the frames never carry: the DV1 has no character error, so the
         // syntax error's code.
-        answers(&mut drive, eaton, &eaton_frame("\x0500FA000G2"), b"\x15003\r");
+        answers(
+            &mut drive,
+            eaton,
+            &eaton_frame("\x0500FA000G2"),
+            b"\x15003\r",
+        );
         // A wrong sum check: H02, at the station the frame names.
         answers(&mut drive, eaton, b"\x0500FA00002D8\r", b"\x15002\r");
         // Another station's garbled frame, and one whose station is garbled: no reply.
@@ -137,7 +165,10 @@ mod dv1_storage_by_instruction {
     use vfd_runtime::prelude::*;
     use vfd_runtime::{EncodeError, TransactionErrorKind};
 
-    fn eaton() -> (Simulator, vfd_runtime::transaction::Master<vfd_runtime::virtual_drive::SimLink, dv1::Drive>) {
+    fn eaton() -> (
+        Simulator,
+        vfd_runtime::transaction::Master<vfd_runtime::virtual_drive::SimLink, dv1::Drive>,
+    ) {
         let sim = Simulator::new(&dv1::DRIVE);
         sim.lock().set_address(0);
         let master = sim.master(&dv1::protocols::EATON);
@@ -154,7 +185,9 @@ mod dv1_storage_by_instruction {
             .unwrap();
         assert_eq!(sim.lock().eeprom_raw("H73-HEE"), Some(4500));
         // 1002h (HED): RAM only.
-        master.write_ram::<FrequencyCommandRam>(Hertz(30.0)).unwrap();
+        master
+            .write_ram::<FrequencyCommandRam>(Hertz(30.0))
+            .unwrap();
         assert_eq!(sim.lock().raw("H6D-HED"), Some(3000));
         assert_eq!(sim.lock().eeprom_raw("H6D-HED"), Some(0));
         sim.power_cycle();
@@ -171,7 +204,10 @@ mod dv1_storage_by_instruction {
         assert!(
             matches!(
                 error.kind,
-                TransactionErrorKind::Encode(EncodeError::StoredInEeprom { register: 0x1009, .. })
+                TransactionErrorKind::Encode(EncodeError::StoredInEeprom {
+                    register: 0x1009,
+                    ..
+                })
             ),
             "{error}"
         );
@@ -216,7 +252,11 @@ mod kestrel {
         assert_eq!((own.read, own.write), (Some(0x7A), None));
         let sim = Simulator::new(&kestrel_k7::DRIVE);
         let mut master = sim.master(&kestrel_k7::protocols::LINK);
-        assert!(!master.read::<InverterStatus>().unwrap().into_value().running());
+        assert!(!master
+            .read::<InverterStatus>()
+            .unwrap()
+            .into_value()
+            .running());
         // Its number is no register number a frame carries: a paged read of it is none.
         assert_eq!(link().page_of(status.address), None);
     }
@@ -228,7 +268,9 @@ mod kestrel {
         assert_eq!(detection.address, 42);
         assert_eq!(link().page_of(42), Some((0, 0x2A)));
         assert_eq!(
-            kestrel_k7::DRIVE.register_at(Space::Parameter, 117).map(|r| r.code),
+            kestrel_k7::DRIVE
+                .register_at(Space::Parameter, 117)
+                .map(|r| r.code),
             Some("Pr.117")
         );
         let sim = Simulator::new(&kestrel_k7::DRIVE);
@@ -243,11 +285,17 @@ mod kestrel {
     fn the_instruction_decides_where_a_write_goes() {
         let sim = Simulator::new(&kestrel_k7::DRIVE);
         let mut master = sim.master(&kestrel_k7::protocols::LINK);
-        master.write_persistent::<FrequencyEeprom>(Hertz(50.0)).unwrap();
+        master
+            .write_persistent::<FrequencyEeprom>(Hertz(50.0))
+            .unwrap();
         master.write_ram::<FrequencyRam>(Hertz(20.0)).unwrap();
         // A parameter's plain write is an EEPROM one: persistent writes only.
-        master.write_persistent::<AccelerationTime>(Seconds(7.5)).unwrap();
-        let error = master.write_ram::<AccelerationTime>(Seconds(7.5)).unwrap_err();
+        master
+            .write_persistent::<AccelerationTime>(Seconds(7.5))
+            .unwrap();
+        let error = master
+            .write_ram::<AccelerationTime>(Seconds(7.5))
+            .unwrap_err();
         assert!(
             matches!(
                 error.kind,
@@ -267,13 +315,27 @@ mod kestrel {
         let mut drive = VirtualDrive::new(&kestrel_k7::DRIVE);
         assert_eq!(drive.address(), 1, "Pr.117's factory value");
         // Pr.117 = 4 (page 1, number 11h): the drive stays at 1 until a reset.
-        answers(&mut drive, link(), &eaton_frame("\x0501FF00001"), b"\x0601\r");
-        answers(&mut drive, link(), &eaton_frame("\x05019100004"), b"\x0601\r");
+        answers(
+            &mut drive,
+            link(),
+            &eaton_frame("\x0501FF00001"),
+            b"\x0601\r",
+        );
+        answers(
+            &mut drive,
+            link(),
+            &eaton_frame("\x05019100004"),
+            b"\x0601\r",
+        );
         assert_eq!(drive.address(), 1);
         drive.reset();
         assert_eq!(drive.address(), 4);
         drive.set_address(9);
-        assert_eq!(drive.raw("Pr.117"), Some(9), "setting the station sets Pr.117");
+        assert_eq!(
+            drive.raw("Pr.117"),
+            Some(9),
+            "setting the station sets Pr.117"
+        );
     }
 
     #[test]
@@ -281,11 +343,31 @@ mod kestrel {
         let mut drive = VirtualDrive::new(&kestrel_k7::DRIVE);
         // A character error (a `G` among the data's hex digits), then a second unreadable
         // frame in a row: more than Pr.121 = 1 allows, the NAK error (H0).
-        answers(&mut drive, link(), &eaton_frame("\x0501ED0G388"), b"\x15017\r");
-        answers(&mut drive, link(), &eaton_frame("\x0501ED0138"), b"\x15010\r");
+        answers(
+            &mut drive,
+            link(),
+            &eaton_frame("\x0501ED0G388"),
+            b"\x15017\r",
+        );
+        answers(
+            &mut drive,
+            link(),
+            &eaton_frame("\x0501ED0138"),
+            b"\x15010\r",
+        );
         // A frame it reads starts the count again: a syntax error is H3 once more.
-        answers(&mut drive, link(), &eaton_frame("\x05017A0"), b"\x020100000\x0351\r");
-        answers(&mut drive, link(), &eaton_frame("\x0501ED0138"), b"\x15013\r");
+        answers(
+            &mut drive,
+            link(),
+            &eaton_frame("\x05017A0"),
+            b"\x020100000\x0351\r",
+        );
+        answers(
+            &mut drive,
+            link(),
+            &eaton_frame("\x0501ED0138"),
+            b"\x15013\r",
+        );
         answers(&mut drive, link(), b"\x0501ED0138800\r", b"\x15010\r");
         let Ok(vfd_runtime::protocol::Found::Frame {
             frame: vfd_runtime::Reply::Error { info, .. },
@@ -320,6 +402,35 @@ mod kestrel {
         sim.advance(Duration::from_secs(5));
         let full = status(&mut master);
         assert!(full.up_to_frequency() && full.frequency_detected() && full.overload());
-        assert_eq!(master.read::<OutputCurrent>().unwrap().into_value(), Amperes(10.0));
+        assert_eq!(
+            master.read::<OutputCurrent>().unwrap().into_value(),
+            Amperes(10.0)
+        );
+    }
+}
+
+/// The reference page of the made-up drive shows each new fact.
+#[test]
+fn the_page_shows_the_new_vocabulary() {
+    let ir = vfd_codegen::compile(
+        std::path::Path::new("fixtures/link-vocabulary/kestrel_k7.yaml"),
+        Some(std::path::Path::new("../drives/protocols")),
+    )
+    .expect("the fixture compiles");
+    let page =
+        vfd_codegen::markdown_page(&ir, &vfd_codegen::OutputNames::default()).expect("renders");
+    for shown in [
+        "| `none: wire numbers only` | H7A |",
+        "| `002A, link page 0 offset 2Ah` | Pr.42 |",
+        "set by Pr.117 (the virtual drive answers at the station it holds)",
+        "| 0001h | 9600 bps — line: 9600 bps |",
+        "| 0002h | Even parity — line: even parity |",
+        "storage by instruction: a RAM-only register's write goes to RAM",
+        "Status levels: overload while the output current is at or above 8; frequency detected while running at or above Pr.42.",
+        "Bad character | Malformed frame | Retries exceeded",
+        "once more than Pr.121 unreadable frames",
+        "On page 0, where the request's offset is Pr.42.",
+    ] {
+        assert!(page.contains(shown), "the page lacks {shown:?}:\n{page}");
     }
 }

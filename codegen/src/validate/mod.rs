@@ -15,6 +15,7 @@ mod bit_fields_fit_their_registers;
 mod byte_registers_have_commands;
 mod code_values_are_unique;
 mod defaults_are_in_range;
+mod example_values;
 mod examples_decode;
 mod examples_re_encode;
 mod identifiers_are_snake_case;

@@ -113,9 +113,7 @@ impl Protocol {
     /// in RAM, and that the drive's persistence selector does not govern (the master sets
     /// that selector for the writes it governs).
     fn stored_in_eeprom_by_instruction(&self, request: &Request) -> bool {
-        request
-            .info
-            .is_some_and(|info| !info.stored_in_ram_only())
+        request.info.is_some_and(|info| !info.stored_in_ram_only())
             && !self
                 .persistence
                 .as_ref()

@@ -51,7 +51,10 @@ impl VirtualDrive {
         }
         let request = &protocol.commands.first()?.request;
         // A frame of the master's that is no request (a follow-up) is not one to answer.
-        if !request.start_bytes().is_some_and(|start| input.starts_with(start)) {
+        if !request
+            .start_bytes()
+            .is_some_and(|start| input.starts_with(start))
+        {
             return None;
         }
         let end = terminator(request)?;
@@ -101,9 +104,7 @@ impl VirtualDrive {
             }
             // A manual without a character error counts a wrong character as a syntax
             // error: the malformed frame's code.
-            _ if refusal == Refusal::BadCharacter => {
-                refusals.bad_character.or(refusals.malformed)
-            }
+            _ if refusal == Refusal::BadCharacter => refusals.bad_character.or(refusals.malformed),
             _ => refusal.code(refusals),
         };
         let Some(code) = code else {
