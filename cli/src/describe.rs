@@ -230,7 +230,7 @@ fn summary_line(r: &RegisterInfo) -> String {
     }
     format!(
         "{:<8} {:<7} {} {} {:<7} {} {:<11} {}",
-        manual_number(r.space, r.address, r.code),
+        number_text(r),
         r.code,
         clip(r.name, 34),
         clip(r.name_zh, 22),
@@ -239,6 +239,16 @@ fn summary_line(r: &RegisterInfo) -> String {
         r.access.as_str(),
         flags.join(",")
     )
+}
+
+/// The register's number as the manual writes it; `-` for one known by its wire numbers
+/// only.
+fn number_text(r: &RegisterInfo) -> String {
+    if r.has_address {
+        manual_number(r.space, r.address, r.code)
+    } else {
+        "-".to_owned()
+    }
 }
 
 /// Columns a character takes on a terminal (CJK characters take two).
@@ -281,16 +291,39 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
         say!("  also named  {}", r.aliases.join(", "));
     }
     say!("  id          {}", r.id);
-    say!(
-        "  number      {} ({}{})",
-        manual_number(r.space, r.address, r.code),
-        r.space.as_str(),
-        if r.array_len > 0 {
-            format!(", array of {}", r.array_len)
-        } else {
-            String::new()
+    if r.has_address {
+        say!(
+            "  number      {} ({}{})",
+            manual_number(r.space, r.address, r.code),
+            r.space.as_str(),
+            if r.array_len > 0 {
+                format!(", array of {}", r.array_len)
+            } else {
+                String::new()
+            }
+        );
+    } else {
+        say!("  number      none of its own: reached by its wire numbers");
+    }
+    for protocol in drive.protocols {
+        if let Some(own) = protocol
+            .wire_numbers
+            .iter()
+            .find(|w| w.register == r.address)
+        {
+            let shown = |n: Option<u16>| n.map_or("-".to_owned(), |n| format!("{n:02X}h"));
+            if own.read.is_some() || own.write.is_some() {
+                say!(
+                    "  on {:<9}read {}, write {}",
+                    protocol.id,
+                    shown(own.read),
+                    shown(own.write)
+                );
+            }
+        } else if let Some((page, offset)) = protocol.page_of(r.address) {
+            say!("  on {:<9}page {page}, offset {offset:02X}h", protocol.id);
         }
-    );
+    }
     let unit = match r.unit_symbol() {
         "" => "none".to_owned(),
         unit => format!("{unit}, in steps of {}", r.scale),

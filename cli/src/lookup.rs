@@ -73,8 +73,10 @@ pub fn registers(drive: &DriveInfo, name: &str) -> Vec<&'static RegisterInfo> {
                 || r.aliases.iter().any(|a| a.eq_ignore_ascii_case(wanted))
                 || r.name.eq_ignore_ascii_case(wanted)
                 || r.name_zh == wanted
-                || manual_number(r.space, r.address, r.code).eq_ignore_ascii_case(wanted)
-                || address.is_some_and(|a| a == r.address)
+                // A register known by its wire numbers only has no number to be found by.
+                || (r.has_address
+                    && (manual_number(r.space, r.address, r.code).eq_ignore_ascii_case(wanted)
+                        || address.is_some_and(|a| a == r.address)))
         })
         .collect();
     if !same.is_empty() {

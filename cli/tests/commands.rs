@@ -407,3 +407,30 @@ fn decode_finds_the_protocol_variant_a_frame_is_in() {
         "{text}"
     );
 }
+
+/// A register the manual gives no number (known by its instruction code only) is shown and
+/// found by its code, with its wire numbers, and not by the number no frame carries; one
+/// known by its page and number shows its place (fixtures/link-vocabulary).
+#[test]
+fn info_shows_registers_known_by_wire_numbers_or_pages() {
+    let file = "tests/fixtures/link-vocabulary/kestrel_k7.yaml";
+    let status = vfd(&["info", file, "H7A"]);
+    assert!(status.status.success(), "{}", stderr(&status));
+    let text = stdout(&status);
+    assert!(text.starts_with("register H7A (Inverter status)"), "{text}");
+    assert!(
+        text.contains("number      none of its own: reached by its wire numbers"),
+        "{text}"
+    );
+    assert!(text.contains("on link     read 7Ah, write -"), "{text}");
+    let by_number = vfd(&["info", file, "0xFFFF"]);
+    assert!(!by_number.status.success());
+    assert!(stderr(&by_number).contains("has no register `0xFFFF`"));
+    let paged = stdout(&vfd(&["info", file, "Pr.42"]));
+    assert!(paged.contains("on link     page 0, offset 2Ah"), "{paged}");
+    let list = stdout(&vfd(&["info", file]));
+    assert!(
+        list.lines().any(|l| l.starts_with("-        H7A")),
+        "{list}"
+    );
+}

@@ -50,12 +50,42 @@ pub(crate) struct DecodedFrame {
     pub meaning: Option<Result<FrameMeaning, DecodeError>>,
     /// The manual's misprinted bytes, when the description records an erratum.
     pub printed: Option<PrintedFrame>,
+    /// The register a request's page offset reaches on the page its example names
+    /// (`examples[].page`); the decoder alone leaves a paged offset unnamed.
+    pub page_register: Option<u16>,
+    /// A request whose register field is an offset on a page (`None`: not one, or not a
+    /// request): the page its example names, if any. Which register the offset is depends
+    /// on it: without a page that is one of the protocol's, the frame names none.
+    pub paged: Option<Option<u16>>,
 }
 
 impl DecodedFrame {
     /// The meaning, when the frame decoded.
     pub fn decoded(&self) -> Option<&FrameMeaning> {
         self.meaning.as_ref().and_then(|m| m.as_ref().ok())
+    }
+
+    /// The meaning as the example states it: a paged offset named as the register it
+    /// reaches on the example's page. The golden checks compare the decoder's own
+    /// meaning ([`DecodedFrame::decoded`]).
+    ///
+    /// Whether the register it names follows from a page that is missing or names no
+    /// register there ([`DecodedFrame::paged`]): then `paged_examples_name_their_place`
+    /// reports the page, and the register is no further mistake.
+    pub fn register_unknown_for_its_page(&self) -> bool {
+        self.paged.is_some() && self.page_register.is_none()
+    }
+
+    pub fn as_stated(&self) -> Option<std::borrow::Cow<'_, FrameMeaning>> {
+        self.decoded()?;
+        let meaning = self.decoded()?;
+        Some(match self.page_register {
+            Some(register) if meaning.register.is_none() => std::borrow::Cow::Owned(FrameMeaning {
+                register: Some(register),
+                ..meaning.clone()
+            }),
+            _ => std::borrow::Cow::Borrowed(meaning),
+        })
     }
 }
 
@@ -110,11 +140,24 @@ fn decode_example(example: &ExampleModel, protocols: &[LoweredProtocol]) -> Deco
                 meaning: decode(&bytes),
                 bytes,
                 printed,
+                page_register: None,
+                paged: None,
             }
         })
     };
-    let request = frame(Direction::Request, &example.request);
+    let mut request = frame(Direction::Request, &example.request);
     let reply = frame(Direction::Reply, &example.reply);
+    // On the page the example names, the request's offset is a register.
+    if let (Some(page), Some(runtime), Some(request)) = (example.page, runtime, request.as_mut()) {
+        if let Ok(bytes) = &request.bytes {
+            request.page_register = register_on_page(runtime, bytes, page);
+        }
+    }
+    if let (Some(runtime), Some(request)) = (runtime, request.as_mut()) {
+        if let Ok(bytes) = &request.bytes {
+            request.paged = page_offset(runtime, bytes).map(|_| example.page);
+        }
+    }
     let request_bytes = request.as_ref().and_then(|r| r.bytes.as_ref().ok());
     let answer = |reply: Option<&Result<Vec<u8>, String>>| match (runtime, request_bytes, reply) {
         (Some(runtime), Some(request), Some(Ok(reply))) => {
@@ -148,6 +191,40 @@ fn decode_example(example: &ExampleModel, protocols: &[LoweredProtocol]) -> Deco
         request,
         reply,
     }
+}
+
+/// The register a request reaches on `page` of its protocol's pages: its register field,
+/// the command's address map undone, as an offset on the page ([`page_offset`]). `None`
+/// when it is no offset, or no range lays a register there.
+pub(crate) fn register_on_page(
+    protocol: &vfd_runtime::Protocol,
+    request: &[u8],
+    page: u16,
+) -> Option<u16> {
+    let offset = page_offset(protocol, request)?;
+    protocol.paging.as_ref()?.register(page, offset)
+}
+
+/// The offset on a page a request's register field carries (the command's address map
+/// undone): `None` when the protocol has no pages, the request does not decode, or its
+/// field is a register's own number (`wire_numbers`) or the page register's.
+pub(crate) fn page_offset(protocol: &vfd_runtime::Protocol, request: &[u8]) -> Option<u16> {
+    let paging = protocol.paging.as_ref()?;
+    let decoded = protocol.decode_request_exact(request).ok()?;
+    if decoded.register.is_some() {
+        return None; // a register's own number
+    }
+    let wire = decoded.wire_register?;
+    let command = decoded.command;
+    let select = if command.kind.is_write() {
+        Some(paging.select_write)
+    } else {
+        paging.select_read
+    };
+    if select == Some(wire) {
+        return None;
+    }
+    command.address_map.from_wire(wire)
 }
 
 /// The values an example states for fields of its request's layout beyond its meaning

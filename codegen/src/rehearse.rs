@@ -150,6 +150,10 @@ fn rehearse(drive: &'static DriveInfo, example: &ExampleIr) -> Option<(Protocol,
             virtual_drive.preset(code, raw_of(info, *value));
         }
     }
+    // On the page the example names, as the manual's page switch before it left the drive.
+    if let Some(page) = example.page {
+        virtual_drive.set_page(protocol, page);
+    }
     if let Some(reply) = &example.reply {
         prepare::prepare(&mut virtual_drive, drive, example, request, reply);
     }

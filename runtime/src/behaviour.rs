@@ -121,6 +121,9 @@ pub struct FrequencyBehaviour {
     pub output: &'static [&'static str],
     /// Ids of the monitors that show the frequency command in use.
     pub reference: &'static [&'static str],
+    /// The output frequency at and above which the drive reports the frequency detected
+    /// ([`StatusBehaviour::frequency_detected`]), in the command's units.
+    pub detection: Option<Amount>,
 }
 
 /// Output current as a simple function of the output: `at_zero + (at_span - at_zero) x
@@ -133,6 +136,9 @@ pub struct CurrentBehaviour {
     pub at_zero: f64,
     /// Value at an output of `span`.
     pub at_span: f64,
+    /// The current at and above which the drive reports an overload
+    /// ([`StatusBehaviour::overload`]), in the monitors' units.
+    pub overload: Option<Amount>,
 }
 
 /// Which status bits show the drive's state. Each entry lists the bits set while it holds.
@@ -150,6 +156,11 @@ pub struct StatusBehaviour {
     pub at_reference: &'static [Bit],
     /// Set while tripped.
     pub tripped: &'static [Bit],
+    /// Set while the output current is at or above [`CurrentBehaviour::overload`].
+    pub overload: &'static [Bit],
+    /// Set while running with the output frequency at or above
+    /// [`FrequencyBehaviour::detection`].
+    pub frequency_detected: &'static [Bit],
     /// Set unless a coast stop is commanded.
     pub enabled: &'static [Bit],
     /// Always set (ready bits).
@@ -234,6 +245,24 @@ pub struct Refusals {
     /// A write to the command word or the frequency command outside the mode the model
     /// requires ([`CommandBehaviour::require_mode`]).
     pub wrong_mode: Option<u16>,
+    /// A frame holding a character no frame of the protocol carries (a character error).
+    pub bad_character: Option<u16>,
+    /// A frame that cannot be read otherwise, whose station can be (a protocol error).
+    pub malformed: Option<u16>,
+    /// The code answering an unreadable frame once more than `after` came in a row (bad
+    /// characters, malformed frames, bad checksums): the computer link's NAK error.
+    pub retries_exceeded: Option<RetriesExceeded>,
+}
+
+/// The error a drive answers once too many unreadable frames came in a row
+/// ([`Refusals::retries_exceeded`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RetriesExceeded {
+    /// The error code.
+    pub code: u16,
+    /// How many unreadable frames in a row get their own errors (a number, or the register
+    /// setting the allowed retries); the next gets `code`.
+    pub after: Amount,
 }
 
 impl Refusals {
@@ -246,6 +275,9 @@ impl Refusals {
         while_running: None,
         bad_checksum: None,
         wrong_mode: None,
+        bad_character: None,
+        malformed: None,
+        retries_exceeded: None,
     };
 }
 
@@ -331,6 +363,7 @@ mod tests {
                 span: Amount::Value(50.0),
                 output: &[],
                 reference: &[],
+                detection: None,
             },
             current: None,
             status: StatusBehaviour {
@@ -340,6 +373,8 @@ mod tests {
                 reverse: &[],
                 at_reference: &[],
                 tripped: &[],
+                overload: &[],
+                frequency_detected: &[],
                 enabled: &[],
                 always: &[],
             },

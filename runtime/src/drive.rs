@@ -41,6 +41,9 @@ pub struct DriveInfo {
     /// Combinations of register values the manual forbids (see
     /// [`DriveInfo::check_combinations`]); empty for most drives.
     pub forbidden: &'static [crate::combination::ForbiddenCombination],
+    /// Id of the register holding the drive's station number, when the description names
+    /// one (`addressing.register`): the virtual drive answers at the station it holds.
+    pub station_register: Option<&'static str>,
 }
 
 /// One port of a drive, chosen once: requests for a register that exists once per port go

@@ -379,6 +379,16 @@ pub enum EncodeError {
         /// A write was asked for (else a read).
         writing: bool,
     },
+    /// A RAM write of a register whose write over this protocol goes to RAM and EEPROM:
+    /// the protocol's write leaves the storage to the instruction, and the register's
+    /// instruction is an EEPROM one (`storage: by_instruction`).
+    #[error("register {register:04X}h cannot be written to RAM only over protocol {protocol}: its instruction there stores in RAM and EEPROM (storage: by_instruction); write it persistently, or write the register the manual gives for RAM")]
+    StoredInEeprom {
+        /// Protocol id.
+        protocol: Text,
+        /// Register number.
+        register: u16,
+    },
     /// The protocol needs a station address and none was given.
     #[error("protocol {protocol} needs a station address")]
     AddressRequired {

@@ -11,8 +11,14 @@ use std::borrow::Cow;
 /// Everything the manual says about one register, as static data.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RegisterInfo {
-    /// Communication number, parameter number or coil number (before any protocol's address map).
+    /// Communication number, parameter number or coil number (before any protocol's address
+    /// map). For a register the manual gives no number of its own (`has_address` false:
+    /// its protocols reach it by its wire numbers only), a number of its own that no frame
+    /// carries.
     pub address: u16,
+    /// Whether `address` is the manual's (or follows from its place on a page); false for a
+    /// register known by its wire numbers only, which is not found by number.
+    pub has_address: bool,
     /// Identifier in the drive file (`deceleration_time_1`).
     pub id: &'static str,
     /// The manual's code or mnemonic (`Dec`, `F800`, `FA01`).
@@ -215,6 +221,12 @@ impl RegisterInfo {
         self
     }
 
+    /// Known by its wire numbers only: `address` is no number of the manual's.
+    pub const fn without_address(mut self) -> Self {
+        self.has_address = false;
+        self
+    }
+
     /// Whether a value written to it stays in RAM only, whatever the command (RAM only, or
     /// a persistent write stored in RAM).
     pub const fn stored_in_ram_only(&self) -> bool {
@@ -345,6 +357,7 @@ impl RegisterInfo {
     /// ..RegisterInfo::DEFAULT }`.
     pub const DEFAULT: RegisterInfo = RegisterInfo {
         address: 0,
+        has_address: true,
         id: "",
         code: "",
         aliases: &[],
@@ -382,6 +395,14 @@ impl RegisterInfo {
     /// `register 0011 FH (Maximum frequency / 最高频率)`: how errors name the register.
     /// The code is left out when it only repeats the address (`FA01`).
     pub fn label(&self) -> String {
+        if !self.has_address {
+            // Known by its wire numbers only: its code is its name.
+            return if self.name_zh.is_empty() {
+                format!("register {} ({})", self.code, self.name)
+            } else {
+                format!("register {} ({} / {})", self.code, self.name, self.name_zh)
+            };
+        }
         let number = manual_number(self.space, self.address, self.code);
         let names = if self.name_zh.is_empty() {
             format!("({})", self.name)

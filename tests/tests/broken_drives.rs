@@ -26,6 +26,25 @@ fn every_broken_drive_file_gets_the_expected_messages() {
     check_all(&cases);
 }
 
+/// `fixtures/broken/link/`: broken drives on the made-up computer link of
+/// `fixtures/computer-link/` (its protocol file has byte-wide commands, which no shipped
+/// protocol has).
+#[test]
+fn every_broken_computer_link_drive_gets_the_expected_messages() {
+    let cases: Vec<Case> = entries(Path::new("fixtures/broken/link"), |path| {
+        path.extension().is_some_and(|ext| ext == "yaml")
+    })
+    .into_iter()
+    .map(|drive| Case {
+        expected: drive.with_extension("expected"),
+        drive,
+        protocols: Some("fixtures/computer-link/protocols".into()),
+    })
+    .collect();
+    assert!(!cases.is_empty(), "fixtures/broken/link has fixtures");
+    check_all(&cases);
+}
+
 #[test]
 fn broken_files_generate_nothing() {
     let out = std::env::temp_dir().join(format!("vfd-broken-{}", std::process::id()));

@@ -238,7 +238,10 @@ fn the_serial_table_gives_each_protocols_character_format_with_its_factory_setti
                 let Some(protocol) = &value.protocol else {
                     continue;
                 };
-                let (data_bits, parity, stop_bits) = value.line.unwrap();
+                let Some((data_bits, parity, stop_bits)) = value.line.and_then(|l| l.format())
+                else {
+                    continue;
+                };
                 let parity = match parity {
                     vfd_runtime::serial::Parity::None => 'N',
                     vfd_runtime::serial::Parity::Even => 'E',

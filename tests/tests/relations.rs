@@ -399,7 +399,10 @@ fn dv1_refuses_the_communication_settings_its_manual_forbids() {
             .unwrap_err()
     ));
     // Under Modbus (07-00 = 0) those rules do not apply, but the station must not be 0.
-    assert_eq!(sim.lock().raw("07-01"), Some(0));
+    // (The virtual drive answers at the station 07-01 holds, set to 1 for Modbus; a new
+    // value takes effect after a reset, so the drive stays at station 1.)
+    assert_eq!(sim.lock().raw("07-01"), Some(1));
+    master.write_ram::<StationNumber>(0).unwrap();
     assert!(rejected(
         master
             .write_ram::<Protocol>(dv1::codes::Protocol::Modbus)

@@ -12,6 +12,10 @@ use vfd_runtime::Space;
 /// How the manual numbers a register: coils by number (`coil 17`), decimal parameters as
 /// written (`303`), communication numbers in hex (`FA01`).
 pub fn address_label(register: &RegisterIr) -> String {
+    if register.wire_only {
+        // Known by its wire numbers only: its code is its name.
+        return register.code.clone();
+    }
     vfd_runtime::info::manual_number(register.space, register.address, &register.code)
 }
 

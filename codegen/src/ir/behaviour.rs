@@ -67,6 +67,12 @@ pub(crate) fn lower(
             .current
             .as_ref()
             .map(|c| (ids(&c.registers), c.at_zero, c.at_span)),
+        current_overload: model
+            .current
+            .as_ref()
+            .and_then(|c| c.overload.as_ref())
+            .map(amount),
+        frequency_detection: model.frequency.detection.as_ref().map(amount),
         status_registers: ids(&status.registers),
         status: StatusBitsIr {
             running: status_list(&status.running),
@@ -74,6 +80,8 @@ pub(crate) fn lower(
             forward: status_list(&status.forward),
             at_reference: status_list(&status.at_reference),
             tripped: status_list(&status.tripped),
+            overload: status_list(&status.overload),
+            frequency_detected: status_list(&status.frequency_detected),
             enabled: status_list(&status.enabled),
             always: status_list(&status.always),
         },
@@ -108,6 +116,12 @@ pub(crate) fn lower(
                 while_running: r.while_running,
                 bad_checksum: r.bad_checksum,
                 wrong_mode: r.wrong_mode,
+                bad_character: r.bad_character,
+                malformed: r.malformed,
+                retries_exceeded: r
+                    .retries_exceeded
+                    .as_ref()
+                    .map(|rule| (rule.code, amount(&rule.after))),
             })
             .collect(),
     }

@@ -70,6 +70,12 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
             min: model.addressing.min,
             max: model.addressing.max,
             note: model.addressing.note.trim().to_owned(),
+            register: model
+                .addressing
+                .register
+                .as_ref()
+                .and_then(|name| index.find(name))
+                .map(|r| r.id.clone()),
         },
         protocol_files: protocol_files(&drive.protocols),
         protocols: drive
@@ -111,7 +117,12 @@ pub(crate) fn lower(drive: &Context) -> DriveIr {
                         variant: type_name(&value.id),
                         name: value.name.clone(),
                         name_zh: value.name_zh.clone(),
-                        line: value.line.map(|l| (l.data_bits, l.parity, l.stop_bits)),
+                        line: value.line.map(|l| LineSettingIr {
+                            baud: l.baud,
+                            data_bits: l.data_bits,
+                            parity: l.parity,
+                            stop_bits: l.stop_bits,
+                        }),
                         protocol: value.protocol.clone(),
                     })
                     .collect(),
@@ -331,6 +342,12 @@ fn lower_register(
         inferred: inferred_facts(register),
         warnings: register.warnings.clone(),
         no_reply: register.no_reply,
+        wire_only: register.given_address.is_none() && register.on_page.is_empty(),
+        on_page: register
+            .on_page
+            .iter()
+            .map(|(protocol, place)| (protocol.clone(), place.page, place.offset))
+            .collect(),
         held_at_trip_of: register
             .held_at_trip_of
             .as_ref()
@@ -658,6 +675,7 @@ fn lower_protocol(model: &DriveFile, protocol: &LoweredProtocol) -> ProtocolIr {
                 no_reply: c.no_reply,
                 extra: c.extra,
                 lowercase_means_sender_tripped: c.lowercase_means_sender_tripped,
+                stored_by_instruction: c.stored_by_instruction,
                 registers: c.registers.to_vec(),
                 percent_of: c.percent_of.as_ref().map(|p| {
                     (
@@ -841,8 +859,8 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
             };
             let register = decoded
                 .reply_then_request()
-                .filter_map(DecodedFrame::decoded)
-                .find_map(|meaning| register_of(&drive.model, meaning))
+                .filter_map(DecodedFrame::as_stated)
+                .find_map(|meaning| register_of(&drive.model, &meaning))
                 .and_then(|found| registers.iter().find(|r| r.id == found.id));
             ExampleIr {
                 id: example.id.clone(),
@@ -887,6 +905,7 @@ fn lower_examples(drive: &Context, registers: &[RegisterIr]) -> Vec<ExampleIr> {
                     .collect(),
                 not_simulated: example.not_simulated.clone(),
                 variant: example.variant.clone(),
+                page: example.page,
             }
         })
         .collect()

@@ -1,6 +1,7 @@
 //! The character formats a setting offers each protocol: a code table whose values set the
 //! line and choose a protocol (`codes[].values[].line`, `.protocol`; the DV1's 07-07), with
-//! the one its register's factory value chooses marked.
+//! the one its register's factory value chooses marked. Only a value that sets the whole
+//! format (data bits, parity and stop bits) gives one.
 
 use super::types::ProtocolLineIr;
 use crate::parse::model::DriveFile;
@@ -22,11 +23,17 @@ pub(super) fn protocol_lines(model: &DriveFile) -> Vec<ProtocolLineIr> {
             let (Some(line), Some(protocol)) = (value.line, &value.protocol) else {
                 continue;
             };
+            // A protocol's format is a value that sets the whole of it.
+            let (Some(data_bits), Some(parity), Some(stop_bits)) =
+                (line.data_bits, line.parity, line.stop_bits)
+            else {
+                continue;
+            };
             lines.push(ProtocolLineIr {
                 protocol: protocol.clone(),
-                data_bits: line.data_bits,
-                parity: line.parity,
-                stop_bits: line.stop_bits,
+                data_bits,
+                parity,
+                stop_bits,
                 selector: selector.code.clone(),
                 value: value.value as u16,
                 factory: selector

@@ -288,6 +288,12 @@ pub struct BehaviourIr {
     pub reference: Vec<String>,
     /// Output current model: monitors, value at zero output, value at the span.
     pub current: Option<(Vec<String>, f64, f64)>,
+    /// The output current at and above which the drive reports an overload.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub current_overload: Option<AmountIr>,
+    /// The output frequency at and above which the drive reports the frequency detected.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frequency_detection: Option<AmountIr>,
     /// Status-word registers.
     pub status_registers: Vec<String>,
     /// Status bits: running, reverse, at reference, tripped, enabled, always.
@@ -337,6 +343,12 @@ pub struct StatusBitsIr {
     pub at_reference: Vec<BitRefIr>,
     /// Set while tripped.
     pub tripped: Vec<BitRefIr>,
+    /// Set while the output current is at or above the overload level.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub overload: Vec<BitRefIr>,
+    /// Set while running at or above the detection frequency.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub frequency_detected: Vec<BitRefIr>,
     /// Set unless coasting.
     pub enabled: Vec<BitRefIr>,
     /// Always set.
@@ -361,6 +373,15 @@ pub struct RefusalsIr {
     pub wrong_mode: Option<u16>,
     /// Bad checksum.
     pub bad_checksum: Option<u16>,
+    /// A character no frame of the protocol carries.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bad_character: Option<u16>,
+    /// A frame that cannot be read otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub malformed: Option<u16>,
+    /// The code after too many consecutive unreadable frames, and how many are allowed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub retries_exceeded: Option<(u16, AmountIr)>,
 }
 
 /// Line-level facts of the serial link; `None` where the description does not say.
@@ -451,6 +472,9 @@ pub struct AddressingIr {
     pub max: u8,
     /// Remarks.
     pub note: String,
+    /// Id of the register holding the station number.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub register: Option<String>,
 }
 
 /// A protocol file (`protocols/<id>.yaml`): its frame layouts, shared by every drive that
@@ -618,6 +642,9 @@ pub struct CommandIr {
     /// after a garbled reply.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub follow_up: Option<(String, String)>,
+    /// A plain write whose storage is the instruction's (`storage: by_instruction`).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub stored_by_instruction: bool,
 }
 
 /// The people's side of a protocol's pages (`protocols[].pages`).
@@ -703,12 +730,36 @@ pub struct CodeValueIr {
     pub name: String,
     /// Chinese name.
     pub name_zh: String,
-    /// The character format it sets on the line: data bits, parity, stop bits.
+    /// What it sets on the line: the baud rate and the parts of the character format.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub line: Option<(u8, vfd_runtime::serial::Parity, u8)>,
+    pub line: Option<LineSettingIr>,
     /// The id of the protocol it chooses.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub protocol: Option<String>,
+}
+
+/// What a code value sets on the line; each part `None` where it sets nothing of it.
+#[derive(Debug, Clone, Copy, Serialize, PartialEq, Eq)]
+pub struct LineSettingIr {
+    /// The baud rate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub baud: Option<u32>,
+    /// Data bits per character.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub data_bits: Option<u8>,
+    /// Parity.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parity: Option<vfd_runtime::serial::Parity>,
+    /// Stop bits.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stop_bits: Option<u8>,
+}
+
+impl LineSettingIr {
+    /// The whole character format (data bits, parity, stop bits), when it sets all of it.
+    pub fn format(&self) -> Option<(u8, vfd_runtime::serial::Parity, u8)> {
+        Some((self.data_bits?, self.parity?, self.stop_bits?))
+    }
 }
 
 /// A bit-field layout of a word.
@@ -899,6 +950,14 @@ pub struct RegisterIr {
     /// Writes to it are never answered.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub no_reply: bool,
+    /// The manual gives it no number of its own: its protocols reach it by its wire numbers
+    /// only, and `address` is a number no frame carries.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub wire_only: bool,
+    /// Its place on pages as the description gives it (`on_page`): protocol id, page,
+    /// offset.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub on_page: Vec<(String, u16, u16)>,
     /// Code of the live register whose value this one holds from the last trip.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub held_at_trip_of: Option<String>,
@@ -1106,6 +1165,9 @@ pub struct ExampleIr {
     /// The protocol variant the frames are in (`None`: the first).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub variant: Option<String>,
+    /// The page the drive is on for the frames, on a protocol with pages.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub page: Option<u16>,
 }
 
 /// A multi-step example: one call of the master and every frame it puts on the line.

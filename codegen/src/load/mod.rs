@@ -1,6 +1,8 @@
 //! Stage 2: reads a drive file and the protocol files it refers to, parsed into the
 //! format's types ([`crate::parse::model`]), a protocol file `based_on` another merged with
-//! its base ([`based_on`]). Nothing else is checked, and nothing is lowered, here.
+//! its base ([`based_on`]), and gives every register its number ([`register_numbers`]:
+//! those without an `address` take the one their place on a page or their wire numbers
+//! give). Nothing else is checked, and nothing is lowered, here.
 
 use crate::diagnostics::Diagnostics;
 use crate::parse::model::{DriveFile, ProtocolFile};
@@ -8,6 +10,7 @@ use crate::parse::SourceFile;
 use std::path::{Path, PathBuf};
 
 pub(crate) mod based_on;
+mod register_numbers;
 mod shelf;
 use based_on::Inherited;
 pub(crate) use shelf::Shelf;
@@ -73,10 +76,11 @@ pub(crate) fn load(
         .into_iter()
         .map(|path| (source.path.clone(), path))
         .collect();
-    let Some(model) = read.value else {
+    let Some(mut model) = read.value else {
         out.attach_sources(|path| (path == source.path).then_some(source.text.as_str()));
         return None;
     };
+    register_numbers::resolve(&source, &mut model, &mut incomplete, out);
     let mut sources = vec![source.clone()];
     let mut protocol_files = Vec::new();
     for (index, reference) in model.protocols.iter().enumerate() {

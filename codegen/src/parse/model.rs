@@ -446,6 +446,10 @@ pub struct FrequencyBehaviourModel {
     /// Ids of the monitors that show the frequency command in use.
     #[serde(default)]
     pub reference: Vec<String>,
+    /// The output frequency at and above which the drive reports the frequency detected
+    /// (`status.frequency_detected`; an output-frequency detection setting): a number in
+    /// the command's units or a register.
+    pub detection: Option<AmountModel>,
 }
 
 /// Output current: `at_zero + (at_span - at_zero) x |output| / span` while running, 0 when stopped.
@@ -458,6 +462,9 @@ pub struct CurrentBehaviourModel {
     pub at_zero: f64,
     /// Value at an output of `span`.
     pub at_span: f64,
+    /// The current at and above which the drive reports an overload (`status.overload`):
+    /// a number in the monitors' units or a register.
+    pub overload: Option<AmountModel>,
 }
 
 /// The status-word bits; each entry lists bits of the status word's bit field.
@@ -481,6 +488,14 @@ pub struct StatusBehaviourModel {
     /// Set while tripped.
     #[serde(default)]
     pub tripped: Vec<BitRefModel>,
+    /// Set while the output current is at or above `current.overload` (an overload
+    /// alarm).
+    #[serde(default)]
+    pub overload: Vec<BitRefModel>,
+    /// Set while running with the output frequency at or above `frequency.detection`
+    /// (frequency detected).
+    #[serde(default)]
+    pub frequency_detected: Vec<BitRefModel>,
     /// Set unless a coast stop is commanded.
     #[serde(default)]
     pub enabled: Vec<BitRefModel>,
@@ -536,6 +551,29 @@ pub struct RefusalsModel {
     /// A write to the command word or the frequency command outside the mode
     /// `command.require_mode` names.
     pub wrong_mode: Option<u16>,
+    /// A frame holding a character its protocol's frames never carry (in a text framing, a
+    /// character other than the digits, letters and control codes of its layouts: the
+    /// computer link's character error).
+    pub bad_character: Option<u16>,
+    /// A frame the drive cannot read otherwise (a missing or wrong fixed character, a field
+    /// of the wrong length: the computer link's protocol error), whose station it can read.
+    pub malformed: Option<u16>,
+    /// After more consecutive unreadable frames (bad characters, malformed frames, bad
+    /// checksums) than the drive allows, the code it answers the next with instead (the
+    /// computer link's NAK error): `{ code: 0x00, after: retries }`.
+    pub retries_exceeded: Option<RetriesExceededModel>,
+}
+
+/// The error after too many consecutive unreadable frames (`refusals.<p>.retries_exceeded`).
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RetriesExceededModel {
+    /// The error code.
+    pub code: u16,
+    /// How many consecutive unreadable frames the drive answers with their own errors: a
+    /// number or the register setting it (the allowed number of retries); the next gets
+    /// `code`.
+    pub after: AmountModel,
 }
 
 /// A safety warning: what can go wrong, and where the manual says so.
@@ -839,6 +877,10 @@ pub struct AddressingModel {
     /// What the manual says about addressing (broadcast, panel setting).
     #[serde(default)]
     pub note: String,
+    /// Code or id of the register holding the drive's station number (DV1 07-01): the
+    /// virtual drive answers at the station it holds (the value in effect: after a reset
+    /// for a register that takes effect then), and a write to it moves the station.
+    pub register: Option<String>,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
@@ -1177,23 +1219,28 @@ pub struct CodeValueModel {
     /// The register (code or id) this value selects, in a code table of selector registers
     /// (a block transfer's: F870 = 1 selects FA00).
     pub register: Option<String>,
-    /// The character format this value sets on the line, in a code table of a format
-    /// setting (DV1 07-07 = 0: `{ data_bits: 7, parity: none, stop_bits: 2 }`).
+    /// What this value sets on the line, in a code table of a line setting: the whole
+    /// character format (DV1 07-07 = 0: `{ data_bits: 7, parity: none, stop_bits: 2 }`) or
+    /// the part one register sets (a baud-rate register's `{ baud: 9600 }`, a parity
+    /// register's `{ parity: even }`).
     pub line: Option<LineFormatModel>,
     /// The id of the drive's protocol this value chooses (DV1 07-07 = 0-2: `modbus_ascii`).
     pub protocol: Option<String>,
 }
 
-/// A character format on the line (`codes[].values[].line`).
+/// What a code value sets on the line (`codes[].values[].line`): any of the baud rate and
+/// the character format's data bits, parity and stop bits, at least one.
 #[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct LineFormatModel {
+    /// The baud rate (one of `serial.baud_rates`).
+    pub baud: Option<u32>,
     /// Data bits per character (7 or 8).
-    pub data_bits: u8,
+    pub data_bits: Option<u8>,
     /// `none`, `even` or `odd`.
-    pub parity: Parity,
+    pub parity: Option<Parity>,
     /// Stop bits (1 or 2).
-    pub stop_bits: u8,
+    pub stop_bits: Option<u8>,
 }
 
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
@@ -1292,7 +1339,17 @@ pub struct RangeModel {
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct RegisterModel {
-    /// Communication number, 0x0000-0xFFFF, unique within its space.
+    /// Communication number, 0x0000-0xFFFF, unique within its space. Left out for a
+    /// register the manual gives no number of its own: one its protocols reach by its own
+    /// numbers on the wire (`wire_numbers`, an instruction code such as H7A) or by its place
+    /// on a page (`on_page`).
+    #[serde(rename = "address")]
+    pub given_address: Option<u32>,
+    /// The register's number in the description: `address` as given, else the number its
+    /// place on a page gives (`on_page`), else a number of its own that no frame carries
+    /// (a register known by its wire numbers only). Set when the file is loaded
+    /// (`load::register_numbers`).
+    #[serde(skip)]
     pub address: u32,
     /// Unique lower snake case name; it becomes a Rust type (`upper_limit_frequency` -> `UpperLimitFrequency`).
     pub id: String,
@@ -1379,6 +1436,12 @@ pub struct RegisterModel {
     /// cannot be used over that protocol.
     #[serde(default)]
     pub wire_numbers: BTreeMap<String, WireNumberModel>,
+    /// Its place on a page, per protocol with pages (`protocols[].pages`), where the manual
+    /// gives the register by page and number only (`{ eaton: { page: 1, offset: 0x5F } }`):
+    /// without an `address`, the register's number is the one the page ranges lay there;
+    /// with one, the two must agree.
+    #[serde(default)]
+    pub on_page: BTreeMap<String, PagePlaceModel>,
     /// The live register (code or id) whose value this register holds from the moment of
     /// the last trip (`FD00` for FE00): the virtual drive copies it when it trips.
     pub held_at_trip_of: Option<String>,
@@ -1495,6 +1558,11 @@ pub struct ExampleModel {
     /// The protocol file's variant the frames are in (`cr_lf`: the terminator is CR LF);
     /// left out: the first variant, the one the layouts are written in.
     pub variant: Option<String>,
+    /// On a protocol with pages (`protocols[].pages`), the page the drive is on for these
+    /// frames: the request's register field is an offset on it, and `expect.register`
+    /// names the register it reaches there (checked); the virtual drive is put on the page
+    /// before the example is played to it.
+    pub page: Option<u16>,
     /// The manual section with the frame.
     pub source: String,
     /// What the exchange does, in English.
@@ -1528,6 +1596,17 @@ pub struct ExampleModel {
     /// it, `vfd check` plays the request to the virtual drive, under `settings`, and requires
     /// the example's reply byte for byte.
     pub not_simulated: Option<String>,
+}
+
+/// A register's place on a page of one protocol (`registers[].on_page`).
+#[derive(Debug, Clone, Copy, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PagePlaceModel {
+    /// The page.
+    pub page: u16,
+    /// Its number on the page, before the command's address map (the read code: P.195 is
+    /// 5Fh on page 1).
+    pub offset: u16,
 }
 
 /// A register's own numbers on the wire in one protocol (`registers[].wire_numbers`).
@@ -2345,6 +2424,12 @@ pub struct CommandModel {
     /// allows several (a Modbus exception to function 0x03 carries 0x83); left out: the one
     /// code the error layout allows.
     pub error_code: Option<CodeModel>,
+    /// `by_instruction`: a plain write (`kind: write_ram`) whose storage is the
+    /// instruction's, that is the register's: the protocol writes RAM and EEPROM with
+    /// instructions of their own (a frequency written to RAM with one code and to EEPROM
+    /// with another), so a RAM-only register's write goes to RAM and any other's to RAM
+    /// and EEPROM. Said once here, not per register. Left out: the kind's storage.
+    pub storage: Option<WriteStorage>,
     /// What the master sends after this command's reply: `{ ok: LAYOUT, again: LAYOUT }`,
     /// the acknowledgement of a sound reply and the request to send a garbled one again
     /// (Eaton: C and F after a read's E). Neither is answered by a frame of its own.
@@ -2353,6 +2438,15 @@ pub struct CommandModel {
     #[serde(default)]
     #[allow(dead_code)]
     pub description: String,
+}
+
+/// Where a write command's writes go (`commands[].storage`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum WriteStorage {
+    /// Where the instruction (the register it addresses) stores: RAM for a RAM-only
+    /// register, RAM and EEPROM for any other.
+    ByInstruction,
 }
 
 /// The master's answer to a command's reply (`commands[].follow_up`).

@@ -103,6 +103,7 @@ fn lower_command(
         registers: Cow::Borrowed(&[]),
         percent_of: None,
         follow_up: follow_up(command, layouts, &path, out)?,
+        stored_by_instruction: storage_by_instruction(command, source, &path, out)?,
     })
 }
 
@@ -123,6 +124,35 @@ fn follow_up(
         ok: ok?,
         again: again?,
     }))
+}
+
+/// Whether the command's storage is the instruction's (`storage: by_instruction`), which
+/// only a plain write (`kind: write_ram`) can have; `None` when it is on another kind
+/// (reported).
+fn storage_by_instruction(
+    command: &CommandModel,
+    source: &crate::parse::SourceFile,
+    path: &str,
+    out: &mut Diagnostics,
+) -> Option<bool> {
+    match command.storage {
+        None => Some(false),
+        Some(_) if command.kind == vfd_runtime::CommandKind::WriteRam => Some(true),
+        Some(_) => {
+            out.push(
+                source
+                    .error(
+                        &format!("{path}.storage"),
+                        format!(
+                            "`storage: by_instruction` on a `{}` command",
+                            command.kind.as_str()
+                        ),
+                    )
+                    .hint("only a plain write (`kind: write_ram`) leaves its storage to the instruction; a `write_persistent` command always stores in EEPROM"),
+            );
+            None
+        }
+    }
 }
 
 /// The word `reply:` takes for a command that is never answered.

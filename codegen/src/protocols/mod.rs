@@ -227,9 +227,21 @@ fn wire_numbers(
     out: &mut Diagnostics,
 ) -> Vec<vfd_runtime::protocol::WireNumber> {
     let mut numbers = Vec::new();
+    let none = crate::parse::model::WireNumberModel {
+        read: None,
+        write: None,
+    };
     for (index, register) in input.drive.registers.iter().enumerate() {
-        let Some(own) = register.wire_numbers.get(&input.reference.id) else {
-            continue;
+        let own = match register.wire_numbers.get(&input.reference.id) {
+            Some(own) => own,
+            // A register without an address of its own is reached only where its wire
+            // numbers or its place on a page say: on any other protocol, not at all.
+            None if register.given_address.is_none()
+                && !register.on_page.contains_key(&input.reference.id) =>
+            {
+                &none
+            }
+            None => continue,
         };
         let mut fit = |key: &str, value: Option<u32>| match value {
             Some(value) if value > u32::from(u16::MAX) => {

@@ -69,6 +69,7 @@ pub(super) fn paging(
             "list the type in the `data_types` of a write command (and of a read, where the page can be read back), or leave `data_type` out for a word",
         );
     }
+    let capacity = page_capacity(commands, select_data_type);
     if model.ranges.is_empty() {
         error(
             out,
@@ -108,6 +109,18 @@ pub(super) fn paging(
                 format!("{path}.first_page"),
                 "the range's last page does not fit 16 bits".into(),
                 "check first_page and size",
+            );
+            continue;
+        }
+        let last_page = u32::from(range.first_page) + pages;
+        if let Some((max, why)) = capacity.as_ref().filter(|(max, _)| last_page > *max) {
+            error(
+                out,
+                format!("{path}.first_page"),
+                format!(
+                    "the range's last page, {last_page}, does not fit the page register: {why} carries pages 0-{max}"
+                ),
+                "check first_page and size against the manual's page table, or the page register's `data_type` (a byte carries 0-255)",
             );
             continue;
         }
@@ -234,4 +247,21 @@ pub(super) fn paging(
         forgotten_after: Cow::Owned(forgotten_after),
         initial: model.initial,
     })
+}
+
+/// The highest page the page register carries and what it is (a byte carries 255, a word
+/// 65535); `None` when no write command carries it (reported on its own).
+fn page_capacity(commands: &[LoweredCommand], data_type: DataType) -> Option<(u32, &'static str)> {
+    commands
+        .iter()
+        .any(|c| {
+            c.spec.kind.is_write()
+                && c.spec.space == vfd_runtime::Space::Parameter
+                && c.spec.carries(data_type)
+        })
+        .then_some(match data_type {
+            DataType::Byte => (0xFF, "a byte"),
+            DataType::DoubleWord => (u32::MAX, "a double word"),
+            _ => (0xFFFF, "a word"),
+        })
 }

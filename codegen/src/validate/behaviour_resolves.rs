@@ -80,6 +80,30 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
             );
         }
     }
+    // A status role set by a level needs the level.
+    let levels = [
+        (
+            "overload",
+            behaviour.status.overload.is_empty(),
+            behaviour.current.as_ref().and_then(|c| c.overload.as_ref()).is_some(),
+            "give `current: { registers, at_zero, at_span, overload }`: the output current at and above which the drive reports an overload",
+        ),
+        (
+            "frequency_detected",
+            behaviour.status.frequency_detected.is_empty(),
+            behaviour.frequency.detection.is_some(),
+            "give `frequency.detection`: the output frequency (a number or a register) at and above which the drive reports it",
+        ),
+    ];
+    for (key, empty, level, hint) in levels {
+        if !empty && !level {
+            problem(
+                format!("behaviour.status.{key}"),
+                format!("`{key}` bits are set by a level the model does not give"),
+                hint,
+            );
+        }
+    }
     if let Some(mode) = &behaviour.command.require_mode {
         let path = "behaviour.command.require_mode.values";
         if mode.values.is_empty() {
@@ -166,7 +190,15 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
         ),
     ];
     for (path, word, bits) in words {
-        if word.is_empty() || index.find(word).is_none() {
+        let Some(register) = index.find(word).filter(|_| !word.is_empty()) else {
+            continue;
+        };
+        // A `bitfield:` naming no bit field is `references_resolve`'s to report, once.
+        let undefined = register
+            .bitfield
+            .as_deref()
+            .is_some_and(|id| !model.bitfields.iter().any(|b| b.id == id));
+        if undefined {
             continue;
         }
         let Some(bitfield) = bitfield_of(word) else {
@@ -208,7 +240,7 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
                 problem(
                     "behaviour.refusals".to_owned(),
                     format!("protocol `{}` has no refusals: the virtual drive would not answer a refused request over it", protocol.id),
-                    "give its error codes (unknown_register, read_only, out_of_range, while_running, bad_checksum, wrong_mode) as the manual lists them, or `{}` where it gives none",
+                    "give its error codes (unknown_register, read_only, out_of_range, while_running, bad_checksum, wrong_mode, bad_character, malformed, retries_exceeded) as the manual lists them, or `{}` where it gives none",
                 );
             }
         }
@@ -233,12 +265,17 @@ fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
         ),
     ];
     for (key, amount) in [
-        ("acceleration", &b.frequency.acceleration),
-        ("deceleration", &b.frequency.deceleration),
-        ("span", &b.frequency.span),
+        ("frequency.acceleration", Some(&b.frequency.acceleration)),
+        ("frequency.deceleration", Some(&b.frequency.deceleration)),
+        ("frequency.span", Some(&b.frequency.span)),
+        ("frequency.detection", b.frequency.detection.as_ref()),
+        (
+            "current.overload",
+            b.current.as_ref().and_then(|c| c.overload.as_ref()),
+        ),
     ] {
-        if let BoundModel::Register(name) = amount {
-            named.push((format!("behaviour.frequency.{key}"), name));
+        if let Some(BoundModel::Register(name)) = amount {
+            named.push((format!("behaviour.{key}"), name));
         }
     }
     let lists: [(&str, &[String]); 5] = [
@@ -314,12 +351,14 @@ fn command_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
 /// The status word's bits, with their paths.
 fn status_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
     let s = &b.status;
-    let lists: [(&str, &Vec<BitRefModel>); 7] = [
+    let lists: [(&str, &Vec<BitRefModel>); 9] = [
         ("running", &s.running),
         ("reverse", &s.reverse),
         ("forward", &s.forward),
         ("at_reference", &s.at_reference),
         ("tripped", &s.tripped),
+        ("overload", &s.overload),
+        ("frequency_detected", &s.frequency_detected),
         ("enabled", &s.enabled),
         ("always", &s.always),
     ];
@@ -356,6 +395,45 @@ behaviour:
         assert!(check_yaml(check, VALID).is_empty());
         let found = check_yaml(check, &with_behaviour(("", "")));
         assert!(found.is_empty(), "{found:#?}");
+    }
+
+    #[test]
+    fn leaves_a_word_whose_bit_field_is_undefined_to_references_resolve() {
+        let yaml = format!("{VALID}{BEHAVIOUR}").replace(
+            "bitfield: command_word, ram_only",
+            "bitfield: command_wordx, ram_only",
+        );
+        let found = check_yaml(check, &yaml);
+        assert!(found.is_empty(), "{found:#?}");
+    }
+
+    #[test]
+    fn a_status_role_set_by_a_level_needs_the_level() {
+        let roles = "status: { registers: [FA00], running: [run], overload: [run], frequency_detected: [command_enabled] }";
+        let yaml = format!(
+            "{VALID}{}",
+            BEHAVIOUR.replace("status: { registers: [FA00], running: [run] }", roles)
+        );
+        let found = check_yaml(check, &yaml);
+        let messages: Vec<&str> = found.iter().map(|d| d.message.as_str()).collect();
+        assert_eq!(
+            messages,
+            [
+                "`overload` bits are set by a level the model does not give",
+                "`frequency_detected` bits are set by a level the model does not give"
+            ]
+        );
+        let given = yaml
+            .replace("span: FH }", "span: FH, detection: UL }")
+            .replace(
+            "refusals:",
+            "current: { registers: [Acc], at_zero: 0, at_span: 10, overload: 8.0 }\n  refusals:",
+        );
+        let found = check_yaml(check, &given);
+        assert!(found.is_empty(), "{found:#?}");
+        let found = check_yaml(check, &given.replace("detection: UL", "detection: UX"));
+        assert_eq!(only(&found).message, "register `UX` is not defined");
+        assert_eq!(only(&found).path, "behaviour.frequency.detection");
     }
 
     #[test]

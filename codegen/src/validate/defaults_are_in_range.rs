@@ -17,6 +17,11 @@ pub fn defaults_are_in_range(drive: &Context, out: &mut Diagnostics) {
             continue;
         }
         let (raw_min, raw_max) = registers.raw_range(register);
+        // A scale that is not positive (`scales_are_positive`) or a range whose minimum
+        // lies above its maximum (`ranges_resolve`) is reported once, as itself.
+        if !ranges::has_sound_scale(register) || raw_min > raw_max {
+            continue;
+        }
         let scale = ranges::scale_of(register);
         let path = format!("registers[{index}].default");
         match ranges::to_raw(register, default) {

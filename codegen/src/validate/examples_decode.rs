@@ -2,9 +2,9 @@
 
 use crate::diagnostics::Diagnostics;
 
-use crate::frames::{register_of, DecodedExample, DecodedFrame};
+use crate::frames::DecodedFrame;
 use crate::parse::model::{ExpectModel, FrameModel, PrintedRejection};
-use crate::validate::{decimals, ranges, with_unit, Context};
+use crate::validate::{ranges, Context};
 use vfd_runtime::meaning::{Direction, FrameMeaning};
 use vfd_runtime::protocol::NotAnAnswer;
 use vfd_runtime::{DecodeError, DecodeErrorKind};
@@ -78,6 +78,9 @@ pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
                 out,
             );
         }
+        // Frames of the example in another variant share one cause (the example names no
+        // `variant`): the first such frame reports it.
+        let mut variant_reported = false;
         for (key, model, frame, printed_answers) in [
             ("request", &example.request, &decoded.request, None),
             (
@@ -95,12 +98,13 @@ pub fn examples_decode(drive: &Context, out: &mut Diagnostics) {
                     frame,
                     printed_answers,
                     written_in.map(|runtime| (runtime, direction_of(key))),
+                    &mut variant_reported,
                     out,
                 );
             }
         }
         if let Some(value) = example.value {
-            check_example_value(drive, &base, value, decoded, out);
+            super::example_values::check_example_value(drive, &base, value, decoded, out);
         }
         check_settings(drive, &base, &example.settings, out);
     }
@@ -132,6 +136,8 @@ fn check_settings(
             .and_then(|id| drive.model.codes.iter().find(|t| &t.id == id));
         let fits = match table {
             Some(table) => table.values.iter().any(|v| f64::from(v.value) == *value),
+            // A scale that is not positive is `scales_are_positive`'s to report.
+            None if !ranges::has_sound_scale(register) => true,
             None => {
                 let raw = (value / ranges::scale_of(register)).round() as i64;
                 let (min, max) = index.raw_range(register);
@@ -201,6 +207,7 @@ fn check_frame(
     frame: &DecodedFrame,
     printed_answers: Option<&Result<(), NotAnAnswer>>,
     written_in: Option<(&vfd_runtime::Protocol, Direction)>,
+    variant_reported: &mut bool,
     out: &mut Diagnostics,
 ) {
     if let Err(message) = &frame.bytes {
@@ -236,7 +243,9 @@ fn check_frame(
     };
     match &frame.meaning {
         None => {}
+        Some(Err(_)) if !other_variants.is_empty() && *variant_reported => {}
         Some(Err(error)) if !other_variants.is_empty() => {
+            *variant_reported = true;
             let first = protocol_variant_label(written_in.map(|(p, _)| p));
             out.push(
                 drive
@@ -263,7 +272,30 @@ fn check_frame(
                     _ => "check the bytes against the manual; record a manual mistake as `printed:` + `erratum:`",
                 }),
         ),
-        Some(Ok(decoded)) => {
+        Some(Ok(_)) => {
+            // A paged offset stands for the register it reaches on the example's page.
+            let stated = frame.as_stated();
+            let decoded = stated.as_deref().expect("the frame decoded");
+            // Without its page, a paged offset names no register: the page is reported. A
+            // register known by its wire numbers only has no number `expect` could state.
+            let wire_only = crate::frames::register_of(&drive.model, decoded)
+                .is_some_and(|r| r.given_address.is_none() && r.on_page.is_empty());
+            let adjusted;
+            let expect = if frame.register_unknown_for_its_page() {
+                adjusted = ExpectModel {
+                    register: None,
+                    ..expect.clone()
+                };
+                &adjusted
+            } else if wire_only && expect.register.is_none() {
+                adjusted = ExpectModel {
+                    register: decoded.register.map(u32::from),
+                    ..expect.clone()
+                };
+                &adjusted
+            } else {
+                expect
+            };
             let mismatches = mismatches(expect, expected_code, decoded);
             if !mismatches.is_empty() {
                 out.push(drive.source.error(&format!("{path}.expect"), format!("the frame decodes differently: {}", mismatches.join("; "))).hint("`expect` states what the manual says the frame means (register numbers before the protocol's address map)"));
@@ -489,67 +521,6 @@ fn mismatches(
         ));
     }
     mismatches
-}
-
-fn check_example_value(
-    drive: &Context,
-    base: &str,
-    value: f64,
-    example: &DecodedExample,
-    out: &mut Diagnostics,
-) {
-    let path = format!("{base}.value");
-    // The value belongs to the data of the reply, else of the request.
-    let mut register = None;
-    let mut data = None;
-    for decoded in example
-        .reply_then_request()
-        .filter_map(DecodedFrame::decoded)
-    {
-        if register.is_none() {
-            register = register_of(&drive.model, decoded);
-        }
-        if data.is_none() {
-            data = decoded.data;
-        }
-    }
-    let Some(register) = register else {
-        out.push(
-            drive
-                .source
-                .error(&path, "`value` needs a frame naming a described register")
-                .hint("describe the register, or drop `value`"),
-        );
-        return;
-    };
-    let Some(data) = data else {
-        out.push(
-            drive
-                .source
-                .error(&path, "`value` needs a frame carrying data")
-                .hint("the value is the data in engineering units"),
-        );
-        return;
-    };
-    let scale = ranges::scale_of(register);
-    let data_type = register.data_type.unwrap_or(vfd_runtime::DataType::Word);
-    let raw = vfd_runtime::units::raw_to_number(data, register.signed, data_type);
-    if (raw * scale - value).abs() > scale / 2.0 {
-        out.push(
-            drive
-                .source
-                .error(
-                    &path,
-                    format!(
-                        "data {data:04X}h is {} in `{}`, not {}",
-                        with_unit(register, format!("{:.*}", decimals(scale), raw * scale)),
-                        register.code,
-                        with_unit(register, value.to_string())
-                    ),
-                )
-                .hint("check the register's scale and the example"),
-        );
-    }
 }
 
 #[cfg(test)]

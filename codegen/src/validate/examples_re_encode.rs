@@ -83,10 +83,11 @@ fn typed_request(
     protocol: &Protocol,
     bytes: &[u8],
 ) -> Option<Request> {
+    // As the emitter names it (a paged offset as the register it reaches on its page).
     let register = decoded
         .reply_then_request()
-        .filter_map(DecodedFrame::decoded)
-        .find_map(|meaning| register_of(&drive.model, meaning))?;
+        .filter_map(DecodedFrame::as_stated)
+        .find_map(|meaning| register_of(&drive.model, &meaning))?;
     let meaning = decoded.request.as_ref()?.decoded()?;
     let data_type = register.data_type.unwrap_or(DataType::Word);
     let writable = register.access != Some(Access::ReadOnly) && data_type != DataType::Text;

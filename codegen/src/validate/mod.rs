@@ -11,18 +11,22 @@ pub(crate) mod ranges;
 mod behaviour_resolves;
 mod bit_examples_match;
 mod bit_fields_do_not_overlap;
+mod bit_fields_fit_their_registers;
 mod byte_registers_have_commands;
 mod code_values_are_unique;
 mod defaults_are_in_range;
+mod example_values;
 mod examples_decode;
 mod examples_re_encode;
 mod identifiers_are_snake_case;
 mod inferred_facts_exist;
 mod line_formats_resolve;
 mod names_are_unique;
+mod paged_examples_name_their_place;
 mod ranges_resolve;
 mod reference_scaling_resolves;
 mod references_resolve;
+mod refusal_codes_resolve;
 mod register_addresses_are_unique;
 mod relations_resolve;
 mod replies_answer_requests;
@@ -32,6 +36,7 @@ mod sequences_replay;
 mod sequences_resolve;
 mod serial_settings_are_consistent;
 mod silent_requests_have_no_reply;
+mod station_register_resolves;
 mod storage_rules_are_consistent;
 mod units_are_known;
 mod value_examples_match;
@@ -58,7 +63,7 @@ pub(crate) struct Context {
 
 /// Runs every check, in a fixed order.
 pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
-    let checks: [fn(&Context, &mut Diagnostics); 27] = [
+    let checks: [fn(&Context, &mut Diagnostics); 31] = [
         identifiers_are_snake_case::identifiers_are_snake_case,
         register_addresses_are_unique::register_addresses_are_unique,
         names_are_unique::names_are_unique,
@@ -70,9 +75,12 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         defaults_are_in_range::defaults_are_in_range,
         references_resolve::references_resolve,
         bit_fields_do_not_overlap::bit_fields_do_not_overlap,
+        bit_fields_fit_their_registers::bit_fields_fit_their_registers,
         code_values_are_unique::code_values_are_unique,
         serial_settings_are_consistent::serial_settings_are_consistent,
+        station_register_resolves::station_register_resolves,
         examples_decode::examples_decode,
+        paged_examples_name_their_place::paged_examples_name_their_place,
         replies_answer_requests::replies_answer_requests,
         silent_requests_have_no_reply::silent_requests_have_no_reply,
         examples_re_encode::examples_re_encode,
@@ -80,6 +88,7 @@ pub(crate) fn check(drive: &Context, out: &mut Diagnostics) {
         bit_examples_match::bit_examples_match,
         reference_scaling_resolves::reference_scaling_resolves,
         behaviour_resolves::behaviour_resolves,
+        refusal_codes_resolve::refusal_codes_resolve,
         relations_resolve::relations_resolve,
         sequences_resolve::sequences_resolve,
         sequences_replay::sequences_replay,

@@ -161,6 +161,15 @@ pub fn scale_of(register: &RegisterModel) -> f64 {
     register.scale.unwrap_or(1.0)
 }
 
+/// Whether the register's scale is a positive number, so that its values can be judged in
+/// steps. A scale that is not is reported once, by `scales_are_positive`; the checks of the
+/// register's bounds, default and example values leave the register out rather than report
+/// the same cause again for each value.
+pub fn has_sound_scale(register: &RegisterModel) -> bool {
+    let scale = scale_of(register);
+    scale.is_finite() && scale > 0.0
+}
+
 /// Converts an engineering value to raw counts, if it is a whole number of steps.
 pub fn to_raw(register: &RegisterModel, value: f64) -> Option<i64> {
     let raw = value / scale_of(register);

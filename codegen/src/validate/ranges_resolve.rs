@@ -21,6 +21,9 @@ pub fn ranges_resolve(drive: &Context, out: &mut Diagnostics) {
         {
             let path = format!("registers[{index}].range.{key}");
             match registers.resolve_bound(bound, end) {
+                // Bounds in steps of a scale that is not positive: `scales_are_positive`
+                // reports the scale, once.
+                Ok(_) if !ranges::has_sound_scale(register) => {}
                 Ok(value) => {
                     let (word_min, word_max) = ranges::word_limits(register);
                     let word = match register.data_type {

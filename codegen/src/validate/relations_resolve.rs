@@ -550,6 +550,11 @@ fn forbidden_combinations(
             }
             let scale = ranges::scale_of(register);
             let (low, high) = index.raw_range(register);
+            // A scale that is not positive or a range in the wrong order is reported once,
+            // as itself, not again for each value it makes unholdable.
+            if !ranges::has_sound_scale(register) || low > high {
+                continue;
+            }
             for (k, value) in condition.values.iter().enumerate() {
                 let raw = value / scale;
                 if (raw - raw.round()).abs() > 1e-6

@@ -242,8 +242,10 @@ fn report(drive: &Context, scope: &Scope<'_>, out: &mut Diagnostics) {
             ))
         } else {
             match taken.get(item.rust.as_str()) {
-                // The same id twice is `names_are_unique`'s to report.
-                Some(first) if first.id != item.id => Some((
+                // The same name twice, also in another case (`P.9` and `p.9`), is
+                // `names_are_unique`'s (or, for ids, `identifiers_are_snake_case`'s) to
+                // report: the Rust names follow from it.
+                Some(first) if !first.id.eq_ignore_ascii_case(item.id) => Some((
                     format!(
                         "{} `{}` becomes the Rust {} `{rust}`, like `{}` at {}",
                         label, item.id, item.kind, first.id, first.path
@@ -450,7 +452,6 @@ mod tests {
     fn reports_protocol_ids_that_give_one_static() {
         let protocol = r#"  - { id: ascii, uses: toshiba-ascii, source: "4.1" }"#;
         let cases = [
-            ("ASCII", "protocol id `ASCII` becomes the Rust static `protocols::ASCII`, like `ascii` at protocols[0].id"),
             // Each protocol also declares its command table and one static per layout.
             ("ascii_commands", "protocol id `ascii_commands` becomes the Rust static `protocols::ASCII_COMMANDS`, like `ascii` at protocols[0].id"),
             ("ascii_read_request", "protocol id `ascii_read_request` becomes the Rust static `protocols::ASCII_READ_REQUEST`, like `ascii` at protocols[0].id"),
@@ -470,5 +471,12 @@ mod tests {
                 &format!("id: {id},"),
             );
         }
+        // `ASCII` is `ascii` in another case: `identifiers_are_snake_case` reports it, and
+        // the clash of their statics follows from it.
+        let yaml = valid_with(&[(
+            protocol,
+            &format!("{protocol}\n  - {{ id: ASCII, uses: toshiba-ascii, source: \"4.1\" }}"),
+        )]);
+        assert!(check_yaml(check, &yaml).is_empty());
     }
 }

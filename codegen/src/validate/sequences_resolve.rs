@@ -107,6 +107,9 @@ pub fn sequences_resolve(drive: &Context, out: &mut Diagnostics) {
                 "list every frame on the line, in order",
             );
         }
+        // Steps in another variant share one cause (the sequence names no `variant`): the
+        // first such step reports it.
+        let mut variant_reported = false;
         for (at, step) in sequence.steps.iter().enumerate() {
             let key = format!(".steps[{at}]");
             let bytes = match frame_bytes(&step.ascii, &step.hex) {
@@ -130,7 +133,7 @@ pub fn sequences_resolve(drive: &Context, out: &mut Diagnostics) {
                         message,
                         "a master sends requests and follow-ups, a drive replies",
                     );
-                } else {
+                } else if !std::mem::replace(&mut variant_reported, true) {
                     error(
                         &key,
                         format!(

@@ -9,7 +9,12 @@ use crate::validate::Context;
 pub fn value_examples_match(drive: &Context, out: &mut Diagnostics) {
     let registers = ranges::RegisterIndex::new(&drive.model);
     for (index, example) in drive.model.value_examples.iter().enumerate() {
-        let Some(register) = registers.find(&example.register) else {
+        // An unknown register is `references_resolve`'s to report, a scale that is not
+        // positive `scales_are_positive`'s.
+        let Some(register) = registers
+            .find(&example.register)
+            .filter(|r| ranges::has_sound_scale(r))
+        else {
             continue;
         };
         // The runtime rounds to the nearest step, so the example must round to its raw value.

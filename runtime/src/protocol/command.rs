@@ -53,6 +53,11 @@ pub struct CommandSpec {
     /// acknowledgement when the reply was sound, a request to send it again when it was not
     /// (the Eaton protocol's C and F after a read's E).
     pub follow_up: Option<FollowUp>,
+    /// A plain write whose storage is the instruction's (`storage: by_instruction`): a
+    /// RAM-only register's write goes to RAM, any other's to RAM and EEPROM (where no
+    /// persistence selector governs it). A master sends a persistent write of such a
+    /// register with it, and refuses a RAM write of one that it would store in EEPROM.
+    pub stored_by_instruction: bool,
 }
 /// Const constructors for generated code.
 impl CommandSpec {
@@ -80,7 +85,15 @@ impl CommandSpec {
             registers: Cow::Borrowed(&[]),
             percent_of: None,
             follow_up: None,
+            stored_by_instruction: false,
         }
+    }
+
+    /// A plain write whose storage is the instruction's (see
+    /// [`CommandSpec::stored_by_instruction`]).
+    pub const fn with_storage_by_instruction(mut self) -> CommandSpec {
+        self.stored_by_instruction = true;
+        self
     }
 
     /// The master answers its replies with `ok` (sound) or `again` (garbled): see

@@ -69,13 +69,55 @@ impl Protocol {
                     kind: request.kind,
                 });
         }
-        self.command_for(request.kind, request.space, request.data_type)
+        let command = self
+            .command_for(request.kind, request.space, request.data_type)
+            .or_else(|| self.persistent_by_instruction(request))
             .ok_or_else(|| EncodeError::UnsupportedCommand {
                 protocol: self.id.clone(),
                 kind: request.kind,
                 space: request.space,
                 data_type: request.data_type,
-            })
+            })?;
+        if command.stored_by_instruction
+            && request.kind == CommandKind::WriteRam
+            && self.stored_in_eeprom_by_instruction(request)
+        {
+            return Err(EncodeError::StoredInEeprom {
+                protocol: self.id.clone(),
+                register: request.register,
+            });
+        }
+        Ok(command)
+    }
+
+    /// For a persistent write where the protocol has no persistent command: its plain
+    /// write whose storage is the instruction's, when the request's register is not RAM
+    /// only (its instruction then stores in RAM and EEPROM).
+    fn persistent_by_instruction(&self, request: &Request) -> Option<&CommandSpec> {
+        if request.kind != CommandKind::WritePersistent
+            || request.info.is_some_and(|info| info.ram_only)
+        {
+            return None;
+        }
+        self.commands.iter().find(|c| {
+            !c.extra
+                && c.kind == CommandKind::WriteRam
+                && c.stored_by_instruction
+                && c.space == request.space
+                && c.carries(request.data_type)
+        })
+    }
+
+    /// Whether a write of `request`'s register through a write whose storage is the
+    /// instruction's goes to EEPROM: a described register that is neither RAM only nor kept
+    /// in RAM, and that the drive's persistence selector does not govern (the master sets
+    /// that selector for the writes it governs).
+    fn stored_in_eeprom_by_instruction(&self, request: &Request) -> bool {
+        request.info.is_some_and(|info| !info.stored_in_ram_only())
+            && !self
+                .persistence
+                .as_ref()
+                .is_some_and(|selector| selector.governs_request(request))
     }
 
     /// Whether `info` can be read over this protocol: a read command serves its space and

@@ -70,7 +70,12 @@ impl Protocol {
             // On a protocol with pages, any other number is an offset in a page (or the
             // page register): the frame alone does not say which register it is.
             None if self.paging.is_some() => None,
-            None => command.address_map.from_wire(wire),
+            // A register with numbers of its own here (or none at all: `{}`, a register
+            // known by another protocol's numbers) is not reached by its plain number.
+            None => command
+                .address_map
+                .from_wire(wire)
+                .filter(|number| !self.wire_numbers.iter().any(|w| w.register == *number)),
         }
     }
 }

@@ -38,8 +38,10 @@ mod pages;
 mod reply;
 mod respond;
 mod serve;
+mod station;
 mod storage;
 mod tally;
+mod unreadable;
 mod unsupported;
 
 pub use faults::Fault;
@@ -102,6 +104,9 @@ pub struct VirtualDrive {
     /// Registers shown at a value whatever the behaviour model computes
     /// ([`VirtualDrive::hold`]), until a power cycle.
     held: Vec<(&'static RegisterInfo, u32)>,
+    /// Unreadable frames for this station in a row, since the last it could read
+    /// ([`crate::behaviour::Refusals::retries_exceeded`]).
+    unreadable_in_a_row: u32,
 }
 
 /// Bytes the drive sends in answer to one request, and how.
@@ -149,7 +154,9 @@ impl VirtualDrive {
             page: None,
             awaiting_follow_up: None,
             held: Vec::new(),
+            unreadable_in_a_row: 0,
         };
+        virtual_drive.place_station();
         virtual_drive.refresh();
         virtual_drive
     }
@@ -164,9 +171,11 @@ impl VirtualDrive {
         self.address
     }
 
-    /// Sets its station number.
+    /// Sets its station number (and the register holding it, where the description names
+    /// one: `addressing.register`, as if set on the panel before power-on).
     pub fn set_address(&mut self, address: u8) {
         self.address = address;
+        self.set_station_register(address);
     }
 
     /// The serial port it serves, for a drive with several (`None`: not chosen).
@@ -448,6 +457,7 @@ impl VirtualDrive {
                 self.requests += 1;
                 self.count_addressed(&request);
                 let outcome = self.answer(protocol, &request);
+                self.follow_station_register();
                 if matches!(outcome, Outcome::Reply(_)) {
                     self.tally.answered += 1;
                 }
@@ -462,15 +472,23 @@ impl VirtualDrive {
                     self.requests += 1;
                     return self.answer_mismatch(protocol, &request, variants.mismatch);
                 }
+                let checksum = error.kind() == DecodeErrorKind::ChecksumMismatch;
+                // A drive whose manual gives codes for unreadable frames reads their
+                // station from the frame and counts them in a row.
+                if let Some(unreadable::Unreadable::Frame { len, outcome }) =
+                    self.unreadable(protocol, frame, checksum)
+                {
+                    if len == frame.len() {
+                        return outcome;
+                    }
+                }
                 match bad_checksum::repaired(protocol, frame, true) {
                     bad_checksum::Repaired::Frame(request) => {
                         self.requests += 1;
                         self.count_addressed(&request);
                         self.answer_bad_checksum(protocol, &request)
                     }
-                    _ if error.kind() == DecodeErrorKind::ChecksumMismatch => {
-                        self.refuse(protocol, None, Refusal::BadChecksum)
-                    }
+                    _ if checksum => self.refuse(protocol, None, Refusal::BadChecksum),
                     _ => Outcome::Silent("not a request frame"),
                 }
             }
@@ -660,6 +678,9 @@ impl VirtualDrive {
                         }
                         (_, outcome) => outcome,
                     };
+                    // A write of the station register moves the station (its reply is
+                    // already made, from the station addressed).
+                    self.follow_station_register();
                     let reply = match &outcome {
                         Outcome::Reply(bytes) => Some(bytes.as_slice()),
                         Outcome::Silent(_) => None,
@@ -668,33 +689,55 @@ impl VirtualDrive {
                     (outcome, frame.len)
                 }
                 Ok(Ok(Found::Incomplete)) => break,
-                Ok(Err(error)) => match bad_checksum::repaired(protocol, input, false) {
-                    bad_checksum::Repaired::Frame(request) => {
-                        self.requests += 1;
-                        self.count_addressed(&request);
-                        (self.answer_bad_checksum(protocol, &request), request.len)
+                Ok(Err(error)) => {
+                    let checksum = error.kind() == DecodeErrorKind::ChecksumMismatch;
+                    // A drive whose manual gives codes for unreadable frames reads their
+                    // station from the frame and counts them in a row.
+                    let unreadable = if checksum {
+                        self.unreadable(protocol, input, true)
+                    } else {
+                        None
+                    };
+                    match unreadable {
+                        Some(unreadable::Unreadable::Frame { len, outcome }) => (outcome, len),
+                        Some(unreadable::Unreadable::Wait) if !settled => break,
+                        _ => match bad_checksum::repaired(protocol, input, false) {
+                            bad_checksum::Repaired::Frame(request) => {
+                                self.requests += 1;
+                                self.count_addressed(&request);
+                                (self.answer_bad_checksum(protocol, &request), request.len)
+                            }
+                            bad_checksum::Repaired::Incomplete if !settled => break,
+                            _ if checksum => {
+                                let outcome = self.refuse(protocol, None, Refusal::BadChecksum);
+                                (outcome, input.len().min(start.len().max(1)))
+                            }
+                            _ => match unsupported::lacking(protocol, input, settled) {
+                                unsupported::Lacking::Wait => break,
+                                unsupported::Lacking::Frame {
+                                    len,
+                                    address,
+                                    function,
+                                } => {
+                                    self.requests += 1;
+                                    (self.answer_lacking(protocol, address, function), len)
+                                }
+                                unsupported::Lacking::No => {
+                                    match self.unreadable(protocol, input, false) {
+                                        Some(unreadable::Unreadable::Frame { len, outcome }) => {
+                                            (outcome, len)
+                                        }
+                                        Some(unreadable::Unreadable::Wait) if !settled => break,
+                                        _ => (
+                                            Outcome::Silent("framing error"),
+                                            if start.is_empty() { input.len() } else { 1 },
+                                        ),
+                                    }
+                                }
+                            },
+                        },
                     }
-                    bad_checksum::Repaired::Incomplete if !settled => break,
-                    _ if error.kind() == DecodeErrorKind::ChecksumMismatch => {
-                        let outcome = self.refuse(protocol, None, Refusal::BadChecksum);
-                        (outcome, input.len().min(start.len().max(1)))
-                    }
-                    _ => match unsupported::lacking(protocol, input, settled) {
-                        unsupported::Lacking::Wait => break,
-                        unsupported::Lacking::Frame {
-                            len,
-                            address,
-                            function,
-                        } => {
-                            self.requests += 1;
-                            (self.answer_lacking(protocol, address, function), len)
-                        }
-                        unsupported::Lacking::No => (
-                            Outcome::Silent("framing error"),
-                            if start.is_empty() { input.len() } else { 1 },
-                        ),
-                    },
-                },
+                }
             };
             let request: Vec<u8> = input.drain(..used).collect();
             if self.noise || self.unplugged {
@@ -726,6 +769,7 @@ impl VirtualDrive {
     fn count_addressed(&mut self, request: &DecodedRequest<'_>) {
         if request.broadcast.is_some() || request.address.is_none_or(|a| a == self.address) {
             self.tally.addressed += 1;
+            self.unreadable_in_a_row = 0;
         }
     }
 

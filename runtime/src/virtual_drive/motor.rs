@@ -59,7 +59,7 @@ impl VirtualDrive {
         Some(engineering(self.scaled(info), raw))
     }
 
-    fn amount(&self, amount: Amount) -> f64 {
+    pub(super) fn amount(&self, amount: Amount) -> f64 {
         match amount {
             Amount::Value(value) => value,
             Amount::Register(id) => self.value_of(id).unwrap_or(0.0),
@@ -267,6 +267,7 @@ impl VirtualDrive {
     /// Writes the monitors and status words from the motor state; held registers keep the
     /// value they are held at.
     pub(crate) fn refresh(&mut self) {
+        self.follow_station_register();
         self.follow_model();
         self.show_held();
     }
@@ -296,6 +297,7 @@ impl VirtualDrive {
         for id in behaviour.frequency.reference {
             monitor(self, id, target);
         }
+        let mut overloaded = false;
         if let Some(current) = &behaviour.current {
             let span = self
                 .amount(behaviour.frequency.span)
@@ -309,7 +311,16 @@ impl VirtualDrive {
             for id in current.registers {
                 monitor(self, id, value);
             }
+            overloaded = running
+                && current
+                    .overload
+                    .is_some_and(|level| value >= self.amount(level) - 1e-9);
         }
+        let detected = running
+            && behaviour
+                .frequency
+                .detection
+                .is_some_and(|level| output.abs() >= self.amount(level) - 1e-9);
         let code = f64::from(self.motor.trip.unwrap_or(0));
         for id in behaviour.trip.code {
             monitor(self, id, code);
@@ -347,6 +358,8 @@ impl VirtualDrive {
         let reached = running && (output.abs() - target).abs() < 1e-6 && target > 0.0;
         set(status.at_reference, reached);
         set(status.tripped, self.motor.trip.is_some());
+        set(status.overload, overloaded);
+        set(status.frequency_detected, detected);
         set(status.enabled, !self.motor.coast);
         for id in status.registers {
             if let Some(info) = self.drive.register(id) {

@@ -20,6 +20,10 @@ pub enum Refusal {
     /// A write to the command word or the frequency command while the mode register is
     /// outside the mode the behaviour model requires.
     WrongMode,
+    /// A frame holding a character no frame of the protocol carries.
+    BadCharacter,
+    /// A frame that cannot be read otherwise.
+    Malformed,
 }
 
 impl Refusal {
@@ -32,6 +36,8 @@ impl Refusal {
             Refusal::WhileRunning => refusals.while_running,
             Refusal::BadChecksum => refusals.bad_checksum,
             Refusal::WrongMode => refusals.wrong_mode,
+            Refusal::BadCharacter => refusals.bad_character,
+            Refusal::Malformed => refusals.malformed,
         }
     }
 }

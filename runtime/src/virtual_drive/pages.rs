@@ -26,6 +26,16 @@ impl VirtualDrive {
         Some(self.page.unwrap_or(paging.initial))
     }
 
+    /// Puts the drive on `page` over `protocol`, as a master's page switch would; returns
+    /// false, changing nothing, when the protocol has no such page.
+    pub fn set_page(&mut self, protocol: &Protocol, page: u16) -> bool {
+        let on_it = protocol.paging.as_ref().is_some_and(|p| p.has_page(page));
+        if on_it {
+            self.page = Some(page);
+        }
+        on_it
+    }
+
     /// Resolves a request on a protocol with pages: the page register's read and write,
     /// and a paged offset (a wire number no register owns, which the decoder leaves
     /// unnamed; the command's address map undone) as the register on the current page.

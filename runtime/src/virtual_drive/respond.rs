@@ -389,6 +389,9 @@ impl VirtualDrive {
                 {
                     to_eeprom
                 }
+                // The instruction decides: a RAM-only register's in RAM, any other's in RAM
+                // and EEPROM.
+                _ if request.command.stored_by_instruction => !info.ram_only,
                 _ => persistent,
             };
             self.storage

@@ -39,6 +39,7 @@ pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
             span: amount(&b.span),
             output: texts(&b.output),
             reference: texts(&b.reference),
+            detection: b.frequency_detection.as_ref().map(amount),
         },
         current: b
             .current
@@ -47,6 +48,7 @@ pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
                 registers: texts(registers),
                 at_zero: *at_zero,
                 at_span: *at_span,
+                overload: b.current_overload.as_ref().map(amount),
             }),
         status: StatusBehaviour {
             registers: texts(&b.status_registers),
@@ -55,6 +57,8 @@ pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
             forward: bits(&s.forward),
             at_reference: bits(&s.at_reference),
             tripped: bits(&s.tripped),
+            overload: bits(&s.overload),
+            frequency_detected: bits(&s.frequency_detected),
             enabled: bits(&s.enabled),
             always: bits(&s.always),
         },
@@ -94,6 +98,14 @@ pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
                     while_running: r.while_running,
                     bad_checksum: r.bad_checksum,
                     wrong_mode: r.wrong_mode,
+                    bad_character: r.bad_character,
+                    malformed: r.malformed,
+                    retries_exceeded: r.retries_exceeded.as_ref().map(|(code, after)| {
+                        vfd_runtime::behaviour::RetriesExceeded {
+                            code: *code,
+                            after: amount(after),
+                        }
+                    }),
                 })
                 .collect(),
         ),

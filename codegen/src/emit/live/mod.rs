@@ -45,6 +45,7 @@ pub fn drive_info(ir: &DriveIr) -> &'static DriveInfo {
                 .map(relations::forbidden)
                 .collect(),
         ),
+        station_register: ir.addressing.register.as_deref().map(text),
     })
 }
 

@@ -86,6 +86,7 @@ fn command_spec(command: &CommandIr, layout: &dyn Fn(&str) -> FrameLayout) -> Co
     spec.no_reply = command.no_reply;
     spec.extra = command.extra;
     spec.lowercase_means_sender_tripped = command.lowercase_means_sender_tripped;
+    spec.stored_by_instruction = command.stored_by_instruction;
     spec.registers = Cow::Owned(command.registers.clone());
     spec.percent_of = command
         .percent_of

@@ -103,6 +103,7 @@ fn info(ir: &DriveIr, register: &RegisterIr, tables: &Tables) -> RegisterInfo {
     info.signed = register.signed;
     info.ram_only = register.ram_only;
     info.persistent_write_to_ram = register.persistent_write_to_ram;
+    info.has_address = !register.wire_only;
     info.writable_while_running = register.writable_while_running;
     info.while_running_unknown = register.while_running_unknown;
     info.panel_only = register.panel_only;

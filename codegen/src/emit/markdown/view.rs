@@ -47,6 +47,8 @@ pub(super) struct DriveView<'a> {
     /// The character format per protocol, where the drive's code tables say which format
     /// a protocol speaks; empty when the table's one format holds for every protocol.
     line_formats: Vec<(String, String)>,
+    /// The code of the register holding the station number, when the description names one.
+    station_register: Option<String>,
 }
 
 #[derive(Serialize)]
@@ -450,6 +452,12 @@ impl<'a> DriveView<'a> {
             },
             any_inferred: drive.registers.iter().any(|r| !r.inferred.is_empty()),
             line_formats: line_formats(drive),
+            station_register: drive
+                .addressing
+                .register
+                .as_deref()
+                .and_then(|id| drive.register(id))
+                .map(|r| r.code.clone()),
             warning_lines: drive
                 .warnings
                 .iter()
@@ -502,7 +510,17 @@ impl<'a> DriveView<'a> {
                 .iter()
                 .map(|register| RegisterView {
                     register,
-                    address_display: address_label(register),
+                    address_display: if register.wire_only {
+                        "none: wire numbers only".to_owned()
+                    } else {
+                        let mut label = address_label(register);
+                        for (protocol, page, offset) in &register.on_page {
+                            label.push_str(&format!(
+                                ", {protocol} page {page} offset {offset:02X}h"
+                            ));
+                        }
+                        label
+                    },
                     address_hex: format!("{:04X}", register.address),
                     scale_display: format!("{}", register.scale),
                     range_display: match code_table_link(drive, register.code_table.as_deref()) {
@@ -905,20 +923,51 @@ fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
             codes(&behaviour.status_registers)
         ));
     }
+    let mut levels = Vec::new();
+    if let Some(level) = &behaviour.current_overload {
+        levels.push(format!(
+            "overload while the output current is at or above {}",
+            amount(level, "").trim_end()
+        ));
+    }
+    if let Some(level) = &behaviour.frequency_detection {
+        levels.push(format!(
+            "frequency detected while running at or above {}",
+            amount(level, "Hz")
+        ));
+    }
+    if !levels.is_empty() {
+        model_lines.push(format!("Status levels: {}.", levels.join("; ")));
+    }
     let answer = |protocol: &ProtocolIr, code: Option<u16>| match code {
         Some(code) => printed_error(drive, protocol, code),
         None => "no reply".to_owned(),
     };
-    let mut refusal_names = vec![
-        "Unknown register",
-        "Read-only register",
-        "Out of range",
-        "While running",
-        "Bad checksum",
+    // The refusals every model tells apart, then those only some models give.
+    type Cell = fn(&RefusalsIr) -> Option<u16>;
+    let mut columns: Vec<(&'static str, Cell)> = vec![
+        ("Unknown register", |r| r.unknown_register),
+        ("Read-only register", |r| r.read_only),
+        ("Out of range", |r| r.out_of_range),
+        ("While running", |r| r.while_running),
+        ("Bad checksum", |r| r.bad_checksum),
     ];
     if behaviour.require_mode.is_some() {
-        refusal_names.push("Outside the required mode");
+        columns.push(("Outside the required mode", |r| r.wrong_mode));
     }
+    let optional: [(&'static str, Cell); 3] = [
+        ("Bad character", |r| r.bad_character),
+        ("Malformed frame", |r| r.malformed),
+        ("Retries exceeded", |r| {
+            r.retries_exceeded.as_ref().map(|(code, _)| *code)
+        }),
+    ];
+    for (name, cell) in optional {
+        if behaviour.refusals.iter().any(|r| cell(r).is_some()) {
+            columns.push((name, cell));
+        }
+    }
+    let refusal_names = columns.iter().map(|(name, _)| *name).collect();
     let refusals = drive
         .protocols
         .iter()
@@ -927,24 +976,22 @@ fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
                 .refusals
                 .iter()
                 .find(|r| r.protocol == protocol.id);
-            let mut cells: Vec<String> = match entry {
-                Some(r) => [
-                    r.unknown_register,
-                    r.read_only,
-                    r.out_of_range,
-                    r.while_running,
-                    r.bad_checksum,
-                    r.wrong_mode,
-                ]
-                .into_iter()
-                .map(|code| answer(protocol, code))
-                .collect(),
-                None => vec!["no reply".to_owned(); 6],
-            };
-            cells.truncate(refusal_names.len());
+            let cells: Vec<String> = columns
+                .iter()
+                .map(|(_, cell)| answer(protocol, entry.and_then(cell)))
+                .collect();
             (protocol.id.clone(), cells)
         })
         .collect();
+    for rule in &behaviour.refusals {
+        if let Some((code, after)) = &rule.retries_exceeded {
+            model_lines.push(format!(
+                "Over `{}`, once more than {} unreadable frames (bad characters, malformed frames, bad checksums) came in a row, the next is answered {code:X}h.",
+                rule.protocol,
+                amount(after, "").trim_end()
+            ));
+        }
+    }
     VirtualDriveView {
         behaviour: Some(behaviour),
         model_lines,
@@ -971,7 +1018,10 @@ fn line_formats(drive: &DriveIr) -> Vec<(String, String)> {
             let values: Vec<&CodeValueIr> = table
                 .values
                 .iter()
-                .filter(|v| v.line.is_some() && v.protocol.as_deref() == Some(&protocol.id))
+                .filter(|v| {
+                    v.line.is_some_and(|l| l.format().is_some())
+                        && v.protocol.as_deref() == Some(&protocol.id)
+                })
                 .collect();
             if values.is_empty() {
                 continue;
@@ -987,7 +1037,7 @@ fn line_formats(drive: &DriveIr) -> Vec<(String, String)> {
             let choices: Vec<String> = values
                 .iter()
                 .filter_map(|v| {
-                    let line = format(v.line?);
+                    let line = format(v.line?.format()?);
                     Some(if Some(v.value) == factory {
                         format!(
                             "**{line}** ({} = {}, the factory setting)",
@@ -1174,6 +1224,12 @@ fn command_notes(drive: &DriveIr, command: &CommandIr) -> String {
     if command.lowercase_means_sender_tripped {
         notes.push("lower case: the sender (master) has tripped".to_owned());
     }
+    if command.stored_by_instruction {
+        notes.push(
+            "storage by instruction: a RAM-only register's write goes to RAM, any other's to RAM and EEPROM (a persistent write is sent with it; a RAM write of such a register is refused before sending)"
+                .to_owned(),
+        );
+    }
     if !command.registers.is_empty() {
         let names: Vec<String> = command.registers.iter().map(|r| label(*r)).collect();
         notes.push(format!("addresses only {}", names.join(", ")));
@@ -1255,20 +1311,33 @@ fn block_lines(drive: &DriveIr, protocol: &ProtocolIr) -> Vec<String> {
 /// bits, no parity, 2 stop bits; protocol `modbus_ascii``), empty when it says neither.
 fn code_value_sets(value: &CodeValueIr) -> String {
     let mut parts = Vec::new();
-    if let Some((data_bits, parity, stop_bits)) = value.line {
-        let parity = match parity {
-            vfd_runtime::serial::Parity::None => "no parity",
-            vfd_runtime::serial::Parity::Even => "even parity",
-            vfd_runtime::serial::Parity::Odd => "odd parity",
-        };
-        let stops = if stop_bits == 1 {
-            "stop bit"
-        } else {
-            "stop bits"
-        };
-        parts.push(format!(
-            "line: {data_bits} data bits, {parity}, {stop_bits} {stops}"
-        ));
+    if let Some(line) = value.line {
+        let mut sets = Vec::new();
+        if let Some(baud) = line.baud {
+            sets.push(format!("{baud} bps"));
+        }
+        if let Some(data_bits) = line.data_bits {
+            sets.push(format!("{data_bits} data bits"));
+        }
+        if let Some(parity) = line.parity {
+            sets.push(
+                match parity {
+                    vfd_runtime::serial::Parity::None => "no parity",
+                    vfd_runtime::serial::Parity::Even => "even parity",
+                    vfd_runtime::serial::Parity::Odd => "odd parity",
+                }
+                .to_owned(),
+            );
+        }
+        if let Some(stop_bits) = line.stop_bits {
+            let stops = if stop_bits == 1 {
+                "stop bit"
+            } else {
+                "stop bits"
+            };
+            sets.push(format!("{stop_bits} {stops}"));
+        }
+        parts.push(format!("line: {}", sets.join(", ")));
     }
     if let Some(protocol) = &value.protocol {
         parts.push(format!("protocol `{protocol}`"));

@@ -95,11 +95,20 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
         amount(&b.span),
     );
     let (output, reference) = (ids(&b.output), ids(&b.reference));
+    let optional_amount = |value: Option<&AmountIr>| match value {
+        Some(value) => {
+            let value = amount(value);
+            quote!(Some(#value))
+        }
+        None => quote!(None),
+    };
+    let detection = optional_amount(b.frequency_detection.as_ref());
     let current = match &b.current {
         Some((registers, at_zero, at_span)) => {
             let registers = ids(registers);
             let (at_zero, at_span) = (f64_literal(*at_zero), f64_literal(*at_span));
-            quote!(Some(CurrentBehaviour { registers: #registers, at_zero: #at_zero, at_span: #at_span }))
+            let overload = optional_amount(b.current_overload.as_ref());
+            quote!(Some(CurrentBehaviour { registers: #registers, at_zero: #at_zero, at_span: #at_span, overload: #overload }))
         }
         None => quote!(None),
     };
@@ -114,6 +123,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
         bits(&s.enabled),
         bits(&s.always),
     );
+    let (overload, frequency_detected) = (bits(&s.overload), bits(&s.frequency_detected));
     let trip_code = ids(&b.trip_code);
     let slots = b.trip_history.iter().map(|slot| match slot {
         TripSlotIr::Register(id) => quote!(TripSlot::whole(#id)),
@@ -140,6 +150,14 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
             code(r.bad_checksum),
             code(r.wrong_mode),
         );
+        let (bad_character, malformed) = (code(r.bad_character), code(r.malformed));
+        let retries_exceeded = match &r.retries_exceeded {
+            Some((code, after)) => {
+                let (code, after) = (int_literal(*code), amount(after));
+                quote!(Some(RetriesExceeded { code: #code, after: #after }))
+            }
+            None => quote!(None),
+        };
         quote!(Refusals {
             protocol: #protocol,
             unknown_register: #unknown,
@@ -148,6 +166,9 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
             while_running: #while_running,
             bad_checksum: #bad_checksum,
             wrong_mode: #wrong_mode,
+            bad_character: #bad_character,
+            malformed: #malformed,
+            retries_exceeded: #retries_exceeded,
         })
     });
     let doc = doc_text(format!(
@@ -179,6 +200,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     span: #span,
                     output: #output,
                     reference: #reference,
+                    detection: #detection,
                 },
                 current: #current,
                 status: StatusBehaviour {
@@ -188,6 +210,8 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     forward: #forward_bits,
                     at_reference: #at_reference,
                     tripped: #tripped,
+                    overload: #overload,
+                    frequency_detected: #frequency_detected,
                     enabled: #enabled,
                     always: #always,
                 },

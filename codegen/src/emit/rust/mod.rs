@@ -86,6 +86,10 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
     let (ports, ports_ref) = relations::ports_module(drive);
     let conversions = relations::conversions_module(drive);
     let forbidden = relations::forbidden_tokens(drive);
+    let station_register = match &drive.addressing.register {
+        Some(id) => quote!(Some(#id)),
+        None => quote!(None),
+    };
     quote! {
         #(#[doc = #docs])*
         #[allow(clippy::excessive_precision, clippy::unreadable_literal)]
@@ -121,6 +125,7 @@ pub fn drive_module(drive: &DriveIr, layouts: Layouts) -> TokenStream {
                 ports: #ports_ref,
                 conversions: &conversions::ALL,
                 forbidden: #forbidden,
+                station_register: #station_register,
             };
             #own_layouts
             #protocols

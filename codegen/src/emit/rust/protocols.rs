@@ -208,6 +208,9 @@ fn command_tokens(command: &CommandIr, file: &Ident) -> TokenStream {
     if command.lowercase_means_sender_tripped {
         tokens.extend(quote!(.with_lowercase_sender_tripped()));
     }
+    if command.stored_by_instruction {
+        tokens.extend(quote!(.with_storage_by_instruction()));
+    }
     if !command.registers.is_empty() {
         let registers = command.registers.iter().map(|r| int_literal(*r));
         tokens.extend(quote!(.with_registers(&[#(#registers),*])));

@@ -21,7 +21,11 @@ fn register_doc(drive: &DriveIr, register: &RegisterIr) -> Vec<String> {
         lines.push(format!("Also named {}.", register.aliases.join(", ")));
         lines.push(String::new());
     }
-    let mut facts = vec![format!("address `{}`", address_label(register))];
+    let mut facts = vec![if register.wire_only {
+        "no address of its own (its protocols reach it by its wire numbers)".to_owned()
+    } else {
+        format!("address `{}`", address_label(register))
+    }];
     let unit = register.unit.symbol();
     if !unit.is_empty() {
         facts.push(format!("unit {unit} in steps of {}", register.scale));
@@ -213,6 +217,9 @@ fn info_chain(drive: &DriveIr, register: &RegisterIr) -> TokenStream {
     }
     if register.persistent_write_to_ram {
         chain.extend(quote!(.with_persistent_write_to_ram()));
+    }
+    if register.wire_only {
+        chain.extend(quote!(.without_address()));
     }
     if register.writable_while_running {
         chain.extend(quote!(.with_writable_while_running()));
