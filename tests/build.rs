@@ -3,7 +3,7 @@
 //! (pymodbus, minimalmodbus) are installed: a peer test whose package is missing is built
 //! `#[ignore]`d with the reason (`cfg(missing_pymodbus)`, `cfg(missing_minimalmodbus)`), so
 //! it shows as ignored, never as `ok`. Under CI (`CI` set) nothing is ignored: a missing
-//! package fails the test.
+//! package fails the test. LinuxCNC's `halrun` likewise (`cfg(missing_halrun)`).
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -33,8 +33,23 @@ fn detect_python_peers() {
     }
 }
 
+/// Marks LinuxCNC's `halrun` missing (Debian `linuxcnc-uspace`): the tests that run its VFD
+/// components are then built `#[ignore]`d with the reason (`cfg(missing_halrun)`); under
+/// CI they run, and a missing `halrun` fails them.
+fn detect_halrun() {
+    println!("cargo::rustc-check-cfg=cfg(missing_halrun)");
+    if std::env::var_os("CI").is_some() {
+        return;
+    }
+    let found = Command::new("halrun").arg("-h").output().is_ok();
+    if !found {
+        println!("cargo:rustc-cfg=missing_halrun");
+    }
+}
+
 fn main() {
     detect_python_peers();
+    detect_halrun();
     let manifest = PathBuf::from(
         std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"),
     );

@@ -8,6 +8,7 @@
 
 pub mod expectations;
 pub mod fault_cases;
+pub mod linuxcnc;
 pub mod masters;
 pub mod module_graph;
 pub mod out_of_tree;

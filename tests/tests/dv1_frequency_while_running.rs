@@ -33,9 +33,14 @@ fn both_frequency_commands_are_written_while_the_motor_runs() {
         master
             .write_ram::<FrequencyCommandRam>(Hertz(40.0))
             .unwrap_or_else(|e| panic!("{}: 1002h while running: {e}", protocol.id));
-        master
-            .write_ram::<FrequencyCommandEeprom>(Hertz(45.0))
-            .unwrap_or_else(|e| panic!("{}: 1009h while running: {e}", protocol.id));
+        // Over Eaton the instruction decides the storage (HEE: RAM and EEPROM), so 1009h
+        // is written persistently there; elsewhere its write reaches RAM.
+        let eeprom = if protocol.id == "eaton" {
+            master.write_persistent::<FrequencyCommandEeprom>(Hertz(45.0))
+        } else {
+            master.write_ram::<FrequencyCommandEeprom>(Hertz(45.0))
+        };
+        eeprom.unwrap_or_else(|e| panic!("{}: 1009h while running: {e}", protocol.id));
         assert_eq!(
             master.read::<FrequencyCommandEeprom>().unwrap(),
             Hertz(45.0),

@@ -419,6 +419,8 @@ fn the_page_shows_the_new_vocabulary() {
     .expect("the fixture compiles");
     let page =
         vfd_codegen::markdown_page(&ir, &vfd_codegen::OutputNames::default()).expect("renders");
+    // Paragraphs on one line each, as the assertions read them.
+    let page = vfd_codegen::unwrap_markdown(&page);
     for shown in [
         "| `none: wire numbers only` | H7A |",
         "| `002A, link page 0 offset 2Ah` | Pr.42 |",

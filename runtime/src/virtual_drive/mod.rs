@@ -472,13 +472,19 @@ impl VirtualDrive {
                     self.requests += 1;
                     return self.answer_mismatch(protocol, &request, variants.mismatch);
                 }
+                // As on the line (`take_frames`): a drive whose manual gives codes for
+                // unreadable frames reads a bad checksum's station from the frame and counts
+                // them in a row; otherwise the frame is read with its checksum put right;
+                // a frame unreadable either way gets the malformed frame's code.
                 let checksum = error.kind() == DecodeErrorKind::ChecksumMismatch;
-                // A drive whose manual gives codes for unreadable frames reads their
-                // station from the frame and counts them in a row.
-                if let Some(unreadable::Unreadable::Frame { len, outcome }) =
-                    self.unreadable(protocol, frame, checksum)
-                {
-                    if len == frame.len() {
+                let whole = |found: Option<unreadable::Unreadable>| match found {
+                    Some(unreadable::Unreadable::Frame { len, outcome }) if len == frame.len() => {
+                        Some(outcome)
+                    }
+                    _ => None,
+                };
+                if checksum {
+                    if let Some(outcome) = whole(self.unreadable(protocol, frame, true)) {
                         return outcome;
                     }
                 }
@@ -489,7 +495,8 @@ impl VirtualDrive {
                         self.answer_bad_checksum(protocol, &request)
                     }
                     _ if checksum => self.refuse(protocol, None, Refusal::BadChecksum),
-                    _ => Outcome::Silent("not a request frame"),
+                    _ => whole(self.unreadable(protocol, frame, false))
+                        .unwrap_or(Outcome::Silent("not a request frame")),
                 }
             }
         }

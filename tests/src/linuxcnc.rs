@@ -1,0 +1,265 @@
+//! LinuxCNC's hand-written VFD components (Debian `linuxcnc-uspace`) as independent
+//! masters: a HAL session under `halrun` that loads a component unmodified, and `halcmd`
+//! to set its input pins and read its output pins, the way a LinuxCNC machine's HAL file
+//! drives it.
+//!
+//! HAL keeps its pins in one shared-memory segment per machine, so one session runs at a
+//! time ([`Hal::start`] holds a lock across the tests of a binary; cargo runs test binaries
+//! one after the other). Run as root, `rtapi_app` drops to the uid in `RTAPI_UID` and binds
+//! its socket in `$HOME`: the session gets a `HOME` of its own that this uid can write.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::{Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+/// Whether `halrun` is installed (Debian's `linuxcnc-uspace`).
+pub fn halrun_installed() -> bool {
+    Command::new("halrun")
+        .arg("-h")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok()
+}
+
+/// The uid `rtapi_app` runs as when started by root (`nobody`).
+const UNPRIVILEGED_UID: &str = "65534";
+
+static ONE_SESSION: Mutex<()> = Mutex::new(());
+
+/// A running HAL session: `halrun` reading commands from a pipe, its output in a log.
+pub struct Hal {
+    child: Child,
+    commands: ChildStdin,
+    home: PathBuf,
+    log: PathBuf,
+    _one: MutexGuard<'static, ()>,
+}
+
+impl Hal {
+    /// Starts a HAL session whose files (its `HOME`, its log) are in `dir`, after unloading
+    /// whatever an earlier session left loaded.
+    pub fn start(dir: &Path) -> Hal {
+        let one = ONE_SESSION.lock().unwrap_or_else(|e| e.into_inner());
+        let home = dir.join("hal-home");
+        std::fs::create_dir_all(&home).expect("a HOME for the HAL session");
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            std::fs::set_permissions(&home, std::fs::Permissions::from_mode(0o777))
+                .expect("the HAL session's HOME is writable by its uid");
+        }
+        let log = dir.join("halrun.log");
+        let mut unload = Command::new("halrun");
+        unload.arg("-U");
+        Self::environment(&mut unload, &home);
+        let _ = unload.stdout(Stdio::null()).stderr(Stdio::null()).status();
+        let mut command = Command::new("halrun");
+        Self::environment(&mut command, &home);
+        let mut child = command
+            .current_dir(dir)
+            .stdin(Stdio::piped())
+            .stdout(std::fs::File::create(&log).expect("halrun log"))
+            .stderr(std::fs::File::create(dir.join("halrun.err")).expect("halrun log"))
+            .spawn()
+            .expect("halrun starts");
+        let commands = child.stdin.take().expect("piped");
+        Hal {
+            child,
+            commands,
+            home,
+            log,
+            _one: one,
+        }
+    }
+
+    fn environment(command: &mut Command, home: &Path) {
+        command.env("HOME", home);
+        if running_as_root() {
+            command.env("RTAPI_UID", UNPRIVILEGED_UID);
+        }
+    }
+
+    /// Runs one halcmd line in the session (`loadusr -Wn spindle gs2_vfd ...`, `loadrt`,
+    /// `net`): sent to `halrun`, which runs it in order with the others.
+    pub fn run(&mut self, line: &str) {
+        writeln!(self.commands, "{line}").expect("halrun takes commands");
+        self.commands.flush().expect("flushed");
+    }
+
+    /// Runs `halcmd` with `args` against the session and returns its standard output;
+    /// panics with its error when it fails.
+    pub fn halcmd(&self, args: &[&str]) -> String {
+        let mut command = Command::new("halcmd");
+        Self::environment(&mut command, &self.home);
+        let output = command.args(args).output().expect("halcmd runs");
+        assert!(
+            output.status.success(),
+            "halcmd {args:?} failed: {}{}\nhalrun's log:\n{}",
+            String::from_utf8_lossy(&output.stdout),
+            String::from_utf8_lossy(&output.stderr),
+            self.log_text()
+        );
+        String::from_utf8_lossy(&output.stdout).trim().to_owned()
+    }
+
+    /// Sets an input pin.
+    pub fn setp(&self, pin: &str, value: impl std::fmt::Display) {
+        self.halcmd(&["setp", pin, &value.to_string()]);
+    }
+
+    /// A pin's value as halcmd prints it (`TRUE`, `FALSE`, `1500`, `49.98`).
+    pub fn getp(&self, pin: &str) -> String {
+        self.halcmd(&["getp", pin])
+    }
+
+    /// A float or integer pin's value.
+    pub fn number(&self, pin: &str) -> f64 {
+        let text = self.getp(pin);
+        text.parse()
+            .unwrap_or_else(|_| panic!("pin {pin} reads {text:?}, not a number"))
+    }
+
+    /// A bit pin's value.
+    pub fn bit(&self, pin: &str) -> bool {
+        match self.getp(pin).as_str() {
+            "TRUE" => true,
+            "FALSE" => false,
+            other => panic!("pin {pin} reads {other:?}, not a bit"),
+        }
+    }
+
+    /// Whether a pin exists (for components whose pin set depends on their options).
+    pub fn has_pin(&self, pin: &str) -> bool {
+        let mut command = Command::new("halcmd");
+        Self::environment(&mut command, &self.home);
+        command
+            .args(["getp", pin])
+            .output()
+            .is_ok_and(|o| o.status.success())
+    }
+
+    /// Waits up to `limit` until `pin` exists: a component loaded with `loadusr -Wn` is
+    /// ready once its pins are (`run` returns before `halrun` has loaded it).
+    pub fn wait_for_pin(&self, pin: &str, limit: Duration) {
+        let end = Instant::now() + limit;
+        while !self.has_pin(pin) {
+            assert!(
+                Instant::now() < end,
+                "no pin {pin} after {limit:?}: the component did not start\nhalrun's log:\n{}",
+                self.log_text()
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    /// Waits up to `limit` until `pin`'s value satisfies `ready`; the value then, or a panic
+    /// naming the last value and the session's log.
+    pub fn wait_for(&self, pin: &str, limit: Duration, ready: impl Fn(&str) -> bool) -> String {
+        let end = Instant::now() + limit;
+        loop {
+            let value = self.getp(pin);
+            if ready(&value) {
+                return value;
+            }
+            assert!(
+                Instant::now() < end,
+                "{pin} is still {value} after {limit:?}\nhalrun's log:\n{}",
+                self.log_text()
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    /// What the session printed so far (the components' messages).
+    pub fn log_text(&self) -> String {
+        let mut text = std::fs::read_to_string(&self.log).unwrap_or_default();
+        if let Some(dir) = self.log.parent() {
+            text.push_str(&std::fs::read_to_string(dir.join("halrun.err")).unwrap_or_default());
+        }
+        text
+    }
+}
+
+impl Drop for Hal {
+    /// Ends the session: `exit` unloads the components (each releases its drive as it
+    /// does when LinuxCNC stops), then `halrun` stops HAL; killed after 10 s.
+    fn drop(&mut self) {
+        let _ = writeln!(self.commands, "exit");
+        let _ = self.commands.flush();
+        let end = Instant::now() + Duration::from_secs(10);
+        while Instant::now() < end {
+            if let Ok(Some(_)) = self.child.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn running_as_root() -> bool {
+    Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+}
+
+/// A virtual drive served on a pseudo-terminal whose slave path a LinuxCNC component opens
+/// as its serial port; served until dropped.
+pub struct VirtualPort {
+    /// The device the component opens (`/dev/pts/N`).
+    pub path: String,
+    /// The virtual drive, to look at its state and inject faults while it is served.
+    pub simulator: vfd_runtime::virtual_drive::Simulator,
+    stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    server: Option<std::thread::JoinHandle<std::io::Result<()>>>,
+}
+
+impl VirtualPort {
+    /// Serves `drive` speaking `protocol` (an id of the drive's) at `address`, at the line
+    /// `settings`.
+    pub fn serve(
+        drive: &'static vfd_runtime::DriveInfo,
+        protocol: &str,
+        address: u8,
+        settings: vfd_runtime::serial::SerialSettings,
+    ) -> VirtualPort {
+        use vfd_runtime::transport::PseudoTerminal;
+        use vfd_runtime::virtual_drive::{serve, Simulator};
+        let protocol = drive
+            .protocols
+            .iter()
+            .copied()
+            .find(|p| p.id == protocol)
+            .unwrap_or_else(|| panic!("{} speaks no protocol {protocol}", drive.id));
+        let simulator = Simulator::new(drive);
+        simulator.lock().set_address(address);
+        let pty = PseudoTerminal::open().expect("a pseudo-terminal");
+        let path = pty.slave_path().display().to_string();
+        let mut ours = pty.master().expect("the master side");
+        let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let server = {
+            let (simulator, stop) = (simulator.clone(), stop.clone());
+            std::thread::spawn(move || serve(&simulator, protocol, &mut ours, settings, &stop))
+        };
+        VirtualPort {
+            path,
+            simulator,
+            stop,
+            server: Some(server),
+        }
+    }
+}
+
+impl Drop for VirtualPort {
+    fn drop(&mut self) {
+        self.stop.store(true, std::sync::atomic::Ordering::SeqCst);
+        if let Some(server) = self.server.take() {
+            let _ = server.join();
+        }
+    }
+}
