@@ -4,8 +4,9 @@
 //! drives it.
 //!
 //! HAL keeps its pins in one shared-memory segment per machine, so one session runs at a
-//! time ([`Hal::start`] holds a lock across the tests of a binary; cargo runs test binaries
-//! one after the other). Run as root, `rtapi_app` drops to the uid in `RTAPI_UID` and binds
+//! time on the machine: [`Hal::start`] holds a lock across the tests of a binary and a lock
+//! directory in the temporary folder across processes (two test runs at once wait for each
+//! other; a lock whose process is gone is taken over). Run as root, `rtapi_app` drops to the uid in `RTAPI_UID` and binds
 //! its socket in `$HOME`: the session gets a `HOME` of its own that this uid can write.
 
 use std::io::Write;
@@ -29,12 +30,53 @@ const UNPRIVILEGED_UID: &str = "65534";
 
 static ONE_SESSION: Mutex<()> = Mutex::new(());
 
+/// The machine-wide lock: a directory holding the pid of the process whose session runs.
+struct MachineLock(PathBuf);
+
+impl MachineLock {
+    /// Waits (up to 10 minutes) until no other live process holds the lock, then takes it.
+    fn take() -> MachineLock {
+        let dir = std::env::temp_dir().join("vfd-linuxcnc-hal.lock");
+        let end = Instant::now() + Duration::from_secs(600);
+        loop {
+            if std::fs::create_dir(&dir).is_ok() {
+                let _ = std::fs::write(dir.join("pid"), std::process::id().to_string());
+                return MachineLock(dir);
+            }
+            let holder = std::fs::read_to_string(dir.join("pid")).unwrap_or_default();
+            let alive = holder
+                .trim()
+                .parse::<u32>()
+                .is_ok_and(|pid| Path::new(&format!("/proc/{pid}")).exists());
+            if !alive && !holder.is_empty() {
+                // Its process is gone: take it over.
+                let _ = std::fs::remove_dir_all(&dir);
+                continue;
+            }
+            assert!(
+                Instant::now() < end,
+                "another HAL session (pid {holder}) held {} for 10 minutes",
+                dir.display()
+            );
+            std::thread::sleep(Duration::from_millis(200));
+        }
+    }
+}
+
+impl Drop for MachineLock {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
 /// A running HAL session: `halrun` reading commands from a pipe, its output in a log.
 pub struct Hal {
     child: Child,
     commands: ChildStdin,
     home: PathBuf,
     log: PathBuf,
+    // Dropped after the session ends (fields drop in order, after `Drop::drop`).
+    _machine: MachineLock,
     _one: MutexGuard<'static, ()>,
 }
 
@@ -43,6 +85,7 @@ impl Hal {
     /// whatever an earlier session left loaded.
     pub fn start(dir: &Path) -> Hal {
         let one = ONE_SESSION.lock().unwrap_or_else(|e| e.into_inner());
+        let machine = MachineLock::take();
         let home = dir.join("hal-home");
         std::fs::create_dir_all(&home).expect("a HOME for the HAL session");
         #[cfg(unix)]
@@ -71,6 +114,7 @@ impl Hal {
             commands,
             home,
             log,
+            _machine: machine,
             _one: one,
         }
     }
