@@ -3,6 +3,9 @@
 //! carries built in, for drive files that name a family without shipping its file). It
 //! writes nothing else: the reference pages in `generated-docs/` are refreshed by
 //! `cargo run -p vfd-cli -- generate` only, and a test fails when they are stale.
+//!
+//! Each drive file `<id>.yaml` is compiled only when the crate's feature `<id>` is on (all
+//! are by default), so a crate that uses one drive compiles one.
 
 use std::path::PathBuf;
 
@@ -12,13 +15,20 @@ fn main() {
     );
     let out_dir = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     println!("cargo:rerun-if-changed={}", manifest.display());
-    let builder = match vfd_codegen::Builder::new().drives_in(&manifest) {
-        Ok(builder) => builder
+    let builder = match enabled_drives(&manifest) {
+        Ok(drives) => drives
+            .into_iter()
+            .fold(vfd_codegen::Builder::new(), |builder, path| {
+                builder.drive(path)
+            })
             .out_dir(&out_dir)
             .cargo_metadata(true)
             .display_root(manifest.join(".."))
             .regenerate_command("cargo build -p vfd-drives"),
-        Err(error) => vfd_codegen::fail_build(&error),
+        Err(error) => panic!(
+            "cannot list the drive files in {}: {error}",
+            manifest.display()
+        ),
     };
     if let Err(error) = builder.generate() {
         vfd_codegen::fail_build(&error);
@@ -26,6 +36,25 @@ fn main() {
     if let Err(error) = write_shipped(&manifest.join("protocols"), &out_dir.join("shipped.rs")) {
         panic!("cannot write shipped.rs: {error}");
     }
+}
+
+/// The drive files `dir/<id>.yaml` whose feature `<id>` is on (cargo sets
+/// `CARGO_FEATURE_<ID>` for each, upper case, `-` as `_`), in name order.
+fn enabled_drives(dir: &std::path::Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut found: Vec<PathBuf> = std::fs::read_dir(dir)?
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| path.extension().is_some_and(|ext| ext == "yaml") && path.is_file())
+        .filter(|path| {
+            let stem = path
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or_default();
+            let feature = stem.to_uppercase().replace('-', "_");
+            std::env::var_os(format!("CARGO_FEATURE_{feature}")).is_some()
+        })
+        .collect();
+    found.sort();
+    Ok(found)
 }
 
 /// `PROTOCOL_FILES`: every `protocols/*.yaml` by id, its text included at compile time.

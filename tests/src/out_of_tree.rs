@@ -1,6 +1,8 @@
-//! Crates outside this workspace (`fixtures/external-crate/`, `fixtures/computer-link/`):
-//! `cargo test` run on one with its own Cargo.lock (`--locked --offline`), into a folder
-//! of the workspace's target directory kept between runs.
+//! Crates outside this workspace (`fixtures/external-crate/`, `fixtures/computer-link/`,
+//! `fixtures/one-drive/`):
+//! `cargo test` run on one with its own Cargo.lock (`--locked --offline`), into one folder
+//! of the workspace's target directory that they share (what their dependencies have in
+//! common is compiled once) and that is kept between runs.
 
 use std::path::Path;
 use std::process::Command;
@@ -14,8 +16,8 @@ pub struct Passed {
 }
 
 /// Runs `cargo test` in the crate of the fixture folder `fixture` (under `tests/fixtures/`)
-/// with its target in `target_tmpdir/<fixture>`; fails the calling test, with both
-/// outputs, when the crate does not build or a test fails.
+/// with its target in `target_tmpdir/outside-crates` (shared by the fixtures); fails the
+/// calling test, with both outputs, when the crate does not build or a test fails.
 pub fn cargo_test(manifest_dir: &Path, target_tmpdir: &Path, fixture: &str) -> Passed {
     let manifest = manifest_dir
         .join("fixtures")
@@ -25,7 +27,7 @@ pub fn cargo_test(manifest_dir: &Path, target_tmpdir: &Path, fixture: &str) -> P
     let output = Command::new(cargo)
         .args(["test", "--locked", "--offline", "--manifest-path"])
         .arg(&manifest)
-        .env("CARGO_TARGET_DIR", target_tmpdir.join(fixture))
+        .env("CARGO_TARGET_DIR", target_tmpdir.join("outside-crates"))
         .env_remove("OUT_DIR")
         .output()
         .expect("cargo runs");
