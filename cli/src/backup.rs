@@ -506,6 +506,14 @@ fn is_running(session: &mut Session) -> Result<bool, Failure> {
     let Some(behaviour) = session.drive.behaviour else {
         return Ok(false);
     };
+    if let Some(state) = behaviour.status.state {
+        if let Some(info) = session.drive.register(state.register) {
+            if session.can_read(info) {
+                let raw = session.read(info)?.raw.unwrap_or(0);
+                return Ok(state.shows_running(raw));
+            }
+        }
+    }
     for id in behaviour.status.registers {
         let Some(info) = session.drive.register(id) else {
             continue;
@@ -543,7 +551,7 @@ fn stop_drive(session: &mut Session) -> Result<(), Failure> {
             .iter()
             .fold(0, |word, bit| bit.apply(word, true))
     };
-    let stop = behaviour.command.run.apply(word, false);
+    let stop = behaviour.command.stop_word(word);
     session.write(command, stop, false)?;
     say!(
         "stopping: wrote {} {} = {}",

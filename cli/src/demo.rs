@@ -181,8 +181,8 @@ fn tour(
         .command
         .coast
         .map_or(enabled, |coast| coast.apply(enabled, false));
-    let run_word = behaviour.command.run.apply(enabled, true);
-    let stop_word = behaviour.command.run.apply(enabled, false);
+    let run_word = behaviour.command.run_word(enabled);
+    let stop_word = behaviour.command.stop_word(enabled);
     step(&format!(
         "vfd write {line} {} {}   # run",
         command.code,

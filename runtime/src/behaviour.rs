@@ -33,6 +33,10 @@ impl Bit {
         }
     }
 
+    /// A bit no word sets: the run bit of a model whose command register holds codes
+    /// ([`CommandBehaviour::codes`]).
+    pub const NONE: Bit = Bit::high(0);
+
     /// Whether the bit acts in `word`.
     pub const fn is_active(self, word: u32) -> bool {
         (word & self.mask != 0) != self.active_low
@@ -85,7 +89,8 @@ pub struct CommandBehaviour {
     pub register: &'static str,
     /// Bits that must all act for the word to act at all (YD1000 bit 15, FC "data valid").
     pub require: &'static [Bit],
-    /// Run (1) or stop (0); with `run_reverse`, the forward run bit.
+    /// Run (1) or stop (0); with `run_reverse`, the forward run bit. [`Bit::NONE`] when the
+    /// register holds codes ([`CommandBehaviour::codes`]).
     pub run: Bit,
     /// A second run bit that runs the motor in reverse (the DV1's STR beside STF): the
     /// motor runs while either acts, in reverse when only this one does, and stops while
@@ -102,6 +107,72 @@ pub struct CommandBehaviour {
     /// The mode in which the command word and the frequency command are taken: writes to
     /// either in another mode are refused ([`Refusals::wrong_mode`]).
     pub require_mode: Option<ModeRequirement>,
+    /// The register holds a command code, not bits (the Powtran PI500's 2000H: 1 runs
+    /// forward, 6 stops): what each value written does. The bits above are then unused.
+    pub codes: Option<CommandCodes>,
+}
+
+impl CommandBehaviour {
+    /// The command word that runs the motor forward, from `word` (the other bits as they
+    /// are): the run bit set, or the first run code of a register that holds codes.
+    pub fn run_word(&self, word: u32) -> u32 {
+        match self.codes {
+            Some(codes) => codes.run.first().copied().unwrap_or(word),
+            None => self.run.apply(word, true),
+        }
+    }
+
+    /// The command word that stops the motor, from `word`: the run bit cleared, or the
+    /// first stop (else coast) code of a register that holds codes.
+    pub fn stop_word(&self, word: u32) -> u32 {
+        match self.codes {
+            Some(codes) => codes
+                .stop
+                .first()
+                .or(codes.coast.first())
+                .copied()
+                .unwrap_or(word),
+            None => self.run.apply(word, false),
+        }
+    }
+}
+
+/// The raw values of a command register that holds codes, by what each does when written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CommandCodes {
+    /// Run forward.
+    pub run: &'static [u32],
+    /// Run in reverse.
+    pub run_reverse: &'static [u32],
+    /// Stop: the output ramps down.
+    pub stop: &'static [u32],
+    /// Coast to a stop: the output drops to zero at once.
+    pub coast: &'static [u32],
+    /// Reset a trip (each write acts; the motor stays stopped).
+    pub reset: &'static [u32],
+}
+
+/// A register showing the drive's state as a code rather than bits (the PI500's 3000H:
+/// 1 forward running, 2 reverse running, 3 stopped, 4 tripped).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StatusState {
+    /// Id of the register.
+    pub register: &'static str,
+    /// Its value while stopped and not tripped.
+    pub stopped: u32,
+    /// Its value while the motor runs forward.
+    pub forward: u32,
+    /// Its value while the motor runs in reverse.
+    pub reverse: u32,
+    /// Its value while tripped.
+    pub tripped: u32,
+}
+
+impl StatusState {
+    /// Whether the register's value `raw` says the motor runs.
+    pub const fn shows_running(self, raw: u32) -> bool {
+        raw == self.forward || raw == self.reverse
+    }
 }
 
 /// How the output frequency follows the frequency command.
@@ -165,6 +236,8 @@ pub struct StatusBehaviour {
     pub enabled: &'static [Bit],
     /// Always set (ready bits).
     pub always: &'static [Bit],
+    /// A register showing the state as a code, beside (or instead of) the status words.
+    pub state: Option<StatusState>,
 }
 
 /// One place of a trip history: a whole register, or a field of a bit-field register (the
@@ -354,6 +427,7 @@ mod tests {
                 reset_by_write: None,
                 coast: None,
                 require_mode: None,
+                codes: None,
             },
             frequency: FrequencyBehaviour {
                 command: "f",
@@ -377,6 +451,7 @@ mod tests {
                 frequency_detected: &[],
                 enabled: &[],
                 always: &[],
+                state: None,
             },
             trip: TripBehaviour {
                 code: &[],

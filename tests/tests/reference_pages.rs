@@ -113,7 +113,10 @@ fn a_page_drops_the_sections_a_drive_has_nothing_for() {
     ] {
         assert!(page.contains(kept), "the fixture's page lacks {kept:?}");
     }
-    // The shipped drives have every section.
+    // The shipped drives have every section, but for those whose manual's pages with
+    // example frames could not be read (each says so in its `drive.manual_note`): the
+    // PI500's Appendix I pages with the 03H/06H examples were in no stored copy.
+    let without_examples = ["pi500"];
     for (ir, page) in shipped() {
         for heading in [
             "## Bit fields",
@@ -121,6 +124,15 @@ fn a_page_drops_the_sections_a_drive_has_nothing_for() {
             "## Example frames",
             "## Manual errata",
         ] {
+            let frames = heading == "## Example frames" || heading == "## Manual errata";
+            if frames && without_examples.contains(&ir.id.as_str()) {
+                assert!(
+                    !page.contains(heading),
+                    "{}: {heading} now given: drop the exception",
+                    ir.id
+                );
+                continue;
+            }
             assert!(page.contains(heading), "{}: {heading} missing", ir.id);
         }
     }

@@ -41,7 +41,14 @@ pub(crate) fn lower(
         note: model.note.trim().to_owned(),
         command_register: id_of(&model.command.register),
         command_require: command_list(&model.command.require),
-        run: command_bit(&model.command.run),
+        run: model.command.run.as_ref().map(command_bit),
+        command_codes: model.command.codes.as_ref().map(|c| CommandCodesIr {
+            run: c.run.clone(),
+            run_reverse: c.run_reverse.clone(),
+            stop: c.stop.clone(),
+            coast: c.coast.clone(),
+            reset: c.reset.clone(),
+        }),
         run_reverse: model.command.run_reverse.as_ref().map(command_bit),
         reverse: model.command.reverse.as_ref().map(command_bit),
         reset: model.command.reset.as_ref().map(command_bit),
@@ -85,6 +92,13 @@ pub(crate) fn lower(
             enabled: status_list(&status.enabled),
             always: status_list(&status.always),
         },
+        status_state: status.state.as_ref().map(|s| StatusStateIr {
+            register: id_of(&s.register),
+            stopped: s.stopped,
+            forward: s.forward,
+            reverse: s.reverse.unwrap_or(s.forward),
+            tripped: s.tripped.unwrap_or(s.stopped),
+        }),
         trip_code: ids(&model.trip.code),
         trip_history: model
             .trip

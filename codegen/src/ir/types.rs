@@ -255,8 +255,12 @@ pub struct BehaviourIr {
     pub command_register: String,
     /// Bits that must all act for the command word to act.
     pub command_require: Vec<BitRefIr>,
-    /// Run bit.
-    pub run: BitRefIr,
+    /// Run bit (none when the command register holds codes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub run: Option<BitRefIr>,
+    /// Command codes, when the command register holds a code rather than bits.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub command_codes: Option<CommandCodesIr>,
     /// Reverse-run bit, beside the (forward) run bit.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub run_reverse: Option<BitRefIr>,
@@ -298,6 +302,9 @@ pub struct BehaviourIr {
     pub status_registers: Vec<String>,
     /// Status bits: running, reverse, at reference, tripped, enabled, always.
     pub status: StatusBitsIr,
+    /// A register showing the state as a code.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub status_state: Option<StatusStateIr>,
     /// Registers showing the present trip code.
     pub trip_code: Vec<String>,
     /// Trip-history slots, newest first.
@@ -327,6 +334,36 @@ pub enum TripSlotIr {
         /// The field's bits in the word.
         mask: u32,
     },
+}
+
+/// Command codes: the raw values of the command register, by what they do.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct CommandCodesIr {
+    /// Run forward.
+    pub run: Vec<u32>,
+    /// Run in reverse.
+    pub run_reverse: Vec<u32>,
+    /// Stop (ramp down).
+    pub stop: Vec<u32>,
+    /// Coast to a stop.
+    pub coast: Vec<u32>,
+    /// Reset a trip.
+    pub reset: Vec<u32>,
+}
+
+/// A register showing the drive's state as a code.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct StatusStateIr {
+    /// Register id.
+    pub register: String,
+    /// Value while stopped.
+    pub stopped: u32,
+    /// Value while running forward.
+    pub forward: u32,
+    /// Value while running in reverse.
+    pub reverse: u32,
+    /// Value while tripped.
+    pub tripped: u32,
 }
 
 /// The status bits of a behaviour model.

@@ -376,13 +376,20 @@ pub struct BehaviourModel {
 #[derive(Debug, Clone, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct CommandBehaviourModel {
-    /// Id of the command-word register (a bit-field register).
+    /// Id of the command-word register (a bit-field register; with `codes`, a register
+    /// holding a command code).
     pub register: String,
     /// Bits that must all act for the word to act at all.
     #[serde(default)]
     pub require: Vec<BitRefModel>,
-    /// The run/stop bit (with `run_reverse`: the forward-run bit).
-    pub run: BitRefModel,
+    /// The run/stop bit (with `run_reverse`: the forward-run bit). Left out when the
+    /// register holds command codes (`codes`).
+    pub run: Option<BitRefModel>,
+    /// The command is a code, not bits: each value written to the register acts as the
+    /// list it is in says (`{ run: [1], run_reverse: [2], stop: [6], coast: [5], reset:
+    /// [7] }`). Instead of `run`; the command bits (`require`, `run_reverse`, `reverse`,
+    /// `reset`, `coast`, `frequency.require`) are then left out.
+    pub codes: Option<CommandCodesModel>,
     /// A second run bit that runs the motor in reverse (STR beside STF): the motor runs
     /// while either run bit acts, in reverse when only this one does, and stops while
     /// both act.
@@ -400,6 +407,26 @@ pub struct CommandBehaviourModel {
     /// `{ register: operation_mode, values: [0] }`. A write to either in another mode is
     /// refused as `wrong_mode`.
     pub require_mode: Option<ModeRequirementModel>,
+}
+
+/// Command codes: the raw values written to the command register, by what they do.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CommandCodesModel {
+    /// Values that run the motor forward.
+    pub run: Vec<u32>,
+    /// Values that run the motor in reverse.
+    #[serde(default)]
+    pub run_reverse: Vec<u32>,
+    /// Values that stop it (the output ramps down).
+    #[serde(default)]
+    pub stop: Vec<u32>,
+    /// Values that coast it to a stop (the output drops to zero at once).
+    #[serde(default)]
+    pub coast: Vec<u32>,
+    /// Values that reset a trip (each write acts; the motor stays stopped).
+    #[serde(default)]
+    pub reset: Vec<u32>,
 }
 
 /// A register whose value must be one of `values` for commands to be taken.
@@ -502,6 +529,25 @@ pub struct StatusBehaviourModel {
     /// Always set (ready bits).
     #[serde(default)]
     pub always: Vec<BitRefModel>,
+    /// A register showing the drive's state as a code, not bits:
+    /// `{ register: inverter_state, stopped: 3, forward: 1, reverse: 2, tripped: 4 }`.
+    pub state: Option<StatusStateModel>,
+}
+
+/// A state register: the code it holds in each state of the drive.
+#[derive(Debug, Clone, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StatusStateModel {
+    /// Code or id of the register.
+    pub register: String,
+    /// Its value while stopped (and not tripped).
+    pub stopped: u32,
+    /// Its value while the motor runs forward.
+    pub forward: u32,
+    /// Its value while the motor runs in reverse (left out: `forward`'s).
+    pub reverse: Option<u32>,
+    /// Its value while tripped (left out: `stopped`'s).
+    pub tripped: Option<u32>,
 }
 
 /// Where a trip is recorded.

@@ -193,6 +193,10 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
         let Some(register) = index.find(word).filter(|_| !word.is_empty()) else {
             continue;
         };
+        // A register of command codes needs no bit field (`codes_and_states` checks it).
+        if path == "behaviour.command.register" && behaviour.command.codes.is_some() {
+            continue;
+        }
         // A `bitfield:` naming no bit field is `references_resolve`'s to report, once.
         let undefined = register
             .bitfield
@@ -245,6 +249,133 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
             }
         }
     }
+    codes_and_states(drive, behaviour, &index, out);
+}
+
+/// A command register holding codes (`command.codes`) instead of a run bit, and a status
+/// register holding the state as a code (`status.state`): one of `run` and `codes`, no
+/// command bits beside codes, each code once, and codes the register's table lists.
+fn codes_and_states(
+    drive: &Context,
+    behaviour: &BehaviourModel,
+    index: &RegisterIndex<'_>,
+    out: &mut Diagnostics,
+) {
+    let model = &drive.model;
+    let mut problem = |path: String, message: String, hint: &str| {
+        out.push(drive.source.error(&path, message).hint(hint));
+    };
+    let command = &behaviour.command;
+    match (&command.run, &command.codes) {
+        (None, None) => problem(
+            "behaviour.command".to_owned(),
+            "the command register has neither a run bit (`run`) nor command codes (`codes`)"
+                .to_owned(),
+            "give `run: <bit>` for a command word, or `codes: { run: [..], stop: [..] }` for a register the manual writes codes to",
+        ),
+        (Some(_), Some(_)) => problem(
+            "behaviour.command.codes".to_owned(),
+            "`codes` and a run bit (`run`) are both given".to_owned(),
+            "a command register holds either bits or codes: leave out `run` where the manual writes codes",
+        ),
+        _ => {}
+    }
+    let table_of = |name: &str| {
+        index
+            .find(name)
+            .and_then(|r| r.code_table.as_deref())
+            .and_then(|id| model.codes.iter().find(|t| t.id == id))
+    };
+    // Checks one raw value against the register's code table, or a 16-bit word.
+    let value_problem =
+        |path: String, register: &str, value: u32| -> Option<(String, String, String)> {
+            match table_of(register) {
+                Some(table) if !table.values.iter().any(|v| v.value == value) => Some((
+                    path,
+                    format!(
+                        "{value:#06X} is not a value of `{register}`'s code table `{}`",
+                        table.id
+                    ),
+                    "give the raw value as the register's code table lists it".to_owned(),
+                )),
+                None if value > 0xFFFF => Some((
+                    path,
+                    format!("{value:#X} does not fit a 16-bit word"),
+                    "give the raw value the manual gives, 0x0000-0xFFFF".to_owned(),
+                )),
+                _ => None,
+            }
+        };
+    let mut found = Vec::new();
+    if let Some(codes) = &command.codes {
+        if command.run.is_none() {
+            let bits = [
+                ("require", !command.require.is_empty()),
+                ("run_reverse", command.run_reverse.is_some()),
+                ("reverse", command.reverse.is_some()),
+                ("reset", command.reset.is_some()),
+                ("coast", command.coast.is_some()),
+            ];
+            for (key, given) in bits {
+                if given {
+                    found.push((
+                        format!("behaviour.command.{key}"),
+                        format!("`{key}` is a bit of a command word, but the command register holds codes"),
+                        "say what each code does in `codes` (run, run_reverse, stop, coast, reset)".to_owned(),
+                    ));
+                }
+            }
+            if !behaviour.frequency.require.is_empty() {
+                found.push((
+                    "behaviour.frequency.require".to_owned(),
+                    "`require` names command-word bits, but the command register holds codes"
+                        .to_owned(),
+                    "leave it out: the frequency command is in effect whatever code was written"
+                        .to_owned(),
+                ));
+            }
+        }
+        let lists = [
+            ("run", &codes.run),
+            ("run_reverse", &codes.run_reverse),
+            ("stop", &codes.stop),
+            ("coast", &codes.coast),
+            ("reset", &codes.reset),
+        ];
+        let mut seen: Vec<(u32, &str)> = Vec::new();
+        for (key, list) in lists {
+            for (i, &value) in list.iter().enumerate() {
+                let path = format!("behaviour.command.codes.{key}[{i}]");
+                if let Some((_, other)) = seen.iter().find(|(v, _)| *v == value) {
+                    found.push((
+                        path,
+                        format!("code {value:#06X} is listed under `{other}` already"),
+                        "each code does one thing: list it once".to_owned(),
+                    ));
+                    continue;
+                }
+                seen.push((value, key));
+                found.extend(value_problem(path, &command.register, value));
+            }
+        }
+    }
+    if let Some(state) = &behaviour.status.state {
+        let values = [
+            ("stopped", Some(state.stopped)),
+            ("forward", Some(state.forward)),
+            ("reverse", state.reverse),
+            ("tripped", state.tripped),
+        ];
+        for (key, value) in values {
+            if let Some(value) = value {
+                let path = format!("behaviour.status.state.{key}");
+                found.extend(value_problem(path, &state.register, value));
+            }
+        }
+    }
+    for (path, message, hint) in found {
+        problem(path, message, &hint);
+    }
 }
 
 fn protocol_hint(model: &DriveFile) -> String {
@@ -293,6 +424,12 @@ fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
             named.push((format!("behaviour.{key}[{i}]"), name));
         }
     }
+    if let Some(state) = &b.status.state {
+        named.push((
+            "behaviour.status.state.register".to_owned(),
+            state.register.as_str(),
+        ));
+    }
     if let Some(mode) = &b.command.require_mode {
         named.push((
             "behaviour.command.require_mode.register".to_owned(),
@@ -326,7 +463,10 @@ fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
 /// The command word's bits, with their paths.
 fn command_bits(b: &BehaviourModel) -> Vec<(String, &BitRefModel)> {
     let c = &b.command;
-    let mut bits = vec![("behaviour.command.run".to_owned(), &c.run)];
+    let mut bits = Vec::new();
+    if let Some(run) = &c.run {
+        bits.push(("behaviour.command.run".to_owned(), run));
+    }
     for (key, bit) in [
         ("run_reverse", &c.run_reverse),
         ("reverse", &c.reverse),
@@ -434,6 +574,24 @@ behaviour:
         let found = check_yaml(check, &given.replace("detection: UL", "detection: UX"));
         assert_eq!(only(&found).message, "register `UX` is not defined");
         assert_eq!(only(&found).path, "behaviour.frequency.detection");
+    }
+
+    #[test]
+    fn a_command_register_has_a_run_bit_or_codes() {
+        let found = check_yaml(check, &with_behaviour(("run: run }", "}")));
+        assert_eq!(
+            only(&found).message,
+            "the command register has neither a run bit (`run`) nor command codes (`codes`)"
+        );
+        let both = with_behaviour(("run: run }", "run: run, codes: { run: [1] } }"));
+        let found = check_yaml(check, &both);
+        assert_eq!(only(&found).path, "behaviour.command.codes");
+        let codes = with_behaviour((
+            "require: [command_enabled], run: run }",
+            "codes: { run: [1], stop: [0x10000] } }",
+        ));
+        let found = check_yaml(check, &codes);
+        assert_eq!(only(&found).message, "0x10000 does not fit a 16-bit word");
     }
 
     #[test]

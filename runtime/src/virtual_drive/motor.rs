@@ -3,7 +3,7 @@
 //! command on the simulated clock; monitors and status bits follow.
 
 use super::VirtualDrive;
-use crate::behaviour::{Amount, Behaviour, Bit, TripSlot};
+use crate::behaviour::{Amount, Behaviour, Bit, CommandCodes, TripSlot};
 use crate::info::RegisterInfo;
 use std::time::Duration;
 
@@ -97,6 +97,10 @@ impl VirtualDrive {
             return;
         };
         let command = &behaviour.command;
+        if let Some(codes) = command.codes {
+            self.command_code_written(codes, word);
+            return;
+        }
         if !all_active(command.require, word) {
             return;
         }
@@ -115,6 +119,27 @@ impl VirtualDrive {
             command.reverse.is_some_and(|bit| bit.is_active(word)) || (backward && !forward);
         self.motor.coast = command.coast.is_some_and(|bit| bit.is_active(word));
         if self.motor.coast {
+            self.motor.output = 0.0;
+        }
+        self.motor.last_word = word;
+        self.refresh();
+    }
+
+    /// A code was written to a command register that holds codes: it acts as its list
+    /// says; a value in no list changes nothing.
+    fn command_code_written(&mut self, codes: CommandCodes, word: u32) {
+        let tripped = self.motor.trip.is_some();
+        if codes.reset.contains(&word) {
+            self.reset();
+        } else if codes.run.contains(&word) || codes.run_reverse.contains(&word) {
+            self.motor.run = !tripped;
+            self.motor.reverse = codes.run_reverse.contains(&word);
+            self.motor.coast = false;
+        } else if codes.stop.contains(&word) {
+            self.motor.run = false;
+        } else if codes.coast.contains(&word) {
+            self.motor.run = false;
+            self.motor.coast = true;
             self.motor.output = 0.0;
         }
         self.motor.last_word = word;
@@ -364,6 +389,17 @@ impl VirtualDrive {
         for id in status.registers {
             if let Some(info) = self.drive.register(id) {
                 self.storage.set(info, 0, word, false);
+            }
+        }
+        if let Some(state) = status.state {
+            let value = match (tripped, running, reverse) {
+                (true, _, _) => state.tripped,
+                (false, true, false) => state.forward,
+                (false, true, true) => state.reverse,
+                (false, false, _) => state.stopped,
+            };
+            if let Some(info) = self.drive.register(state.register) {
+                self.storage.set(info, 0, value, false);
             }
         }
         if !tripped {

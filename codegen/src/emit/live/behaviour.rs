@@ -4,9 +4,9 @@
 use super::{list, text, texts};
 use crate::ir::{AmountIr, BehaviourIr, BitRefIr, TripSlotIr};
 use vfd_runtime::behaviour::{
-    Amount, Behaviour, Bit, CommandBehaviour, CurrentBehaviour, FrequencyBehaviour,
-    ModeRequirement, ProcessBehaviour, Refusals, StatusBehaviour, TripBehaviour, TripSlot,
-    WrittenValue,
+    Amount, Behaviour, Bit, CommandBehaviour, CommandCodes, CurrentBehaviour, FrequencyBehaviour,
+    ModeRequirement, ProcessBehaviour, Refusals, StatusBehaviour, StatusState, TripBehaviour,
+    TripSlot, WrittenValue,
 };
 
 /// The behaviour model of `b`.
@@ -17,7 +17,7 @@ pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
         command: CommandBehaviour {
             register: text(&b.command_register),
             require: bits(&b.command_require),
-            run: bit(&b.run),
+            run: b.run.as_ref().map_or(Bit::NONE, bit),
             run_reverse: b.run_reverse.as_ref().map(bit),
             reverse: b.reverse.as_ref().map(bit),
             reset: b.reset.as_ref().map(bit),
@@ -30,6 +30,13 @@ pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
                     register: text(register),
                     values: list(values.clone()),
                 }),
+            codes: b.command_codes.as_ref().map(|c| CommandCodes {
+                run: list(c.run.clone()),
+                run_reverse: list(c.run_reverse.clone()),
+                stop: list(c.stop.clone()),
+                coast: list(c.coast.clone()),
+                reset: list(c.reset.clone()),
+            }),
         },
         frequency: FrequencyBehaviour {
             command: text(&b.frequency_command),
@@ -61,6 +68,13 @@ pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
             frequency_detected: bits(&s.frequency_detected),
             enabled: bits(&s.enabled),
             always: bits(&s.always),
+            state: b.status_state.as_ref().map(|s| StatusState {
+                register: text(&s.register),
+                stopped: s.stopped,
+                forward: s.forward,
+                reverse: s.reverse,
+                tripped: s.tripped,
+            }),
         },
         trip: TripBehaviour {
             code: texts(&b.trip_code),

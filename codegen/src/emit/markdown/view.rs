@@ -905,6 +905,39 @@ fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
         },
         code(&behaviour.frequency_command)
     )];
+    if let Some(c) = &behaviour.command_codes {
+        let named = [
+            ("run forward", &c.run),
+            ("run in reverse", &c.run_reverse),
+            ("stop", &c.stop),
+            ("coast to a stop", &c.coast),
+            ("reset a trip", &c.reset),
+        ];
+        let parts: Vec<String> = named
+            .iter()
+            .filter(|(_, values)| !values.is_empty())
+            .map(|(what, values)| {
+                let values: Vec<String> = values.iter().map(|v| format!("{v:04X}h")).collect();
+                format!("{} {what}", values.join(" or "))
+            })
+            .collect();
+        model_lines.push(format!(
+            "Command codes: the command word holds a code, not bits: {}; any other value \
+             changes nothing.",
+            parts.join(", ")
+        ));
+    }
+    if let Some(s) = &behaviour.status_state {
+        model_lines.push(format!(
+            "State register: {} holds {:04X}h while stopped, {:04X}h running forward, \
+             {:04X}h running in reverse, {:04X}h tripped.",
+            code(&s.register),
+            s.stopped,
+            s.forward,
+            s.reverse,
+            s.tripped
+        ));
+    }
     model_lines.push(format!(
         "Ramps: acceleration {}, deceleration {}, each for a change of {}.",
         amount(&behaviour.acceleration, "s"),

@@ -73,7 +73,41 @@ pub(super) fn behaviour_static(drive: &DriveIr) -> (TokenStream, TokenStream) {
 
 fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
     let source = &b.source;
-    let (register, require, run) = (&b.command_register, bits(&b.command_require), bit(&b.run));
+    let (register, require) = (&b.command_register, bits(&b.command_require));
+    let run = match &b.run {
+        Some(run) => bit(run),
+        None => quote!(Bit::NONE),
+    };
+    let list = |values: &[u32]| {
+        let values = values.iter().map(|v| int_literal(*v));
+        quote!(&[#(#values),*])
+    };
+    let command_codes = match &b.command_codes {
+        Some(c) => {
+            let (run, run_reverse, stop, coast, reset) = (
+                list(&c.run),
+                list(&c.run_reverse),
+                list(&c.stop),
+                list(&c.coast),
+                list(&c.reset),
+            );
+            quote!(Some(CommandCodes { run: #run, run_reverse: #run_reverse, stop: #stop, coast: #coast, reset: #reset }))
+        }
+        None => quote!(None),
+    };
+    let status_state = match &b.status_state {
+        Some(s) => {
+            let register = &s.register;
+            let (stopped, forward, reverse, tripped) = (
+                int_literal(s.stopped),
+                int_literal(s.forward),
+                int_literal(s.reverse),
+                int_literal(s.tripped),
+            );
+            quote!(Some(StatusState { register: #register, stopped: #stopped, forward: #forward, reverse: #reverse, tripped: #tripped }))
+        }
+        None => quote!(None),
+    };
     let (run_reverse, reverse, reset, coast) = (
         optional_bit(b.run_reverse.as_ref()),
         optional_bit(b.reverse.as_ref()),
@@ -191,6 +225,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     reset_by_write: #reset_by_write,
                     coast: #coast,
                     require_mode: #require_mode,
+                    codes: #command_codes,
                 },
                 frequency: FrequencyBehaviour {
                     command: #command,
@@ -214,6 +249,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     frequency_detected: #frequency_detected,
                     enabled: #enabled,
                     always: #always,
+                    state: #status_state,
                 },
                 trip: TripBehaviour { code: #trip_code, history: #trip_history, clear_by_write: #trip_clear },
                 process: #process,
