@@ -3,6 +3,7 @@
 //! from the descriptions, so no drive is named here), a virtual drive served over a
 //! pseudo-terminal, and the master's end of a line that counts the frames sent.
 
+use crate::slack::Slack;
 use std::io;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
@@ -309,14 +310,34 @@ impl Served {
         sim: &Simulator,
         protocol: &'static Protocol,
     ) -> io::Result<(PtyTransport, Served)> {
-        let (line, mut drive_end) = PseudoTerminal::open()?.into_transports()?;
+        let (line, drive_end) = PseudoTerminal::open()?.into_transports()?;
+        Ok((line, Served::serve(sim, protocol, drive_end)))
+    }
+
+    /// Like [`Served::start`], with both ends allowing `slack` for a loaded machine (see
+    /// [`crate::slack`]).
+    pub fn start_with_slack(
+        sim: &Simulator,
+        protocol: &'static Protocol,
+        slack: Duration,
+    ) -> io::Result<(Slack<PtyTransport>, Served)> {
+        let (line, drive_end) = PseudoTerminal::open()?.into_transports()?;
+        let served = Served::serve(sim, protocol, Slack::new(drive_end, slack));
+        Ok((Slack::new(line, slack), served))
+    }
+
+    fn serve<T: Transport + Send + 'static>(
+        sim: &Simulator,
+        protocol: &'static Protocol,
+        mut drive_end: T,
+    ) -> Served {
         let stop = Arc::new(AtomicBool::new(false));
         let settings = sim.lock().drive().serial.default;
         let server = {
             let (sim, stop) = (sim.clone(), Arc::clone(&stop));
             thread::spawn(move || serve(&sim, protocol, &mut drive_end, settings, &stop))
         };
-        Ok((line, Served { stop, server }))
+        Served { stop, server }
     }
 
     /// Stops the serve loop and returns how it ended (an error message if it failed).

@@ -15,5 +15,6 @@ pub mod out_of_tree;
 pub mod outcomes;
 pub mod random;
 pub mod scripted_peer;
+pub mod slack;
 pub mod virtual_port;
 pub mod watched;

@@ -12,6 +12,7 @@ use vfd_runtime::transport::{AsyncPtyTransport, PseudoTerminal};
 use vfd_runtime::virtual_drive::{serve, Fault, Simulator};
 use vfd_runtime::{CommandKind, Request};
 use vfd_tests::fault_cases::{expected, subjects, Kind, Subject};
+use vfd_tests::slack::{Slack, LOADED_MACHINE};
 
 /// A current-thread tokio runtime, as a small application would run one.
 fn runtime() -> tokio::runtime::Runtime {
@@ -21,6 +22,9 @@ fn runtime() -> tokio::runtime::Runtime {
         .expect("tokio runtime")
 }
 
+/// The asynchronous master of these tests, on a pseudo-terminal allowing for a loaded machine.
+type AsyncPtyMaster = Master<Async<Slack<AsyncPtyTransport>>>;
+
 /// An asynchronous master for `subject` on a pseudo-terminal whose other side a thread
 /// serves `sim` on; stop the thread with the flag, then join it.
 fn served_async(
@@ -28,12 +32,17 @@ fn served_async(
     subject: &Subject,
     retries: u8,
 ) -> (
-    Master<Async<AsyncPtyTransport>>,
+    AsyncPtyMaster,
     Arc<AtomicBool>,
     thread::JoinHandle<std::io::Result<()>>,
 ) {
-    let (line, mut drive_end) =
+    let (line, drive_end) =
         AsyncPtyTransport::split(PseudoTerminal::open().expect("pty")).expect("split");
+    // Both ends allow for a loaded machine (see vfd_tests::slack).
+    let (line, mut drive_end) = (
+        Slack::new(line, LOADED_MACHINE),
+        Slack::new(drive_end, LOADED_MACHINE),
+    );
     let stop = Arc::new(AtomicBool::new(false));
     let settings = subject.drive.serial.default;
     let server = {

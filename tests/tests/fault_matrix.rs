@@ -1,6 +1,8 @@
 //! The fault matrix: every fault the virtual drive can commit × every described drive and
 //! protocol × a read and a write, in process (`SimLink`) and over a pseudo-terminal with the
-//! `serve` loop (where the line's real timing matters).
+//! `serve` loop (where the line's real timing matters). The master (and, over the
+//! pseudo-terminal, the drive) allow [`LOADED_MACHINE`] for scheduling (`vfd_tests::slack`),
+//! so that a busy machine delays replies without changing any outcome.
 //!
 //! Each cell checks the master's outcome (the typed error the fault explains, or the right
 //! value where the fault is tolerable), an upper bound on its time derived from the
@@ -25,6 +27,7 @@ use vfd_runtime::{CommandKind, RegisterInfo, Request};
 use vfd_tests::fault_cases::{
     expected, expected_for_write, faults, subjects, CountingLine, Kind, LineHandle, Served, Subject,
 };
+use vfd_tests::slack::{Slack, LOADED_MACHINE};
 
 /// Retries configured in the second run of each cell.
 const RETRIES: u8 = 2;
@@ -201,7 +204,9 @@ fn run_cell<T: Transport>(
     // The longest exchange of one frame the master allows, with the gap before it.
     let one =
         master.reply_timeout(usize::from(subject.protocol.max_frame_len)) + master.frame_gap();
-    let bound = |frames: u64| one * frames.max(1) as u32 * 3 / 2 + Duration::from_millis(300);
+    // A bound on a hang, not a measure: each frame may run to its timeout and then wait out
+    // the window in which a late reply may still arrive (at most as long again).
+    let bound = |frames: u64| one * frames.max(1) as u32 * 2 + Duration::from_millis(300);
 
     let mut runs = Vec::new();
     for op in [Op::Read, Op::Write] {
@@ -314,14 +319,18 @@ fn cell(medium: Medium, subject: Subject, fault: Fault) -> (Runs, Vec<String>) {
     let sim = subject.simulator();
     match medium {
         Medium::InProcess => {
-            let (runs, failures, _) = run_cell(&sim, sim.link(subject.protocol), subject, &fault);
+            let line = Slack::new(sim.link(subject.protocol), LOADED_MACHINE);
+            let (runs, failures, _) = run_cell(&sim, line, subject, &fault);
             (runs, failures)
         }
         Medium::Pty => {
-            let (line, served) = match Served::start(&sim, subject.protocol) {
-                Ok(started) => started,
-                Err(error) => return (Vec::new(), vec![format!("no pseudo-terminal: {error}")]),
-            };
+            let (line, served) =
+                match Served::start_with_slack(&sim, subject.protocol, LOADED_MACHINE) {
+                    Ok(started) => started,
+                    Err(error) => {
+                        return (Vec::new(), vec![format!("no pseudo-terminal: {error}")])
+                    }
+                };
             let (runs, mut failures, line) = run_cell(&sim, line, subject, &fault);
             failures.extend(served.stop().err());
             drop(line);
@@ -375,7 +384,8 @@ fn watched(medium: Medium, name: &'static str, subject: Subject, fault: Fault) -
         serial.timing,
     );
     // Far more than the cell's dozen exchanges, of which a few run to their timeout.
-    let limit = probe.reply_timeout(usize::from(subject.protocol.max_frame_len)) * 40
+    let limit = (probe.reply_timeout(usize::from(subject.protocol.max_frame_len)) + LOADED_MACHINE)
+        * 40
         + Duration::from_secs(10);
     let (send, receive) = mpsc::channel();
     let handle = thread::spawn(move || {

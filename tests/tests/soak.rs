@@ -22,6 +22,7 @@ use vfd_runtime::{CommandKind, Request};
 use vfd_tests::fault_cases::{
     expected_for_write, faults, subjects, CountingLine, Kind, Served, Subject,
 };
+use vfd_tests::slack::LOADED_MACHINE;
 
 /// Retries the master is configured with.
 const RETRIES: u8 = 1;
@@ -90,7 +91,7 @@ fn rss_kib() -> Option<u64> {
 fn run_line(subject: Subject, seed: u64, stop: &AtomicBool) -> Tally {
     let mut tally = Tally::default();
     let sim = subject.simulator();
-    let (line, served) = match Served::start(&sim, subject.protocol) {
+    let (line, served) = match Served::start_with_slack(&sim, subject.protocol, LOADED_MACHINE) {
         Ok(started) => started,
         Err(error) => {
             tally.violation(format!("no pseudo-terminal: {error}"));

@@ -169,7 +169,11 @@ impl Session {
             Err(TransactionError {
                 kind: TransactionErrorKind::Timeout { .. },
                 ..
-            }) => self.late_reply_until = Some(Instant::now() + self.late_reply_window()),
+            }) => {
+                // What the transport allows for (a network) delays a late reply as well.
+                let window = self.late_reply_window() + line.allowance();
+                self.late_reply_until = Some(Instant::now() + window);
+            }
             Err(_) => {}
         }
         outcome

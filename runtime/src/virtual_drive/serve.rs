@@ -185,12 +185,14 @@ pub fn serve_bus<T: Transport>(
                 );
                 // Past the master's deadline (which adds the host latency and what the
                 // transport adds: a network), within the window in which it still drops a
-                // late reply.
+                // late reply. The margin grows with what the transport allows for: a
+                // master that uncertain of delivery may also be scheduled that late.
                 std::thread::sleep(
                     timeout
                         + crate::serial::HOST_LATENCY
                         + transport.allowance()
-                        + Duration::from_millis(20),
+                        + Duration::from_millis(20)
+                        + transport.allowance() / 4,
                 );
             }
             match transmission.split {
