@@ -22,7 +22,7 @@ pub struct Writes {
 pub fn writes(protocol: &Protocol, info: &RegisterInfo) -> Writes {
     let can = |kind| {
         protocol
-            .command_for(kind, info.space, info.data_type)
+            .command_for_register(kind, info.space, info.data_type, info.address)
             .is_some_and(|command| protocol.to_wire(command, info.address).is_some())
     };
     let ram = can(CommandKind::WriteRam);

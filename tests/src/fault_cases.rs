@@ -138,6 +138,9 @@ pub struct Subject {
     pub other: &'static RegisterInfo,
     /// A register written.
     pub write: &'static RegisterInfo,
+    /// How it is written: a RAM write, or a persistent one where the protocol writes
+    /// parameters only so (the Huanyang HY's 02).
+    pub write_kind: CommandKind,
 }
 
 impl Subject {
@@ -247,16 +250,26 @@ fn candidates(drive: &DriveInfo, protocol: &Protocol) -> Vec<&'static RegisterIn
         // before: the matrix is about single exchanges (pages: tests/tests/pages.rs).
         .filter(|r| protocol.page_of(r.address).is_none())
         .filter(|r| {
-            [CommandKind::Read, CommandKind::WriteRam]
-                .iter()
-                .all(|kind| {
-                    let request = Request::for_register(*kind, r, r.raw_min as u32);
-                    protocol
-                        .encode_request(&request, Some(1), &mut buffer)
-                        .is_ok()
-                })
+            let request = Request::for_register(CommandKind::Read, r, r.raw_min as u32);
+            protocol
+                .encode_request(&request, Some(1), &mut buffer)
+                .is_ok()
+                && write_kind(protocol, r).is_some()
         })
         .collect()
+}
+
+/// How `protocol` writes `register`: a RAM write where it has one, else a persistent one.
+fn write_kind(protocol: &Protocol, register: &'static RegisterInfo) -> Option<CommandKind> {
+    let mut buffer = [0u8; 512];
+    [CommandKind::WriteRam, CommandKind::WritePersistent]
+        .into_iter()
+        .find(|kind| {
+            let request = Request::for_register(*kind, register, register.raw_min as u32);
+            protocol
+                .encode_request(&request, Some(1), &mut buffer)
+                .is_ok()
+        })
 }
 
 /// Every protocol of every described drive, with the registers to exercise. A protocol
@@ -291,6 +304,7 @@ pub fn subjects() -> (Vec<Subject>, Vec<String>) {
                 read: first,
                 other: found[found.len().min(2) - 1],
                 write: last,
+                write_kind: write_kind(protocol, last).expect("a candidate is writable"),
             });
         }
     }

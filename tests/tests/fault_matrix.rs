@@ -128,10 +128,10 @@ fn read<T: Transport>(
 fn write<T: Transport>(
     master: &mut Master<T>,
     sim: &Simulator,
-    info: &'static RegisterInfo,
+    (kind, info): (CommandKind, &'static RegisterInfo),
     raw: u32,
 ) -> Result<Kind, String> {
-    let result = master.transact(&Request::for_register(CommandKind::WriteRam, info, raw));
+    let result = master.transact(&Request::for_register(kind, info, raw));
     let kind = Kind::of(&result);
     if let Ok(answer) = result {
         let stored = sim.lock().raw(info.id);
@@ -163,7 +163,10 @@ fn resync<T: Transport>(
                 steps.push(("read of another register", read(master, sim, s.other)));
                 steps.push(("read", read(master, sim, s.read)));
             }
-            Op::Write => steps.push(("write", write(master, sim, s.write, s.value(2)))),
+            Op::Write => steps.push((
+                "write",
+                write(master, sim, (s.write_kind, s.write), s.value(2)),
+            )),
         }
     }
     for (what, outcome) in steps {
@@ -196,7 +199,13 @@ fn run_cell<T: Transport>(
         failures.push("the fault-free read failed".into());
     }
     let before = counter.sent();
-    if write(master, sim, subject.write, subject.value(2)) != Ok(Kind::Value) {
+    if write(
+        master,
+        sim,
+        (subject.write_kind, subject.write),
+        subject.value(2),
+    ) != Ok(Kind::Value)
+    {
         failures.push("the fault-free write failed".into());
     }
     let write_frames = counter.sent() - before;
@@ -223,7 +232,7 @@ fn run_cell<T: Transport>(
             let started = Instant::now();
             let outcome = match op {
                 Op::Read => read(master, sim, subject.read),
-                Op::Write => write(master, sim, subject.write, value),
+                Op::Write => write(master, sim, (subject.write_kind, subject.write), value),
             };
             let elapsed = started.elapsed();
             let requests = counter.sent() - before;

@@ -107,7 +107,7 @@ fn run_line(subject: Subject, seed: u64, stop: &AtomicBool) -> Tally {
         .with_address(Some(own))
         .with_retries(RETRIES);
     // Frames a write takes (steps included), fault-free.
-    let first = Request::for_register(CommandKind::WriteRam, subject.write, subject.value(0));
+    let first = Request::for_register(subject.write_kind, subject.write, subject.value(0));
     if master.transact(&first).is_err() {
         tally.violation("the first, fault-free write failed".into());
     }
@@ -152,7 +152,7 @@ fn run_line(subject: Subject, seed: u64, stop: &AtomicBool) -> Tally {
                 subject.other,
             ),
             Op::Write(raw) => (
-                Request::for_register(CommandKind::WriteRam, subject.write, raw),
+                Request::for_register(subject.write_kind, subject.write, raw),
                 subject.write,
             ),
         };

@@ -99,6 +99,40 @@ impl FrameLayout {
         self.locate(role).is_some()
     }
 
+    /// Whether the layout's register value (a field, or bits of a word) allows any number
+    /// that fits it (no `allowed` list), or the layout has none.
+    pub fn register_takes_any(&self) -> bool {
+        match self.locate(Role::Register) {
+            Some((_, Some(bits))) => bits.allowed.is_empty(),
+            Some((index, None)) => match &self.parts[index] {
+                Part::Field(field) => field.allowed.is_empty(),
+                _ => true,
+            },
+            None => true,
+        }
+    }
+
+    /// Whether the layout's register value (a field, or bits of a word) can carry the wire
+    /// number `wire`: it fits the field's format and width (or the bits' width), and the
+    /// field allows it. A layout without a register value carries none.
+    pub fn carries_register(&self, wire: u16) -> bool {
+        let wire = u32::from(wire);
+        match self.locate(Role::Register) {
+            Some((_, Some(bits))) => {
+                wire <= bits.mask() >> bits.lsb
+                    && (bits.allowed.is_empty() || bits.allowed.contains(&wire))
+            }
+            Some((index, None)) => match &self.parts[index] {
+                Part::Field(field) => {
+                    wire <= field.format.max_value(field.width)
+                        && (field.allowed.is_empty() || field.allowed.contains(&wire))
+                }
+                _ => false,
+            },
+            None => false,
+        }
+    }
+
     /// The codes the layout's command field (or command bits of a word) allows; empty when
     /// it allows any or has none.
     pub fn allowed_commands(&self) -> &[u32] {

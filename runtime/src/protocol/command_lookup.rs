@@ -19,6 +19,35 @@ impl Protocol {
             .find(|c| !c.extra && c.kind == kind && c.space == space && c.carries(data_type))
     }
 
+    /// The first command of `kind` serving `space` and carrying `data_type` whose request
+    /// carries register `number` on the wire: the number its address map (or the
+    /// register's own wire number) gives fits the request's register field, and the field
+    /// allows it. A protocol whose commands of one kind reach different tables of the drive
+    /// by their function code (one function reading parameters, another status values)
+    /// tells them apart so, each command's address map putting the numbers of its table in
+    /// its field. When no command carries the number, the first of the kind whose register
+    /// field takes any number (its request then reports the number out of range); a command
+    /// whose field allows only some numbers (the function code standing for its one
+    /// register) is never taken for another register.
+    pub fn command_for_register(
+        &self,
+        kind: CommandKind,
+        space: Space,
+        data_type: DataType,
+        number: u16,
+    ) -> Option<&CommandSpec> {
+        let mut candidates = self.commands.iter().filter(move |c| {
+            !c.extra && c.kind == kind && c.space == space && c.carries(data_type)
+        });
+        candidates
+            .clone()
+            .find(|c| {
+                self.to_wire(c, number)
+                    .is_some_and(|wire| c.request.carries_register(wire))
+            })
+            .or_else(|| candidates.find(|c| c.request.register_takes_any()))
+    }
+
     /// The read command that reads several consecutive 16-bit registers of `space` in one
     /// exchange, when the protocol allows more than one ([`Protocol::max_words_per_read`]):
     /// a read of words whose request counts its data (a length part counting `data_size`)
@@ -70,7 +99,7 @@ impl Protocol {
                 });
         }
         let command = self
-            .command_for(request.kind, request.space, request.data_type)
+            .command_for_number(request)
             .or_else(|| self.persistent_by_instruction(request))
             .ok_or_else(|| EncodeError::UnsupportedCommand {
                 protocol: self.id.clone(),
@@ -88,6 +117,33 @@ impl Protocol {
             });
         }
         Ok(command)
+    }
+
+    /// The command of `request`'s kind, space and data type that carries its register: by
+    /// its register number ([`Protocol::command_for_register`]), or for a request by wire
+    /// number alone, the first whose register field carries that number as it is.
+    fn command_for_number(&self, request: &Request) -> Option<&CommandSpec> {
+        if !request.wire_register {
+            return self.command_for_register(
+                request.kind,
+                request.space,
+                request.data_type,
+                request.register,
+            );
+        }
+        self.commands
+            .iter()
+            .filter(|c| {
+                !c.extra
+                    && c.kind == request.kind
+                    && c.space == request.space
+                    && c.carries(request.data_type)
+            })
+            .find(|c| c.request.carries_register(request.register))
+            .or_else(|| {
+                self.command_for(request.kind, request.space, request.data_type)
+                    .filter(|c| c.request.register_takes_any())
+            })
     }
 
     /// For a persistent write where the protocol has no persistent command: its plain
@@ -130,7 +186,10 @@ impl Protocol {
         } else {
             CommandKind::Read
         };
-        self.command_for(kind, info.space, info.data_type)
-            .is_some_and(|command| self.to_wire(command, info.address).is_some())
+        self.command_for_register(kind, info.space, info.data_type, info.address)
+            .is_some_and(|command| {
+                self.to_wire(command, info.address)
+                    .is_some_and(|wire| command.request.carries_register(wire))
+            })
     }
 }
