@@ -6,12 +6,13 @@
 use crate::bus::{LineArgs, Session, Value};
 use crate::emit::{Emitter, Format};
 use crate::out::say;
-use crate::record::{ReadError, ValueRecord};
+use crate::record::ValueRecord;
 use crate::trip_flag::trip_flag;
-use crate::{lookup, values, Failure};
+use crate::{values, Failure};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use vfd_bus::{Catalogue, ErrorKind};
 use vfd_runtime::{Access, RegisterInfo, Space};
 
 /// A backup file.
@@ -85,8 +86,13 @@ fn progress(len: usize, what: &str) -> ProgressBar {
 }
 
 /// Reads every parameter and writes the file.
-pub fn backup(line: &LineArgs, to: &Path, format: Format) -> Result<(), Failure> {
-    let mut session = Session::open(line)?;
+pub fn backup(
+    catalogue: &Catalogue,
+    line: &LineArgs,
+    to: &Path,
+    format: Format,
+) -> Result<(), Failure> {
+    let mut session = Session::open(line, catalogue)?;
     let registers: Vec<&'static RegisterInfo> = session
         .drive
         .registers
@@ -118,10 +124,8 @@ pub fn backup(line: &LineArgs, to: &Path, format: Format) -> Result<(), Failure>
             }
             Err(failure) => {
                 errors += 1;
-                let error = failure.read_error.clone().unwrap_or(ReadError {
-                    kind: "other",
-                    code: None,
-                    meaning: failure.message.clone(),
+                let error = failure.error.clone().unwrap_or_else(|| {
+                    vfd_bus::Error::new(ErrorKind::Other, failure.message.clone())
                 });
                 let mut record = ValueRecord::new(session.drive.id, info, None, None)
                     .now()
@@ -174,7 +178,7 @@ pub fn backup(line: &LineArgs, to: &Path, format: Format) -> Result<(), Failure>
             backup.model,
             drive.id,
             // A drive loaded by its path is named by it: its id alone finds nothing.
-            crate::catalogue::name_for(drive),
+            session.drive_name,
             yaml_serde::to_string(&backup).map_err(|e| Failure::new(e.to_string()))?
         )
     };
@@ -213,6 +217,7 @@ enum Plan {
 
 /// Checks every entry, then writes the changed writable values.
 pub fn restore(
+    catalogue: &Catalogue,
     line: &LineArgs,
     from: &Path,
     dry_run: bool,
@@ -229,7 +234,7 @@ pub fn restore(
     } else {
         yaml_serde::from_str(&text).map_err(|e| Failure::new(format!("{}: {e}", from.display())))?
     };
-    let drive = lookup::drive(&line.drive)?;
+    let drive = catalogue.drive(&line.drive)?;
     if !backup.drive.eq_ignore_ascii_case(drive.id) {
         return Err(Failure::new(format!(
             "{} is a backup of a {} ({}), not of a {}: nothing written",
@@ -243,17 +248,17 @@ pub fn restore(
             backup.drive,
             backup.drive,
             drive.id,
-            crate::catalogue::name_for(drive)
+            catalogue.name_for(drive)
         )));
     }
     // Every entry is checked before anything is sent.
     let mut refused = Vec::new();
     let mut wanted = Vec::new();
     for entry in &backup.parameters {
-        let info = match lookup::register(drive, &entry.code) {
+        let info = match catalogue.register(drive, &entry.code) {
             Ok(info) => info,
             Err(failure) => {
-                refused.push(format!("{}: {}", entry.code, failure.message));
+                refused.push(format!("{}: {}", entry.code, failure.message()));
                 continue;
             }
         };
@@ -282,7 +287,7 @@ pub fn restore(
         ))
         .hint("correct or remove those entries, then restore again"));
     }
-    let mut session = Session::open(line)?;
+    let mut session = Session::open(line, catalogue)?;
     let bar = progress(wanted.len(), "comparing");
     let mut plans = Vec::new();
     for (info, raw) in wanted {
@@ -391,9 +396,9 @@ pub fn restore(
             )),
             Err(failure) => {
                 only_refusals &= failure
-                    .read_error
+                    .error
                     .as_ref()
-                    .is_some_and(|e| e.kind == "error_reply");
+                    .is_some_and(|e| e.kind() == ErrorKind::ErrorReply);
                 failed.push(format!("{}: {}", info.code, failure.message))
             }
         }

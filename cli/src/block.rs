@@ -6,8 +6,9 @@
 use crate::bus::{LineArgs, Session, Value};
 use crate::out::say;
 use crate::watch::{print_value, show_trip};
-use crate::{lookup, values, Failure};
+use crate::{values, Failure};
 use std::collections::BTreeMap;
+use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::{DriveInfo, Protocol, Space};
 
 /// What `vfd block` was told.
@@ -55,13 +56,17 @@ fn block_protocol(drive: &DriveInfo, id: Option<&str>) -> Result<&'static Protoc
 }
 
 /// `CODE=VALUE` pairs, by register number.
-fn parse_sets(drive: &DriveInfo, sets: &[String]) -> Result<BTreeMap<u16, u32>, Failure> {
+fn parse_sets(
+    catalogue: &Catalogue,
+    drive: &DriveInfo,
+    sets: &[String],
+) -> Result<BTreeMap<u16, u32>, Failure> {
     let mut values = BTreeMap::new();
     for set in sets {
         let (name, text) = set.split_once('=').ok_or_else(|| {
             Failure::new(format!("`{set}` is not CODE=VALUE")).hint("e.g. --set F870=1")
         })?;
-        let info = lookup::register(drive, name)?;
+        let info = catalogue.register(drive, name)?;
         let raw = values::parse(info, text).map_err(Failure::new)?;
         values.insert(info.address, raw);
     }
@@ -69,16 +74,16 @@ fn parse_sets(drive: &DriveInfo, sets: &[String]) -> Result<BTreeMap<u16, u32>, 
 }
 
 /// Runs one block transfer and prints what it wrote and read.
-pub fn block(args: &BlockArgs<'_>) -> Result<(), Failure> {
-    let drive = lookup::drive(&args.line.drive)?;
+pub fn block(catalogue: &Catalogue, args: &BlockArgs<'_>) -> Result<(), Failure> {
+    let drive = catalogue.drive(&args.line.drive)?;
     let protocol = block_protocol(drive, args.line.protocol.as_deref())?;
     let Some(spec) = protocol.block.as_ref() else {
         return Err(Failure::new("no block selection"));
     };
-    let sets = parse_sets(drive, args.sets)?;
+    let sets = parse_sets(catalogue, drive, args.sets)?;
     let mut line = args.line.clone();
     line.protocol = Some(protocol.id.to_string());
-    let mut session = Session::open(&line)?;
+    let mut session = Session::open(&line, catalogue)?;
     let mut current = sets.clone();
     if !args.defaults {
         for register in spec.selector_registers() {

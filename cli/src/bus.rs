@@ -4,8 +4,9 @@
 //! and writes through the runtime's untyped request path, so any described drive works.
 
 use crate::line::{open_line, Line, Traced};
-use crate::{lookup, Failure};
+use crate::Failure;
 use std::time::{Duration, Instant};
+use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transaction::Master;
 use vfd_runtime::{
@@ -127,6 +128,9 @@ pub struct Session {
     pub command: Option<u32>,
     /// The drive's port the line is on, when the drive has several and one was named.
     pub port: Option<Port>,
+    /// How a command line names the drive so that it is found again (its id, or the path
+    /// of its drive file).
+    pub drive_name: String,
 }
 
 /// The character format given on the command line (`--baud`, `--parity`, `--data-bits`,
@@ -224,8 +228,8 @@ pub fn line_settings(
 
 impl Session {
     /// Opens the line the options name.
-    pub fn open(args: &LineArgs) -> Result<Session, Failure> {
-        let drive = lookup::drive(&args.drive)?;
+    pub fn open(args: &LineArgs, catalogue: &Catalogue) -> Result<Session, Failure> {
+        let drive = catalogue.drive(&args.drive)?;
         let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
         let protocol = lookup::variant(protocol, args.variant.as_deref())?;
         let settings = line_settings(drive, &protocol.id, args.format())?;
@@ -254,6 +258,7 @@ impl Session {
         }
         let mut session = Session::with_master(drive, protocol, settings, master, address);
         session.port = port;
+        session.drive_name = catalogue.name_for(drive);
         Ok(session)
     }
 
@@ -330,6 +335,7 @@ impl Session {
             address,
             command: None,
             port: None,
+            drive_name: drive.id.to_owned(),
         }
     }
 
@@ -795,7 +801,7 @@ impl Session {
             _ => None,
         };
         let mut failure = Failure::new(error.to_string());
-        failure.read_error = Some(crate::read_error::read_error(&error));
+        failure.error = Some(vfd_bus::Error::from_transaction(&error));
         match hint {
             Some(hint) => failure.hint(hint),
             None => failure,
@@ -856,7 +862,7 @@ pub fn check_writable(info: &RegisterInfo, persist: bool) -> Result<(), Failure>
 /// protocol could not make, as opposed to no answer, a damaged one or a failed line.
 fn refused(failure: &Failure) -> bool {
     failure
-        .read_error
+        .error
         .as_ref()
-        .is_some_and(|error| matches!(error.kind, "error_reply" | "other"))
+        .is_some_and(|error| error.kind().worth_splitting())
 }

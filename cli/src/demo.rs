@@ -9,10 +9,11 @@
 use crate::bus::{Session, Value};
 use crate::line::{Line, Traced};
 use crate::out::say;
-use crate::{describe, lookup, values, watch, Failure};
+use crate::{describe, values, watch, Failure};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+use vfd_bus::Catalogue;
 use vfd_runtime::behaviour::{Amount, Behaviour};
 use vfd_runtime::transport::{PseudoTerminal, PtyTransport};
 use vfd_runtime::virtual_drive::{serve, Simulator};
@@ -24,9 +25,9 @@ fn step(text: &str) {
 }
 
 /// Runs the demo.
-pub fn run(drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
+pub fn run(catalogue: &Catalogue, drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
     let drive: &'static DriveInfo = match drive {
-        Some(id) => lookup::drive(id)?,
+        Some(id) => catalogue.drive(id)?,
         // The fullest tour: a drive whose model has status bits and a reset, else any
         // drive with a model.
         None => {
@@ -36,7 +37,7 @@ pub fn run(drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
                         && (b.command.reset.is_some() || b.command.reset_by_write.is_some())
                 })
             };
-            let drives = vfd_drives::ALL_DRIVES.iter().copied();
+            let drives = catalogue.builtin().iter().copied();
             drives
                 .clone()
                 .find(full)
@@ -80,7 +81,15 @@ pub fn run(drive: Option<&str>, seconds: u64) -> Result<(), Failure> {
         Traced::line(Line::Pty(line), drive, protocol),
         address,
     );
-    let result = tour(drive, behaviour, &sim, &mut session, seconds, &port);
+    let result = tour(
+        catalogue,
+        drive,
+        behaviour,
+        &sim,
+        &mut session,
+        seconds,
+        &port,
+    );
     stop.store(true, Ordering::SeqCst);
     match server.join() {
         Ok(Err(e)) if result.is_ok() => {
@@ -126,6 +135,7 @@ fn register(drive: &DriveInfo, id: &str) -> Result<&'static RegisterInfo, Failur
 }
 
 fn tour(
+    catalogue: &Catalogue,
     drive: &'static DriveInfo,
     behaviour: &'static Behaviour,
     sim: &Simulator,
@@ -144,11 +154,12 @@ fn tour(
     say!("Each frame is shown as it goes: -> request, <- reply, in hex with what it says. Against a real drive, give --port /dev/ttyUSB0; `vfd sim` serves the same virtual drive on its own.");
 
     step("vfd list");
-    describe::list(crate::emit::Format::Text)?;
+    describe::list(catalogue, crate::emit::Format::Text)?;
 
     let frequency = register(drive, behaviour.frequency.command)?;
     step(&format!("vfd info {} {}", drive.id, frequency.code));
     describe::info(
+        catalogue,
         drive.id,
         &[frequency.code.to_owned()],
         crate::emit::Format::Text,

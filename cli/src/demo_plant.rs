@@ -17,12 +17,16 @@ use std::sync::Arc;
 use std::time::Duration;
 
 /// Runs the plant demo until Ctrl-C, or for `seconds`.
-pub fn run(mqtt: Option<&str>, seconds: Option<u64>) -> Result<(), Failure> {
-    let virtual_plant = crate::sim_plant::start()?;
+pub fn run(
+    catalogue: &vfd_bus::Catalogue,
+    mqtt: Option<&str>,
+    seconds: Option<u64>,
+) -> Result<(), Failure> {
+    let virtual_plant = crate::sim_plant::start(catalogue)?;
     let path = PathBuf::from("demo-plant.yaml");
-    let plant = crate::plant::load_str(&virtual_plant.plant_file, &path).map_err(|problems| {
-        Failure::new(format!("the built-in plant file is refused:\n{problems}"))
-    })?;
+    let plant = crate::plant::load_str(&virtual_plant.plant_file, &path, catalogue).map_err(
+        |problems| Failure::new(format!("the built-in plant file is refused:\n{problems}")),
+    )?;
     let args = ServeArgs {
         plant: path,
         check: false,

@@ -4,22 +4,24 @@
 use crate::emit::{Emitter, Format};
 use crate::out::say;
 use crate::record::{DriveRecord, RegisterRecord};
-use crate::{catalogue, lookup, values, Failure};
+use crate::{values, Failure};
+use vfd_bus::catalogue::Found;
+use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::info::manual_number;
 use vfd_runtime::{Access, DriveInfo, RegisterInfo, TakesEffect};
 
 /// Every described drive with its protocols and serial defaults: those compiled in, then
 /// the drive files of the search path (a file with problems is named, with the command that
 /// lists them).
-pub fn list(format: Format) -> Result<(), Failure> {
+pub fn list(catalogue: &Catalogue, format: Format) -> Result<(), Failure> {
     if !format.is_text() {
         let mut emitter = Emitter::new(format);
-        for drive in vfd_drives::ALL_DRIVES {
+        for drive in catalogue.builtin() {
             emitter.record(&DriveRecord::new(drive, None));
         }
-        for found in catalogue::search_path_drives() {
-            if let catalogue::Found::Drive(file, drive, _) = found {
-                if !vfd_drives::ALL_DRIVES.iter().any(|d| d.id == drive.id) {
+        for found in catalogue.search_path_drives() {
+            if let Found::Drive(file, drive, _) = found {
+                if !catalogue.builtin().iter().any(|d| d.id == drive.id) {
                     emitter.record(&DriveRecord::new(drive, Some(&file)));
                 }
             }
@@ -27,12 +29,12 @@ pub fn list(format: Format) -> Result<(), Failure> {
         emitter.finish();
         return Ok(());
     }
-    for drive in vfd_drives::ALL_DRIVES {
+    for drive in catalogue.builtin() {
         list_drive(drive, None);
     }
-    for found in catalogue::search_path_drives() {
+    for found in catalogue.search_path_drives() {
         match found {
-            catalogue::Found::Drive(file, drive, off_the_wire) => {
+            Found::Drive(file, drive, off_the_wire) => {
                 if off_the_wire > 0 {
                     say!(
                         "{}: usable on the wire, {off_the_wire} problem(s) elsewhere (`vfd check {}` lists them)",
@@ -40,7 +42,7 @@ pub fn list(format: Format) -> Result<(), Failure> {
                         file.display()
                     );
                 }
-                if vfd_drives::ALL_DRIVES.iter().any(|d| d.id == drive.id) {
+                if catalogue.builtin().iter().any(|d| d.id == drive.id) {
                     say!(
                         "{}: drive {} is also built in; by id, vfd uses the built-in one (name the file by its path to use it)",
                         file.display(),
@@ -50,7 +52,7 @@ pub fn list(format: Format) -> Result<(), Failure> {
                     list_drive(drive, Some(&file));
                 }
             }
-            catalogue::Found::Broken(file, problems) => say!(
+            Found::Broken(file, problems) => say!(
                 "{}: not usable, {problems} problem(s) (`vfd check {}` lists them)",
                 file.display(),
                 file.display()
@@ -111,23 +113,33 @@ fn list_drive(drive: &DriveInfo, file: Option<&std::path::Path>) {
 
 /// The registers `name` names on `drive` (an array's elements, or one register), or the
 /// lookup's error with its suggestions.
-fn named_registers(drive: &DriveInfo, name: &str) -> Result<Vec<&'static RegisterInfo>, Failure> {
+fn named_registers(
+    catalogue: &Catalogue,
+    drive: &DriveInfo,
+    name: &str,
+) -> Result<Vec<&'static RegisterInfo>, Failure> {
     let found = lookup::registers(drive, name);
     if found.is_empty() {
-        return Err(lookup::register(drive, name)
-            .err()
-            .unwrap_or_else(|| Failure::new(format!("no register `{name}`"))));
+        return Err(catalogue.register(drive, name).err().map_or_else(
+            || Failure::new(format!("no register `{name}`")),
+            Failure::from,
+        ));
     }
     Ok(found)
 }
 
 /// A drive's registers (one line each), or the named ones in full.
-pub fn info(drive: &str, names: &[String], format: Format) -> Result<(), Failure> {
-    let drive = lookup::drive(drive)?;
+pub fn info(
+    catalogue: &Catalogue,
+    drive: &str,
+    names: &[String],
+    format: Format,
+) -> Result<(), Failure> {
+    let drive = catalogue.drive(drive)?;
     if !format.is_text() {
         let mut registers = Vec::new();
         for name in names {
-            registers.extend(named_registers(drive, name)?);
+            registers.extend(named_registers(catalogue, drive, name)?);
         }
         if names.is_empty() {
             registers.extend(drive.registers.iter().copied());
@@ -153,7 +165,7 @@ pub fn info(drive: &str, names: &[String], format: Format) -> Result<(), Failure
             "protocols: {}; {} registers (`vfd info {} REGISTER` for one in full)",
             protocols.join(", "),
             drive.registers.len(),
-            crate::catalogue::name_for(drive)
+            catalogue.name_for(drive)
         );
         if let Some(ports) = drive.ports {
             for port in ports.ports {
@@ -193,7 +205,7 @@ pub fn info(drive: &str, names: &[String], format: Format) -> Result<(), Failure
     }
     let mut first = true;
     for name in names {
-        for register in named_registers(drive, name)? {
+        for register in named_registers(catalogue, drive, name)? {
             if !first {
                 say!("");
             }

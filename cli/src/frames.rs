@@ -6,7 +6,8 @@ use crate::emit::{Emitter, Format};
 use crate::out::say;
 use crate::paged::{page_switch, paged_text};
 use crate::record::ValueRecord;
-use crate::{lookup, values, Failure};
+use crate::{values, Failure};
+use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::codec::FrameValues;
 use vfd_runtime::error::DecodeError;
 use vfd_runtime::layout::{FrameLayout, Part, Role};
@@ -26,19 +27,39 @@ pub enum Action {
     WritePersistent,
 }
 
+/// Options of `vfd encode`.
+#[derive(Debug, Clone, Copy)]
+pub struct EncodeArgs<'a> {
+    /// Drive id or the path of a drive file.
+    pub drive: &'a str,
+    /// Protocol id.
+    pub protocol: &'a str,
+    /// What to do.
+    pub action: Action,
+    /// Register (code, address, id or name).
+    pub register: &'a str,
+    /// Value, for writes.
+    pub value: Option<&'a str>,
+    /// Station address.
+    pub address: Option<u8>,
+    /// A command instead of the protocol's default.
+    pub command: Option<&'a str>,
+}
+
 /// Prints the request frame for `action` on `register`.
-pub fn encode(
-    drive: &str,
-    protocol: &str,
-    action: Action,
-    register: &str,
-    value: Option<&str>,
-    address: Option<u8>,
-    command: Option<&str>,
-) -> Result<(), Failure> {
-    let drive = lookup::drive(drive)?;
+pub fn encode(catalogue: &Catalogue, args: &EncodeArgs) -> Result<(), Failure> {
+    let EncodeArgs {
+        drive,
+        protocol,
+        action,
+        register,
+        value,
+        address,
+        command,
+    } = *args;
+    let drive = catalogue.drive(drive)?;
     let protocol = lookup::protocol(drive, Some(protocol))?;
-    let register = lookup::register_for(drive, register, action != Action::Read)?;
+    let register = catalogue.register_for(drive, register, action != Action::Read)?;
     let code = command.map(crate::watch::command_code).transpose()?;
     // A command whose data is a percentage of another register takes the value as one.
     let percent_of = code
@@ -247,11 +268,11 @@ struct Fit {
 }
 
 /// Decodes a captured frame and explains it; an invalid frame is an error with the reason.
-pub fn decode(args: &DecodeArgs) -> Result<(), Failure> {
+pub fn decode(catalogue: &Catalogue, args: &DecodeArgs) -> Result<(), Failure> {
     let mut bytes = parse_frame(&args.frame)?;
     let drives: Vec<&'static DriveInfo> = match &args.drive {
-        Some(id) => vec![lookup::drive(id)?],
-        None => crate::catalogue::all_drives(),
+        Some(id) => vec![catalogue.drive(id)?],
+        None => catalogue.all_drives(),
     };
     if let (Some(id), [drive]) = (&args.protocol, drives.as_slice()) {
         lookup::protocol(drive, Some(id))?;

@@ -4,6 +4,7 @@
 
 use crate::out::say;
 use std::path::{Path, PathBuf};
+use vfd_bus::Catalogue;
 use vfd_runtime::{DriveInfo, Space};
 
 /// The workspace root: `--root`, or the nearest folder upwards holding `drives/` and `generated-docs/`.
@@ -208,11 +209,11 @@ fn description_format_files(root: &Path) -> Result<Vec<(PathBuf, String)>, Strin
 
 /// `vfd check`: validates drive files and prints every problem, errors first, then
 /// warnings; with `deny_warnings` a file with warnings fails as one with errors does.
-/// Protocol files are found as every command finds them ([`crate::catalogue::compile`]).
-pub fn check(files: &[String], deny_warnings: bool) -> Result<(), String> {
+/// Protocol files are found as every command finds them ([`Catalogue::compile`]).
+pub fn check(catalogue: &Catalogue, files: &[String], deny_warnings: bool) -> Result<(), String> {
     let mut failed = 0;
     for file in files {
-        let compiled = crate::catalogue::compile(Path::new(file));
+        let compiled = catalogue.compile(Path::new(file));
         let warnings = compiled.warnings.items.len();
         let valid = compiled.drive.is_ok();
         match compiled.drive {

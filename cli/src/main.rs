@@ -9,7 +9,6 @@
 mod backup;
 mod block;
 mod bus;
-mod catalogue;
 #[cfg(all(unix, feature = "pty"))]
 mod demo;
 #[cfg(all(unix, feature = "pty"))]
@@ -20,13 +19,11 @@ mod frame_text;
 mod frames;
 mod generate;
 mod line;
-mod lookup;
 mod out;
 mod paged;
 mod plant;
 mod poll;
 mod ports;
-mod read_error;
 mod record;
 mod serve;
 mod serve_args;
@@ -46,7 +43,11 @@ mod write_value;
 use clap::{CommandFactory, Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use vfd_bus::{Catalogue, SetupError};
 use vfd_runtime::meaning::Direction;
+
+/// The environment variable holding more folders of drive files, separated as `PATH` is.
+pub const DRIVES_VARIABLE: &str = "VFD_DRIVES";
 
 /// Tools for RS-485 frequency inverters described in drives/*.yaml: read, write and watch
 /// registers by name with units, decode frames, back up and restore parameters, run the
@@ -365,8 +366,8 @@ Examples:
 pub struct Failure {
     message: String,
     hint: Option<String>,
-    /// What went wrong on the line, when a read or write failed there (for `watch`).
-    pub read_error: Option<record::ReadError>,
+    /// How the read or write failed, when one did (for `watch`).
+    pub error: Option<vfd_bus::Error>,
 }
 
 impl Failure {
@@ -375,7 +376,7 @@ impl Failure {
         Failure {
             message: message.into(),
             hint: None,
-            read_error: None,
+            error: None,
         }
     }
 
@@ -400,10 +401,47 @@ impl From<String> for Failure {
     }
 }
 
+impl From<SetupError> for Failure {
+    fn from(error: SetupError) -> Failure {
+        let (message, hint) = error.into_parts();
+        Failure {
+            message,
+            hint,
+            error: None,
+        }
+    }
+}
+
+impl From<vfd_bus::Error> for Failure {
+    fn from(error: vfd_bus::Error) -> Failure {
+        Failure {
+            message: error.message().to_owned(),
+            hint: error.hint().map(str::to_owned),
+            error: Some(error),
+        }
+    }
+}
+
+/// The catalogue of drives the command line gives: the compiled-in drives, the folders of
+/// `--drives` and then of `VFD_DRIVES`, the protocols folder of `--protocols`; a drive file
+/// used without some of its parts is said on standard error.
+fn catalogue(mut drives: Vec<PathBuf>, protocols: Option<PathBuf>) -> Catalogue {
+    if let Some(more) = std::env::var_os(DRIVES_VARIABLE) {
+        drives.extend(std::env::split_paths(&more).filter(|p| !p.as_os_str().is_empty()));
+    }
+    Catalogue::new()
+        .with_folders(drives)
+        .with_protocols(protocols)
+        .on_warning(|text| {
+            use std::io::Write as _;
+            let _ = writeln!(std::io::stderr(), "vfd: warning: {text}");
+        })
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    catalogue::set_places(cli.drives, cli.protocols);
-    match run(cli.command) {
+    let catalogue = catalogue(cli.drives, cli.protocols);
+    match run(cli.command, &catalogue) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
             // Not `eprintln!`, which panics when standard error is a closed pipe
@@ -419,9 +457,9 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(command: Command) -> Result<(), Failure> {
+fn run(command: Command, catalogue: &Catalogue) -> Result<(), Failure> {
     match command {
-        Command::List { format } => describe::list(format),
+        Command::List { format } => describe::list(catalogue, format),
         Command::Info {
             drive,
             drive_option,
@@ -431,16 +469,21 @@ fn run(command: Command) -> Result<(), Failure> {
             // `--drive D R1 R2`: the first word is a register, not the drive.
             Some(named) => {
                 let registers: Vec<String> = drive.into_iter().chain(registers).collect();
-                describe::info(&named, &registers, format)
+                describe::info(catalogue, &named, &registers, format)
             }
-            None => describe::info(drive.as_deref().unwrap_or_default(), &registers, format),
+            None => describe::info(
+                catalogue,
+                drive.as_deref().unwrap_or_default(),
+                &registers,
+                format,
+            ),
         },
         Command::Read {
             line,
             command,
             format,
             registers,
-        } => watch::read(&line, command.as_deref(), &registers, format),
+        } => watch::read(catalogue, &line, command.as_deref(), &registers, format),
         Command::Write {
             line,
             persist,
@@ -450,10 +493,17 @@ fn run(command: Command) -> Result<(), Failure> {
             register,
             value,
         } => match broadcast {
-            Some(stations) => {
-                watch::broadcast_write(&line, &register, &value, persist, &stations, reply_from)
-            }
-            None => watch::write(&line, command.as_deref(), &register, &value, persist),
+            Some(stations) => watch::broadcast_write(
+                catalogue, &line, &register, &value, persist, &stations, reply_from,
+            ),
+            None => watch::write(
+                catalogue,
+                &line,
+                command.as_deref(),
+                &register,
+                &value,
+                persist,
+            ),
         },
         Command::Block {
             line,
@@ -461,39 +511,44 @@ fn run(command: Command) -> Result<(), Failure> {
             reads,
             defaults,
             sets,
-        } => block::block(&block::BlockArgs {
-            line: &line,
-            writes: &writes,
-            reads,
-            defaults,
-            sets: &sets,
-        }),
+        } => block::block(
+            catalogue,
+            &block::BlockArgs {
+                line: &line,
+                writes: &writes,
+                reads,
+                defaults,
+                sets: &sets,
+            },
+        ),
         Command::Watch {
             line,
             interval,
             count,
             format,
             registers,
-        } => watch::watch(&line, &registers, interval, count, format),
-        Command::Backup { line, to, format } => backup::backup(&line, &to, format),
+        } => watch::watch(catalogue, &line, &registers, interval, count, format),
+        Command::Backup { line, to, format } => backup::backup(catalogue, &line, &to, format),
         Command::Restore {
             line,
             from,
             dry_run,
             persist,
             stop_first,
-        } => backup::restore(&line, &from, dry_run, persist, stop_first),
+        } => backup::restore(catalogue, &line, &from, dry_run, persist, stop_first),
         Command::Ports { format } => ports::run(format),
-        Command::Sim(args) => sim::run(&args),
+        Command::Sim(args) => sim::run(catalogue, &args),
         #[cfg(all(unix, feature = "pty"))]
         Command::Demo {
             plant: true,
             seconds,
             mqtt,
             ..
-        } => demo_plant::run(mqtt.as_deref(), seconds),
+        } => demo_plant::run(catalogue, mqtt.as_deref(), seconds),
         #[cfg(all(unix, feature = "pty"))]
-        Command::Demo { drive, seconds, .. } => demo::run(drive.as_deref(), seconds.unwrap_or(4)),
+        Command::Demo { drive, seconds, .. } => {
+            demo::run(catalogue, drive.as_deref(), seconds.unwrap_or(4))
+        }
         #[cfg(not(all(unix, feature = "pty")))]
         Command::Demo { .. } => Err(needs_pty("demo", "")),
         Command::Decode {
@@ -524,13 +579,16 @@ fn run(command: Command) -> Result<(), Failure> {
             } else {
                 None
             };
-            frames::decode(&frames::DecodeArgs {
-                drive,
-                protocol,
-                direction,
-                format,
-                frame,
-            })
+            frames::decode(
+                catalogue,
+                &frames::DecodeArgs {
+                    drive,
+                    protocol,
+                    direction,
+                    format,
+                    frame,
+                },
+            )
         }
         Command::Encode {
             drive,
@@ -541,16 +599,19 @@ fn run(command: Command) -> Result<(), Failure> {
             address,
             command,
         } => frames::encode(
-            &drive,
-            &protocol,
-            action,
-            &register,
-            value.as_deref(),
-            address,
-            command.as_deref(),
+            catalogue,
+            &frames::EncodeArgs {
+                drive: &drive,
+                protocol: &protocol,
+                action,
+                register: &register,
+                value: value.as_deref(),
+                address,
+                command: command.as_deref(),
+            },
         ),
         Command::Registers { drive } => {
-            generate::registers(lookup::drive(&drive)?).map_err(Failure::from)
+            generate::registers(catalogue.drive(&drive)?).map_err(Failure::from)
         }
         Command::Generate {
             check,
@@ -565,9 +626,9 @@ fn run(command: Command) -> Result<(), Failure> {
         Command::Check {
             deny_warnings,
             files,
-        } => generate::check(&files, deny_warnings).map_err(Failure::from),
-        Command::Serve(args) if args.check => plant::check::run(&args.plant),
-        Command::Serve(args) => serve::run(&args),
+        } => generate::check(catalogue, &files, deny_warnings).map_err(Failure::from),
+        Command::Serve(args) if args.check => plant::check::run(catalogue, &args.plant),
+        Command::Serve(args) => serve::run(catalogue, &args),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "vfd", &mut script);

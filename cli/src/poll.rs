@@ -7,18 +7,14 @@
 use crate::bus::{LineArgs, Session, Value};
 use crate::emit::{Emitter, Format};
 use crate::out::{is_terminal, print_raw, say};
-use crate::record::{ReadError, ValueRecord};
+use crate::record::ValueRecord;
 use crate::trip_flag::trip_flag;
 use crate::{values, Failure};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
+use vfd_bus::{BackOff, Catalogue, ErrorKind};
 use vfd_runtime::units::raw_to_scaled;
 use vfd_runtime::RegisterInfo;
-
-/// The first wait before reopening a port that failed.
-pub const FIRST_BACK_OFF: Duration = Duration::from_millis(100);
-/// The longest wait between attempts to reopen it.
-pub const LAST_BACK_OFF: Duration = Duration::from_secs(5);
 
 /// What to watch and until when.
 pub struct Poll<'a> {
@@ -35,7 +31,7 @@ pub struct Poll<'a> {
     /// How to print.
     pub format: Format,
     /// The line options to reopen the port with after an I/O error (`None`: never reopen).
-    pub reopen: Option<&'a LineArgs>,
+    pub reopen: Option<(&'a LineArgs, &'a Catalogue)>,
 }
 
 /// Polls until the end `poll` sets; `Ok` once any read succeeded.
@@ -52,7 +48,7 @@ pub fn run(session: &mut Session, poll: &Poll<'_>) -> Result<(), Failure> {
     let mut good = 0u64;
     let mut last_failure: Option<Failure> = None;
     let mut port_lost = false;
-    let mut back_off = FIRST_BACK_OFF;
+    let mut back_off = BackOff::reopening();
     while !poll.stop.load(Ordering::SeqCst)
         && poll.count.is_none_or(|n| samples < n)
         && poll.deadline.is_none_or(|d| Instant::now() < d)
@@ -88,12 +84,10 @@ pub fn run(session: &mut Session, poll: &Poll<'_>) -> Result<(), Failure> {
                 Err(failure) => {
                     errors += 1;
                     stale_now = true;
-                    let error = failure.read_error.clone().unwrap_or(ReadError {
-                        kind: "other",
-                        code: None,
-                        meaning: failure.message.clone(),
+                    let error = failure.error.clone().unwrap_or_else(|| {
+                        vfd_bus::Error::new(ErrorKind::Other, failure.message.clone())
                     });
-                    if error.is_io() {
+                    if error.kind().is_io() {
                         port_lost = true;
                     }
                     let base = last[index]
@@ -107,14 +101,16 @@ pub fn run(session: &mut Session, poll: &Poll<'_>) -> Result<(), Failure> {
                     if poll.format.is_text() {
                         eprintln!(
                             "vfd: sample {samples}: {}: {} ({})",
-                            info.code, failure.message, error.kind
+                            info.code,
+                            failure.message,
+                            error.kind()
                         );
                     }
                     let was = last[index]
                         .as_ref()
                         .and_then(|r| r.text.clone())
                         .unwrap_or_else(|| "(no data)".to_owned());
-                    lines.push((*info, format!("{was} [stale: {}]", error.kind), None));
+                    lines.push((*info, format!("{was} [stale: {}]", error.kind()), None));
                     last_failure = Some(failure);
                 }
             }
@@ -140,12 +136,10 @@ pub fn run(session: &mut Session, poll: &Poll<'_>) -> Result<(), Failure> {
         // After a failure the next sample waits at least the back-off (0.1 s doubling to
         // 5 s) while the port is gone; otherwise the interval.
         let wait = if port_lost {
-            let wait = poll.interval.max(back_off);
-            back_off = (back_off * 2).min(LAST_BACK_OFF);
-            wait
+            poll.interval.max(back_off.next_wait())
         } else {
             if !stale_now {
-                back_off = FIRST_BACK_OFF;
+                back_off.reset();
             }
             poll.interval
         };
@@ -189,25 +183,21 @@ fn read_all(
     port_lost: &mut bool,
 ) -> Vec<Result<Value, Failure>> {
     if *port_lost {
-        if let Some(line) = poll.reopen {
-            match Session::open(line) {
+        if let Some((line, catalogue)) = poll.reopen {
+            match Session::open(line, catalogue) {
                 Ok(mut fresh) => {
                     fresh.command = session.command;
                     *session = fresh;
                     *port_lost = false;
                 }
                 Err(failure) => {
-                    let error = ReadError {
-                        kind: "io",
-                        code: None,
-                        meaning: failure.message.clone(),
-                    };
+                    let error = vfd_bus::Error::new(ErrorKind::Io, failure.message.clone());
                     return poll
                         .registers
                         .iter()
                         .map(|_| {
                             let mut failure = Failure::new(failure.message.clone());
-                            failure.read_error = Some(error.clone());
+                            failure.error = Some(error.clone());
                             Err(failure)
                         })
                         .collect();

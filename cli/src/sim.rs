@@ -10,10 +10,11 @@ use crate::bus::ParityArg;
 use crate::out::say;
 use crate::sim_log::Logged;
 use crate::sim_station::{self, SimStation};
-use crate::{lookup, Failure};
+use crate::Failure;
 use std::net::TcpListener;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
+use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::serial::SerialSettings;
 #[cfg(all(unix, feature = "pty"))]
 use vfd_runtime::transport::PseudoTerminal;
@@ -122,16 +123,16 @@ impl From<FaultArg> for Fault {
 }
 
 /// Serves the virtual drive (or the stations of a line) until SIGINT or SIGTERM.
-pub fn run(args: &SimArgs) -> Result<(), Failure> {
+pub fn run(catalogue: &Catalogue, args: &SimArgs) -> Result<(), Failure> {
     let (stations, banner_one) = match args.drive.as_deref() {
         Some(drive) => {
-            let (station, banner) = one_station(args, drive)?;
+            let (station, banner) = one_station(catalogue, args, drive)?;
             (vec![station], Some(banner))
         }
         None => (
             args.station
                 .iter()
-                .map(|spec| sim_station::parse(spec))
+                .map(|spec| sim_station::parse(catalogue, spec))
                 .collect::<Result<Vec<_>, _>>()?,
             None,
         ),
@@ -205,8 +206,12 @@ pub fn run(args: &SimArgs) -> Result<(), Failure> {
 
 /// The one station `--drive` gives, with its faults, trip, port and variant, and how the
 /// banner names it.
-fn one_station(args: &SimArgs, drive: &str) -> Result<(SimStation, String), Failure> {
-    let drive = lookup::drive(drive)?;
+fn one_station(
+    catalogue: &Catalogue,
+    args: &SimArgs,
+    drive: &str,
+) -> Result<(SimStation, String), Failure> {
+    let drive = catalogue.drive(drive)?;
     let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
     let address = args
         .address

@@ -91,7 +91,10 @@ mod tests {
 
     #[test]
     fn commands_unplug_plug_and_tell_the_status() {
-        let stations = [parse("fc51@1").unwrap(), parse("fc51@2").unwrap()];
+        let stations = [
+            parse(&vfd_bus::Catalogue::new(), "fc51@1").unwrap(),
+            parse(&vfd_bus::Catalogue::new(), "fc51@2").unwrap(),
+        ];
         assert_eq!(command(&stations, "  "), None);
         assert_eq!(
             command(&stations, "unplug 2").unwrap(),

@@ -95,16 +95,16 @@ impl Drop for VirtualPlant {
 }
 
 /// The built-in plant file, read and checked (its ports still the virtual lines' names).
-fn template() -> Result<Plant, Failure> {
-    crate::plant::load_str(PLANT_FILE, Path::new(PLANT_NAME)).map_err(|problems| {
+fn template(catalogue: &vfd_bus::Catalogue) -> Result<Plant, Failure> {
+    crate::plant::load_str(PLANT_FILE, Path::new(PLANT_NAME), catalogue).map_err(|problems| {
         Failure::new(format!("the built-in plant file is refused:\n{problems}"))
     })
 }
 
 /// Starts the built-in virtual plant: one pseudo-terminal and one server thread per bus,
 /// one virtual drive per station of the plant file.
-pub fn start() -> Result<VirtualPlant, Failure> {
-    let template = template()?;
+pub fn start(catalogue: &vfd_bus::Catalogue) -> Result<VirtualPlant, Failure> {
+    let template = template(catalogue)?;
     let stop = Arc::new(AtomicBool::new(false));
     let mut plant = VirtualPlant {
         buses: Vec::new(),
@@ -197,11 +197,13 @@ mod tests {
 
     #[test]
     fn every_station_of_the_virtual_plant_answers_a_read_on_its_bus() {
-        let plant = start().unwrap();
+        let catalogue = vfd_bus::Catalogue::new();
+        let plant = start(&catalogue).unwrap();
         assert!(plant.buses.len() >= 2);
         assert!(plant.stations.len() >= 3);
         // The plant file as served: every port is a pseudo-terminal now.
-        let served = crate::plant::load_str(&plant.plant_file, Path::new(PLANT_NAME)).unwrap();
+        let served =
+            crate::plant::load_str(&plant.plant_file, Path::new(PLANT_NAME), &catalogue).unwrap();
         for bus in &served.buses {
             let device = &plant
                 .buses
@@ -212,12 +214,10 @@ mod tests {
             assert_eq!(&bus.port, device);
             for station in &bus.stations {
                 let address = station.address.unwrap();
-                let mut session = Session::open(&line_args(
-                    station.drive.id,
-                    &station.protocol.id,
-                    device,
-                    address,
-                ))
+                let mut session = Session::open(
+                    &line_args(station.drive.id, &station.protocol.id, device, address),
+                    &catalogue,
+                )
                 .unwrap_or_else(|f| panic!("{} {}: {}", bus.name, station.name, f.message));
                 for poll in &station.polls {
                     session.read(poll.register).unwrap_or_else(|f| {
@@ -243,20 +243,26 @@ mod tests {
             .set_unplugged(true);
         let device = &plant.buses[0].device;
         let register = second.polls[0].register;
-        let mut two = Session::open(&line_args(
-            second.drive.id,
-            &second.protocol.id,
-            device,
-            second.address.unwrap(),
-        ))
+        let mut two = Session::open(
+            &line_args(
+                second.drive.id,
+                &second.protocol.id,
+                device,
+                second.address.unwrap(),
+            ),
+            &catalogue,
+        )
         .unwrap();
         assert!(two.read(register).is_err());
-        let mut one = Session::open(&line_args(
-            first.drive.id,
-            &first.protocol.id,
-            device,
-            first.address.unwrap(),
-        ))
+        let mut one = Session::open(
+            &line_args(
+                first.drive.id,
+                &first.protocol.id,
+                device,
+                first.address.unwrap(),
+            ),
+            &catalogue,
+        )
         .unwrap();
         one.read(first.polls[0].register).unwrap();
         plant.stop().unwrap();

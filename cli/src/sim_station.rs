@@ -4,7 +4,8 @@
 //! and `--address` give.
 
 use crate::plant::framing::Framing;
-use crate::{lookup, Failure};
+use crate::Failure;
+use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::serial::SerialSettings;
 use vfd_runtime::virtual_drive::{BusStation, Simulator};
 use vfd_runtime::{DriveInfo, Protocol};
@@ -31,7 +32,7 @@ impl SimStation {
 }
 
 /// A station `DRIVE[:PROTOCOL][@ADDRESS]` as written on the command line.
-pub fn parse(spec: &str) -> Result<SimStation, Failure> {
+pub fn parse(catalogue: &Catalogue, spec: &str) -> Result<SimStation, Failure> {
     let hint = "write a station as DRIVE[:PROTOCOL][@ADDRESS], e.g. fc51:modbus@2 or vf-as1@3";
     let (rest, address) = match spec.rsplit_once('@') {
         Some((rest, address)) => {
@@ -58,7 +59,7 @@ pub fn parse(spec: &str) -> Result<SimStation, Failure> {
     if drive.is_empty() {
         return Err(Failure::new(format!("station `{spec}` names no drive")).hint(hint));
     }
-    let drive = lookup::drive(drive)?;
+    let drive = catalogue.drive(drive)?;
     let protocol = lookup::protocol(drive, protocol)?;
     let address = address.unwrap_or_else(|| protocol.address_range.0.max(1));
     let (low, high) = protocol.address_range;
@@ -148,22 +149,27 @@ mod tests {
 
     #[test]
     fn a_station_names_its_drive_protocol_and_address() {
-        let s = parse("fc51:modbus@7").unwrap();
+        let catalogue = Catalogue::new();
+        let s = parse(&catalogue, "fc51:modbus@7").unwrap();
         assert_eq!(
             (s.drive.id, s.bus.protocol.id.as_ref(), s.address),
             ("fc51", "modbus", 7)
         );
-        let s = parse("yd1000").unwrap();
+        let s = parse(&catalogue, "yd1000").unwrap();
         assert_eq!(s.bus.protocol.id, s.drive.protocols[0].id);
-        assert!(parse("fc51@x").is_err());
-        assert!(parse("@2").is_err());
-        assert!(parse("fc51:nope").is_err());
+        assert!(parse(&catalogue, "fc51@x").is_err());
+        assert!(parse(&catalogue, "@2").is_err());
+        assert!(parse(&catalogue, "fc51:nope").is_err());
     }
 
     #[test]
     fn a_line_refuses_duplicate_addresses_and_mixed_framings() {
-        let settings = lookup::drive("fc51").unwrap().serial.default;
-        let both = [parse("fc51@1").unwrap(), parse("fc51:modbus@1").unwrap()];
+        let catalogue = Catalogue::new();
+        let settings = catalogue.drive("fc51").unwrap().serial.default;
+        let both = [
+            parse(&catalogue, "fc51@1").unwrap(),
+            parse(&catalogue, "fc51:modbus@1").unwrap(),
+        ];
         let err = check_line(&both, &settings).unwrap_err();
         assert!(
             err.message.contains("two stations at address 1"),
@@ -171,14 +177,14 @@ mod tests {
             err.message
         );
         let mixed = [
-            parse("fc51:modbus@1").unwrap(),
-            parse("vf-as1:binary@2").unwrap(),
+            parse(&catalogue, "fc51:modbus@1").unwrap(),
+            parse(&catalogue, "vf-as1:binary@2").unwrap(),
         ];
         let err = check_line(&mixed, &settings).unwrap_err();
         assert!(err.message.contains("one framing"), "{}", err.message);
         let fine = [
-            parse("fc51:modbus@1").unwrap(),
-            parse("vf-as1:modbus@2").unwrap(),
+            parse(&catalogue, "fc51:modbus@1").unwrap(),
+            parse(&catalogue, "vf-as1:modbus@2").unwrap(),
         ];
         check_line(&fine, &settings).unwrap();
     }

@@ -8,22 +8,24 @@ use crate::poll::{self, Poll};
 use crate::record::ValueRecord;
 use crate::trip_flag::trip_flag;
 use crate::write_value::checked_value;
-use crate::{lookup, values, Failure};
+use crate::{values, Failure};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
+use vfd_bus::Catalogue;
 use vfd_runtime::RegisterInfo;
 
 /// Reads each register and prints it, in `format`.
 pub fn read(
+    catalogue: &Catalogue,
     line: &LineArgs,
     command: Option<&str>,
     names: &[String],
     format: Format,
 ) -> Result<(), Failure> {
-    let mut session = Session::open(line)?;
+    let mut session = Session::open(line, catalogue)?;
     session.command = command.map(command_code).transpose()?;
-    let registers = resolve(&session, names)?;
+    let registers = resolve(catalogue, &session, names)?;
     let mut read = Vec::new();
     for info in &registers {
         let value = session.read(info)?;
@@ -60,11 +62,18 @@ pub fn read(
 }
 
 /// The registers `names` name for reading, in order.
-pub fn resolve(session: &Session, names: &[String]) -> Result<Vec<&'static RegisterInfo>, Failure> {
+pub fn resolve(
+    catalogue: &Catalogue,
+    session: &Session,
+    names: &[String],
+) -> Result<Vec<&'static RegisterInfo>, Failure> {
     names
         .iter()
         .map(|name| {
-            lookup::register_for(session.drive, name, false).map(|info| session.on_port(info))
+            catalogue
+                .register_for(session.drive, name, false)
+                .map(|info| session.on_port(info))
+                .map_err(Failure::from)
         })
         .collect()
 }
@@ -123,21 +132,22 @@ pub fn show_trip(session: &mut Session) {
 
 /// Writes one value, refused before anything is sent when out of range.
 pub fn write(
+    catalogue: &Catalogue,
     line: &LineArgs,
     command: Option<&str>,
     name: &str,
     text: &str,
     persist: bool,
 ) -> Result<(), Failure> {
-    let drive = lookup::drive(&line.drive)?;
-    let info = lookup::register_for(drive, name, true)?;
-    let info = match lookup::port(drive, line.port_kind.as_deref())? {
+    let drive = catalogue.drive(&line.drive)?;
+    let info = catalogue.register_for(drive, name, true)?;
+    let info = match vfd_bus::lookup::port(drive, line.port_kind.as_deref())? {
         Some(port) => port.register(info),
         None => info,
     };
     crate::bus::check_writable(info, persist)?;
     let code = command.map(command_code).transpose()?;
-    let mut session = Session::open(line)?;
+    let mut session = Session::open(line, catalogue)?;
     session.command = code;
     let percent_of = session.named_command().and_then(|c| c.percent_of.clone());
     let (info, raw) = checked_value(&mut session, info, text)?;
@@ -196,6 +206,7 @@ pub fn command_code(text: &str) -> Result<u32, Failure> {
 /// frame is on the line. Nothing is sent when the value, the register or the broadcast is
 /// refused.
 pub fn broadcast_write(
+    catalogue: &Catalogue,
     line: &LineArgs,
     name: &str,
     text: &str,
@@ -203,8 +214,8 @@ pub fn broadcast_write(
     stations: &str,
     reply_from: Option<u8>,
 ) -> Result<(), Failure> {
-    let drive = lookup::drive(&line.drive)?;
-    let info = lookup::register_for(drive, name, true)?;
+    let drive = catalogue.drive(&line.drive)?;
+    let info = catalogue.register_for(drive, name, true)?;
     crate::bus::check_writable(info, persist)?;
     let to: vfd_runtime::Broadcast = stations
         .parse()
@@ -212,11 +223,11 @@ pub fn broadcast_write(
     let raw = values::parse(info, text).map_err(|m| {
         Failure::new(m).hint(format!(
             "nothing was sent; `vfd info {} {}` shows the range",
-            crate::catalogue::name_for(drive),
+            catalogue.name_for(drive),
             info.code
         ))
     })?;
-    let mut session = Session::open(line)?;
+    let mut session = Session::open(line, catalogue)?;
     let (echo, responder) = session.broadcast_write(info, raw, persist, to, reply_from)?;
     let target = crate::storage::target(info, persist);
     let answered = match (reply_from, echo) {
@@ -256,16 +267,17 @@ pub fn stop_flag() -> Result<Arc<AtomicBool>, Failure> {
 /// Polls the registers and shows them until Ctrl-C (or `count` samples), in `format`;
 /// reopens the port after an I/O error (see [`crate::poll`]).
 pub fn watch(
+    catalogue: &Catalogue,
     line: &LineArgs,
     names: &[String],
     interval: u64,
     count: Option<u64>,
     format: Format,
 ) -> Result<(), Failure> {
-    let mut session = Session::open(line)?;
+    let mut session = Session::open(line, catalogue)?;
     // Registers whose scale another register chooses are shown in the scale it chooses
     // when the watch starts (unscaled when that register cannot be read now).
-    let registers = resolve(&session, names)?
+    let registers = resolve(catalogue, &session, names)?
         .into_iter()
         .map(|info| match session.scaled(info) {
             Ok(scaled) => scaled,
@@ -285,7 +297,7 @@ pub fn watch(
             stop: &stop,
             deadline: None,
             format,
-            reopen: Some(line),
+            reopen: Some((line, catalogue)),
         },
     )
 }

@@ -18,13 +18,12 @@ pub fn checked_value(
     info: &'static RegisterInfo,
     text: &str,
 ) -> Result<(&'static RegisterInfo, u32), Failure> {
-    let drive = session.drive;
+    let drive_name = session.drive_name.clone();
     let parse = |info: &'static RegisterInfo| {
         values::parse(info, text).map_err(|m| {
             Failure::new(m).hint(format!(
                 "nothing was sent; `vfd info {} {}` shows the range",
-                crate::catalogue::name_for(drive),
-                info.code
+                drive_name, info.code
             ))
         })
     };

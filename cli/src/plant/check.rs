@@ -10,11 +10,12 @@ use crate::Failure;
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
+use vfd_bus::Catalogue;
 
 /// Checks the plant file at `path` and prints the outcome.
-pub fn run(path: &Path) -> Result<(), Failure> {
+pub fn run(catalogue: &Catalogue, path: &Path) -> Result<(), Failure> {
     let mut text = String::new();
-    let outcome = match super::load(path) {
+    let outcome = match super::load(path, catalogue) {
         Ok(plant) => {
             summary(&plant, &mut text);
             if !plant.warnings.is_empty() {
@@ -56,8 +57,8 @@ fn print(text: &str) {
 
 /// Loads the plant file for `vfd serve`: its warnings, or every problem, on standard error
 /// as `--check` prints them; a failure when it has errors (nothing is opened then).
-pub fn load_for_service(path: &Path) -> Result<Plant, Failure> {
-    match super::load(path) {
+pub fn load_for_service(catalogue: &Catalogue, path: &Path) -> Result<Plant, Failure> {
+    match super::load(path, catalogue) {
         Ok(plant) => {
             if !plant.warnings.is_empty() {
                 let _ = writeln!(std::io::stderr(), "{}", plant.warnings);

@@ -193,20 +193,23 @@ mod tests {
     use crate::plant::model::Poll;
 
     fn station(drive: &str, protocol: &str, codes: &[&str], every: Duration) -> Station {
-        let drive = crate::catalogue::drive(drive).unwrap_or_else(|f| panic!("{}", f.message));
-        let protocol = crate::lookup::protocol(drive, Some(protocol))
-            .unwrap_or_else(|f| panic!("{}", f.message));
+        let catalogue = vfd_bus::Catalogue::new();
+        let drive = catalogue.drive(drive).unwrap_or_else(|f| panic!("{f}"));
+        let protocol =
+            vfd_bus::lookup::protocol(drive, Some(protocol)).unwrap_or_else(|f| panic!("{f}"));
         Station {
             name: "d".into(),
             drive,
+            drive_name: drive.id.into(),
             protocol,
             address: Some(1),
             port: None,
             polls: codes
                 .iter()
                 .map(|code| Poll {
-                    register: crate::lookup::register_for(drive, code, false)
-                        .unwrap_or_else(|f| panic!("{}", f.message)),
+                    register: catalogue
+                        .register_for(drive, code, false)
+                        .unwrap_or_else(|f| panic!("{f}")),
                     every,
                 })
                 .collect(),

@@ -22,14 +22,15 @@ pub use model::{Bus, Plant, Station};
 
 use problems::Problems;
 use std::path::{Path, PathBuf};
+use vfd_bus::Catalogue;
 use vfd_codegen::yaml::SourceFile;
 use vfd_codegen::Diagnostics;
 
 /// Reads and checks the plant file at `path`. On success the plant carries its warnings
 /// ([`Plant::warnings`]); on failure every problem, the errors first, then the warnings.
-pub fn load(path: &Path) -> Result<Plant, Diagnostics> {
+pub fn load(path: &Path, catalogue: &Catalogue) -> Result<Plant, Diagnostics> {
     match SourceFile::read(path) {
-        Ok(source) => load_source(&source),
+        Ok(source) => load_source(&source, catalogue),
         Err(problem) => Err(Diagnostics {
             items: vec![problem],
         }),
@@ -39,8 +40,8 @@ pub fn load(path: &Path) -> Result<Plant, Diagnostics> {
 /// Like [`load`], for a plant file's text already in memory (`path` names it in messages,
 /// and relative drive file paths start at its folder).
 #[cfg_attr(not(all(unix, feature = "pty")), allow(dead_code))] // the plant demo's
-pub fn load_str(text: &str, path: &Path) -> Result<Plant, Diagnostics> {
-    load_source(&SourceFile::from_text(path, text.to_owned()))
+pub fn load_str(text: &str, path: &Path, catalogue: &Catalogue) -> Result<Plant, Diagnostics> {
+    load_source(&SourceFile::from_text(path, text.to_owned()), catalogue)
 }
 
 /// Whether `path` is `element` or lies under it.
@@ -49,13 +50,14 @@ fn within(path: &str, element: &str) -> bool {
         .is_some_and(|rest| rest.is_empty() || rest.starts_with(['.', '[']))
 }
 
-fn load_source(source: &SourceFile) -> Result<Plant, Diagnostics> {
+fn load_source(source: &SourceFile, catalogue: &Catalogue) -> Result<Plant, Diagnostics> {
     let read = source.read_model::<file::PlantFile>();
     let mut problems = Problems {
         source,
         found: Diagnostics {
             items: read.problems,
         },
+        catalogue,
     };
     let keep = problems.found.items.len();
     let dir = source
@@ -119,7 +121,7 @@ mod tests {
 
     #[test]
     fn a_plant_in_memory_resolves_with_the_defaults() {
-        let plant = load_str(PLANT, Path::new("demo.yaml")).unwrap();
+        let plant = load_str(PLANT, Path::new("demo.yaml"), &Catalogue::new()).unwrap();
         assert!(plant.warnings.is_empty(), "{}", plant.warnings);
         let bus = &plant.buses[0];
         assert_eq!(bus.port, "/dev/pts/9");
@@ -148,7 +150,7 @@ mod tests {
             .replace("drive: fc51", "drive: fc51\n        station: 999")
             .replace("250ms", "0ms")
             .replace("[REF]", "[STW]");
-        let problems = load_str(&text, Path::new("demo.yaml")).unwrap_err();
+        let problems = load_str(&text, Path::new("demo.yaml"), &Catalogue::new()).unwrap_err();
         let lines: Vec<String> = problems.items.iter().map(|d| d.location()).collect();
         assert_eq!(lines.len(), 3, "{problems}");
         assert!(

@@ -57,6 +57,9 @@ pub struct Station {
     pub name: String,
     /// The drive model (a built-in id or a drive file).
     pub drive: &'static DriveInfo,
+    /// How a command line names the drive model so that it is found again (its id, or the
+    /// path of its drive file), for messages.
+    pub drive_name: String,
     /// The protocol spoken, in the variant the plant names.
     pub protocol: &'static Protocol,
     /// The station address (`None`: the protocol sends none).

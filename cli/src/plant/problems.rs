@@ -2,6 +2,7 @@
 //! (`buses[0].drives[2].station`), with file:line:column from the positioned reader.
 
 use crate::Failure;
+use vfd_bus::Catalogue;
 use vfd_codegen::yaml::SourceFile;
 use vfd_codegen::{Diagnostic, Diagnostics};
 
@@ -11,6 +12,8 @@ pub struct Problems<'a> {
     pub source: &'a SourceFile,
     /// Every problem found, errors and warnings.
     pub found: Diagnostics,
+    /// Where the plant's drives are found.
+    pub catalogue: &'a Catalogue,
 }
 
 impl Problems<'_> {
@@ -27,7 +30,8 @@ impl Problems<'_> {
     }
 
     /// A failure of a lookup shared with the other commands, as an error at `path`.
-    pub fn failure(&mut self, path: &str, failure: Failure) {
+    pub fn failure(&mut self, path: &str, failure: impl Into<Failure>) {
+        let failure: Failure = failure.into();
         let mut diagnostic = self.source.error(path, failure.message);
         if let Some(hint) = failure.hint {
             diagnostic = diagnostic.hint(hint);

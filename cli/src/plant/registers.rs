@@ -47,7 +47,7 @@ pub fn polls(
         }
         for (r, name) in group.registers.iter().enumerate() {
             let at = format!("{group_path}.registers[{r}]");
-            let register = match crate::lookup::register_for(drive, name, false) {
+            let register = match problems.catalogue.register_for(drive, name, false) {
                 Ok(register) => register,
                 Err(failure) => {
                     problems.failure(&at, failure);
@@ -95,7 +95,10 @@ pub fn writes(
     let mut seen: Vec<(&'static RegisterInfo, String)> = Vec::new();
     for (w, entry) in entries.iter().enumerate() {
         let at = format!("{path}.write[{w}]");
-        let register = match crate::lookup::register_for(drive, &entry.register, true) {
+        let register = match problems
+            .catalogue
+            .register_for(drive, &entry.register, true)
+        {
             Ok(register) => register,
             Err(failure) => {
                 problems.failure(&format!("{at}.register"), failure);

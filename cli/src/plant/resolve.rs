@@ -50,6 +50,7 @@ pub fn plant(file: &PlantFile, dir: &Path, problems: &mut Problems<'_>) -> Plant
             stations.push(Station {
                 name: drive.name.clone(),
                 drive: head.drive,
+                drive_name: problems.catalogue.name_for(head.drive),
                 protocol: head.protocol,
                 address: head.address,
                 port: head.port,

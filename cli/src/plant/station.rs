@@ -4,8 +4,8 @@
 
 use super::file::DriveFile;
 use super::problems::Problems;
-use crate::Failure;
 use std::path::Path;
+use vfd_bus::{Catalogue, SetupError};
 use vfd_runtime::{DriveInfo, Port, Protocol, Role};
 
 /// A drive entry with everything but its registers resolved.
@@ -43,14 +43,14 @@ pub fn resolve(
     alone: bool,
     problems: &mut Problems<'_>,
 ) -> Option<Head> {
-    let drive = match drive(&entry.drive, dir) {
+    let drive = match drive(problems.catalogue, &entry.drive, dir) {
         Ok(drive) => drive,
         Err(failure) => {
             problems.failure(&format!("{path}.drive"), failure);
             return None;
         }
     };
-    let protocol = match crate::lookup::protocol(drive, entry.protocol.as_deref()) {
+    let protocol = match vfd_bus::lookup::protocol(drive, entry.protocol.as_deref()) {
         Ok(protocol) => protocol,
         Err(failure) => {
             problems.failure(&format!("{path}.protocol"), failure);
@@ -165,29 +165,24 @@ fn broadcast_address(protocol: &Protocol) -> Option<u8> {
 
 /// The drive `name` names: a drive file by its path (a relative path starts at the plant
 /// file's folder), else a drive id, as every command finds it, with "did you mean".
-fn drive(name: &str, dir: &Path) -> Result<&'static DriveInfo, Failure> {
-    if crate::catalogue::is_path(name) {
+fn drive(catalogue: &Catalogue, name: &str, dir: &Path) -> Result<&'static DriveInfo, SetupError> {
+    if Catalogue::is_path(name) {
         let path = dir.join(name);
         if !path.is_file() {
-            return Err(Failure::new(format!("no drive file {}", path.display())).hint(
+            return Err(SetupError::new(format!("no drive file {}", path.display())).with_hint(
                 "a drive file's path starts at the plant file's folder; or give a drive id (`vfd list`)",
             ));
         }
-        return crate::catalogue::drive(&path.to_string_lossy());
+        return catalogue.drive(&path.to_string_lossy());
     }
-    crate::catalogue::drive(name).map_err(|failure| {
-        let ids: Vec<&str> = crate::catalogue::all_drives()
-            .iter()
-            .map(|d| d.id)
-            .collect();
-        match vfd_codegen::yaml::closest(name, &ids) {
-            Some(close) => Failure {
-                hint: failure
-                    .hint
-                    .map(|hint| format!("did you mean `{close}`? {hint}")),
-                ..failure
-            },
-            None => failure,
+    catalogue.drive(name).map_err(|error| {
+        let ids: Vec<&str> = catalogue.all_drives().iter().map(|d| d.id).collect();
+        match (vfd_codegen::yaml::closest(name, &ids), error.hint()) {
+            (Some(close), Some(hint)) => {
+                let hint = format!("did you mean `{close}`? {hint}");
+                error.with_hint(hint)
+            }
+            _ => error,
         }
     })
 }

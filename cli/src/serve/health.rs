@@ -5,6 +5,7 @@
 //! to `cap`, so a dead station costs its bus at most one reply timeout per back-off period.
 
 use std::time::{Duration, Instant};
+use vfd_bus::BackOff;
 
 /// How failures turn into offline, and how often an offline station is tried.
 #[derive(Debug, Clone, Copy)]
@@ -45,8 +46,10 @@ pub struct Health {
     failures: u32,
     /// What the outputs were last told (`None`: nothing yet).
     reported: Option<Change>,
-    /// While offline: the current back-off and when the next try is due.
-    backoff: Duration,
+    /// While offline: the waits between tries, the last one taken, and when the next try
+    /// is due.
+    back_off: BackOff,
+    wait: Duration,
     next_try: Option<Instant>,
 }
 
@@ -60,7 +63,8 @@ impl Health {
             },
             failures: 0,
             reported: None,
-            backoff: rules.first,
+            back_off: BackOff::new(rules.first, rules.cap),
+            wait: rules.first,
             next_try: None,
         }
     }
@@ -87,7 +91,7 @@ impl Health {
     /// The station answered; returns the change to report, if any.
     pub fn answered(&mut self) -> Option<Change> {
         self.failures = 0;
-        self.backoff = self.rules.first;
+        self.back_off.reset();
         self.next_try = None;
         self.report(Change::Online)
     }
@@ -98,15 +102,16 @@ impl Health {
         self.failures = self.failures.saturating_add(1);
         if self.is_offline() {
             // A failed try: wait twice as long before the next, up to the cap.
-            self.backoff = (self.backoff * 2).min(self.rules.cap);
-            self.next_try = Some(now + self.backoff);
+            self.wait = self.back_off.next_wait();
+            self.next_try = Some(now + self.wait);
             return None;
         }
         if self.failures < self.rules.offline_after {
             return None;
         }
-        self.backoff = self.rules.first.min(self.rules.cap);
-        self.next_try = Some(now + self.backoff);
+        self.back_off.reset();
+        self.wait = self.back_off.next_wait();
+        self.next_try = Some(now + self.wait);
         self.report(Change::Offline)
     }
 
@@ -114,7 +119,9 @@ impl Health {
     /// tried again when the port is back. Returns the change to report, if any.
     pub fn unreachable(&mut self) -> Option<Change> {
         self.failures = self.rules.offline_after;
-        self.backoff = self.rules.first;
+        // As if it had been tried once: a failed try after this waits twice the first.
+        self.back_off.reset();
+        self.wait = self.back_off.next_wait();
         self.next_try = None;
         self.report(Change::Offline)
     }
@@ -122,7 +129,7 @@ impl Health {
     /// The current wait between tries (while offline).
     #[cfg(test)]
     pub fn backoff(&self) -> Duration {
-        self.backoff
+        self.wait
     }
 
     fn report(&mut self, change: Change) -> Option<Change> {

@@ -131,8 +131,8 @@ pub fn outputs(
 }
 
 /// `vfd serve`.
-pub fn run(args: &ServeArgs) -> Result<(), Failure> {
-    let plant = crate::plant::check::load_for_service(&args.plant)?;
+pub fn run(catalogue: &vfd_bus::Catalogue, args: &ServeArgs) -> Result<(), Failure> {
+    let plant = crate::plant::check::load_for_service(catalogue, &args.plant)?;
     if !args.jsonl && args.mqtt.is_none() {
         return Err(Failure::new(
             "say where the readings go: --jsonl (JSON lines on standard output), --mqtt URL, or both",

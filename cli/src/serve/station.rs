@@ -87,6 +87,7 @@ impl Link {
             station.address,
         );
         session.port = station.port;
+        session.drive_name = station.drive_name.clone();
         let intervals: Vec<Duration> = station.polls.iter().map(|p| p.every).collect();
         Link {
             station: station.clone(),
@@ -155,10 +156,10 @@ impl Link {
         for result in &values {
             match result {
                 Ok(_) => answered = true,
-                Err(failure) => match failure.read_error.as_ref().map(|e| e.kind) {
-                    Some("io") => return self.line_failed(failure, reporter),
+                Err(failure) => match failure.error.as_ref().map(|e| e.kind()) {
+                    Some(kind) if kind.is_io() => return self.line_failed(failure, reporter),
                     // The drive answered, with a refusal: it is there.
-                    Some("error_reply") => answered = true,
+                    Some(kind) if kind.answered() => answered = true,
                     _ => silent = Some(failure.clone()),
                 },
             }

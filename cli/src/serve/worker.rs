@@ -9,12 +9,12 @@ use super::report::Reporter;
 use super::station::{Link, Round};
 use crate::line::{open_line, SharedLine};
 use crate::plant::Bus;
-use crate::poll::{FIRST_BACK_OFF, LAST_BACK_OFF};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
+use vfd_bus::BackOff;
 
 /// The longest a worker sleeps before it looks at the stop flag again.
 const STOP_CHECK: Duration = Duration::from_millis(100);
@@ -72,7 +72,7 @@ impl Worker {
             .iter()
             .map(|_| Health::new(rules))
             .collect();
-        let mut backoff = FIRST_BACK_OFF;
+        let mut backoff = BackOff::reopening();
         let mut failing = false;
         while !self.stopped() {
             let line = match open_line(&self.bus.port, &self.bus.settings) {
@@ -87,21 +87,20 @@ impl Worker {
                             target: super::LOG_TARGET,
                             "{}: {why}; trying again with back-off up to {} s",
                             self.bus.name,
-                            LAST_BACK_OFF.as_secs()
+                            backoff.cap().as_secs()
                         );
                         self.port_state(false, Some(why.clone()));
                         failing = true;
                     }
                     self.all_unreachable(&mut healths, &why);
-                    self.sleep_serving_refusals(backoff, &why);
-                    backoff = (backoff * 2).min(LAST_BACK_OFF);
+                    self.sleep_serving_refusals(backoff.next_wait(), &why);
                     continue;
                 }
             };
             if failing {
                 log::info!(target: super::LOG_TARGET, "{}: {} is open again", self.bus.name, self.bus.port);
             }
-            backoff = FIRST_BACK_OFF;
+            backoff.reset();
             self.port_state(true, None);
             let shared = SharedLine::new(line);
             let now = Instant::now();
@@ -127,8 +126,7 @@ impl Worker {
                     self.port_state(false, Some(why.clone()));
                     failing = true;
                     self.all_unreachable(&mut healths, &why);
-                    self.sleep_serving_refusals(backoff, &why);
-                    backoff = (backoff * 2).min(LAST_BACK_OFF);
+                    self.sleep_serving_refusals(backoff.next_wait(), &why);
                 }
             }
         }

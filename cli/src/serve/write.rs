@@ -8,8 +8,9 @@
 use super::event::{WriteOutcome, WriteRequest};
 use super::station::Link;
 use crate::write_value::checked_value;
-use crate::{lookup, values, Failure};
+use crate::{values, Failure};
 use std::time::Instant;
+use vfd_bus::ErrorKind;
 
 /// Carries out `request` on `link` and says how it went, and, when the line itself failed
 /// on the way (an unplugged adapter), why. A written register that is polled is made due,
@@ -20,14 +21,14 @@ pub fn write(link: &mut Link, request: &WriteRequest) -> (WriteOutcome, Option<S
     match attempt(link, request, &mut outcome) {
         Ok(()) => outcome.ok = true,
         Err((failure, sent)) => {
-            if failure.read_error.as_ref().is_some_and(|e| e.is_io()) {
+            if failure.error.as_ref().is_some_and(|e| e.kind().is_io()) {
                 line_failed = Some(failure.message.clone());
             }
             outcome.sent = sent;
-            if let Some(error) = &failure.read_error {
-                outcome.error_code = error.code;
-                if error.kind == "error_reply" {
-                    outcome.error_meaning = Some(error.meaning.clone());
+            if let Some(error) = &failure.error {
+                outcome.error_code = error.code();
+                if error.kind() == ErrorKind::ErrorReply {
+                    outcome.error_meaning = Some(error.meaning().to_owned());
                 }
             }
             outcome.error = Some(match &failure.hint {
@@ -52,7 +53,8 @@ fn attempt(
     let not_sent = |failure: Failure| (failure, false);
     let station = &link.station;
     let drive = station.drive;
-    let info = lookup::register_for(drive, &request.register, true).map_err(not_sent)?;
+    let info = vfd_bus::lookup::register_for(drive, &request.register, true, &station.drive_name)
+        .map_err(|error| not_sent(error.into()))?;
     outcome.code = info.code.to_owned();
     outcome.unit = info.unit_symbol().to_owned();
     let Some(index) = station
@@ -117,15 +119,11 @@ fn attempt(
         Err(failure) => {
             // A failure with a line error came from the exchange: the frame went out
             // (a lost reply leaves the outcome unknown). One without came from a check.
-            let sent = failure
-                .read_error
+            let sent = failure.error.as_ref().is_some_and(|e| e.kind().sent());
+            let failure = if failure
+                .error
                 .as_ref()
-                .is_some_and(|e| e.kind != "other");
-            let failure = if sent
-                && failure
-                    .read_error
-                    .as_ref()
-                    .is_some_and(|e| e.kind == "timeout")
+                .is_some_and(|e| e.kind() == ErrorKind::Timeout)
             {
                 Failure::new(format!(
                     "{}; the write may have been carried out and is not repeated",

@@ -105,7 +105,7 @@ impl Mqtt {
                     let mut first = Some(first_tx);
                     let mut subscribed = Some(subscribed_tx);
                     let mut outage: Option<Instant> = None;
-                    let mut backoff = BACKOFF_FIRST;
+                    let mut backoff = vfd_bus::BackOff::new(BACKOFF_FIRST, BACKOFF_CAP);
                     for event in connection.iter() {
                         match event {
                             Ok(MqttEvent::Incoming(Packet::ConnAck(_))) => {
@@ -114,7 +114,7 @@ impl Mqtt {
                                 } else if let Some(since) = outage.take() {
                                     log::info!("MQTT: reconnected to {url} after {:.1} s; republishing the states", since.elapsed().as_secs_f64());
                                 }
-                                backoff = BACKOFF_FIRST;
+                                backoff.reset();
                                 outbox.resync();
                             }
                             Ok(MqttEvent::Incoming(Packet::Publish(publish))) => {
@@ -153,11 +153,10 @@ impl Mqtt {
                                     log::warn!("MQTT: lost the broker at {url}: {}; reconnecting with back-off up to {} s", describe(&error), BACKOFF_CAP.as_secs());
                                     outage = Some(Instant::now());
                                 }
-                                let until = Instant::now() + backoff;
+                                let until = Instant::now() + backoff.next_wait();
                                 while Instant::now() < until && !stop.load(Ordering::Relaxed) {
                                     std::thread::sleep(Duration::from_millis(50));
                                 }
-                                backoff = (backoff * 2).min(BACKOFF_CAP);
                             }
                         }
                         if abort.load(Ordering::Relaxed) {

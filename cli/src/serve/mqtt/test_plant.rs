@@ -8,7 +8,7 @@ use std::time::Duration;
 /// One bus `line1` with one station `pump` polling the first two registers of the first
 /// built-in drive.
 pub(super) fn plant() -> Plant {
-    let drive = crate::catalogue::all_drives()[0];
+    let drive = vfd_bus::Catalogue::new().builtin()[0];
     let polls = drive
         .registers
         .iter()
@@ -40,6 +40,7 @@ pub(super) fn plant() -> Plant {
             stations: vec![Station {
                 name: "pump".into(),
                 drive,
+                drive_name: drive.id.into(),
                 protocol: drive.protocols[0],
                 address: Some(1),
                 port: None,

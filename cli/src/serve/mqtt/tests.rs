@@ -429,7 +429,7 @@ fn home_assistant_discovery_configs_are_retained_with_their_keys() {
         config["availability"][1]["topic"],
         "vfd/line1/pump/available"
     );
-    let drive = crate::catalogue::all_drives()[0];
+    let drive = vfd_bus::Catalogue::new().builtin()[0];
     assert_eq!(config["device"]["manufacturer"], drive.vendor);
     assert_eq!(config["device"]["model"], drive.model);
     mqtt.shutdown();

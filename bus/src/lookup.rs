@@ -1,19 +1,15 @@
-//! Finding what people name on the command line: drives by id, protocols by id, and
-//! registers by manual code (`FA01`, `FH`, `3-03`), alias (`P.195`), address (`0xFA01`,
-//! `FA01h`, `303`), id or English or Chinese name (`最高频率`), case-insensitive. Nothing here names a drive:
-//! everything comes from [`DriveInfo`], compiled in or loaded from a file ([`crate::catalogue`]).
+//! Finding what people name: protocols by id, variants, ports, and registers by manual
+//! code (`FA01`, `FH`, `3-03`), alias (`P.195`), address (`0xFA01`, `FA01h`, `303`), id or
+//! English or Chinese name (`最高频率`), case-insensitive (drives: [`Catalogue::drive`]).
+//! Nothing here names a drive: everything comes from [`DriveInfo`]. Names are looked up when
+//! a command or a plant is set up; what runs after holds what they found.
 
-use crate::Failure;
+use crate::{Catalogue, SetupError};
 use vfd_runtime::info::manual_number;
 use vfd_runtime::{Access, DriveInfo, Port, Protocol, RegisterInfo};
 
-/// The drive `name` names: an id, or the path of a drive file (see [`crate::catalogue`]).
-pub fn drive(name: &str) -> Result<&'static DriveInfo, Failure> {
-    crate::catalogue::drive(name)
-}
-
 /// The drive's protocol with this id; the first one when `id` is `None`.
-pub fn protocol(drive: &DriveInfo, id: Option<&str>) -> Result<&'static Protocol, Failure> {
+pub fn protocol(drive: &DriveInfo, id: Option<&str>) -> Result<&'static Protocol, SetupError> {
     let known = || {
         let ids: Vec<&str> = drive.protocols.iter().map(|p| p.id.as_ref()).collect();
         ids.join(", ")
@@ -23,15 +19,15 @@ pub fn protocol(drive: &DriveInfo, id: Option<&str>) -> Result<&'static Protocol
             .protocols
             .first()
             .copied()
-            .ok_or_else(|| Failure::new(format!("drive {} describes no protocol", drive.id))),
+            .ok_or_else(|| SetupError::new(format!("drive {} describes no protocol", drive.id))),
         Some(id) => drive
             .protocols
             .iter()
             .copied()
             .find(|p| p.id.eq_ignore_ascii_case(id))
             .ok_or_else(|| {
-                Failure::new(format!("drive {} has no protocol `{id}`", drive.id))
-                    .hint(format!("it speaks: {}", known()))
+                SetupError::new(format!("drive {} has no protocol `{id}`", drive.id))
+                    .with_hint(format!("it speaks: {}", known()))
             }),
     }
 }
@@ -40,13 +36,13 @@ pub fn protocol(drive: &DriveInfo, id: Option<&str>) -> Result<&'static Protocol
 pub fn variant(
     protocol: &'static Protocol,
     id: Option<&str>,
-) -> Result<&'static Protocol, Failure> {
+) -> Result<&'static Protocol, SetupError> {
     let Some(id) = id else {
         return Ok(protocol);
     };
     protocol.variant_or_error(id).map_err(|error| {
-        Failure::new(error.to_string())
-            .hint("name one of the protocol's variants, or leave --variant out")
+        SetupError::new(error.to_string())
+            .with_hint("name one of the protocol's variants, or leave --variant out")
     })
 }
 
@@ -110,33 +106,39 @@ pub fn registers(drive: &DriveInfo, name: &str) -> Vec<&'static RegisterInfo> {
 
 /// The port `name` names (id or English name) of `drive`; `None` when no port is named.
 /// Refuses a name the drive does not have, or any name for a drive with one port.
-pub fn port(drive: &'static DriveInfo, name: Option<&str>) -> Result<Option<Port>, Failure> {
+pub fn port(drive: &'static DriveInfo, name: Option<&str>) -> Result<Option<Port>, SetupError> {
     let Some(name) = name else {
         return Ok(None);
     };
     let Some(ports) = drive.ports else {
-        return Err(Failure::new(format!(
+        return Err(SetupError::new(format!(
             "drive {} has one serial port: --port-kind does not apply",
             drive.id
         ))
-        .hint("leave --port-kind out"));
+        .with_hint("leave --port-kind out"));
     };
     Port::of(drive, name).map(Some).ok_or_else(|| {
-        Failure::new(format!("drive {} has no port `{name}`", drive.id))
-            .hint(format!("its ports: {}", ports.ids()))
+        SetupError::new(format!("drive {} has no port `{name}`", drive.id))
+            .with_hint(format!("its ports: {}", ports.ids()))
     })
 }
 
-/// The one register `name` means, or a message saying why not (none, or several).
-pub fn register(drive: &DriveInfo, name: &str) -> Result<&'static RegisterInfo, Failure> {
+/// The one register `name` means on `drive`, or why not (none, or several); `named` is how
+/// a command line names the drive ([`Catalogue::name_for`]), for the hint.
+pub fn register(
+    drive: &DriveInfo,
+    name: &str,
+    named: &str,
+) -> Result<&'static RegisterInfo, SetupError> {
     let found = registers(drive, name);
     match found.as_slice() {
         [one] => Ok(one),
         [] => Err(
-            Failure::new(format!("drive {} has no register `{name}`", drive.id)).hint(format!(
-                "name it by code (FA01), address (0xFA01), id or name; `vfd info {}` lists them",
-                crate::catalogue::name_for(drive)
-            )),
+            SetupError::new(format!("drive {} has no register `{name}`", drive.id)).with_hint(
+                format!(
+                    "name it by code (FA01), address (0xFA01), id or name; `vfd info {named}` lists them"
+                ),
+            ),
         ),
         many => {
             let names: Vec<String> = many
@@ -144,24 +146,26 @@ pub fn register(drive: &DriveInfo, name: &str) -> Result<&'static RegisterInfo, 
                 .take(8)
                 .map(|r| format!("{} ({})", r.code, r.name))
                 .collect();
-            Err(Failure::new(format!(
+            Err(SetupError::new(format!(
                 "`{name}` matches {} registers of {}",
                 many.len(),
                 drive.id
             ))
-            .hint(format!("say which: {}", names.join(", "))))
+            .with_hint(format!("say which: {}", names.join(", "))))
         }
     }
 }
 
 /// The one register `name` means for a read (`writing` false) or a write: where it names
-/// two registers sharing an address (one read-only, one write-only: 1001h read as a
-/// status word, written as a run command), the one the direction reaches.
+/// two registers sharing an address (one read-only, one write-only: 1001h read as a status
+/// word, written as a run command), the one the direction reaches. `named`: as
+/// [`register`].
 pub fn register_for(
     drive: &DriveInfo,
     name: &str,
     writing: bool,
-) -> Result<&'static RegisterInfo, Failure> {
+    named: &str,
+) -> Result<&'static RegisterInfo, SetupError> {
     let found = registers(drive, name);
     if let [first, second] = found.as_slice() {
         if first.address == second.address && first.space == second.space {
@@ -175,7 +179,28 @@ pub fn register_for(
             }
         }
     }
-    register(drive, name)
+    register(drive, name, named)
+}
+
+impl Catalogue {
+    /// The one register `name` means on `drive` ([`register`]).
+    pub fn register(
+        &self,
+        drive: &DriveInfo,
+        name: &str,
+    ) -> Result<&'static RegisterInfo, SetupError> {
+        register(drive, name, &self.name_for(drive))
+    }
+
+    /// The one register `name` means on `drive` for a read or a write ([`register_for`]).
+    pub fn register_for(
+        &self,
+        drive: &DriveInfo,
+        name: &str,
+        writing: bool,
+    ) -> Result<&'static RegisterInfo, SetupError> {
+        register_for(drive, name, writing, &self.name_for(drive))
+    }
 }
 
 /// `0xFA01`, `FA01h` or a decimal number, as a register address.
