@@ -37,12 +37,16 @@
 //! back as values (errors with a message and, where one helps, a hint on what to do).
 
 pub mod back_off;
+pub mod bus;
 pub mod catalogue;
 pub mod error;
+pub mod line;
 pub mod lookup;
 pub mod setup_error;
 
 pub use back_off::BackOff;
+pub use bus::{Bus, OnLine};
 pub use catalogue::Catalogue;
 pub use error::{Error, ErrorKind};
+pub use line::Line;
 pub use setup_error::SetupError;

@@ -3,10 +3,10 @@
 //! the drive's factory serial settings), the line they open ([`crate::line`]), and raw reads
 //! and writes through the runtime's untyped request path, so any described drive works.
 
-use crate::line::{open_line, Line, Traced};
+use crate::traced_line::Traced;
 use crate::Failure;
-use std::time::{Duration, Instant};
-use vfd_bus::{lookup, Catalogue};
+use std::time::Duration;
+use vfd_bus::{lookup, Catalogue, Line};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transaction::Master;
 use vfd_runtime::{
@@ -226,6 +226,12 @@ pub fn line_settings(
     Ok(settings)
 }
 
+impl vfd_bus::OnLine for Session {
+    fn master(&mut self) -> &mut Master<Line> {
+        &mut self.master
+    }
+}
+
 impl Session {
     /// Opens the line the options name.
     pub fn open(args: &LineArgs, catalogue: &Catalogue) -> Result<Session, Failure> {
@@ -233,7 +239,7 @@ impl Session {
         let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
         let protocol = lookup::variant(protocol, args.variant.as_deref())?;
         let settings = line_settings(drive, &protocol.id, args.format())?;
-        let mut line = open_line(&args.port, &settings)?;
+        let mut line = vfd_bus::line::open(&args.port, &settings)?;
         if args.trace {
             line = Traced::on_stderr(line, drive, protocol);
         }
@@ -318,7 +324,7 @@ impl Session {
     }
 
     /// A session over `master` (built by the caller: `vfd serve` builds one per station of
-    /// a bus, all on one shared line).
+    /// a bus, whose [`vfd_bus::Bus`] lends each its line in turn).
     pub fn with_master(
         drive: &'static DriveInfo,
         protocol: &'static Protocol,
@@ -695,18 +701,6 @@ impl Session {
                 }
             })
             .collect())
-    }
-
-    /// When the line was last busy as this session's master saw it (see
-    /// [`Master::line_activity`]).
-    pub fn line_activity(&self) -> Option<Instant> {
-        self.master.line_activity()
-    }
-
-    /// Tells the master the line was busy until `at` (another station's exchange on the
-    /// same bus), so that it keeps the frame gap after it.
-    pub fn note_line_activity(&mut self, at: Instant) {
-        self.master.note_line_activity(at);
     }
 
     /// Changes how often a failed read is repeated from now on.

@@ -7,13 +7,14 @@
 //! description (its `behaviour:` section says which registers and bits do what).
 
 use crate::bus::{Session, Value};
-use crate::line::{Line, Traced};
 use crate::out::say;
+use crate::traced_line::Traced;
 use crate::{describe, values, watch, Failure};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 use vfd_bus::Catalogue;
+use vfd_bus::Line;
 use vfd_runtime::behaviour::{Amount, Behaviour};
 use vfd_runtime::transport::{PseudoTerminal, PtyTransport};
 use vfd_runtime::virtual_drive::{serve, Simulator};

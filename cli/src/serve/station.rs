@@ -1,4 +1,4 @@
-//! One station as a bus worker drives it: its master (a session on the bus's shared line),
+//! One station as a bus worker drives it: its master (a session the bus lends its line to),
 //! its poll schedule and its health, and one round of polling that turns replies into
 //! events.
 
@@ -7,12 +7,12 @@ use super::health::{Change, Health, Rules, Turn};
 use super::report::Reporter;
 use super::schedule::Schedule;
 use crate::bus::{Session, Value};
-use crate::line::{Line, SharedLine};
 use crate::plant::{Bus, Station};
 use crate::record::ValueRecord;
 use crate::trip_flag::trip_flag;
 use crate::Failure;
 use std::time::{Duration, Instant};
+use vfd_bus::{Line, OnLine};
 use vfd_runtime::transaction::Master;
 use vfd_runtime::RegisterInfo;
 
@@ -51,28 +51,18 @@ pub struct Link {
 }
 
 impl Link {
-    /// `station` on `bus`, over `line`, its registers all due at `now`.
-    pub fn new(
-        bus: &Bus,
-        station: &Station,
-        line: &SharedLine,
-        health: Health,
-        now: Instant,
-    ) -> Link {
+    /// `station` on `bus`, its registers all due at `now`; it speaks when the bus lends it
+    /// the line ([`vfd_bus::Bus::speak`]).
+    pub fn new(bus: &Bus, station: &Station, health: Health, now: Instant) -> Link {
         let drive = station.drive;
         let mut timing = drive.serial.timing;
         if let Some(timeout) = bus.timeout {
             timing.processing_allowance = timeout;
         }
-        let mut master = Master::for_protocol(
-            Line::Shared(line.clone()),
-            station.protocol,
-            bus.settings,
-            timing,
-        )
-        .with_address(station.address)
-        .with_port(station.port)
-        .with_retries(bus.retries);
+        let mut master = Master::for_protocol(Line::Away, station.protocol, bus.settings, timing)
+            .with_address(station.address)
+            .with_port(station.port)
+            .with_retries(bus.retries);
         if let Some(gap) = bus.min_gap {
             master = master.with_min_gap(gap);
         }
@@ -303,5 +293,11 @@ impl Link {
             epoch_ms,
             tripped,
         }
+    }
+}
+
+impl OnLine for Link {
+    fn master(&mut self) -> &mut Master<Line> {
+        self.session.master()
     }
 }

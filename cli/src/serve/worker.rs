@@ -7,7 +7,6 @@ use super::event::{Availability, Event, PortState, WriteOutcome, WriteRequest};
 use super::health::Health;
 use super::report::Reporter;
 use super::station::{Link, Round};
-use crate::line::{open_line, SharedLine};
 use crate::plant::Bus;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
@@ -15,6 +14,9 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 use vfd_bus::BackOff;
+
+/// The stations of an open bus, on its line.
+type OnLine = vfd_bus::Bus<Link>;
 
 /// The longest a worker sleeps before it looks at the stop flag again.
 const STOP_CHECK: Duration = Duration::from_millis(100);
@@ -75,13 +77,10 @@ impl Worker {
         let mut backoff = BackOff::reopening();
         let mut failing = false;
         while !self.stopped() {
-            let line = match open_line(&self.bus.port, &self.bus.settings) {
+            let line = match vfd_bus::line::open(&self.bus.port, &self.bus.settings) {
                 Ok(line) => line,
-                Err(failure) => {
-                    let why = match &failure.hint {
-                        Some(hint) => format!("{} ({hint})", failure.message),
-                        None => failure.message.clone(),
-                    };
+                Err(error) => {
+                    let why = error.with_hint_text();
                     if !failing {
                         log::warn!(
                             target: super::LOG_TARGET,
@@ -102,18 +101,19 @@ impl Worker {
             }
             backoff.reset();
             self.port_state(true, None);
-            let shared = SharedLine::new(line);
             let now = Instant::now();
-            let mut links: Vec<Link> = self
+            let links: Vec<Link> = self
                 .bus
                 .stations
                 .iter()
                 .zip(healths.drain(..))
-                .map(|(station, health)| Link::new(&self.bus, station, &shared, health, now))
+                .map(|(station, health)| Link::new(&self.bus, station, health, now))
                 .collect();
-            let end = self.serve(&mut links);
+            let mut on_line = OnLine::new(line, links);
+            let end = self.serve(&mut on_line);
+            // The line closes here; what the stations know of their health carries on.
+            let (_, links) = on_line.into_parts();
             healths = links.into_iter().map(|link| link.health).collect();
-            drop(shared);
             match end {
                 End::Stopped => break,
                 End::LineFailed(why) => {
@@ -143,25 +143,23 @@ impl Worker {
     }
 
     /// Polls and writes on the open line until the service stops or the line fails.
-    fn serve(&mut self, links: &mut [Link]) -> End {
-        let mut last: Option<usize> = None;
+    fn serve(&mut self, on_line: &mut OnLine) -> End {
         loop {
             if self.stopped() {
                 return End::Stopped;
             }
-            if let Some(why) = self.writes(links, &mut last) {
+            if let Some(why) = self.writes(on_line) {
                 return End::LineFailed(why);
             }
             let now = Instant::now();
-            for index in 0..links.len() {
-                hand_on(links, last, index);
-                match links[index].poll(now, &self.reporter) {
-                    Round::Idle => {}
-                    Round::Done => last = Some(index),
+            for index in 0..on_line.stations().len() {
+                let reporter = &self.reporter;
+                match on_line.speak(index, |link| link.poll(now, reporter)) {
+                    Round::Idle | Round::Done => {}
                     Round::LineFailed(why) => return End::LineFailed(why),
                 }
                 // A write waits for one station's round at most.
-                if let Some(why) = self.writes(links, &mut last) {
+                if let Some(why) = self.writes(on_line) {
                     return End::LineFailed(why);
                 }
                 if self.stopped() {
@@ -169,7 +167,11 @@ impl Worker {
                 }
             }
             let now = Instant::now();
-            let next = links.iter().filter_map(|link| link.next_turn(now)).min();
+            let next = on_line
+                .stations()
+                .iter()
+                .filter_map(|link| link.next_turn(now))
+                .min();
             let wait = next
                 .map_or(STOP_CHECK, |at| at.saturating_duration_since(now))
                 .min(STOP_CHECK);
@@ -178,7 +180,7 @@ impl Worker {
             }
             match self.next_request(wait) {
                 Some(request) => {
-                    if let Some(why) = self.write(links, &mut last, &request) {
+                    if let Some(why) = self.write(on_line, &request) {
                         return End::LineFailed(why);
                     }
                 }
@@ -204,22 +206,21 @@ impl Worker {
     }
 
     /// Carries out the write requests waiting; the line's failure, if one failed it.
-    fn writes(&mut self, links: &mut [Link], last: &mut Option<usize>) -> Option<String> {
+    fn writes(&mut self, on_line: &mut OnLine) -> Option<String> {
         while let Ok(request) = self.requests.try_recv() {
-            if let Some(why) = self.write(links, last, &request) {
+            if let Some(why) = self.write(on_line, &request) {
                 return Some(why);
             }
         }
         None
     }
 
-    fn write(
-        &self,
-        links: &mut [Link],
-        last: &mut Option<usize>,
-        request: &WriteRequest,
-    ) -> Option<String> {
-        let Some(index) = links.iter().position(|l| l.station.name == request.drive) else {
+    fn write(&self, on_line: &mut OnLine, request: &WriteRequest) -> Option<String> {
+        let Some(index) = on_line
+            .stations()
+            .iter()
+            .position(|l| l.station.name == request.drive)
+        else {
             self.refuse(
                 request,
                 format!(
@@ -236,9 +237,8 @@ impl Worker {
             );
             return None;
         };
-        hand_on(links, *last, index);
-        let (outcome, line_failed) = super::write::write(&mut links[index], request);
-        *last = Some(index);
+        let (outcome, line_failed) =
+            on_line.speak(index, |link| super::write::write(link, request));
         if outcome.ok {
             log::info!(
                 target: super::LOG_TARGET,
@@ -311,16 +311,5 @@ impl Worker {
                 }));
             }
         }
-    }
-}
-
-/// Before station `next` uses the line: tells its master when the station used last
-/// left the line, so the frame gap is kept across stations too.
-fn hand_on(links: &mut [Link], last: Option<usize>, next: usize) {
-    let Some(last) = last.filter(|last| *last != next) else {
-        return;
-    };
-    if let Some(at) = links[last].session.line_activity() {
-        links[next].session.note_line_activity(at);
     }
 }
