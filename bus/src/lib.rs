@@ -43,6 +43,8 @@ pub mod error;
 pub mod line;
 pub mod lookup;
 pub mod setup_error;
+pub mod values;
+pub mod write_check;
 
 pub use back_off::BackOff;
 pub use bus::{Bus, OnLine};
@@ -50,3 +52,4 @@ pub use catalogue::Catalogue;
 pub use error::{Error, ErrorKind};
 pub use line::Line;
 pub use setup_error::SetupError;
+pub use write_check::{Reason, Refusal};

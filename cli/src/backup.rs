@@ -8,10 +8,11 @@ use crate::emit::{Emitter, Format};
 use crate::out::say;
 use crate::record::ValueRecord;
 use crate::trip_flag::trip_flag;
-use crate::{values, Failure};
+use crate::Failure;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use vfd_bus::values;
 use vfd_bus::{Catalogue, ErrorKind};
 use vfd_runtime::{Access, RegisterInfo, Space};
 

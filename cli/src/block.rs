@@ -6,8 +6,9 @@
 use crate::bus::{LineArgs, Session, Value};
 use crate::out::say;
 use crate::watch::{print_value, show_trip};
-use crate::{values, Failure};
+use crate::Failure;
 use std::collections::BTreeMap;
+use vfd_bus::values;
 use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::{DriveInfo, Protocol, Space};
 

@@ -6,7 +6,7 @@
 use crate::traced_line::Traced;
 use crate::Failure;
 use std::time::Duration;
-use vfd_bus::{lookup, Catalogue, Line};
+use vfd_bus::{lookup, write_check, Catalogue, Line};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::transaction::Master;
 use vfd_runtime::{
@@ -426,7 +426,7 @@ impl Session {
         persist: bool,
     ) -> Result<(Option<u32>, bool), Failure> {
         let info = self.on_port(info);
-        check_writable(info, persist)?;
+        write_check::writable(info, persist)?;
         self.check_combinations(info, raw)?;
         let kind = if persist {
             CommandKind::WritePersistent
@@ -508,41 +508,21 @@ impl Session {
     }
 
     /// Refuses a write of `raw` to `info` that would make a combination of values the
-    /// manual forbids (the description's `forbidden_combinations`): the other registers of
-    /// each combination `info` is in are read first; one that cannot be read fulfils no
-    /// condition.
+    /// manual forbids, reading the other registers of each combination first
+    /// ([`vfd_bus::write_check::combinations`]).
     fn check_combinations(&mut self, info: &'static RegisterInfo, raw: u32) -> Result<(), Failure> {
         let drive = self.drive;
-        let mut known: Vec<(&'static str, u32)> = Vec::new();
-        for combination in drive.combinations_of(info) {
-            for condition in combination.when {
-                if condition.register == info.code
-                    || known.iter().any(|(code, _)| *code == condition.register)
-                {
-                    continue;
-                }
-                let Some(other) = drive.register(condition.register) else {
-                    continue;
-                };
-                if !self.can_read(other) {
-                    continue;
-                }
-                if let Ok(Value {
-                    raw: Some(value), ..
-                }) = self.read(other)
-                {
-                    known.push((condition.register, value));
-                }
-            }
+        write_check::combinations(drive, info, raw, |other| self.read_if_readable(other))
+            .map_err(Failure::from)
+    }
+
+    /// The raw value of `info` when it can be read over this protocol and it reads; `None`
+    /// otherwise (what a write check takes as unknown).
+    pub fn read_if_readable(&mut self, info: &'static RegisterInfo) -> Option<u32> {
+        if !self.can_read(info) {
+            return None;
         }
-        drive
-            .check_combinations(info, raw, |code| {
-                known.iter().find(|(c, _)| *c == code).map(|(_, v)| *v)
-            })
-            .map_err(|error| {
-                Failure::new(error.to_string())
-                    .hint("change the other register first (most take effect after a reset), or write a value the rule allows")
-            })
+        self.read(info).ok().and_then(|value| value.raw)
     }
 
     /// Runs one block transfer with `selection` (see `vfd block`).
@@ -569,7 +549,7 @@ impl Session {
         to: vfd_runtime::Broadcast,
         reply_from: Option<u8>,
     ) -> Result<(Option<u32>, Option<u8>), Failure> {
-        check_writable(info, persist)?;
+        write_check::writable(info, persist)?;
         let kind = if persist {
             CommandKind::WritePersistent
         } else {
@@ -832,24 +812,6 @@ impl Session {
             selector.ram, selector.persistent
         ))
     }
-}
-
-/// Refuses writes the register does not allow, before anything is sent.
-pub fn check_writable(info: &RegisterInfo, persist: bool) -> Result<(), Failure> {
-    if info.access == vfd_runtime::Access::ReadOnly || info.data_type == DataType::Text {
-        return Err(Failure::new(format!("{} is read-only", info.label())).hint(format!(
-            "the manual lists it as read-only (`vfd info DRIVE {}` shows its access); read it with `vfd read`",
-            info.code
-        )));
-    }
-    if persist && info.ram_only {
-        return Err(Failure::new(format!(
-            "{} is RAM-only: it cannot be written persistently",
-            info.label()
-        ))
-        .hint("leave out --persist"));
-    }
-    Ok(())
 }
 
 /// Whether a failed block read is the drive's refusal (an error reply) or a request the

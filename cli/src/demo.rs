@@ -9,10 +9,11 @@
 use crate::bus::{Session, Value};
 use crate::out::say;
 use crate::traced_line::Traced;
-use crate::{describe, values, watch, Failure};
+use crate::{describe, watch, Failure};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+use vfd_bus::values;
 use vfd_bus::Catalogue;
 use vfd_bus::Line;
 use vfd_runtime::behaviour::{Amount, Behaviour};

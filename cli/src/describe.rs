@@ -4,8 +4,9 @@
 use crate::emit::{Emitter, Format};
 use crate::out::say;
 use crate::record::{DriveRecord, RegisterRecord};
-use crate::{values, Failure};
+use crate::Failure;
 use vfd_bus::catalogue::Found;
+use vfd_bus::values;
 use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::info::manual_number;
 use vfd_runtime::{Access, DriveInfo, RegisterInfo, TakesEffect};

@@ -6,7 +6,8 @@ use crate::emit::{Emitter, Format};
 use crate::out::say;
 use crate::paged::{page_switch, paged_text};
 use crate::record::ValueRecord;
-use crate::{values, Failure};
+use crate::Failure;
+use vfd_bus::values;
 use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::codec::FrameValues;
 use vfd_runtime::error::DecodeError;
@@ -83,7 +84,7 @@ pub fn encode(catalogue: &Catalogue, args: &EncodeArgs) -> Result<(), Failure> {
         }
         (write, Some(value)) => {
             let persist = write == Action::WritePersistent;
-            crate::bus::check_writable(register, persist)?;
+            vfd_bus::write_check::writable(register, persist)?;
             let data = match percent_of {
                 Some(percent_of) => crate::write_value::percentage(percent_of, value)?,
                 None => values::parse(register, value).map_err(Failure::new)?,

@@ -36,7 +36,6 @@ mod storage;
 mod trace;
 mod traced_line;
 mod trip_flag;
-mod values;
 mod watch;
 mod write_value;
 
@@ -404,6 +403,17 @@ impl From<String> for Failure {
 impl From<SetupError> for Failure {
     fn from(error: SetupError) -> Failure {
         let (message, hint) = error.into_parts();
+        Failure {
+            message,
+            hint,
+            error: None,
+        }
+    }
+}
+
+impl From<vfd_bus::Refusal> for Failure {
+    fn from(refusal: vfd_bus::Refusal) -> Failure {
+        let (message, hint) = refusal.into_parts();
         Failure {
             message,
             hint,

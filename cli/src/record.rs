@@ -66,7 +66,7 @@ impl ValueRecord {
         };
         let text = match (&text, raw) {
             (Some(text), _) => Some(text.clone()),
-            (None, Some(raw)) => Some(crate::values::short(info, raw)),
+            (None, Some(raw)) => Some(vfd_bus::values::short(info, raw)),
             (None, None) => None,
         };
         ValueRecord {

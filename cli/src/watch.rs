@@ -8,10 +8,11 @@ use crate::poll::{self, Poll};
 use crate::record::ValueRecord;
 use crate::trip_flag::trip_flag;
 use crate::write_value::checked_value;
-use crate::{values, Failure};
+use crate::Failure;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
+use vfd_bus::values;
 use vfd_bus::Catalogue;
 use vfd_runtime::RegisterInfo;
 
@@ -145,7 +146,7 @@ pub fn write(
         Some(port) => port.register(info),
         None => info,
     };
-    crate::bus::check_writable(info, persist)?;
+    vfd_bus::write_check::writable(info, persist)?;
     let code = command.map(command_code).transpose()?;
     let mut session = Session::open(line, catalogue)?;
     session.command = code;
@@ -216,17 +217,11 @@ pub fn broadcast_write(
 ) -> Result<(), Failure> {
     let drive = catalogue.drive(&line.drive)?;
     let info = catalogue.register_for(drive, name, true)?;
-    crate::bus::check_writable(info, persist)?;
+    vfd_bus::write_check::writable(info, persist)?;
     let to: vfd_runtime::Broadcast = stations
         .parse()
         .map_err(|e: vfd_runtime::broadcast::GroupParseError| Failure::new(e.to_string()))?;
-    let raw = values::parse(info, text).map_err(|m| {
-        Failure::new(m).hint(format!(
-            "nothing was sent; `vfd info {} {}` shows the range",
-            catalogue.name_for(drive),
-            info.code
-        ))
-    })?;
+    let raw = vfd_bus::write_check::in_range(info, text, &catalogue.name_for(drive))?;
     let mut session = Session::open(line, catalogue)?;
     let (echo, responder) = session.broadcast_write(info, raw, persist, to, reply_from)?;
     let target = crate::storage::target(info, persist);

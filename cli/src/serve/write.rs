@@ -8,8 +8,9 @@
 use super::event::{WriteOutcome, WriteRequest};
 use super::station::Link;
 use crate::write_value::checked_value;
-use crate::{values, Failure};
+use crate::Failure;
 use std::time::Instant;
+use vfd_bus::values;
 use vfd_bus::ErrorKind;
 
 /// Carries out `request` on `link` and says how it went, and, when the line itself failed
@@ -57,29 +58,14 @@ fn attempt(
         .map_err(|error| not_sent(error.into()))?;
     outcome.code = info.code.to_owned();
     outcome.unit = info.unit_symbol().to_owned();
-    let Some(index) = station
-        .writes
-        .iter()
-        .position(|allowed| same_register(allowed.register, info))
-    else {
-        let allowed: Vec<&str> = station.writes.iter().map(|a| a.register.code).collect();
-        return Err(not_sent(
-            Failure::new(format!(
-                "{} may not be written on {}/{}: the plant file does not allow it; nothing was sent",
-                info.label(),
-                link.bus,
-                station.name
-            ))
-            .hint(if allowed.is_empty() {
-                "the plant file allows no writes to this drive (its `write:` list)".to_owned()
-            } else {
-                format!("its `write:` list allows {}", allowed.join(", "))
-            }),
-        ));
-    };
+    let allow: Vec<&'static vfd_runtime::RegisterInfo> =
+        station.writes.iter().map(|a| a.register).collect();
+    let place = format!("{}/{}", link.bus, station.name);
+    let index = vfd_bus::write_check::allowed(&allow, info, &place)
+        .map_err(|refusal| not_sent(refusal.into()))?;
     let persistent = station.writes[index].persistent;
     let info = link.session.on_port(info);
-    crate::bus::check_writable(info, persistent).map_err(not_sent)?;
+    vfd_bus::write_check::writable(info, persistent).map_err(|refusal| not_sent(refusal.into()))?;
     if link.health.is_offline() {
         return Err(not_sent(
             Failure::new(format!(
@@ -110,7 +96,7 @@ fn attempt(
             if let Some(poll) = station
                 .polls
                 .iter()
-                .position(|p| same_register(p.register, info))
+                .position(|p| vfd_bus::write_check::same_register(p.register, info))
             {
                 link.schedule.due_now(poll, Instant::now());
             }
@@ -139,9 +125,4 @@ fn attempt(
             Err((failure, sent))
         }
     }
-}
-
-/// Whether two register entries are the same register (or copies of it on a port).
-fn same_register(a: &vfd_runtime::RegisterInfo, b: &vfd_runtime::RegisterInfo) -> bool {
-    a.code == b.code || (a.space == b.space && a.address == b.address)
 }
