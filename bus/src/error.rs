@@ -135,7 +135,7 @@ impl Error {
 
     /// The error of a failed exchange: its kind, its message, and for an error reply the
     /// code and the manual's meaning of it. Without a hint: the station that made the
-    /// exchange knows what to suggest ([`crate::Station`]).
+    /// exchange knows what to suggest (the tool adds its own).
     pub fn from_transaction(error: &TransactionError) -> Error {
         let (kind, code, meaning) = match &error.kind {
             TransactionErrorKind::Timeout { .. } if error.kind.garbled_reply() => {

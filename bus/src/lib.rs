@@ -14,15 +14,16 @@
 //! - A **line** ([`Line`]) is a byte pipe to the drives: a serial port, a TCP connection to
 //!   a serial device server, a Unix pseudo-terminal, or any [`vfd_runtime::transport::Transport`]
 //!   (an in-memory pair, a traced line).
-//! - A **station** ([`Station`]) is one drive on a line, made from a drive, a protocol (in
-//!   its variant), the drive's port and an address: a master with what it knows of the
-//!   drive (echo, pages, persistence selector), reading and writing registers by their
-//!   [`vfd_runtime::RegisterInfo`]. A station alone holds its line (`vfd read`).
+//! - A **station** is one drive on a line: a master ([`vfd_runtime::transaction::Master`])
+//!   made from a drive, a protocol (in its variant), the drive's port and an address,
+//!   reading and writing registers by their [`vfd_runtime::RegisterInfo`], found once when
+//!   a command or a plant is set up. A station alone holds its line (`vfd read`); on a bus
+//!   it holds [`Line::Away`] until its turn ([`OnLine`]).
 //! - A **bus** ([`Bus`]) owns one line and the stations on it, and keeps the line's timing
-//!   itself: it lends the line to the station that speaks next, handing on when the line was
-//!   last busy and which station spoke last, so the frame gap is kept across stations and
-//!   no caller copies timing between masters.
-//! - **One write check** ([`write_check`]) says whether a write may be sent: the register's
+//!   itself: it lends the line to the station that speaks next, telling its master when the
+//!   line was last busy, and notes which station spoke last, so the frame gap is kept
+//!   across stations and no caller copies timing between masters.
+//! - **One write check** ([`mod@write_check`]) says whether a write may be sent: the register's
 //!   access and storage (RAM or EEPROM), the port, the value's range and the bounds other
 //!   registers set (read from the drive), the manual's forbidden combinations, and a plant's
 //!   allow-list. It refuses with a typed [`Refusal`], before anything is sent.

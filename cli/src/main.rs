@@ -6,43 +6,31 @@
 //! Everything about a drive comes from its `DriveInfo` (generated from the YAML): no drive or
 //! protocol is named here. Errors are one line for people, a hint, and a non-zero exit.
 
-mod backup;
-mod block;
-mod bus;
-#[cfg(all(unix, feature = "pty"))]
-mod demo;
-#[cfg(all(unix, feature = "pty"))]
-mod demo_plant;
-mod describe;
+mod commands;
 mod emit;
+mod failure;
 mod frame_text;
-mod frames;
-mod generate;
 mod out;
 mod paged;
-mod plant;
-mod poll;
-mod ports;
 mod record;
-mod serve;
-mod serve_args;
+mod service;
+mod session;
 mod sim;
-mod sim_control;
-mod sim_log;
-#[cfg(all(unix, feature = "pty"))]
-mod sim_plant;
-mod sim_station;
 mod storage;
 mod trace;
 mod traced_line;
 mod trip_flag;
-mod watch;
-mod write_value;
+
+use commands::{backup, block, describe, frames, generate, ports, watch};
+pub use failure::Failure;
+use service::{plant, serve, serve_args};
+#[cfg(all(unix, feature = "pty"))]
+use sim::{demo, demo_plant};
 
 use clap::{CommandFactory, Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
-use vfd_bus::{Catalogue, SetupError};
+use vfd_bus::Catalogue;
 use vfd_runtime::meaning::Direction;
 
 /// The environment variable holding more folders of drive files, separated as `PATH` is.
@@ -110,7 +98,7 @@ enum Command {
     )]
     Read {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: session::LineArgs,
         /// Read with this command instead of the protocol's default, where the protocol
         /// has several (a letter such as G for the Toshiba binary G read, or a number such
         /// as 0x03); the drive page lists them.
@@ -129,7 +117,7 @@ enum Command {
     )]
     Write {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: session::LineArgs,
         /// Write RAM and EEPROM (EEPROM wears out; the default writes RAM only).
         #[arg(long)]
         persist: bool,
@@ -165,7 +153,7 @@ Examples:
     )]
     Block {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: session::LineArgs,
         /// A value to write, in its target register's units (repeat, in word order).
         #[arg(long = "write", value_name = "VALUE", allow_hyphen_values = true)]
         writes: Vec<String>,
@@ -188,7 +176,7 @@ Examples:
     /// succeeded.
     Watch {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: session::LineArgs,
         /// Time between polls, in milliseconds.
         #[arg(long, default_value_t = 500, value_name = "MS")]
         interval: u64,
@@ -206,7 +194,7 @@ Examples:
     /// Save every readable parameter to a YAML (or .json) file, values in units.
     Backup {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: session::LineArgs,
         /// File to write (.yaml, .yml or .json).
         #[arg(long, value_name = "FILE")]
         to: PathBuf,
@@ -219,7 +207,7 @@ Examples:
     /// again after an interruption finishes the job.
     Restore {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: session::LineArgs,
         /// Backup file made by `vfd backup`.
         #[arg(long, value_name = "FILE")]
         from: PathBuf,
@@ -360,76 +348,12 @@ Examples:
     },
 }
 
-/// A failure for people: one line, and a hint when one helps.
-#[derive(Debug, Clone)]
-pub struct Failure {
-    message: String,
-    hint: Option<String>,
-    /// How the read or write failed, when one did (for `watch`).
-    pub error: Option<vfd_bus::Error>,
-}
-
-impl Failure {
-    /// A failure with this message.
-    pub fn new(message: impl Into<String>) -> Failure {
-        Failure {
-            message: message.into(),
-            hint: None,
-            error: None,
-        }
-    }
-
-    /// With a hint on what to do.
-    pub fn hint(mut self, hint: impl Into<String>) -> Failure {
-        self.hint = Some(hint.into());
-        self
-    }
-}
-
 /// What `vfd sim` and `vfd demo` say where this `vfd` was built without pseudo-terminals.
 #[cfg(not(all(unix, feature = "pty")))]
 pub fn needs_pty(command: &str, instead: &str) -> Failure {
     Failure::new(format!(
         "`{command}` needs a Unix pseudo-terminal, and this vfd was built without them (feature `pty`){instead}"
     ))
-}
-
-impl From<String> for Failure {
-    fn from(message: String) -> Failure {
-        Failure::new(message)
-    }
-}
-
-impl From<SetupError> for Failure {
-    fn from(error: SetupError) -> Failure {
-        let (message, hint) = error.into_parts();
-        Failure {
-            message,
-            hint,
-            error: None,
-        }
-    }
-}
-
-impl From<vfd_bus::Refusal> for Failure {
-    fn from(refusal: vfd_bus::Refusal) -> Failure {
-        let (message, hint) = refusal.into_parts();
-        Failure {
-            message,
-            hint,
-            error: None,
-        }
-    }
-}
-
-impl From<vfd_bus::Error> for Failure {
-    fn from(error: vfd_bus::Error) -> Failure {
-        Failure {
-            message: error.message().to_owned(),
-            hint: error.hint().map(str::to_owned),
-            error: Some(error),
-        }
-    }
 }
 
 /// The catalogue of drives the command line gives: the compiled-in drives, the folders of

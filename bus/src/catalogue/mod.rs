@@ -1,6 +1,6 @@
 //! The drives a program knows, as a value: the ones compiled in, drive files in some
 //! folders (the search path), and any drive file named by its path. A file is compiled when
-//! it is first asked for ([`files`]), its protocol files found as the generator finds them
+//! it is first asked for (`catalogue/files.rs`), its protocol files found as the generator finds them
 //! (a protocols folder when one is given, else `protocols/` next to it, then the protocol
 //! files shipped with the drives compiled in), with exactly the diagnostics of `vfd check`:
 //! a file with a problem on the wire (framing, checksums, registers, codes, the frames and
