@@ -10,18 +10,21 @@ mod commands;
 mod emit;
 mod failure;
 mod frame_text;
+mod line_args;
 mod out;
 mod paged;
 mod record;
 mod service;
 mod session;
 mod sim;
+mod stop_flag;
 mod storage;
 mod trace;
 mod traced_line;
 mod trip_flag;
+mod write_value;
 
-use commands::{backup, block, describe, frames, generate, ports, watch};
+use commands::{backup, block, decode, describe, encode, generate, ports, watch};
 pub use failure::Failure;
 use service::{plant, serve, serve_args};
 #[cfg(all(unix, feature = "pty"))]
@@ -98,7 +101,7 @@ enum Command {
     )]
     Read {
         #[command(flatten)]
-        line: session::LineArgs,
+        line: line_args::LineArgs,
         /// Read with this command instead of the protocol's default, where the protocol
         /// has several (a letter such as G for the Toshiba binary G read, or a number such
         /// as 0x03); the drive page lists them.
@@ -117,7 +120,7 @@ enum Command {
     )]
     Write {
         #[command(flatten)]
-        line: session::LineArgs,
+        line: line_args::LineArgs,
         /// Write RAM and EEPROM (EEPROM wears out; the default writes RAM only).
         #[arg(long)]
         persist: bool,
@@ -153,7 +156,7 @@ Examples:
     )]
     Block {
         #[command(flatten)]
-        line: session::LineArgs,
+        line: line_args::LineArgs,
         /// A value to write, in its target register's units (repeat, in word order).
         #[arg(long = "write", value_name = "VALUE", allow_hyphen_values = true)]
         writes: Vec<String>,
@@ -176,7 +179,7 @@ Examples:
     /// succeeded.
     Watch {
         #[command(flatten)]
-        line: session::LineArgs,
+        line: line_args::LineArgs,
         /// Time between polls, in milliseconds.
         #[arg(long, default_value_t = 500, value_name = "MS")]
         interval: u64,
@@ -194,7 +197,7 @@ Examples:
     /// Save every readable parameter to a YAML (or .json) file, values in units.
     Backup {
         #[command(flatten)]
-        line: session::LineArgs,
+        line: line_args::LineArgs,
         /// File to write (.yaml, .yml or .json).
         #[arg(long, value_name = "FILE")]
         to: PathBuf,
@@ -207,7 +210,7 @@ Examples:
     /// again after an interruption finishes the job.
     Restore {
         #[command(flatten)]
-        line: session::LineArgs,
+        line: line_args::LineArgs,
         /// Backup file made by `vfd backup`.
         #[arg(long, value_name = "FILE")]
         from: PathBuf,
@@ -294,7 +297,7 @@ Examples:
         protocol: String,
         /// What to do.
         #[arg(value_enum)]
-        action: frames::Action,
+        action: encode::Action,
         /// Register (code, address, id or name).
         register: String,
         /// Value, for writes.
@@ -513,9 +516,9 @@ fn run(command: Command, catalogue: &Catalogue) -> Result<(), Failure> {
             } else {
                 None
             };
-            frames::decode(
+            decode::decode(
                 catalogue,
-                &frames::DecodeArgs {
+                &decode::DecodeArgs {
                     drive,
                     protocol,
                     direction,
@@ -532,9 +535,9 @@ fn run(command: Command, catalogue: &Catalogue) -> Result<(), Failure> {
             value,
             address,
             command,
-        } => frames::encode(
+        } => encode::encode(
             catalogue,
-            &frames::EncodeArgs {
+            &encode::EncodeArgs {
                 drive: &drive,
                 protocol: &protocol,
                 action,

@@ -4,9 +4,10 @@
 //! `--persist`.
 
 use crate::emit::{Emitter, Format};
+use crate::line_args::LineArgs;
 use crate::out::say;
 use crate::record::ValueRecord;
-use crate::session::{LineArgs, Session, Value};
+use crate::session::{Session, Value};
 use crate::trip_flag::trip_flag;
 use crate::Failure;
 use indicatif::{ProgressBar, ProgressStyle};

@@ -4,8 +4,9 @@
 //! or taken from the description's defaults, with `--set` overriding single selectors.
 
 use crate::commands::watch::{print_value, show_trip};
+use crate::line_args::LineArgs;
 use crate::out::say;
-use crate::session::{LineArgs, Session, Value};
+use crate::session::{Session, Value};
 use crate::Failure;
 use std::collections::BTreeMap;
 use vfd_bus::values;

@@ -6,10 +6,10 @@
 
 pub mod backup;
 pub mod block;
+pub mod decode;
 pub mod describe;
-pub mod frames;
+pub mod encode;
 pub mod generate;
 pub mod poll;
 pub mod ports;
 pub mod watch;
-pub mod write_value;

@@ -5,9 +5,10 @@
 //! succeeded.
 
 use crate::emit::{Emitter, Format};
+use crate::line_args::LineArgs;
 use crate::out::{is_terminal, print_raw, say};
 use crate::record::ValueRecord;
-use crate::session::{LineArgs, Session, Value};
+use crate::session::{Session, Value};
 use crate::trip_flag::trip_flag;
 use crate::Failure;
 use std::sync::atomic::{AtomicBool, Ordering};

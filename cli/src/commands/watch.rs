@@ -2,15 +2,15 @@
 //! bit-field words field by field, code tables with their meaning, and the drive's trip.
 
 use crate::commands::poll::{self, Poll};
-use crate::commands::write_value::checked_value;
 use crate::emit::{Emitter, Format};
+use crate::line_args::LineArgs;
 use crate::out::say;
 use crate::record::ValueRecord;
-use crate::session::{LineArgs, Session, Value};
+use crate::session::{Session, Value};
 use crate::trip_flag::trip_flag;
+use crate::write_value::checked_value;
 use crate::Failure;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 use vfd_bus::values;
 use vfd_bus::Catalogue;
@@ -250,15 +250,6 @@ pub fn broadcast_write(
     Ok(())
 }
 
-/// A Ctrl-C (or SIGTERM) flag, set once per process.
-pub fn stop_flag() -> Result<Arc<AtomicBool>, Failure> {
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = stop.clone();
-    ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst))
-        .map_err(|e| Failure::new(format!("cannot catch Ctrl-C: {e}")))?;
-    Ok(stop)
-}
-
 /// Polls the registers and shows them until Ctrl-C (or `count` samples), in `format`;
 /// reopens the port after an I/O error (see [`crate::commands::poll`]).
 pub fn watch(
@@ -282,7 +273,7 @@ pub fn watch(
             }
         })
         .collect::<Vec<_>>();
-    let stop = stop_flag()?;
+    let stop = crate::stop_flag::stop_flag()?;
     poll::run(
         &mut session,
         &Poll {

@@ -43,7 +43,7 @@ pub fn run(
     };
     introduce(&virtual_plant, mqtt);
     serve::logger::start(false);
-    let stop = crate::commands::watch::stop_flag()?;
+    let stop = crate::stop_flag::stop_flag()?;
     if let Some(seconds) = seconds {
         let stop = Arc::clone(&stop);
         std::thread::spawn(move || {

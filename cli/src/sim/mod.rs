@@ -20,8 +20,8 @@ pub mod log;
 pub mod plant;
 pub mod station;
 
+use crate::line_args::ParityArg;
 use crate::out::say;
-use crate::session::ParityArg;
 use crate::sim::log::Logged;
 use crate::Failure;
 use station::SimStation;
@@ -154,10 +154,10 @@ pub fn run(catalogue: &Catalogue, args: &SimArgs) -> Result<(), Failure> {
     let first = stations
         .first()
         .ok_or_else(|| Failure::new("vfd sim: no station to serve"))?;
-    let settings = crate::session::line_settings(
+    let settings = crate::line_args::line_settings(
         first.drive,
         &first.bus.protocol.id,
-        crate::session::LineFormat {
+        crate::line_args::LineFormat {
             baud: args.baud,
             parity: args.parity,
             data_bits: args.data_bits,
@@ -167,7 +167,7 @@ pub fn run(catalogue: &Catalogue, args: &SimArgs) -> Result<(), Failure> {
     if banner_one.is_none() {
         station::check_line(&stations, &settings)?;
     }
-    let stop = crate::commands::watch::stop_flag()?;
+    let stop = crate::stop_flag::stop_flag()?;
     let banner = |place: &str| match &banner_one {
         Some(banner) => eprintln!(
             "vfd sim: virtual {banner} on {place}, {} baud {}; Ctrl-C stops",

@@ -173,7 +173,8 @@ pub fn start(catalogue: &vfd_bus::Catalogue) -> Result<VirtualPlant, Failure> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::session::{LineArgs, Session};
+    use crate::line_args::LineArgs;
+    use crate::session::Session;
 
     fn line_args(drive: &str, protocol: &str, port: &str, address: u8) -> LineArgs {
         LineArgs {
@@ -181,7 +182,7 @@ mod tests {
             protocol: Some(protocol.into()),
             port: port.into(),
             baud: Some(9600),
-            parity: Some(crate::session::ParityArg::Even),
+            parity: Some(crate::line_args::ParityArg::Even),
             data_bits: None,
             stop_bits: None,
             address: Some(address),

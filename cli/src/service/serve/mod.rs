@@ -140,7 +140,7 @@ pub fn run(catalogue: &vfd_bus::Catalogue, args: &ServeArgs) -> Result<(), Failu
         .hint("e.g. vfd serve PLANT --mqtt mqtt://127.0.0.1:1883"));
     }
     logger::start(args.verbose);
-    let stop = crate::commands::watch::stop_flag()?;
+    let stop = crate::stop_flag::stop_flag()?;
     let parts = RouterParts::new(&plant);
     let outputs = outputs(args, &plant, &parts)?;
     log::info!(

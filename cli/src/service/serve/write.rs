@@ -7,7 +7,7 @@
 
 use super::event::{WriteOutcome, WriteRequest};
 use super::station::Link;
-use crate::commands::write_value::checked_value;
+use crate::write_value::checked_value;
 use crate::Failure;
 use std::time::Instant;
 use vfd_bus::values;
