@@ -4,7 +4,7 @@
 //! read per register, counting requests and bytes and the wire time they take.
 //!
 //! The selection of registers and their grouping into blocks follow `vfd backup`
-//! (`cli/src/backup.rs`; both group blocks with `vfd_runtime::read_runs`): readable parameters that
+//! (`cli/src/commands/backup.rs`; both group blocks with `vfd_runtime::read_runs`): readable parameters that
 //! are neither write-only, RAM-only nor arrays; runs of consecutive wire addresses of word
 //! and double-word parameters, at most the protocol's `max_words_per_read` words each, read
 //! with [`Master::read_words`]; a run the drive refuses is read register by register.

@@ -6,47 +6,38 @@
 //! Everything about a drive comes from its `DriveInfo` (generated from the YAML): no drive or
 //! protocol is named here. Errors are one line for people, a hint, and a non-zero exit.
 
-mod backup;
-mod block;
-mod bus;
-mod catalogue;
-#[cfg(all(unix, feature = "pty"))]
-mod demo;
-#[cfg(all(unix, feature = "pty"))]
-mod demo_plant;
-mod describe;
+mod commands;
 mod emit;
+mod failure;
 mod frame_text;
-mod frames;
-mod generate;
-mod line;
-mod lookup;
+mod line_args;
 mod out;
 mod paged;
-mod plant;
-mod poll;
-mod ports;
-mod read_error;
 mod record;
-mod serve;
-mod serve_args;
+mod service;
+mod session;
 mod sim;
-mod sim_control;
-mod sim_log;
-#[cfg(all(unix, feature = "pty"))]
-mod sim_plant;
-mod sim_station;
+mod stop_flag;
 mod storage;
 mod trace;
+mod traced_line;
 mod trip_flag;
-mod values;
-mod watch;
 mod write_value;
+
+use commands::{backup, block, decode, describe, encode, generate, ports, watch};
+pub use failure::Failure;
+use service::{plant, serve, serve_args};
+#[cfg(all(unix, feature = "pty"))]
+use sim::{demo, demo_plant};
 
 use clap::{CommandFactory, Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
+use vfd_bus::Catalogue;
 use vfd_runtime::meaning::Direction;
+
+/// The environment variable holding more folders of drive files, separated as `PATH` is.
+pub const DRIVES_VARIABLE: &str = "VFD_DRIVES";
 
 /// Tools for RS-485 frequency inverters described in drives/*.yaml: read, write and watch
 /// registers by name with units, decode frames, back up and restore parameters, run the
@@ -110,7 +101,7 @@ enum Command {
     )]
     Read {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: line_args::LineArgs,
         /// Read with this command instead of the protocol's default, where the protocol
         /// has several (a letter such as G for the Toshiba binary G read, or a number such
         /// as 0x03); the drive page lists them.
@@ -129,7 +120,7 @@ enum Command {
     )]
     Write {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: line_args::LineArgs,
         /// Write RAM and EEPROM (EEPROM wears out; the default writes RAM only).
         #[arg(long)]
         persist: bool,
@@ -165,7 +156,7 @@ Examples:
     )]
     Block {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: line_args::LineArgs,
         /// A value to write, in its target register's units (repeat, in word order).
         #[arg(long = "write", value_name = "VALUE", allow_hyphen_values = true)]
         writes: Vec<String>,
@@ -188,7 +179,7 @@ Examples:
     /// succeeded.
     Watch {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: line_args::LineArgs,
         /// Time between polls, in milliseconds.
         #[arg(long, default_value_t = 500, value_name = "MS")]
         interval: u64,
@@ -206,7 +197,7 @@ Examples:
     /// Save every readable parameter to a YAML (or .json) file, values in units.
     Backup {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: line_args::LineArgs,
         /// File to write (.yaml, .yml or .json).
         #[arg(long, value_name = "FILE")]
         to: PathBuf,
@@ -219,7 +210,7 @@ Examples:
     /// again after an interruption finishes the job.
     Restore {
         #[command(flatten)]
-        line: bus::LineArgs,
+        line: line_args::LineArgs,
         /// Backup file made by `vfd backup`.
         #[arg(long, value_name = "FILE")]
         from: PathBuf,
@@ -306,7 +297,7 @@ Examples:
         protocol: String,
         /// What to do.
         #[arg(value_enum)]
-        action: frames::Action,
+        action: encode::Action,
         /// Register (code, address, id or name).
         register: String,
         /// Value, for writes.
@@ -360,32 +351,6 @@ Examples:
     },
 }
 
-/// A failure for people: one line, and a hint when one helps.
-#[derive(Debug, Clone)]
-pub struct Failure {
-    message: String,
-    hint: Option<String>,
-    /// What went wrong on the line, when a read or write failed there (for `watch`).
-    pub read_error: Option<record::ReadError>,
-}
-
-impl Failure {
-    /// A failure with this message.
-    pub fn new(message: impl Into<String>) -> Failure {
-        Failure {
-            message: message.into(),
-            hint: None,
-            read_error: None,
-        }
-    }
-
-    /// With a hint on what to do.
-    pub fn hint(mut self, hint: impl Into<String>) -> Failure {
-        self.hint = Some(hint.into());
-        self
-    }
-}
-
 /// What `vfd sim` and `vfd demo` say where this `vfd` was built without pseudo-terminals.
 #[cfg(not(all(unix, feature = "pty")))]
 pub fn needs_pty(command: &str, instead: &str) -> Failure {
@@ -394,16 +359,26 @@ pub fn needs_pty(command: &str, instead: &str) -> Failure {
     ))
 }
 
-impl From<String> for Failure {
-    fn from(message: String) -> Failure {
-        Failure::new(message)
+/// The catalogue of drives the command line gives: the compiled-in drives, the folders of
+/// `--drives` and then of `VFD_DRIVES`, the protocols folder of `--protocols`; a drive file
+/// used without some of its parts is said on standard error.
+fn catalogue(mut drives: Vec<PathBuf>, protocols: Option<PathBuf>) -> Catalogue {
+    if let Some(more) = std::env::var_os(DRIVES_VARIABLE) {
+        drives.extend(std::env::split_paths(&more).filter(|p| !p.as_os_str().is_empty()));
     }
+    Catalogue::new()
+        .with_folders(drives)
+        .with_protocols(protocols)
+        .on_warning(|text| {
+            use std::io::Write as _;
+            let _ = writeln!(std::io::stderr(), "vfd: warning: {text}");
+        })
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    catalogue::set_places(cli.drives, cli.protocols);
-    match run(cli.command) {
+    let catalogue = catalogue(cli.drives, cli.protocols);
+    match run(cli.command, &catalogue) {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
             // Not `eprintln!`, which panics when standard error is a closed pipe
@@ -419,9 +394,9 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(command: Command) -> Result<(), Failure> {
+fn run(command: Command, catalogue: &Catalogue) -> Result<(), Failure> {
     match command {
-        Command::List { format } => describe::list(format),
+        Command::List { format } => describe::list(catalogue, format),
         Command::Info {
             drive,
             drive_option,
@@ -431,16 +406,21 @@ fn run(command: Command) -> Result<(), Failure> {
             // `--drive D R1 R2`: the first word is a register, not the drive.
             Some(named) => {
                 let registers: Vec<String> = drive.into_iter().chain(registers).collect();
-                describe::info(&named, &registers, format)
+                describe::info(catalogue, &named, &registers, format)
             }
-            None => describe::info(drive.as_deref().unwrap_or_default(), &registers, format),
+            None => describe::info(
+                catalogue,
+                drive.as_deref().unwrap_or_default(),
+                &registers,
+                format,
+            ),
         },
         Command::Read {
             line,
             command,
             format,
             registers,
-        } => watch::read(&line, command.as_deref(), &registers, format),
+        } => watch::read(catalogue, &line, command.as_deref(), &registers, format),
         Command::Write {
             line,
             persist,
@@ -450,10 +430,17 @@ fn run(command: Command) -> Result<(), Failure> {
             register,
             value,
         } => match broadcast {
-            Some(stations) => {
-                watch::broadcast_write(&line, &register, &value, persist, &stations, reply_from)
-            }
-            None => watch::write(&line, command.as_deref(), &register, &value, persist),
+            Some(stations) => watch::broadcast_write(
+                catalogue, &line, &register, &value, persist, &stations, reply_from,
+            ),
+            None => watch::write(
+                catalogue,
+                &line,
+                command.as_deref(),
+                &register,
+                &value,
+                persist,
+            ),
         },
         Command::Block {
             line,
@@ -461,39 +448,44 @@ fn run(command: Command) -> Result<(), Failure> {
             reads,
             defaults,
             sets,
-        } => block::block(&block::BlockArgs {
-            line: &line,
-            writes: &writes,
-            reads,
-            defaults,
-            sets: &sets,
-        }),
+        } => block::block(
+            catalogue,
+            &block::BlockArgs {
+                line: &line,
+                writes: &writes,
+                reads,
+                defaults,
+                sets: &sets,
+            },
+        ),
         Command::Watch {
             line,
             interval,
             count,
             format,
             registers,
-        } => watch::watch(&line, &registers, interval, count, format),
-        Command::Backup { line, to, format } => backup::backup(&line, &to, format),
+        } => watch::watch(catalogue, &line, &registers, interval, count, format),
+        Command::Backup { line, to, format } => backup::backup(catalogue, &line, &to, format),
         Command::Restore {
             line,
             from,
             dry_run,
             persist,
             stop_first,
-        } => backup::restore(&line, &from, dry_run, persist, stop_first),
+        } => backup::restore(catalogue, &line, &from, dry_run, persist, stop_first),
         Command::Ports { format } => ports::run(format),
-        Command::Sim(args) => sim::run(&args),
+        Command::Sim(args) => sim::run(catalogue, &args),
         #[cfg(all(unix, feature = "pty"))]
         Command::Demo {
             plant: true,
             seconds,
             mqtt,
             ..
-        } => demo_plant::run(mqtt.as_deref(), seconds),
+        } => demo_plant::run(catalogue, mqtt.as_deref(), seconds),
         #[cfg(all(unix, feature = "pty"))]
-        Command::Demo { drive, seconds, .. } => demo::run(drive.as_deref(), seconds.unwrap_or(4)),
+        Command::Demo { drive, seconds, .. } => {
+            demo::run(catalogue, drive.as_deref(), seconds.unwrap_or(4))
+        }
         #[cfg(not(all(unix, feature = "pty")))]
         Command::Demo { .. } => Err(needs_pty("demo", "")),
         Command::Decode {
@@ -524,13 +516,16 @@ fn run(command: Command) -> Result<(), Failure> {
             } else {
                 None
             };
-            frames::decode(&frames::DecodeArgs {
-                drive,
-                protocol,
-                direction,
-                format,
-                frame,
-            })
+            decode::decode(
+                catalogue,
+                &decode::DecodeArgs {
+                    drive,
+                    protocol,
+                    direction,
+                    format,
+                    frame,
+                },
+            )
         }
         Command::Encode {
             drive,
@@ -540,17 +535,20 @@ fn run(command: Command) -> Result<(), Failure> {
             value,
             address,
             command,
-        } => frames::encode(
-            &drive,
-            &protocol,
-            action,
-            &register,
-            value.as_deref(),
-            address,
-            command.as_deref(),
+        } => encode::encode(
+            catalogue,
+            &encode::EncodeArgs {
+                drive: &drive,
+                protocol: &protocol,
+                action,
+                register: &register,
+                value: value.as_deref(),
+                address,
+                command: command.as_deref(),
+            },
         ),
         Command::Registers { drive } => {
-            generate::registers(lookup::drive(&drive)?).map_err(Failure::from)
+            generate::registers(catalogue.drive(&drive)?).map_err(Failure::from)
         }
         Command::Generate {
             check,
@@ -565,9 +563,9 @@ fn run(command: Command) -> Result<(), Failure> {
         Command::Check {
             deny_warnings,
             files,
-        } => generate::check(&files, deny_warnings).map_err(Failure::from),
-        Command::Serve(args) if args.check => plant::check::run(&args.plant),
-        Command::Serve(args) => serve::run(&args),
+        } => generate::check(catalogue, &files, deny_warnings).map_err(Failure::from),
+        Command::Serve(args) if args.check => plant::check::run(catalogue, &args.plant),
+        Command::Serve(args) => serve::run(catalogue, &args),
         Command::Completions { shell } => {
             let mut script = Vec::new();
             clap_complete::generate(shell, &mut Cli::command(), "vfd", &mut script);

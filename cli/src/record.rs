@@ -66,7 +66,7 @@ impl ValueRecord {
         };
         let text = match (&text, raw) {
             (Some(text), _) => Some(text.clone()),
-            (None, Some(raw)) => Some(crate::values::short(info, raw)),
+            (None, Some(raw)) => Some(vfd_bus::values::short(info, raw)),
             (None, None) => None,
         };
         ValueRecord {
@@ -99,11 +99,11 @@ impl ValueRecord {
     }
 
     /// Marked stale by `error`.
-    pub fn failed(mut self, error: &ReadError) -> ValueRecord {
+    pub fn failed(mut self, error: &vfd_bus::Error) -> ValueRecord {
         self.stale = true;
-        self.error_kind = Some(error.kind.to_owned());
-        self.error_code = error.code;
-        self.error_meaning = Some(error.meaning.clone());
+        self.error_kind = Some(error.kind().name().to_owned());
+        self.error_code = error.code();
+        self.error_meaning = Some(error.meaning().to_owned());
         self
     }
 }
@@ -113,24 +113,6 @@ fn number(info: &RegisterInfo, raw: u32) -> f64 {
     let value = raw_to_scaled(raw, info);
     let factor = 10f64.powi(i32::from(info.decimals()));
     (value * factor).round() / factor
-}
-
-/// Why a read failed, in the fields of [`ValueRecord`].
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct ReadError {
-    /// `timeout`, `bad_reply`, `error_reply`, `mismatch`, `io` or `other`.
-    pub kind: &'static str,
-    /// The error reply's code.
-    pub code: Option<u16>,
-    /// The manual's meaning of the code, or the message.
-    pub meaning: String,
-}
-
-impl ReadError {
-    /// The port itself failed (an unplugged adapter): reopen it.
-    pub fn is_io(&self) -> bool {
-        self.kind == "io"
-    }
 }
 
 /// One register of a drive's description (`info`).

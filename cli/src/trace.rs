@@ -3,7 +3,7 @@
 //! reports about the line at debug level (retries, resyncs, dropped input, the echo
 //! learned, page switches), through a small `log` implementation.
 //!
-//! The frames come from the traced line ([`crate::line::Traced`]), which holds the bytes
+//! The frames come from the traced line ([`crate::traced_line::Traced`]), which holds the bytes
 //! and decodes them with the same code as `vfd decode`; the runtime's trace-level frame
 //! records (text, in hex) are not printed a second time.
 

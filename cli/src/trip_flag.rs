@@ -3,7 +3,7 @@
 //! command letter), else a status word among the registers read and its trip bits. `None`
 //! when neither was read: no second read is made for it.
 
-use crate::bus::{Session, Value};
+use crate::session::{Session, Value};
 use vfd_runtime::RegisterInfo;
 
 /// The trip flag of `values`, the reads of `registers` (failed reads count for nothing).

@@ -2,12 +2,13 @@
 //! and for `vfd serve`'s `set` requests: a percentage of another register where the named
 //! command carries one, else the value in the register's unit (in the scale another
 //! register chooses now, where one does), within the register's range and the bounds other
-//! registers set at run time. (Writability, the plant's allow-list and the manual's
-//! forbidden combinations are checked by the callers and by [`Session::write`].)
+//! registers set at run time, by the library's one write check ([`vfd_bus::write_check`];
+//! writability and the plant's allow-list are asked by the callers, the manual's forbidden
+//! combinations by [`Session::write`]).
 
-use crate::bus::{Session, Value};
-use crate::{values, Failure};
-use vfd_runtime::units::raw_to_scaled;
+use crate::session::Session;
+use crate::Failure;
+use vfd_bus::write_check;
 use vfd_runtime::RegisterInfo;
 
 /// The register (in the scale it is written in) and the raw word `text` writes to `info`
@@ -18,16 +19,8 @@ pub fn checked_value(
     info: &'static RegisterInfo,
     text: &str,
 ) -> Result<(&'static RegisterInfo, u32), Failure> {
-    let drive = session.drive;
-    let parse = |info: &'static RegisterInfo| {
-        values::parse(info, text).map_err(|m| {
-            Failure::new(m).hint(format!(
-                "nothing was sent; `vfd info {} {}` shows the range",
-                crate::catalogue::name_for(drive),
-                info.code
-            ))
-        })
-    };
+    let drive_name = session.drive_name.clone();
+    let parse = |info: &'static RegisterInfo| write_check::in_range(info, text, &drive_name);
     let percent_of = session.named_command().and_then(|c| c.percent_of.clone());
     // The data is a percentage of another register (50%), or a value in the register's
     // scale; a register whose scale another register chooses is read in the scale it
@@ -66,45 +59,14 @@ pub fn percentage(
 }
 
 /// Refuses a value beyond a bound another register sets at run time (FH for the frequency
-/// command), reading that register first. Nothing is written when it refuses.
+/// command), reading that register first ([`write_check::within_bounds`]). Nothing is
+/// written when it refuses.
 fn check_run_time_bounds(
     session: &mut Session,
     info: &'static RegisterInfo,
     raw: u32,
 ) -> Result<(), Failure> {
-    let value = raw_to_scaled(raw, info);
-    for (bound, above) in [(info.min_bound, false), (info.max_bound, true)] {
-        let Some(code) = bound else { continue };
-        let Some(other) = session.drive.register(code) else {
-            continue;
-        };
-        if !session.can_read(other) {
-            continue;
-        }
-        let Ok(Value {
-            raw: Some(limit_raw),
-            ..
-        }) = session.read(other)
-        else {
-            continue;
-        };
-        let limit = raw_to_scaled(limit_raw, other);
-        let beyond = if above { value > limit } else { value < limit };
-        if beyond {
-            return Err(Failure::new(format!(
-                "{}: {} is {} {} ({}) = {} now; nothing was written",
-                info.label(),
-                values::scaled(info, raw),
-                if above { "above" } else { "below" },
-                other.code,
-                other.name,
-                values::scaled(other, limit_raw)
-            ))
-            .hint(format!(
-                "the range is {}",
-                values::range_text(session.drive, info)
-            )));
-        }
-    }
-    Ok(())
+    let drive = session.drive;
+    write_check::within_bounds(drive, info, raw, |other| session.read_if_readable(other))
+        .map_err(Failure::from)
 }

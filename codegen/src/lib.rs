@@ -133,6 +133,7 @@ pub fn compile_with(path: &Path, protocols_dir: Option<&Path>, shipped: Shipped)
             }),
             warnings: Diagnostics::default(),
             usable: None,
+            runtime: None,
         },
     }
 }
@@ -160,6 +161,20 @@ pub struct Compiled {
     /// without those parts: what a tool at a bus may use after reporting the problems.
     /// `None` when the drive compiled, or a problem concerns the wire.
     pub usable: Option<DriveIr>,
+    /// The run-time values ([`drive_info`]) of the IR in `drive` or `usable`, where the
+    /// rehearsal of the examples built them: a tool that runs the drive takes these rather
+    /// than building (and leaking) them a second time. `None` when nothing built them.
+    pub runtime: Option<&'static vfd_runtime::DriveInfo>,
+}
+
+impl Compiled {
+    /// The run-time values of the drive a tool may use (`drive`, else `usable`): the ones
+    /// the rehearsal built, else built now (and leaked, as [`drive_info`] says: call it once
+    /// per file and keep the result). `None` when the file cannot be used.
+    pub fn drive_info(&self) -> Option<&'static vfd_runtime::DriveInfo> {
+        let ir = self.drive.as_ref().ok().or(self.usable.as_ref())?;
+        Some(self.runtime.unwrap_or_else(|| drive_info(ir)))
+    }
 }
 
 /// The pipeline, stage by stage: parse and load, lower protocols, decode examples,
@@ -177,6 +192,7 @@ fn compile_source(
             drive: Err(diagnostics),
             warnings: Diagnostics::default(),
             usable: None,
+            runtime: None,
         };
     };
     let read_problems = diagnostics.items.len();
@@ -207,16 +223,26 @@ fn compile_source(
             usable: off_the_wire::usable(&context, &diagnostics),
             drive: Err(diagnostics),
             warnings,
+            runtime: None,
         };
     }
     let ir = ir::lower(&context);
-    rehearse::examples(&context.source, &context.model, &ir, &mut diagnostics);
+    let mut runtime = None;
+    rehearse::examples(
+        &context.source,
+        &context.model,
+        &ir,
+        &mut runtime,
+        &mut diagnostics,
+    );
     attach(&mut diagnostics);
     warnings.items.extend(diagnostics.take_warnings().items);
     attach(&mut warnings);
     if !diagnostics.is_empty() {
+        let usable = off_the_wire::none_concern_the_wire(&context, &diagnostics).then_some(ir);
         return Compiled {
-            usable: off_the_wire::none_concern_the_wire(&context, &diagnostics).then_some(ir),
+            runtime: runtime.filter(|_| usable.is_some()),
+            usable,
             drive: Err(diagnostics),
             warnings,
         };
@@ -225,6 +251,7 @@ fn compile_source(
         drive: Ok(ir),
         warnings,
         usable: None,
+        runtime,
     }
 }
 

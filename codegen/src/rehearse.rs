@@ -20,17 +20,20 @@ use vfd_runtime::virtual_drive::{Outcome, VirtualDrive};
 use vfd_runtime::{DriveInfo, Protocol, RegisterInfo};
 
 /// Plays every example with a request and the reply that answers it, or a request that
-/// gets none; problems (errors and warnings) go to `out`.
+/// gets none; problems (errors and warnings) go to `out`. The drive's run-time values are
+/// built into `runtime` when an example needs them (and taken from it when it holds them),
+/// so that a tool loading the file uses the same values instead of building them again.
 pub(crate) fn examples(
     source: &SourceFile,
     model: &DriveFile,
     ir: &DriveIr,
+    runtime: &mut Option<&'static DriveInfo>,
     out: &mut Diagnostics,
 ) {
     if !ir.examples.iter().any(|e| e.answers || e.no_reply) {
         return;
     }
-    let drive = crate::emit::live::drive_info(ir);
+    let drive = *runtime.get_or_insert_with(|| crate::emit::live::drive_info(ir));
     for example in &ir.examples {
         let Some(index) = model.examples.iter().position(|e| e.id == example.id) else {
             continue;

@@ -1,13 +1,13 @@
-//! The reader of `vfd serve --mqtt`'s `set` messages (cli/src/serve/mqtt/set_value.rs,
+//! The reader of `vfd serve --mqtt`'s `set` messages (cli/src/service/serve/mqtt/set_value.rs,
 //! compiled here on its own) on arbitrary bytes: it must never panic, a value it takes is
 //! non-empty trimmed text no longer than the limit, and a refusal's reason stays short
 //! whatever was sent (it never repeats the message).
 #![no_main]
 
-#[path = "../../cli/src/serve/mqtt/set_value.rs"]
+#[path = "../../cli/src/service/serve/mqtt/set_value.rs"]
 mod set_value;
 
-/// The service's limit (`MAX_VALUE_BYTES` in cli/src/serve/request_text.rs).
+/// The service's limit (`MAX_VALUE_BYTES` in cli/src/service/serve/request_text.rs).
 const MAX: usize = 1024;
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {

@@ -1,0 +1,158 @@
+//! `vfd serve PLANT`: the unattended service. One worker thread per bus polls its
+//! stations and carries out writes ([`worker`]); the events go through a bounded queue
+//! ([`report`]) to the outputs ([`output`]): JSON lines ([`jsonl`]) and an MQTT broker.
+//! SIGINT or SIGTERM stop it: every station is reported offline, the outputs finish.
+
+pub mod event;
+mod health;
+mod jsonl;
+pub mod logger;
+pub mod mqtt;
+mod mqtt_output;
+pub mod output;
+mod report;
+pub mod request_text;
+pub mod run_id;
+mod schedule;
+mod station;
+mod stdin;
+mod worker;
+mod write;
+
+use crate::service::plant::Plant;
+use crate::service::serve_args::ServeArgs;
+use crate::Failure;
+use event::WriteRouter;
+use output::Output;
+use report::Reporter;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use worker::Worker;
+
+/// The `log` target of the service's own records.
+pub const LOG_TARGET: &str = "vfd::serve";
+
+/// Runs the service over `plant` with `outputs` until SIGINT/SIGTERM (or `stop`).
+pub fn serve(
+    plant: &Plant,
+    outputs: Vec<Box<dyn Output>>,
+    router: RouterParts,
+    stdin_writes: bool,
+    stop: Arc<AtomicBool>,
+) -> Result<(), Failure> {
+    let (reporter, events) = Reporter::queue();
+    if stdin_writes {
+        stdin::spawn(router.router.clone(), reporter.clone())
+            .map_err(|e| Failure::new(format!("cannot start reading standard input: {e}")))?;
+    }
+    let done = Arc::new(AtomicBool::new(false));
+    let outputs = output::spawn(events, outputs, stop.clone(), done.clone())
+        .map_err(|e| Failure::new(format!("cannot start the outputs' thread: {e}")))?;
+    let mut workers = Vec::new();
+    for (bus, requests) in plant.buses.iter().zip(router.queues) {
+        let worker = Worker::new(bus.clone(), reporter.clone(), requests, stop.clone());
+        match worker.spawn() {
+            Ok(handle) => workers.push(handle),
+            Err(e) => {
+                stop.store(true, Ordering::SeqCst);
+                return Err(Failure::new(format!(
+                    "cannot start the worker of bus {}: {e}",
+                    bus.name
+                )));
+            }
+        }
+    }
+    drop(reporter);
+    for worker in workers {
+        let _ = worker.join();
+    }
+    done.store(true, Ordering::SeqCst);
+    let failed = outputs.join().ok().flatten();
+    match failed {
+        // The reader of standard output went away: the end it asked for.
+        Some(why) if why.contains("Broken pipe") => Ok(()),
+        Some(why) => Err(Failure::new(format!("an output failed: {why}"))),
+        None => Ok(()),
+    }
+}
+
+/// Each bus's write queue: the senders for the inputs (by bus name) and the workers'
+/// receivers (in the plant's order).
+pub struct RouterParts {
+    /// The inputs' side.
+    pub router: WriteRouter,
+    /// The workers' side, one per bus in the plant's order.
+    queues: Vec<std::sync::mpsc::Receiver<event::WriteRequest>>,
+}
+
+impl RouterParts {
+    /// A write queue per bus of `plant`.
+    pub fn new(plant: &Plant) -> RouterParts {
+        let mut router = WriteRouter::default();
+        let mut queues = Vec::new();
+        for bus in &plant.buses {
+            let (sender, receiver) = std::sync::mpsc::channel();
+            router.buses.insert(bus.name.clone(), sender);
+            queues.push(receiver);
+        }
+        RouterParts { router, queues }
+    }
+}
+
+/// The outputs `args` choose: JSON lines, an MQTT client connected to its broker (which
+/// takes the `set` topics into `parts`' queues), or both.
+pub fn outputs(
+    args: &ServeArgs,
+    plant: &Plant,
+    parts: &RouterParts,
+) -> Result<Vec<Box<dyn Output>>, Failure> {
+    let mut outputs: Vec<Box<dyn Output>> = Vec::new();
+    if args.jsonl {
+        outputs.push(Box::new(jsonl::JsonLines));
+    }
+    if let Some(url) = args.mqtt.as_deref() {
+        let mut options = mqtt::MqttOptions::new(url, args.mqtt_password_file.as_deref())?
+            .with_prefix(&args.mqtt_prefix)?;
+        if let Some(id) = &args.mqtt_client_id {
+            options.client_id = id.clone();
+        }
+        options.ca_file = args.mqtt_ca_file.clone();
+        options.ha_discovery = args.ha_discovery;
+        let client = mqtt::Mqtt::connect(&options, plant, parts.router.clone())?;
+        log::info!(
+            target: LOG_TARGET,
+            "publishing to {} under {}/",
+            options.url,
+            options.prefix
+        );
+        outputs.push(Box::new(mqtt_output::MqttOutput(client)));
+    }
+    Ok(outputs)
+}
+
+/// `vfd serve`.
+pub fn run(catalogue: &vfd_bus::Catalogue, args: &ServeArgs) -> Result<(), Failure> {
+    let plant = crate::service::plant::check::load_for_service(catalogue, &args.plant)?;
+    if !args.jsonl && args.mqtt.is_none() {
+        return Err(Failure::new(
+            "say where the readings go: --jsonl (JSON lines on standard output), --mqtt URL, or both",
+        )
+        .hint("e.g. vfd serve PLANT --mqtt mqtt://127.0.0.1:1883"));
+    }
+    logger::start(args.verbose);
+    let stop = crate::stop_flag::stop_flag()?;
+    let parts = RouterParts::new(&plant);
+    let outputs = outputs(args, &plant, &parts)?;
+    log::info!(
+        target: LOG_TARGET,
+        "serving {} bus(es), {} station(s) from {} (run {}: write results are numbered {}-N)",
+        plant.buses.len(),
+        plant.buses.iter().map(|b| b.stations.len()).sum::<usize>(),
+        plant.path.display(),
+        run_id::run(),
+        run_id::run()
+    );
+    let result = serve(&plant, outputs, parts, args.stdin_writes, stop);
+    log::info!(target: LOG_TARGET, "stopped");
+    result
+}

@@ -1,0 +1,128 @@
+//! A write asked of the service (an MQTT `set` message), carried out by the bus worker of
+//! the station's bus: refused before anything is sent unless the plant file allows the
+//! register, the manual allows writing it (in the storage the plant names), the value is
+//! in range and within the bounds other registers set now, and no forbidden combination
+//! results — the checks `vfd write` makes, in the same code. It is sent once: a write
+//! whose reply was lost is reported as such, never repeated.
+
+use super::event::{WriteOutcome, WriteRequest};
+use super::station::Link;
+use crate::write_value::checked_value;
+use crate::Failure;
+use std::time::Instant;
+use vfd_bus::values;
+use vfd_bus::ErrorKind;
+
+/// Carries out `request` on `link` and says how it went, and, when the line itself failed
+/// on the way (an unplugged adapter), why. A written register that is polled is made due,
+/// so its new value is read back at once.
+pub fn write(link: &mut Link, request: &WriteRequest) -> (WriteOutcome, Option<String>) {
+    let mut outcome = WriteOutcome::pending(request);
+    let mut line_failed = None;
+    match attempt(link, request, &mut outcome) {
+        Ok(()) => outcome.ok = true,
+        Err((failure, sent)) => {
+            if failure.error.as_ref().is_some_and(|e| e.kind().is_io()) {
+                line_failed = Some(failure.message.clone());
+            }
+            outcome.sent = sent;
+            if let Some(error) = &failure.error {
+                outcome.error_code = error.code();
+                if error.kind() == ErrorKind::ErrorReply {
+                    outcome.error_meaning = Some(error.meaning().to_owned());
+                }
+            }
+            outcome.error = Some(match &failure.hint {
+                Some(hint) => format!("{} ({hint})", failure.message),
+                None => failure.message.clone(),
+            });
+        }
+    }
+    if outcome.ok {
+        outcome.sent = true;
+    }
+    outcome.time = crate::record::now().0;
+    (outcome, line_failed)
+}
+
+/// The checks and the write; the error says whether the write's frame was sent.
+fn attempt(
+    link: &mut Link,
+    request: &WriteRequest,
+    outcome: &mut WriteOutcome,
+) -> Result<(), (Failure, bool)> {
+    let not_sent = |failure: Failure| (failure, false);
+    let station = &link.station;
+    let drive = station.drive;
+    let info = vfd_bus::lookup::register_for(drive, &request.register, true, &station.drive_name)
+        .map_err(|error| not_sent(error.into()))?;
+    outcome.code = info.code.to_owned();
+    outcome.unit = info.unit_symbol().to_owned();
+    let allow: Vec<&'static vfd_runtime::RegisterInfo> =
+        station.writes.iter().map(|a| a.register).collect();
+    let place = format!("{}/{}", link.bus, station.name);
+    let index = vfd_bus::write_check::allowed(&allow, info, &place)
+        .map_err(|refusal| not_sent(refusal.into()))?;
+    let persistent = station.writes[index].persistent;
+    let info = link.session.on_port(info);
+    vfd_bus::write_check::writable(info, persistent).map_err(|refusal| not_sent(refusal.into()))?;
+    if link.health.is_offline() {
+        return Err(not_sent(
+            Failure::new(format!(
+                "{}/{} is offline (it did not answer the last exchanges); nothing was sent",
+                link.bus, station.name
+            ))
+            .hint("the write is not queued: send it again once the drive is online"),
+        ));
+    }
+    let (info, raw) = checked_value(&mut link.session, info, &request.value).map_err(not_sent)?;
+    let record = crate::record::ValueRecord::new(drive.id, info, Some(raw), None);
+    outcome.raw = Some(raw);
+    outcome.value = record.value;
+    let result = link.session.write(info, raw, persistent);
+    match result {
+        Ok((echo, _tripped)) => {
+            if let Some(echo) = echo.filter(|echo| *echo != raw) {
+                log::info!(
+                    target: super::LOG_TARGET,
+                    "{}/{}: wrote {} = {}; the drive reports {}",
+                    link.bus,
+                    station.name,
+                    info.code,
+                    values::short(info, raw),
+                    values::short(info, echo)
+                );
+            }
+            if let Some(poll) = station
+                .polls
+                .iter()
+                .position(|p| vfd_bus::write_check::same_register(p.register, info))
+            {
+                link.schedule.due_now(poll, Instant::now());
+            }
+            Ok(())
+        }
+        Err(failure) => {
+            // A failure with a line error came from the exchange: the frame went out
+            // (a lost reply leaves the outcome unknown). One without came from a check.
+            let sent = failure.error.as_ref().is_some_and(|e| e.kind().sent());
+            let failure = if failure
+                .error
+                .as_ref()
+                .is_some_and(|e| e.kind() == ErrorKind::Timeout)
+            {
+                Failure::new(format!(
+                    "{}; the write may have been carried out and is not repeated",
+                    failure.message
+                ))
+                .hint(format!(
+                    "read {} back to see whether it took effect",
+                    info.code
+                ))
+            } else {
+                failure
+            };
+            Err((failure, sent))
+        }
+    }
+}
