@@ -47,9 +47,22 @@ fn detect_halrun() {
     }
 }
 
+/// Marks mbpoll (libmodbus's command-line master, Debian `mbpoll`) missing likewise
+/// (`cfg(missing_mbpoll)`).
+fn detect_mbpoll() {
+    println!("cargo::rustc-check-cfg=cfg(missing_mbpoll)");
+    if std::env::var_os("CI").is_some() {
+        return;
+    }
+    if Command::new("mbpoll").arg("-V").output().is_err() {
+        println!("cargo:rustc-cfg=missing_mbpoll");
+    }
+}
+
 fn main() {
     detect_python_peers();
     detect_halrun();
+    detect_mbpoll();
     let manifest = PathBuf::from(
         std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"),
     );

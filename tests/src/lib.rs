@@ -15,4 +15,5 @@ pub mod out_of_tree;
 pub mod outcomes;
 pub mod random;
 pub mod scripted_peer;
+pub mod virtual_port;
 pub mod watched;

@@ -59,7 +59,7 @@ pub fn wrap_line(line: &str, width: usize) -> Vec<String> {
 }
 
 /// `text` (Markdown) with wrapped prose joined again: each paragraph and list item on one
-/// line, as before [`wrap_markdown`]; for tools (and tests) that read the pages line by
+/// line, as before `wrap_markdown`; for tools (and tests) that read the pages line by
 /// line.
 pub fn unwrap_markdown(text: &str) -> String {
     let mut lines: Vec<String> = Vec::new();

@@ -6,7 +6,7 @@ use crate::layout::{checksum_size, BitsSpec, BroadcastAddress, Counts, Format, R
 use crate::layout::{ChecksumStep, FieldStep, LengthStep};
 
 /// Encoding state of one frame: a plan's steps write it part by part, then fill in its
-/// lengths and checksums. Like [`Decoder`], shared by plans run step by step and the
+/// lengths and checksums. Like [`Decoder`](super::Decoder), shared by plans run step by step and the
 /// generator's compiled plans; each method returns `None` when the interpreter is to
 /// write the frame instead (a value too wide for its field, `out` too small).
 #[derive(Debug)]
