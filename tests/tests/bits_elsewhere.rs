@@ -76,3 +76,39 @@ fn a_reset_register_clears_a_trip_on_its_rising_edge() {
     master.write_words(0x0202, &[1]).expect("reset again");
     assert_eq!(sim.lock().trip(), None);
 }
+
+/// A Modbus frame with its CRC appended.
+fn frame(body: &[u8]) -> Vec<u8> {
+    let crc = vfd_runtime::checksum::compute(vfd_runtime::ChecksumAlgorithm::Crc16Modbus, body);
+    let mut bytes = body.to_vec();
+    bytes.extend_from_slice(&(crc as u16).to_le_bytes());
+    bytes
+}
+
+#[test]
+fn a_read_of_status_coils_answers_one_bit_per_coil() {
+    use vfd_runtime::virtual_drive::{Outcome, VirtualDrive};
+    let mut drive = VirtualDrive::new(&finch_f3::DRIVE);
+    drive.set_address(1);
+    let modbus = &finch_f3::protocols::MODBUS;
+    // Run in reverse: both status coils (0Fh operation, 10h direction) are on.
+    drive.respond(modbus, &frame(&[1, 0x06, 0x02, 0x03, 0x01, 0x90]));
+    drive.respond(modbus, &frame(&[1, 0x06, 0x02, 0x01, 0x00, 0x01]));
+    drive.respond(modbus, &frame(&[1, 0x06, 0x02, 0x00, 0x00, 0x01]));
+    drive.advance(Duration::from_secs(5));
+    // Function 01, two coils from 000Fh: one data byte, bits 0 and 1.
+    assert_eq!(
+        drive.respond(modbus, &frame(&[1, 0x01, 0x00, 0x0F, 0x00, 0x02])),
+        Outcome::Reply(frame(&[1, 0x01, 0x01, 0b11])),
+    );
+    // One coil: one byte, bit 0.
+    assert_eq!(
+        drive.respond(modbus, &frame(&[1, 0x01, 0x00, 0x10, 0x00, 0x01])),
+        Outcome::Reply(frame(&[1, 0x01, 0x01, 0b1])),
+    );
+    // A coil the drive lacks in the range: illegal data address.
+    assert_eq!(
+        drive.respond(modbus, &frame(&[1, 0x01, 0x00, 0x0F, 0x00, 0x03])),
+        Outcome::Reply(frame(&[1, 0x81, 0x02])),
+    );
+}
