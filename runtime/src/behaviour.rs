@@ -7,13 +7,18 @@
 //! Registers are named by their description id; bits are resolved to masks by the code
 //! generator. Nothing here names a drive.
 
-/// One bit of a word, resolved from a bit-field id: its mask and whether it acts when 0.
+/// One bit of a word, resolved from a bit-field id: its mask, whether it acts when 0, and
+/// the register holding it when that is not the command (or status) word.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Bit {
     /// The bit's mask in the word.
     pub mask: u32,
     /// The bit acts when it is 0 (FC "coast stop" is active low).
     pub active_low: bool,
+    /// Id of the register holding the bit, when it is not the word its role belongs to:
+    /// a field of another bit-field register (the GS2's direction command P9.28 beside its
+    /// run command P9.27), or a coil of its own (mask FF00h: the coil is on).
+    pub register: Option<&'static str>,
 }
 
 impl Bit {
@@ -22,6 +27,7 @@ impl Bit {
         Bit {
             mask,
             active_low: false,
+            register: None,
         }
     }
 
@@ -30,6 +36,15 @@ impl Bit {
         Bit {
             mask,
             active_low: true,
+            register: None,
+        }
+    }
+
+    /// The same bit, held by the register with this id instead of the role's word.
+    pub const fn in_register(self, register: &'static str) -> Bit {
+        Bit {
+            register: Some(register),
+            ..self
         }
     }
 

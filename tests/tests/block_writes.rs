@@ -33,6 +33,8 @@ fn writable(protocol: &Protocol, drive: &DriveInfo) -> Vec<(u16, &'static Regist
                 && r.access == vfd_runtime::Access::ReadWrite
                 && !r.no_reply
                 && !behaviour_registers.contains(&r.id)
+                // A new station number moves the drive away from the master.
+                && drive.station_register != Some(r.id)
                 // Values chosen one by one could make a combination the manual forbids.
                 && drive.combinations_of(r).next().is_none()
         })

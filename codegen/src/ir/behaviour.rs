@@ -28,11 +28,11 @@ pub(crate) fn lower(
         .registers
         .first()
         .and_then(|name| bitfield_of(ir, &id_of(name)));
-    let command_bit = |bit: &BitRefModel| resolve(command_bits, bit);
+    let command_bit = |bit: &BitRefModel| resolve(index, ir, command_bits, bit);
     let command_list = |bits: &[BitRefModel]| bits.iter().map(command_bit).collect::<Vec<_>>();
     let status_list = |bits: &[BitRefModel]| {
         bits.iter()
-            .map(|bit| resolve(status_bits, bit))
+            .map(|bit| resolve(index, ir, status_bits, bit))
             .collect::<Vec<_>>()
     };
     let status = &model.status;
@@ -178,14 +178,61 @@ fn bitfield_of<'a>(ir: &'a DriveIr, register: &str) -> Option<&'a BitfieldIr> {
     ir.bitfields.iter().find(|b| b.type_name == name)
 }
 
-/// A bit by id within `bitfield` (validation has checked that it is there).
-fn resolve(bitfield: Option<&BitfieldIr>, bit: &BitRefModel) -> BitRefIr {
-    let mask = bitfield
-        .and_then(|b| b.fields.iter().find(|f| f.id == bit.id()))
-        .map_or(0, |f| ((1u32 << f.width) - 1) << f.lsb);
+/// A bit by id within `bitfield`, the bit field of its role's word; or, where the word has
+/// no such field, a field of another bit-field register as `register.field`, or a coil of
+/// its own (validation has checked that it is one of them).
+fn resolve(
+    index: &RegisterIndex<'_>,
+    ir: &DriveIr,
+    bitfield: Option<&BitfieldIr>,
+    bit: &BitRefModel,
+) -> BitRefIr {
+    let mask_of = |b: &BitfieldIr, id: &str| {
+        b.fields
+            .iter()
+            .find(|f| f.id == id)
+            .map(|f| ((1u32 << f.width) - 1) << f.lsb)
+    };
+    let own = bitfield.and_then(|b| mask_of(b, bit.id()));
+    let (mask, register) = match own {
+        Some(mask) => (mask, None),
+        None => match elsewhere(index, ir, bit.id()) {
+            Some(Elsewhere::Field { register, mask }) => (mask, Some(register)),
+            Some(Elsewhere::Coil { register }) => (COIL_ON, Some(register)),
+            None => (0, None),
+        },
+    };
     BitRefIr {
         id: bit.id().to_owned(),
         mask,
         active_low: bit.active_low(),
+        register,
     }
+}
+
+/// The bits of a coil's word that are set while it is on (FF00h, as a Modbus write of
+/// one coil carries it).
+pub(crate) const COIL_ON: u32 = 0xFF00;
+
+/// A bit held by a register other than its role's word.
+pub(crate) enum Elsewhere {
+    /// A field of another bit-field register (`register.field`).
+    Field { register: String, mask: u32 },
+    /// A coil (a register of `data_type: bit`): on while it holds FF00h.
+    Coil { register: String },
+}
+
+/// What `name` names outside its role's word: `register.field`, a field of another
+/// bit-field register, or a coil by code or id.
+pub(crate) fn elsewhere(index: &RegisterIndex<'_>, ir: &DriveIr, name: &str) -> Option<Elsewhere> {
+    if let Some((register, field)) = split_field(index, name) {
+        let mask = bitfield_of(ir, &register)
+            .and_then(|b| b.fields.iter().find(|f| f.id == field))
+            .map(|f| ((1u32 << f.width) - 1) << f.lsb)?;
+        return Some(Elsewhere::Field { register, mask });
+    }
+    let register = index.find(name)?;
+    (register.data_type == Some(vfd_runtime::DataType::Bit)).then(|| Elsewhere::Coil {
+        register: register.id.clone(),
+    })
 }

@@ -232,6 +232,10 @@ pub struct BitRefIr {
     pub mask: u32,
     /// It acts when it is 0.
     pub active_low: bool,
+    /// Id of the register holding the bit, when it is not the word of its role
+    /// (`register.field`, or a coil of its own).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub register: Option<String>,
 }
 
 /// A number, or the current value of a register (by id).

@@ -304,11 +304,14 @@ pub struct ConversionExampleModel {
 }
 
 /// A bit of a bit-field word: its id (`run`), or `{ bit: no_coast, active: 0 }` for a bit
-/// that acts when it is 0.
+/// that acts when it is 0. A bit held by another register than its role's word is named
+/// `register.field` (a field of another bit-field register: the GS2's `P9.28.reverse`), or
+/// by the code or id of a coil of its own (a register of `data_type: bit`, on at FF00h).
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq, JsonSchema)]
 #[serde(untagged)]
 pub enum BitRefModel {
-    /// An active-high bit, by its id in the word's bit field.
+    /// An active-high bit, by its id in the word's bit field, as `register.field` in another
+    /// bit-field register, or a coil by its code or id.
     Id(String),
     /// A bit with the level at which it acts.
     Level(BitLevelModel),
@@ -318,7 +321,7 @@ pub enum BitRefModel {
 #[derive(Debug, Clone, Deserialize, Serialize, PartialEq, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct BitLevelModel {
-    /// The bit's id in the word's bit field.
+    /// The bit's id in the word's bit field (or `register.field`, or a coil).
     pub bit: String,
     /// 1 (default): the bit acts when set; 0: it acts when clear (active low).
     #[serde(default = "one")]

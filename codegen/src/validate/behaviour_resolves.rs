@@ -190,40 +190,63 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
         ),
     ];
     for (path, word, bits) in words {
-        let Some(register) = index.find(word).filter(|_| !word.is_empty()) else {
+        let register = index.find(word).filter(|_| !word.is_empty());
+        if !word.is_empty() && register.is_none() {
             continue;
-        };
+        }
         // A register of command codes needs no bit field (`codes_and_states` checks it).
         if path == "behaviour.command.register" && behaviour.command.codes.is_some() {
             continue;
         }
         // A `bitfield:` naming no bit field is `references_resolve`'s to report, once.
         let undefined = register
-            .bitfield
-            .as_deref()
+            .and_then(|r| r.bitfield.as_deref())
             .is_some_and(|id| !model.bitfields.iter().any(|b| b.id == id));
         if undefined {
             continue;
         }
-        let Some(bitfield) = bitfield_of(word) else {
+        let bitfield = bitfield_of(word);
+        let coil = register.is_some_and(|r| r.data_type == Some(vfd_runtime::DataType::Bit));
+        if register.is_some() && bitfield.is_none() && !coil {
             problem(
                 path.to_owned(),
                 format!("register `{word}` is not a bit-field word"),
                 "name a register with `bitfield:`",
             );
             continue;
-        };
+        }
         for (bit_path, bit) in bits {
-            if !bitfield
-                .fields
-                .iter()
-                .any(|f| f.id.as_deref() == Some(bit.id()))
-            {
+            let name = bit.id();
+            if bitfield.is_some_and(|b| b.fields.iter().any(|f| f.id.as_deref() == Some(name))) {
+                continue;
+            }
+            match elsewhere(model, &index, name) {
+                Elsewhere::Held => continue,
+                Elsewhere::Wrong(message, hint) => {
+                    problem(bit_path, message, hint);
+                    continue;
+                }
+                Elsewhere::Nothing => {}
+            }
+            if let Some((register, _)) = name.rsplit_once('.') {
                 problem(
                     bit_path,
-                    format!("bit `{}` is not a field of `{}`", bit.id(), bitfield.id),
-                    "name a bit by its id in the word's bit field",
+                    format!("register `{register}` is not defined, so `{name}` names no bit"),
+                    "name a field of another bit-field register as `register.field`, the register by its code or id",
                 );
+                continue;
+            }
+            match bitfield {
+                Some(bitfield) => problem(
+                    bit_path,
+                    format!("bit `{name}` is not a field of `{}`", bitfield.id),
+                    "name a bit by its id in the word's bit field",
+                ),
+                None => problem(
+                    bit_path,
+                    format!("`{name}` names no bit: the role has no bit-field word, and it is neither `register.field` nor a coil"),
+                    "name a field of a bit-field register as `register.field`, or a coil (a register of `data_type: bit`) by its code or id",
+                ),
             }
         }
     }
@@ -375,6 +398,58 @@ fn codes_and_states(
     }
     for (path, message, hint) in found {
         problem(path, message, &hint);
+    }
+}
+
+/// What `name` names as a bit held by another register than its role's word.
+enum Elsewhere {
+    /// A field of another bit-field register (`register.field`), or a coil.
+    Held,
+    /// A register, but no such bit: the message and the hint.
+    Wrong(String, &'static str),
+    /// No register.
+    Nothing,
+}
+
+/// Whether `name` names a bit held by another register than its role's word
+/// (`register.field` whose register exists, or a register by code or id), and what is
+/// wrong with it: the register is no bit-field word, the field is not one of its bit
+/// field's, or a register named whole is not a coil.
+fn elsewhere(model: &DriveFile, index: &RegisterIndex<'_>, name: &str) -> Elsewhere {
+    let bitfield_of = |register: &crate::parse::model::RegisterModel| {
+        register
+            .bitfield
+            .as_deref()
+            .and_then(|id| model.bitfields.iter().find(|b| b.id == id))
+    };
+    if let Some(register) = index.find(name) {
+        if register.data_type == Some(vfd_runtime::DataType::Bit) {
+            return Elsewhere::Held;
+        }
+        return Elsewhere::Wrong(
+            format!("register `{}` is not a coil, so `{name}` names no bit of its own", register.id),
+            "a register named as a bit must be a coil (`data_type: bit`); name a field of a bit-field register as `register.field`",
+        );
+    }
+    let Some((register, field)) = name
+        .rsplit_once('.')
+        .and_then(|(register, field)| index.find(register).map(|r| (r, field)))
+    else {
+        return Elsewhere::Nothing;
+    };
+    match bitfield_of(register) {
+        None => Elsewhere::Wrong(
+            format!(
+                "register `{}` is not a bit-field word, so `{name}` names no field",
+                register.id
+            ),
+            "name a field of a register with `bitfield:` as `register.field`",
+        ),
+        Some(b) if !b.fields.iter().any(|f| f.id.as_deref() == Some(field)) => Elsewhere::Wrong(
+            format!("`{field}` is not a field of `{}`", b.id),
+            "name a field by its id in the register's bit field",
+        ),
+        Some(_) => Elsewhere::Held,
     }
 }
 

@@ -1,15 +1,17 @@
-//! Check: no two registers share an address, except one read-only and one write-only
-//! register (one address read as one thing and written as another, the DV1's 1001h).
+//! Check: no two registers share an address in one numbering (`space`), except one
+//! read-only and one write-only register (one address read as one thing and written as
+//! another, the DV1's 1001h). A coil and a parameter may share a number (the WJ200's coil
+//! 0001h and holding register 0001h): Modbus reaches them by different functions.
 
 use crate::diagnostics::Diagnostics;
 use crate::validate::Context;
 use std::collections::HashMap;
 use vfd_runtime::Access;
 
-/// No two registers share an address, unless one is `read-only` and the other
-/// `write-only`: a read then means the first, a write the second.
+/// No two registers of one numbering (`space`) share an address, unless one is
+/// `read-only` and the other `write-only`: a read then means the first, a write the second.
 pub fn register_addresses_are_unique(drive: &Context, out: &mut Diagnostics) {
-    let mut seen: HashMap<u32, Vec<usize>> = HashMap::new();
+    let mut seen: HashMap<(vfd_runtime::Space, u32), Vec<usize>> = HashMap::new();
     for (index, register) in drive.model.registers.iter().enumerate() {
         let path = format!("registers[{index}].address");
         if register.address > 0xFFFF {
@@ -23,7 +25,8 @@ pub fn register_addresses_are_unique(drive: &Context, out: &mut Diagnostics) {
                     .hint("communication numbers run from 0x0000 to 0xFFFF"),
             );
         }
-        let earlier = seen.entry(register.address).or_default();
+        let space = register.space.unwrap_or(vfd_runtime::Space::Parameter);
+        let earlier = seen.entry((space, register.address)).or_default();
         if let Some(&first) = earlier.first() {
             let other = &drive.model.registers[first];
             let access =
@@ -68,6 +71,15 @@ mod tests {
             "upper_limit_frequency",
         );
         assert_column(diagnostic, &yaml, "0x0011, id: upper");
+    }
+
+    #[test]
+    fn accepts_a_coil_and_a_parameter_with_one_number() {
+        let yaml = valid_with(&[(
+            "  - { address: 0x0011, id: maximum_frequency",
+            "  - { space: coil, address: 0x0011, id: run_coil, code: C11, name: Run, data_type: bit, source: \"7.1\" }\n  - { address: 0x0011, id: maximum_frequency",
+        )]);
+        assert!(check_yaml(check, &yaml).is_empty());
     }
 
     #[test]

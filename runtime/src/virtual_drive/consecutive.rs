@@ -183,7 +183,6 @@ impl VirtualDrive {
         if writes.is_empty() {
             return Err(refused.unwrap_or(Refusal::UnknownRegister));
         }
-        let command_register = self.behaviour().map(|b| self.served(b.command.register));
         for (info, raw) in writes {
             let index = if info.array_len == 0 {
                 0
@@ -192,9 +191,9 @@ impl VirtualDrive {
             };
             self.storage
                 .set(info, index, raw, persistent && !info.stored_in_ram_only());
-            if command_register == Some(info.id) {
-                self.command_written(raw);
-            }
+            // As a write of the register alone: a command word (or a register holding one
+            // of its bits) acts, a reset value resets.
+            self.value_written(info, raw);
         }
         self.refresh();
         Ok(())

@@ -20,12 +20,10 @@ pub(crate) struct Motor {
     pub output: f64,
     /// The trip code while tripped.
     pub trip: Option<u16>,
-    /// The last command word that acted, for reset edges.
+    /// The last command word that acted.
     pub last_word: u32,
-}
-
-fn all_active(bits: &[Bit], word: u32) -> bool {
-    bits.iter().all(|bit| bit.is_active(word))
+    /// Whether the reset bit acted when the command was last taken, for reset edges.
+    pub reset_active: bool,
 }
 
 /// A raw word as an engineering value.
@@ -91,7 +89,31 @@ impl VirtualDrive {
             || self.motor.output.abs() > 1e-9
     }
 
-    /// A command word was written: it acts when its required bits are.
+    /// Whether `bit` acts: in `word` (the command word), or in the register holding it
+    /// when it has one of its own.
+    fn acts(&self, bit: Bit, word: u32) -> bool {
+        match bit.register {
+            Some(id) => self
+                .drive
+                .register(self.served(id))
+                .is_some_and(|info| bit.is_active(self.storage.get(info, 0))),
+            None => bit.is_active(word),
+        }
+    }
+
+    fn all_act(&self, bits: &[Bit], word: u32) -> bool {
+        bits.iter().all(|bit| self.acts(*bit, word))
+    }
+
+    /// The command word as the drive holds it.
+    fn command_word(&self, behaviour: &Behaviour) -> u32 {
+        self.drive
+            .register(self.served(behaviour.command.register))
+            .map_or(0, |info| self.storage.get(info, 0))
+    }
+
+    /// A command word was written (or a register holding one of its bits): it acts when
+    /// its required bits are.
     pub(crate) fn command_written(&mut self, word: u32) {
         let Some(behaviour) = self.behaviour() else {
             return;
@@ -101,23 +123,22 @@ impl VirtualDrive {
             self.command_code_written(codes, word);
             return;
         }
-        if !all_active(command.require, word) {
+        if !self.all_act(command.require, word) {
             return;
         }
-        let edge = |bit: Option<Bit>| {
-            bit.is_some_and(|bit| bit.is_active(word) && !bit.is_active(self.motor.last_word))
-        };
-        if edge(command.reset) {
+        let reset = command.reset.is_some_and(|bit| self.acts(bit, word));
+        if reset && !self.motor.reset_active {
             self.reset();
         }
+        self.motor.reset_active = reset;
         // With a reverse-run bit beside the run bit: either runs, the reverse one alone
         // in reverse, both together stop.
-        let forward = command.run.is_active(word);
-        let backward = command.run_reverse.is_some_and(|bit| bit.is_active(word));
+        let forward = self.acts(command.run, word);
+        let backward = command.run_reverse.is_some_and(|bit| self.acts(bit, word));
         self.motor.run = forward != backward && self.motor.trip.is_none();
         self.motor.reverse =
-            command.reverse.is_some_and(|bit| bit.is_active(word)) || (backward && !forward);
-        self.motor.coast = command.coast.is_some_and(|bit| bit.is_active(word));
+            command.reverse.is_some_and(|bit| self.acts(bit, word)) || (backward && !forward);
+        self.motor.coast = command.coast.is_some_and(|bit| self.acts(bit, word));
         if self.motor.coast {
             self.motor.output = 0.0;
         }
@@ -146,6 +167,29 @@ impl VirtualDrive {
         self.refresh();
     }
 
+    /// Whether a write of the register with this id changes the command: the command word,
+    /// or a register holding one of its bits (or a bit making the frequency command
+    /// effective).
+    fn commands(&self, behaviour: &Behaviour, id: &str) -> bool {
+        let command = &behaviour.command;
+        if self.served(command.register) == id {
+            return true;
+        }
+        let single = [
+            Some(command.run),
+            command.run_reverse,
+            command.reverse,
+            command.reset,
+            command.coast,
+        ];
+        single
+            .into_iter()
+            .flatten()
+            .chain(command.require.iter().copied())
+            .chain(behaviour.frequency.require.iter().copied())
+            .any(|bit| bit.register.is_some_and(|own| self.served(own) == id))
+    }
+
     /// The frequency command in force: the command register's value when the command word
     /// makes it effective, else 0.
     pub(crate) fn target(&self) -> f64 {
@@ -153,11 +197,8 @@ impl VirtualDrive {
             return 0.0;
         };
         let frequency = &behaviour.frequency;
-        let word = self
-            .drive
-            .register(self.served(behaviour.command.register))
-            .map_or(0, |info| self.storage.get(info, 0));
-        if !all_active(frequency.require, word) {
+        let word = self.command_word(behaviour);
+        if !self.all_act(frequency.require, word) {
             return 0.0;
         }
         self.value_of(self.served(frequency.command)).unwrap_or(0.0)
@@ -201,14 +242,17 @@ impl VirtualDrive {
         self.refresh();
     }
 
-    /// A raw value was written to the register `info`: a command word acts, and a value
-    /// the behaviour model names resets the drive.
+    /// A raw value was written to the register `info`: a command word (or a register
+    /// holding one of its bits) acts, and a value the behaviour model names resets the
+    /// drive.
     pub(crate) fn value_written(&mut self, info: &RegisterInfo, raw: u32) {
         let Some(behaviour) = self.behaviour() else {
             return;
         };
         if self.served(behaviour.command.register) == info.id {
             self.command_written(raw);
+        } else if self.commands(behaviour, info.id) {
+            self.command_written(self.command_word(behaviour));
         }
         if let Some(reset) = behaviour.command.reset_by_write {
             if self.served(reset.register) == info.id && raw == reset.value {
@@ -369,26 +413,47 @@ impl VirtualDrive {
             }
         }
         let status = &behaviour.status;
-        let mut word = 0u32;
-        let mut set = |bits: &[Bit], on: bool| {
-            for bit in bits {
-                word = bit.apply(word, on);
-            }
-        };
-        set(status.always, true);
-        set(status.running, running);
         let reverse = running && output < 0.0 || self.motor.reverse;
-        set(status.reverse, reverse);
-        set(status.forward, running && !reverse);
         let reached = running && (output.abs() - target).abs() < 1e-6 && target > 0.0;
-        set(status.at_reference, reached);
-        set(status.tripped, self.motor.trip.is_some());
-        set(status.overload, overloaded);
-        set(status.frequency_detected, detected);
-        set(status.enabled, !self.motor.coast);
+        let roles: [(&[Bit], bool); 9] = [
+            (status.always, true),
+            (status.running, running),
+            (status.reverse, reverse),
+            (status.forward, running && !reverse),
+            (status.at_reference, reached),
+            (status.tripped, self.motor.trip.is_some()),
+            (status.overload, overloaded),
+            (status.frequency_detected, detected),
+            (status.enabled, !self.motor.coast),
+        ];
+        // The status words' bits, built from nothing; a bit in a register of its own (a
+        // status coil) is set or cleared there.
+        let mut word = 0u32;
+        let mut own: Vec<(&'static str, Bit, bool)> = Vec::new();
+        for (bits, on) in roles {
+            for bit in bits {
+                match bit.register {
+                    Some(id) => own.push((id, *bit, on)),
+                    None => word = bit.apply(word, on),
+                }
+            }
+        }
         for id in status.registers {
             if let Some(info) = self.drive.register(id) {
                 self.storage.set(info, 0, word, false);
+            }
+        }
+        // A bit of its own is cleared before its roles are applied, as the words are.
+        for (id, bit, _) in &own {
+            if let Some(info) = self.drive.register(id) {
+                let cleared = self.storage.get(info, 0) & !bit.mask;
+                self.storage.set(info, 0, cleared, false);
+            }
+        }
+        for (id, bit, on) in own {
+            if let Some(info) = self.drive.register(id) {
+                let value = bit.apply(self.storage.get(info, 0), on);
+                self.storage.set(info, 0, value, false);
             }
         }
         if let Some(state) = status.state {

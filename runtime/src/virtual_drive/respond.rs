@@ -305,6 +305,9 @@ impl VirtualDrive {
         let first = self.target_of(request)?;
         let index = self.index_of(first, request)?;
         let size = request.values.data_size;
+        if first.space == Space::Coil && first.data_type == DataType::Bit {
+            return self.read_coils(first, request);
+        }
         let registers = self.covered(first, size, false)?;
         if registers.len() == 1 {
             return Ok((
@@ -316,6 +319,40 @@ impl VirtualDrive {
         let mut data = 0u32;
         for (i, info) in registers.iter().enumerate() {
             data |= (self.storage.get(info, 0) & 0xFFFF) << (16 * i);
+        }
+        Ok((data, size))
+    }
+
+    /// A read of coils from a coil of its own (`data_type: bit`): the request's quantity of
+    /// consecutive coils, one bit each, the first in the lowest bit (on while it holds a
+    /// non-zero value, FF00h as written). Each coil read must be described.
+    fn read_coils(
+        &self,
+        first: &'static RegisterInfo,
+        request: &DecodedRequest<'_>,
+    ) -> Result<(u32, u8), Refusal> {
+        let quantity =
+            coil_quantity(request).unwrap_or(u32::from(request.values.data_size.max(1)) * 8);
+        if quantity == 0 || quantity > 32 {
+            return Err(Refusal::OutOfRange);
+        }
+        // Eight coils to a data byte, the last one filled with zeros.
+        let size = quantity.div_ceil(8) as u8;
+        let mut data = 0u32;
+        for i in 0..quantity {
+            let address = u16::try_from(u32::from(first.address) + i)
+                .map_err(|_| Refusal::UnknownRegister)?;
+            let coil = self
+                .drive
+                .register_for(Space::Coil, address, false)
+                .filter(|info| info.data_type == DataType::Bit)
+                .ok_or(Refusal::UnknownRegister)?;
+            if coil.access == crate::kinds::Access::WriteOnly {
+                return Err(Refusal::UnknownRegister);
+            }
+            if self.storage.get(coil, 0) != 0 {
+                data |= 1 << i;
+            }
         }
         Ok((data, size))
     }
@@ -505,4 +542,21 @@ impl VirtualDrive {
             .register(mode.register)
             .is_none_or(|mode_info| mode.values.contains(&self.storage.get(mode_info, 0)))
     }
+}
+
+/// The number of coils a request asks for: the value its quantity part (a length counting
+/// coils, eight to a data byte) received.
+fn coil_quantity(request: &DecodedRequest<'_>) -> Option<u32> {
+    request
+        .command
+        .request
+        .parts
+        .iter()
+        .zip(request.values.parts.iter())
+        .find_map(|(part, value)| match part {
+            crate::layout::Part::Length(length) if length.times == 8 && value.present => {
+                Some(value.value)
+            }
+            _ => None,
+        })
 }

@@ -127,10 +127,14 @@ pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
 }
 
 fn bit(bit: &BitRefIr) -> Bit {
-    if bit.active_low {
+    let level = if bit.active_low {
         Bit::low(bit.mask)
     } else {
         Bit::high(bit.mask)
+    };
+    match &bit.register {
+        Some(register) => level.in_register(text(register)),
+        None => level,
     }
 }
 

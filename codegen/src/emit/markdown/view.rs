@@ -867,6 +867,40 @@ fn error_code_digits(drive: &DriveIr, protocol: &ProtocolIr) -> usize {
     }
 }
 
+/// The command and status roles whose bits are held by a register of their own (a field of
+/// another bit-field register, or a coil), with those bits, in the model's order.
+fn held_elsewhere(behaviour: &BehaviourIr) -> Vec<(&'static str, &BitRefIr)> {
+    let status = &behaviour.status;
+    let mut roles: Vec<(&'static str, &BitRefIr)> = Vec::new();
+    for (role, bit) in [
+        ("run", &behaviour.run),
+        ("reverse run", &behaviour.run_reverse),
+        ("reverse", &behaviour.reverse),
+        ("reset", &behaviour.reset),
+        ("coast", &behaviour.coast),
+    ] {
+        roles.extend(bit.iter().map(|bit| (role, bit)));
+    }
+    let lists: [(&'static str, &Vec<BitRefIr>); 11] = [
+        ("command required", &behaviour.command_require),
+        ("frequency required", &behaviour.frequency_require),
+        ("running", &status.running),
+        ("reversing", &status.reverse),
+        ("running forward", &status.forward),
+        ("at the frequency command", &status.at_reference),
+        ("tripped", &status.tripped),
+        ("overload", &status.overload),
+        ("frequency detected", &status.frequency_detected),
+        ("enabled", &status.enabled),
+        ("always", &status.always),
+    ];
+    for (role, bits) in lists {
+        roles.extend(bits.iter().map(|bit| (role, bit)));
+    }
+    roles.retain(|(_, bit)| bit.register.is_some());
+    roles
+}
+
 /// What the virtual drive built from the description does: its behaviour model's parts in
 /// words and each protocol's answers to refused requests.
 fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
@@ -954,6 +988,25 @@ fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
         model_lines.push(format!(
             "Status words: {}.",
             codes(&behaviour.status_registers)
+        ));
+    }
+    let held = held_elsewhere(behaviour)
+        .into_iter()
+        .map(|(role, bit)| {
+            let register = bit.register.as_deref().unwrap_or_default();
+            let coil = drive
+                .register(register)
+                .is_some_and(|r| r.data_type == vfd_runtime::DataType::Bit);
+            match bit.id.rsplit_once('.') {
+                Some((_, field)) if !coil => format!("{role}: {} (`{field}`)", code(register)),
+                _ => format!("{role}: coil {}", code(register)),
+            }
+        })
+        .collect::<Vec<_>>();
+    if !held.is_empty() {
+        model_lines.push(format!(
+            "Bits held by registers of their own: {}.",
+            held.join("; ")
         ));
     }
     let mut levels = Vec::new();

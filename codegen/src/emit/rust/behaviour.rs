@@ -6,10 +6,14 @@ use crate::ir::{AmountIr, BehaviourIr, BitRefIr, TripSlotIr};
 
 fn bit(bit: &BitRefIr) -> TokenStream {
     let mask = int_literal(bit.mask);
-    if bit.active_low {
+    let level = if bit.active_low {
         quote!(Bit::low(#mask))
     } else {
         quote!(Bit::high(#mask))
+    };
+    match &bit.register {
+        Some(register) => quote!(#level.in_register(#register)),
+        None => level,
     }
 }
 
