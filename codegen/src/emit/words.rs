@@ -207,7 +207,10 @@ pub fn meaning_text(
                 .map(|c| format!(" `{}`", label(c)))
                 .unwrap_or_default(),
             entry
-                .map(|e| format!(" {} ({})", e.name, e.name_zh))
+                .map(|e| match e.name_zh.as_str() {
+                    "" => format!(" {}", e.name),
+                    zh => format!(" {} ({zh})", e.name),
+                })
                 .unwrap_or_default()
         );
     }
