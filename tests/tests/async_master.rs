@@ -66,7 +66,7 @@ fn read_request(subject: &Subject) -> Request {
 }
 
 fn write_request(subject: &Subject, raw: u32) -> Request {
-    Request::for_register(CommandKind::WriteRam, subject.write, raw)
+    Request::for_register(subject.write_kind, subject.write, raw)
 }
 
 fn write_read_back(subject: &Subject) -> Request {

@@ -49,6 +49,7 @@ fn expected_tests(ir: &DriveIr) -> Vec<String> {
 fn every_described_drive_that_checks_ok_has_every_example_golden_tested() {
     let drives = yaml_files("../drives");
     assert!(drives.len() >= 4, "found {} drives", drives.len());
+    let mut with_examples = 0;
     for path in drives {
         let ir = match vfd_codegen::compile(&path, None) {
             Ok(ir) => ir,
@@ -56,7 +57,10 @@ fn every_described_drive_that_checks_ok_has_every_example_golden_tested() {
             Err(_) => continue,
         };
         let tests = expected_tests(&ir);
-        assert!(!tests.is_empty(), "{} has examples", path.display());
+        // A drive whose manual's frames could not be read has none (its manual_note says so).
+        if !tests.is_empty() {
+            with_examples += 1;
+        }
         let golden = drives_golden(&path);
         for test in tests {
             assert!(
@@ -66,6 +70,8 @@ fn every_described_drive_that_checks_ok_has_every_example_golden_tested() {
             );
         }
     }
+    // Not vacuous: the seeds and most drives print frames.
+    assert!(with_examples >= 4, "{with_examples} drives with examples");
 }
 
 #[test]

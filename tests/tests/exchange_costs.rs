@@ -59,7 +59,9 @@ fn every_frame_sent_costs_one_lookup_and_one_encoding() {
         // persistent, the write, and the old value back).
         let selector = subject.protocol.persistence.as_ref();
         // (what, kind, forget the selector first, selector reads and writes sent)
-        let mut writes = vec![("a RAM write", CommandKind::WriteRam, false, (0, 1))];
+        // The subject's own write: a RAM write, or a persistent one where the protocol has
+        // no RAM write for it.
+        let mut writes = vec![("a write", subject.write_kind, false, (0, 1))];
         // The register written: the subject's own, or on a protocol with a persistence
         // selector a plain parameter it governs, written with its default.
         let governed = selector.and_then(|selector| {
@@ -106,8 +108,7 @@ fn every_frame_sent_costs_one_lookup_and_one_encoding() {
             let cost = Tally::since(before);
             let frames = (master.transport().sends() - sends) as u64;
             assert!(outcome.is_ok(), "{}: {what}: {outcome:?}", subject.name());
-            let mut with_follow_up =
-                follow_up(CommandKind::WriteRam, register.space, register.data_type);
+            let mut with_follow_up = follow_up(kind, register.space, register.data_type);
             if let (Some(selector), Some(_)) = (selector, governed) {
                 with_follow_up += selector_reads
                     * follow_up(CommandKind::Read, selector.space, selector.data_type)

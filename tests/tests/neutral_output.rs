@@ -21,12 +21,14 @@ fn default_output_names_nothing_of_this_repository() {
             .golden_tests
             .as_deref()
             .expect("golden tests were asked for");
+        // A drive whose manual's frames could not be read has no golden test to call it.
+        let has_examples = !drive.ir.examples.is_empty() || !drive.ir.sequences.is_empty();
         assert!(
-            golden.contains("::vfd_runtime::testing::"),
+            !has_examples || golden.contains("::vfd_runtime::testing::"),
             "{id}: golden tests call vfd_runtime::testing"
         );
         assert!(
-            golden.contains(&format!("crate::{}::", drive.ir.module)),
+            !has_examples || golden.contains(&format!("crate::{}::", drive.ir.module)),
             "{id}: golden tests reach the module through `crate`"
         );
         outputs.push((format!("{id}_golden.rs"), golden));
