@@ -54,15 +54,25 @@ fn attempt(
     let not_sent = |failure: Failure| (failure, false);
     let station = &link.station;
     let drive = station.drive;
-    let info = vfd_bus::lookup::register_for(drive, &request.register, true, &station.drive_name)
-        .map_err(|error| not_sent(error.into()))?;
+    let (info, index) = match request.target.and_then(|target| target.allowed) {
+        // Resolved when the plant was set up: one of the allowed registers.
+        Some(index) => (station.writes[index].register, index),
+        // A name that is none of the allowed registers' own: what it means, refused unless
+        // it is one of them after all (another spelling).
+        None => {
+            let info =
+                vfd_bus::lookup::register_for(drive, &request.register, true, &station.drive_name)
+                    .map_err(|error| not_sent(error.into()))?;
+            let allow: Vec<&'static vfd_runtime::RegisterInfo> =
+                station.writes.iter().map(|a| a.register).collect();
+            let place = format!("{}/{}", link.bus, station.name);
+            let index = vfd_bus::write_check::allowed(&allow, info, &place)
+                .map_err(|refusal| not_sent(refusal.into()))?;
+            (info, index)
+        }
+    };
     outcome.code = info.code.to_owned();
     outcome.unit = info.unit_symbol().to_owned();
-    let allow: Vec<&'static vfd_runtime::RegisterInfo> =
-        station.writes.iter().map(|a| a.register).collect();
-    let place = format!("{}/{}", link.bus, station.name);
-    let index = vfd_bus::write_check::allowed(&allow, info, &place)
-        .map_err(|refusal| not_sent(refusal.into()))?;
     let persistent = station.writes[index].persistent;
     let info = link.session.on_port(info);
     vfd_bus::write_check::writable(info, persistent).map_err(|refusal| not_sent(refusal.into()))?;
