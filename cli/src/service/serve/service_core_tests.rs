@@ -11,21 +11,26 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 use vfd_bus::Catalogue;
 use vfd_runtime::transport::TcpTransport;
-use vfd_runtime::virtual_drive::serve_bus;
+use vfd_runtime::virtual_drive::{serve_bus, BusStation};
 
 /// Serves a vf-as1 (Modbus, station 1) on a TCP port of this host to one client, until
 /// `stop`; the port's `tcp://` address.
 fn virtual_drive(catalogue: &Catalogue, stop: Arc<AtomicBool>) -> String {
     let drive = catalogue.drive("vf-as1").expect("vf-as1 is built in");
     let protocol = vfd_bus::lookup::protocol(drive, Some("modbus")).expect("modbus");
-    let station = crate::sim::station::station(drive, protocol, 1);
+    let simulator = vfd_runtime::virtual_drive::Simulator::new(drive);
+    simulator.lock().set_address(1);
+    let station = BusStation {
+        simulator,
+        protocol,
+    };
     let settings = drive.serial.default;
     let listener = TcpListener::bind("127.0.0.1:0").expect("a port");
     let port = listener.local_addr().expect("its address").port();
     std::thread::spawn(move || {
         let (stream, _) = listener.accept().expect("the service connects");
         let mut transport = TcpTransport::from_stream(stream).expect("a transport");
-        let _ = serve_bus(&[station.bus], &mut transport, settings, &stop);
+        let _ = serve_bus(&[station], &mut transport, settings, &stop);
     });
     format!("tcp://127.0.0.1:{port}")
 }
