@@ -1,4 +1,6 @@
-//! The service itself, for any program to embed: a plant in, events and write results out.
+//! The service itself, embedded in-process: a plant in, events and write results out. (It
+//! lives in the `vfd` crate for now, with the one-drive session it runs stations on; other
+//! crates reach it once both move into the library.)
 //! [`ServiceCore::new`] sets a plant up (its names resolved once, a write queue per bus)
 //! and gives the events' receiving end; [`ServiceCore::writes`] takes write requests,
 //! whose outcomes come back as [`Event::Written`] events with their ids;
