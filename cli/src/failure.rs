@@ -70,3 +70,14 @@ impl From<vfd_bus::Error> for Failure {
         }
     }
 }
+
+impl From<crate::session_error::SessionError> for Failure {
+    fn from(error: crate::session_error::SessionError) -> Failure {
+        use crate::session_error::SessionError;
+        match error {
+            SessionError::Exchange(error) => error.into(),
+            SessionError::Refused(refusal) => refusal.into(),
+            SessionError::Said(said) => said.into(),
+        }
+    }
+}

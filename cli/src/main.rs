@@ -16,6 +16,7 @@ mod paged;
 mod record;
 mod service;
 mod session;
+mod session_error;
 mod sim;
 mod stop_flag;
 mod storage;

@@ -4,6 +4,7 @@
 //! request path, so any described drive works.
 
 use crate::line_args::{line_settings, LineArgs};
+use crate::session_error::SessionError;
 use crate::traced_line::Traced;
 use crate::Failure;
 use std::time::Duration;
@@ -106,7 +107,7 @@ impl Session {
     pub fn scaled(
         &mut self,
         info: &'static RegisterInfo,
-    ) -> Result<&'static RegisterInfo, Failure> {
+    ) -> Result<&'static RegisterInfo, SessionError> {
         let Some(scale_by) = info.scale_by else {
             return Ok(info);
         };
@@ -129,7 +130,7 @@ impl Session {
                         return Ok(chosen);
                     }
                 }
-                return Err(failure.hint(format!(
+                return Err(failure.with_hint(format!(
                     "the scale of {} depends on {}, which could not be read",
                     info.code, selector.code
                 )));
@@ -137,15 +138,17 @@ impl Session {
         };
         match value.raw.and_then(|raw| scale_by.choice(raw)) {
             Some(chosen) => Ok(chosen),
-            None => Err(Failure::new(format!(
-                "{} = {} chooses no scale the description knows for {}",
-                selector.code,
-                value
-                    .raw
-                    .map_or_else(|| "(no data)".to_owned(), |raw| raw.to_string()),
-                info.code
-            ))
-            .hint("the description's `scale_by` lists the values it knows")),
+            None => Err(SessionError::Said(
+                vfd_bus::SetupError::new(format!(
+                    "{} = {} chooses no scale the description knows for {}",
+                    selector.code,
+                    value
+                        .raw
+                        .map_or_else(|| "(no data)".to_owned(), |raw| raw.to_string()),
+                    info.code
+                ))
+                .with_hint("the description's `scale_by` lists the values it knows"),
+            )),
         }
     }
 
@@ -200,7 +203,7 @@ impl Session {
     }
 
     /// Reads `info`.
-    pub fn read(&mut self, info: &'static RegisterInfo) -> Result<Value, Failure> {
+    pub fn read(&mut self, info: &'static RegisterInfo) -> Result<Value, SessionError> {
         let info = self.on_port(info);
         let text = info.data_type == DataType::Text;
         let kind = if text {
@@ -229,7 +232,7 @@ impl Session {
             });
         }
         let raw = answer.data.ok_or_else(|| {
-            Failure::new(format!(
+            SessionError::said(format!(
                 "the reply to the read of {} carries no data",
                 info.label()
             ))
@@ -250,7 +253,7 @@ impl Session {
         info: &'static RegisterInfo,
         raw: u32,
         persist: bool,
-    ) -> Result<(Option<u32>, bool), Failure> {
+    ) -> Result<(Option<u32>, bool), SessionError> {
         let info = self.on_port(info);
         write_check::writable(info, persist)?;
         self.check_combinations(info, raw)?;
@@ -282,7 +285,7 @@ impl Session {
         persist: bool,
         step: &Request,
         error: TransactionError,
-    ) -> Failure {
+    ) -> SessionError {
         let step_name = self
             .drive
             .register_for(step.space, step.register, true)
@@ -316,30 +319,39 @@ impl Session {
         };
         let refused = matches!(error.kind, TransactionErrorKind::Rejected { .. });
         let cause = self.failure(error);
-        let mut failure = Failure::new(format!(
+        let said = vfd_bus::SetupError::new(format!(
             "cannot write {} ({target}): the step before it {}: {why}; {}",
             info.label(),
             if refused { "was refused" } else { "failed" },
-            cause.message
+            cause.message()
         ));
-        if !info.writable_while_running && !info.while_running_unknown && refused_while_running {
-            failure = failure.hint(format!(
+        let said = if !info.writable_while_running
+            && !info.while_running_unknown
+            && refused_while_running
+        {
+            said.with_hint(format!(
                 "the manual allows {} to change only while the motor is stopped: stop it first (the drive refuses the first frame of the write)",
                 info.code
-            ));
-        } else if let Some(hint) = cause.hint {
-            failure = failure.hint(hint);
-        }
-        failure
+            ))
+        } else if let Some(hint) = cause.hint() {
+            said.with_hint(hint)
+        } else {
+            said
+        };
+        SessionError::Said(said)
     }
 
     /// Refuses a write of `raw` to `info` that would make a combination of values the
     /// manual forbids, reading the other registers of each combination first
     /// ([`vfd_bus::write_check::combinations`]).
-    fn check_combinations(&mut self, info: &'static RegisterInfo, raw: u32) -> Result<(), Failure> {
+    fn check_combinations(
+        &mut self,
+        info: &'static RegisterInfo,
+        raw: u32,
+    ) -> Result<(), SessionError> {
         let drive = self.drive;
         write_check::combinations(drive, info, raw, |other| self.read_if_readable(other))
-            .map_err(Failure::from)
+            .map_err(SessionError::from)
     }
 
     /// The raw value of `info` when it can be read over this protocol and it reads; `None`
@@ -357,7 +369,7 @@ impl Session {
         selection: &vfd_runtime::BlockSelection,
         writes: &[u16],
         read_count: u8,
-    ) -> Result<vfd_runtime::BlockTransfer, Failure> {
+    ) -> Result<vfd_runtime::BlockTransfer, SessionError> {
         self.requests += 1;
         self.master
             .block_transfer(selection, writes, read_count)
@@ -374,7 +386,7 @@ impl Session {
         persist: bool,
         to: vfd_runtime::Broadcast,
         reply_from: Option<u8>,
-    ) -> Result<(Option<u32>, Option<u8>), Failure> {
+    ) -> Result<(Option<u32>, Option<u8>), SessionError> {
         write_check::writable(info, persist)?;
         let kind = if persist {
             CommandKind::WritePersistent
@@ -401,7 +413,7 @@ impl Session {
     pub fn read_many(
         &mut self,
         registers: &[&'static RegisterInfo],
-    ) -> Vec<Result<Value, Failure>> {
+    ) -> Vec<Result<Value, SessionError>> {
         self.read_runs(registers, false)
     }
 
@@ -412,7 +424,7 @@ impl Session {
     pub fn read_many_until_silent(
         &mut self,
         registers: &[&'static RegisterInfo],
-    ) -> Vec<Result<Value, Failure>> {
+    ) -> Vec<Result<Value, SessionError>> {
         self.read_runs(registers, true)
     }
 
@@ -420,10 +432,10 @@ impl Session {
         &mut self,
         registers: &[&'static RegisterInfo],
         stop_when_silent: bool,
-    ) -> Vec<Result<Value, Failure>> {
-        let mut results: Vec<Option<Result<Value, Failure>>> =
+    ) -> Vec<Result<Value, SessionError>> {
+        let mut results: Vec<Option<Result<Value, SessionError>>> =
             registers.iter().map(|_| None).collect();
-        let mut silent: Option<Failure> = None;
+        let mut silent: Option<SessionError> = None;
         for run in vfd_runtime::read_runs::read_runs(self.protocol, registers) {
             if let Some(failure) = &silent {
                 for index in &run {
@@ -473,7 +485,7 @@ impl Session {
         }
         results
             .into_iter()
-            .map(|r| r.unwrap_or_else(|| Err(Failure::new("not read"))))
+            .map(|r| r.unwrap_or_else(|| Err(SessionError::said("not read"))))
             .collect()
     }
 
@@ -482,7 +494,7 @@ impl Session {
         &mut self,
         registers: &[&'static RegisterInfo],
         run: &[usize],
-    ) -> Result<Vec<Value>, Failure> {
+    ) -> Result<Vec<Value>, SessionError> {
         let widths: Vec<usize> = run
             .iter()
             .map(|i| vfd_runtime::read_runs::block_words(registers[*i]))
@@ -539,7 +551,7 @@ impl Session {
     }
 
     /// A transaction error for people, with a hint where one helps.
-    fn failure(&self, error: TransactionError) -> Failure {
+    fn failure(&self, error: TransactionError) -> SessionError {
         let hint = match &error.kind {
             TransactionErrorKind::Timeout { .. } => Some(format!(
                 "check baud rate, parity and station address: {} baud {}, protocol {}, \
@@ -600,12 +612,7 @@ impl Session {
             ),
             _ => None,
         };
-        let mut failure = Failure::new(error.to_string());
-        failure.error = Some(vfd_bus::Error::from_transaction(&error));
-        match hint {
-            Some(hint) => failure.hint(hint),
-            None => failure,
-        }
+        SessionError::Exchange(vfd_bus::Error::from_transaction(&error).with_hint_or_none(hint))
     }
 
     fn address_text(&self) -> String {
@@ -642,9 +649,8 @@ impl Session {
 
 /// Whether a failed block read is the drive's refusal (an error reply) or a request the
 /// protocol could not make, as opposed to no answer, a damaged one or a failed line.
-fn refused(failure: &Failure) -> bool {
+fn refused(failure: &SessionError) -> bool {
     failure
-        .error
-        .as_ref()
+        .exchange()
         .is_some_and(|error| error.kind().worth_splitting())
 }

@@ -7,8 +7,9 @@
 //! combinations by [`Session::write`]).
 
 use crate::session::Session;
-use crate::Failure;
+use crate::session_error::SessionError;
 use vfd_bus::write_check;
+use vfd_bus::SetupError;
 use vfd_runtime::RegisterInfo;
 
 /// The register (in the scale it is written in) and the raw word `text` writes to `info`
@@ -18,7 +19,7 @@ pub fn checked_value(
     session: &mut Session,
     info: &'static RegisterInfo,
     text: &str,
-) -> Result<(&'static RegisterInfo, u32), Failure> {
+) -> Result<(&'static RegisterInfo, u32), SessionError> {
     let drive_name = session.drive_name.clone();
     let parse = |info: &'static RegisterInfo| write_check::in_range(info, text, &drive_name);
     let percent_of = session.named_command().and_then(|c| c.percent_of.clone());
@@ -44,17 +45,21 @@ pub fn checked_value(
 pub fn percentage(
     percent_of: &vfd_runtime::protocol::PercentOf,
     text: &str,
-) -> Result<u32, Failure> {
+) -> Result<u32, SessionError> {
     let number = text.trim().trim_end_matches('%').trim();
     let value: f64 = number.parse().map_err(|_| {
-        Failure::new(format!("`{text}` is not a percentage")).hint(format!(
-            "this command carries a percentage of {}: write e.g. 50%",
-            percent_of.register
-        ))
+        SessionError::Said(
+            SetupError::new(format!("`{text}` is not a percentage")).with_hint(format!(
+                "this command carries a percentage of {}: write e.g. 50%",
+                percent_of.register
+            )),
+        )
     })?;
     percent_of.to_raw(value, 100.0).ok_or_else(|| {
-        Failure::new(format!("{value} % does not fit the command's data word"))
-            .hint("nothing was sent")
+        SessionError::Said(
+            SetupError::new(format!("{value} % does not fit the command's data word"))
+                .with_hint("nothing was sent"),
+        )
     })
 }
 
@@ -65,8 +70,8 @@ fn check_run_time_bounds(
     session: &mut Session,
     info: &'static RegisterInfo,
     raw: u32,
-) -> Result<(), Failure> {
+) -> Result<(), SessionError> {
     let drive = session.drive;
     write_check::within_bounds(drive, info, raw, |other| session.read_if_readable(other))
-        .map_err(Failure::from)
+        .map_err(SessionError::from)
 }

@@ -126,8 +126,8 @@ pub fn backup(
             }
             Err(failure) => {
                 errors += 1;
-                let error = failure.error.clone().unwrap_or_else(|| {
-                    vfd_bus::Error::new(ErrorKind::Other, failure.message.clone())
+                let error = failure.exchange().cloned().unwrap_or_else(|| {
+                    vfd_bus::Error::new(ErrorKind::Other, failure.message().to_owned())
                 });
                 let mut record = ValueRecord::new(session.drive.id, info, None, None)
                     .now()
@@ -151,7 +151,11 @@ pub fn backup(
                     },
                 });
             }
-            Err(error) => failed.push(format!("{}: {}", info.code, error_line(&error))),
+            Err(error) => failed.push(format!(
+                "{}: {}",
+                info.code,
+                error_line(&Failure::from(error))
+            )),
         }
     }
     bar.finish_and_clear();
@@ -398,10 +402,9 @@ pub fn restore(
             )),
             Err(failure) => {
                 only_refusals &= failure
-                    .error
-                    .as_ref()
+                    .exchange()
                     .is_some_and(|e| e.kind() == ErrorKind::ErrorReply);
-                failed.push(format!("{}: {}", info.code, failure.message))
+                failed.push(format!("{}: {}", info.code, failure.message()))
             }
         }
     }

@@ -208,7 +208,11 @@ fn read_all(
         }
     }
     // Consecutive registers in one request where the protocol allows it.
-    session.read_many(poll.registers)
+    session
+        .read_many(poll.registers)
+        .into_iter()
+        .map(|result| result.map_err(Failure::from))
+        .collect()
 }
 
 /// The value as text shows it, and its number for the trend line.

@@ -268,7 +268,11 @@ pub fn watch(
         .map(|info| match session.scaled(info) {
             Ok(scaled) => scaled,
             Err(failure) => {
-                eprintln!("vfd: {}; {} is shown unscaled", failure.message, info.code);
+                eprintln!(
+                    "vfd: {}; {} is shown unscaled",
+                    failure.message(),
+                    info.code
+                );
                 info
             }
         })

@@ -5,8 +5,8 @@
 //! runs: `unplug BUS DRIVE` / `plug BUS DRIVE` pull a station's plug and put it back, and
 //! `write BUS DRIVE REGISTER VALUE` asks for a write as an MQTT `set` does.
 
-use crate::service::serve::event::{WriteRequest, WriteRouter};
-use crate::service::serve::{self, RouterParts};
+use crate::service::serve::event::{NotSent, Unroutable, WriteRequest, WriteRouter};
+use crate::service::serve::{self, ServiceCore};
 use crate::service::serve_args::ServeArgs;
 use crate::sim::plant::VirtualPlant;
 use crate::Failure;
@@ -51,16 +51,16 @@ pub fn run(
             stop.store(true, Ordering::SeqCst);
         });
     }
-    let parts = RouterParts::new(&plant);
-    let outputs = serve::outputs(&args, &plant, &parts)?;
+    let (core, events) = ServiceCore::new(&plant);
+    let outputs = serve::outputs(&args, &plant, &core)?;
     let controls = Controls {
         plant: virtual_plant,
-        router: parts.router.clone(),
+        router: core.writes(),
         next_id: 1,
     };
     let plant_handle = Arc::new(std::sync::Mutex::new(controls));
     spawn_controls(Arc::clone(&plant_handle), Arc::clone(&stop));
-    let result = serve::serve(&plant, outputs, parts, false, stop);
+    let result = serve::serve(core, events, outputs, false, stop);
     // The controls' thread may still hold its handle (waiting for a line): the plant's
     // servers stop when the last handle goes.
     if let Ok(controls) = Arc::try_unwrap(plant_handle) {
@@ -151,20 +151,16 @@ impl Controls {
                 None => format!("there is no station {drive} on {bus}"),
             },
             ("write", [bus, drive, register, value @ ..]) if !value.is_empty() => {
-                match self.router.buses.get(*bus) {
-                    Some(queue) => {
-                        let id = self.next_id;
-                        self.next_id += 1;
-                        let _ = queue.send(WriteRequest {
-                            bus: (*bus).to_owned(),
-                            drive: (*drive).to_owned(),
-                            register: (*register).to_owned(),
-                            value: value.join(" "),
-                            id,
-                        });
-                        format!("write {id} asked; its outcome is a `written` event")
-                    }
-                    None => format!("there is no bus {bus}"),
+                let id = self.next_id;
+                self.next_id += 1;
+                let request = WriteRequest::new(*bus, *drive, *register, value.join(" "), id);
+                match self.router.send(request) {
+                    Ok(()) => format!("write {id} asked; its outcome is a `written` event"),
+                    Err(NotSent {
+                        why: Unroutable::NoBus(_),
+                        ..
+                    }) => format!("there is no bus {bus}"),
+                    Err(_) => format!("bus {bus} takes no more writes: the service is stopping"),
                 }
             }
             _ => "type `write BUS DRIVE REGISTER VALUE`, `unplug BUS DRIVE` or `plug BUS DRIVE`"

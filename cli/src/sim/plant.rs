@@ -225,7 +225,10 @@ mod tests {
                     session.read(poll.register).unwrap_or_else(|f| {
                         panic!(
                             "{} {} {}: {}",
-                            bus.name, station.name, poll.register.code, f.message
+                            bus.name,
+                            station.name,
+                            poll.register.code,
+                            f.message()
                         )
                     });
                 }

@@ -3,9 +3,11 @@
 //! failing), which every output (`--jsonl`, MQTT) turns into its own form, and the write
 //! requests an input (an MQTT `set` topic) hands to a bus worker.
 
+pub use super::directory::{Directory, Target};
+use crate::service::plant::Plant;
 use serde::Serialize;
-use std::collections::HashMap;
-use std::sync::mpsc::Sender;
+use std::sync::mpsc::{Receiver, Sender};
+use std::sync::Arc;
 
 /// One thing the service reports. As a JSON line it is an object whose `event` field names
 /// the kind (`reading`, `availability`, `written`, `port`).
@@ -167,11 +169,111 @@ pub struct WriteRequest {
     pub value: String,
     /// The request's number in this run ([`super::run_id::next`]), echoed in the outcome.
     pub id: u64,
+    /// Where it goes, resolved from the names once ([`WriteRouter::send`] resolves a
+    /// request that comes without it).
+    pub target: Option<Target>,
 }
 
-/// Where write requests go: each bus worker's queue, by bus name.
+impl WriteRequest {
+    /// A request to write `value` to `register` of `drive` on `bus`, numbered `id`.
+    pub fn new(
+        bus: impl Into<String>,
+        drive: impl Into<String>,
+        register: impl Into<String>,
+        value: impl Into<String>,
+        id: u64,
+    ) -> WriteRequest {
+        WriteRequest {
+            bus: bus.into(),
+            drive: drive.into(),
+            register: register.into(),
+            value: value.into(),
+            id,
+            target: None,
+        }
+    }
+}
+
+/// Why a write request could not be handed to a bus worker.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Unroutable {
+    /// The plant has no bus of that name; its buses' names, sorted.
+    NoBus(Vec<String>),
+    /// The bus's worker has stopped.
+    Stopped,
+}
+
+/// A write request that could not be handed to a bus worker, and why.
+#[derive(Debug)]
+pub struct NotSent {
+    /// Why.
+    pub why: Unroutable,
+    /// The request, with its target where it was resolved.
+    pub request: Box<WriteRequest>,
+}
+
+/// Where write requests go: each bus worker's queue, by the bus's index in the plant,
+/// and the plant's names resolved ([`Directory`]).
 #[derive(Debug, Clone, Default)]
 pub struct WriteRouter {
-    /// Bus name -> the worker's queue.
-    pub buses: HashMap<String, Sender<WriteRequest>>,
+    /// The workers' queues, in the plant's order.
+    queues: Vec<Sender<WriteRequest>>,
+    /// The plant's names.
+    directory: Arc<Directory>,
+}
+
+impl WriteRouter {
+    /// The router of `plant`, its names resolved, and the workers' ends of its queues (one
+    /// per bus, in the plant's order).
+    pub fn new(plant: &Plant) -> (WriteRouter, Vec<Receiver<WriteRequest>>) {
+        let (queues, receivers) = plant
+            .buses
+            .iter()
+            .map(|_| std::sync::mpsc::channel())
+            .unzip();
+        let router = WriteRouter {
+            queues,
+            directory: Arc::new(Directory::new(plant)),
+        };
+        (router, receivers)
+    }
+
+    /// The plant's names, resolved.
+    pub fn directory(&self) -> &Directory {
+        &self.directory
+    }
+
+    /// Hands `request` to its bus's worker, resolving its names first unless it comes
+    /// with its [`Target`].
+    pub fn send(&self, mut request: WriteRequest) -> Result<(), NotSent> {
+        let target = match request.target {
+            Some(target) => target,
+            None => {
+                match self
+                    .directory
+                    .target(&request.bus, &request.drive, &request.register)
+                {
+                    Some(target) => target,
+                    None => {
+                        let known = self.directory.bus_names();
+                        return Err(NotSent {
+                            why: Unroutable::NoBus(known.into_iter().map(str::to_owned).collect()),
+                            request: Box::new(request),
+                        });
+                    }
+                }
+            }
+        };
+        request.target = Some(target);
+        let Some(queue) = self.queues.get(target.bus) else {
+            return Err(NotSent {
+                why: Unroutable::Stopped,
+                request: Box::new(request),
+            });
+        };
+        queue.send(request).map_err(|error| NotSent {
+            why: Unroutable::Stopped,
+            request: Box::new(error.0),
+        })
+    }
 }

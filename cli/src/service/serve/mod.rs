@@ -1,8 +1,10 @@
 //! `vfd serve PLANT`: the unattended service. One worker thread per bus polls its
 //! stations and carries out writes ([`worker`]); the events go through a bounded queue
 //! ([`report`]) to the outputs ([`output`]): JSON lines ([`jsonl`]) and an MQTT broker.
-//! SIGINT or SIGTERM stop it: every station is reported offline, the outputs finish.
+//! SIGINT or SIGTERM stop it: every station is reported offline, the outputs finish. The
+//! service without its outputs and inputs, for a program to embed, is [`ServiceCore`].
 
+mod directory;
 pub mod event;
 mod health;
 mod jsonl;
@@ -10,10 +12,13 @@ pub mod logger;
 pub mod mqtt;
 mod mqtt_output;
 pub mod output;
-mod report;
+pub mod report;
 pub mod request_text;
 pub mod run_id;
 mod schedule;
+pub mod service_core;
+#[cfg(test)]
+mod service_core_tests;
 mod station;
 mod stdin;
 mod worker;
@@ -22,50 +27,36 @@ mod write;
 use crate::service::plant::Plant;
 use crate::service::serve_args::ServeArgs;
 use crate::Failure;
-use event::WriteRouter;
+use event::Event;
 use output::Output;
-use report::Reporter;
+pub use service_core::ServiceCore;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::Receiver;
 use std::sync::Arc;
-use worker::Worker;
 
 /// The `log` target of the service's own records.
 pub const LOG_TARGET: &str = "vfd::serve";
 
-/// Runs the service over `plant` with `outputs` until SIGINT/SIGTERM (or `stop`).
+/// Runs the service `core` with `outputs` taking its `events` until SIGINT/SIGTERM (or
+/// `stop`).
 pub fn serve(
-    plant: &Plant,
+    core: ServiceCore,
+    events: Receiver<Event>,
     outputs: Vec<Box<dyn Output>>,
-    router: RouterParts,
     stdin_writes: bool,
     stop: Arc<AtomicBool>,
 ) -> Result<(), Failure> {
-    let (reporter, events) = Reporter::queue();
     if stdin_writes {
-        stdin::spawn(router.router.clone(), reporter.clone())
+        stdin::spawn(core.writes(), core.reporter())
             .map_err(|e| Failure::new(format!("cannot start reading standard input: {e}")))?;
     }
     let done = Arc::new(AtomicBool::new(false));
     let outputs = output::spawn(events, outputs, stop.clone(), done.clone())
         .map_err(|e| Failure::new(format!("cannot start the outputs' thread: {e}")))?;
-    let mut workers = Vec::new();
-    for (bus, requests) in plant.buses.iter().zip(router.queues) {
-        let worker = Worker::new(bus.clone(), reporter.clone(), requests, stop.clone());
-        match worker.spawn() {
-            Ok(handle) => workers.push(handle),
-            Err(e) => {
-                stop.store(true, Ordering::SeqCst);
-                return Err(Failure::new(format!(
-                    "cannot start the worker of bus {}: {e}",
-                    bus.name
-                )));
-            }
-        }
-    }
-    drop(reporter);
-    for worker in workers {
-        let _ = worker.join();
-    }
+    let running = core
+        .start(stop)
+        .map_err(|error| Failure::new(error.to_string()))?;
+    running.join();
     done.store(true, Ordering::SeqCst);
     let failed = outputs.join().ok().flatten();
     match failed {
@@ -76,35 +67,12 @@ pub fn serve(
     }
 }
 
-/// Each bus's write queue: the senders for the inputs (by bus name) and the workers'
-/// receivers (in the plant's order).
-pub struct RouterParts {
-    /// The inputs' side.
-    pub router: WriteRouter,
-    /// The workers' side, one per bus in the plant's order.
-    queues: Vec<std::sync::mpsc::Receiver<event::WriteRequest>>,
-}
-
-impl RouterParts {
-    /// A write queue per bus of `plant`.
-    pub fn new(plant: &Plant) -> RouterParts {
-        let mut router = WriteRouter::default();
-        let mut queues = Vec::new();
-        for bus in &plant.buses {
-            let (sender, receiver) = std::sync::mpsc::channel();
-            router.buses.insert(bus.name.clone(), sender);
-            queues.push(receiver);
-        }
-        RouterParts { router, queues }
-    }
-}
-
 /// The outputs `args` choose: JSON lines, an MQTT client connected to its broker (which
 /// takes the `set` topics into `parts`' queues), or both.
 pub fn outputs(
     args: &ServeArgs,
     plant: &Plant,
-    parts: &RouterParts,
+    core: &ServiceCore,
 ) -> Result<Vec<Box<dyn Output>>, Failure> {
     let mut outputs: Vec<Box<dyn Output>> = Vec::new();
     if args.jsonl {
@@ -118,7 +86,7 @@ pub fn outputs(
         }
         options.ca_file = args.mqtt_ca_file.clone();
         options.ha_discovery = args.ha_discovery;
-        let client = mqtt::Mqtt::connect(&options, plant, parts.router.clone())?;
+        let client = mqtt::Mqtt::connect(&options, plant, core.writes())?;
         log::info!(
             target: LOG_TARGET,
             "publishing to {} under {}/",
@@ -141,8 +109,8 @@ pub fn run(catalogue: &vfd_bus::Catalogue, args: &ServeArgs) -> Result<(), Failu
     }
     logger::start(args.verbose);
     let stop = crate::stop_flag::stop_flag()?;
-    let parts = RouterParts::new(&plant);
-    let outputs = outputs(args, &plant, &parts)?;
+    let (core, events) = ServiceCore::new(&plant);
+    let outputs = outputs(args, &plant, &core)?;
     log::info!(
         target: LOG_TARGET,
         "serving {} bus(es), {} station(s) from {} (run {}: write results are numbered {}-N)",
@@ -152,7 +120,7 @@ pub fn run(catalogue: &vfd_bus::Catalogue, args: &ServeArgs) -> Result<(), Failu
         run_id::run(),
         run_id::run()
     );
-    let result = serve(&plant, outputs, parts, args.stdin_writes, stop);
+    let result = serve(core, events, outputs, args.stdin_writes, stop);
     log::info!(target: LOG_TARGET, "stopped");
     result
 }

@@ -9,8 +9,8 @@ use super::schedule::Schedule;
 use crate::record::ValueRecord;
 use crate::service::plant::{Bus, Station};
 use crate::session::{Session, Value};
+use crate::session_error::SessionError;
 use crate::trip_flag::trip_flag;
-use crate::Failure;
 use std::time::{Duration, Instant};
 use vfd_bus::{Line, OnLine};
 use vfd_runtime::transaction::Master;
@@ -142,11 +142,11 @@ impl Link {
             due.iter().map(|i| self.registers[*i]).collect();
         let values = self.session.read_many_until_silent(&registers);
         let mut answered = false;
-        let mut silent: Option<Failure> = None;
+        let mut silent: Option<SessionError> = None;
         for result in &values {
             match result {
                 Ok(_) => answered = true,
-                Err(failure) => match failure.error.as_ref().map(|e| e.kind()) {
+                Err(failure) => match failure.exchange().map(|e| e.kind()) {
                     Some(kind) if kind.is_io() => return self.line_failed(failure, reporter),
                     // The drive answered, with a refusal: it is there.
                     Some(kind) if kind.answered() => answered = true,
@@ -189,7 +189,7 @@ impl Link {
                             self.bus,
                             self.station.name,
                             self.station.polls[*index].register.code,
-                            failure.message
+                            failure.message()
                         );
                     }
                 }
@@ -212,8 +212,8 @@ impl Link {
         }
     }
 
-    fn line_failed(&mut self, failure: &Failure, reporter: &Reporter) -> Round {
-        let why = failure.message.clone();
+    fn line_failed(&mut self, failure: &SessionError, reporter: &Reporter) -> Round {
+        let why = failure.message().to_owned();
         self.unreachable(&why, reporter);
         Round::LineFailed(why)
     }
@@ -221,7 +221,7 @@ impl Link {
     fn report_change(
         &self,
         change: Option<Change>,
-        failure: Option<&Failure>,
+        failure: Option<&SessionError>,
         reporter: &Reporter,
     ) {
         let Some(change) = change else { return };
@@ -235,14 +235,14 @@ impl Link {
                 self.bus,
                 self.station.name,
                 self.station_rules_offline_after(),
-                failure.map_or("", |f| f.message.as_str())
+                failure.map_or("", |f| f.message())
             );
         }
         reporter.event(Event::Availability(Availability {
             bus: self.bus.clone(),
             drive: self.station.name.clone(),
             online,
-            reason: failure.map(|f| f.message.clone()),
+            reason: failure.map(|f| f.message().to_owned()),
             time: crate::record::now().0,
         }));
     }

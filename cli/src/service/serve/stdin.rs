@@ -4,7 +4,7 @@
 //! ends only the requests, not the service. A line longer than [`MAX_LINE_BYTES`] is
 //! refused without being kept (only its first bytes and its size are repeated).
 
-use super::event::{WriteOutcome, WriteRequest, WriteRouter};
+use super::event::{NotSent, Unroutable, WriteOutcome, WriteRequest, WriteRouter};
 use super::report::Reporter;
 use super::request_text::{echo_of, MAX_NAME_BYTES, MAX_VALUE_BYTES};
 use serde::Deserialize;
@@ -51,13 +51,7 @@ fn answer(line: &[u8], size: usize, number: u64, router: &WriteRouter) -> Option
     let id = super::run_id::next();
     // What the result repeats of the line: its start and size when long.
     let refused = |error: String| {
-        let empty = WriteRequest {
-            bus: String::new(),
-            drive: String::new(),
-            register: String::new(),
-            value: String::new(),
-            id,
-        };
+        let empty = WriteRequest::new("", "", "", "", id);
         Some(WriteOutcome {
             request: echo_of(line, size),
             ..WriteOutcome::refused(&empty, error)
@@ -80,14 +74,12 @@ fn answer(line: &[u8], size: usize, number: u64, router: &WriteRouter) -> Option
             );
             Some(WriteOutcome::refused(&request, error))
         }
-        Ok(request) => match router.buses.get(&request.bus) {
-            Some(queue) => {
-                let _ = queue.send(request);
-                None
-            }
-            None => {
-                let mut known: Vec<&str> = router.buses.keys().map(String::as_str).collect();
-                known.sort_unstable();
+        Ok(request) => match router.send(request) {
+            Ok(()) => None,
+            Err(NotSent {
+                why: Unroutable::NoBus(known),
+                request,
+            }) => {
                 let error = format!(
                     "there is no bus `{}` in the plant file (it names {}); nothing was sent",
                     super::request_text::echo_text(&request.bus),
@@ -95,6 +87,8 @@ fn answer(line: &[u8], size: usize, number: u64, router: &WriteRouter) -> Option
                 );
                 Some(WriteOutcome::refused(&request, error))
             }
+            // The worker has ended: the service is stopping.
+            Err(_) => None,
         },
         Err(error) => refused(format!(
             "line {number} of standard input is not a write request ({error}); write {{\"bus\": ..., \"drive\": ..., \"register\": ..., \"value\": ...}}"
@@ -143,13 +137,13 @@ fn request(line: &str, id: u64) -> Result<WriteRequest, serde_json::Error> {
         serde_json::Value::String(text) => text,
         other => other.to_string(),
     };
-    Ok(WriteRequest {
-        bus: parsed.bus,
-        drive: parsed.drive,
-        register: parsed.register,
+    Ok(WriteRequest::new(
+        parsed.bus,
+        parsed.drive,
+        parsed.register,
         value,
         id,
-    })
+    ))
 }
 
 #[cfg(test)]

@@ -216,11 +216,8 @@ impl Worker {
     }
 
     fn write(&self, on_line: &mut OnLine, request: &WriteRequest) -> Option<String> {
-        let Some(index) = on_line
-            .stations()
-            .iter()
-            .position(|l| l.station.name == request.drive)
-        else {
+        // The router resolved the station's name when it took the request.
+        let Some(index) = request.target.and_then(|target| target.station) else {
             self.refuse(
                 request,
                 format!(

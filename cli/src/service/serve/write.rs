@@ -7,8 +7,8 @@
 
 use super::event::{WriteOutcome, WriteRequest};
 use super::station::Link;
+use crate::session_error::SessionError;
 use crate::write_value::checked_value;
-use crate::Failure;
 use std::time::Instant;
 use vfd_bus::values;
 use vfd_bus::ErrorKind;
@@ -22,19 +22,19 @@ pub fn write(link: &mut Link, request: &WriteRequest) -> (WriteOutcome, Option<S
     match attempt(link, request, &mut outcome) {
         Ok(()) => outcome.ok = true,
         Err((failure, sent)) => {
-            if failure.error.as_ref().is_some_and(|e| e.kind().is_io()) {
-                line_failed = Some(failure.message.clone());
+            if failure.exchange().is_some_and(|e| e.kind().is_io()) {
+                line_failed = Some(failure.message().to_owned());
             }
             outcome.sent = sent;
-            if let Some(error) = &failure.error {
+            if let Some(error) = failure.exchange() {
                 outcome.error_code = error.code();
                 if error.kind() == ErrorKind::ErrorReply {
                     outcome.error_meaning = Some(error.meaning().to_owned());
                 }
             }
-            outcome.error = Some(match &failure.hint {
-                Some(hint) => format!("{} ({hint})", failure.message),
-                None => failure.message.clone(),
+            outcome.error = Some(match failure.hint() {
+                Some(hint) => format!("{} ({hint})", failure.message()),
+                None => failure.message().to_owned(),
             });
         }
     }
@@ -50,30 +50,43 @@ fn attempt(
     link: &mut Link,
     request: &WriteRequest,
     outcome: &mut WriteOutcome,
-) -> Result<(), (Failure, bool)> {
-    let not_sent = |failure: Failure| (failure, false);
+) -> Result<(), (SessionError, bool)> {
+    let not_sent = |failure: SessionError| (failure, false);
     let station = &link.station;
     let drive = station.drive;
-    let info = vfd_bus::lookup::register_for(drive, &request.register, true, &station.drive_name)
-        .map_err(|error| not_sent(error.into()))?;
+    let (info, index) = match request.target.and_then(|target| target.allowed) {
+        // Resolved when the plant was set up: one of the allowed registers.
+        Some(index) => (station.writes[index].register, index),
+        // A name that is none of the allowed registers' own: what it means, refused unless
+        // it is one of them after all (another spelling).
+        None => {
+            let info =
+                vfd_bus::lookup::register_for(drive, &request.register, true, &station.drive_name)
+                    .map_err(|error| not_sent(error.into()))?;
+            let allow: Vec<&'static vfd_runtime::RegisterInfo> =
+                station.writes.iter().map(|a| a.register).collect();
+            let place = format!("{}/{}", link.bus, station.name);
+            let index = vfd_bus::write_check::allowed(&allow, info, &place)
+                .map_err(|refusal| not_sent(refusal.into()))?;
+            (info, index)
+        }
+    };
     outcome.code = info.code.to_owned();
     outcome.unit = info.unit_symbol().to_owned();
-    let allow: Vec<&'static vfd_runtime::RegisterInfo> =
-        station.writes.iter().map(|a| a.register).collect();
-    let place = format!("{}/{}", link.bus, station.name);
-    let index = vfd_bus::write_check::allowed(&allow, info, &place)
-        .map_err(|refusal| not_sent(refusal.into()))?;
     let persistent = station.writes[index].persistent;
     let info = link.session.on_port(info);
     vfd_bus::write_check::writable(info, persistent).map_err(|refusal| not_sent(refusal.into()))?;
     if link.health.is_offline() {
-        return Err(not_sent(
-            Failure::new(format!(
-                "{}/{} is offline (it did not answer the last exchanges); nothing was sent",
-                link.bus, station.name
-            ))
-            .hint("the write is not queued: send it again once the drive is online"),
-        ));
+        return Err(not_sent(SessionError::Exchange(
+            vfd_bus::Error::new(
+                ErrorKind::Offline,
+                format!(
+                    "{}/{} is offline (it did not answer the last exchanges); nothing was sent",
+                    link.bus, station.name
+                ),
+            )
+            .with_hint("the write is not queued: send it again once the drive is online"),
+        )));
     }
     let (info, raw) = checked_value(&mut link.session, info, &request.value).map_err(not_sent)?;
     let record = crate::record::ValueRecord::new(drive.id, info, Some(raw), None);
@@ -105,22 +118,19 @@ fn attempt(
         Err(failure) => {
             // A failure with a line error came from the exchange: the frame went out
             // (a lost reply leaves the outcome unknown). One without came from a check.
-            let sent = failure.error.as_ref().is_some_and(|e| e.kind().sent());
-            let failure = if failure
-                .error
-                .as_ref()
-                .is_some_and(|e| e.kind() == ErrorKind::Timeout)
-            {
-                Failure::new(format!(
-                    "{}; the write may have been carried out and is not repeated",
-                    failure.message
-                ))
-                .hint(format!(
-                    "read {} back to see whether it took effect",
-                    info.code
-                ))
-            } else {
-                failure
+            let sent = failure.exchange().is_some_and(|e| e.kind().sent());
+            let failure = match failure {
+                SessionError::Exchange(error) if error.kind() == ErrorKind::Timeout => {
+                    let message = format!(
+                        "{}; the write may have been carried out and is not repeated",
+                        error.message()
+                    );
+                    SessionError::Exchange(error.with_message(message).with_hint(format!(
+                        "read {} back to see whether it took effect",
+                        info.code
+                    )))
+                }
+                failure => failure,
             };
             Err((failure, sent))
         }

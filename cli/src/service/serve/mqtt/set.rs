@@ -22,7 +22,7 @@
 use super::set_value::set_value;
 use super::topic::{segment, Topics};
 use crate::service::plant::Plant;
-use crate::service::serve::event::{WriteOutcome, WriteRequest, WriteRouter};
+use crate::service::serve::event::{Target, Unroutable, WriteOutcome, WriteRequest, WriteRouter};
 use crate::service::serve::request_text::{echo, echo_text, MAX_NAME_BYTES, MAX_VALUE_BYTES};
 use rumqttc::Publish;
 use std::collections::{HashMap, VecDeque};
@@ -77,6 +77,12 @@ pub fn ack_of(publish: &Publish) -> Publish {
     ack
 }
 
+/// A register a topic segment names: its code, and where a write to it goes.
+struct Code {
+    code: String,
+    target: Option<Target>,
+}
+
 struct Pending {
     /// The message to acknowledge, without its payload.
     ack: Publish,
@@ -87,8 +93,9 @@ struct Pending {
 /// The `set` messages in flight and recently answered.
 pub struct SetLedger {
     topics: Topics,
-    /// bus -> drive -> topic segment -> the register's code.
-    stations: HashMap<String, HashMap<String, HashMap<String, String>>>,
+    /// bus -> drive -> topic segment -> the register's code and where a write to it goes
+    /// (resolved once, here).
+    stations: HashMap<String, HashMap<String, HashMap<String, Code>>>,
     writes: WriteRouter,
     in_flight: HashMap<u64, Pending>,
     answered: VecDeque<Key>,
@@ -97,8 +104,7 @@ pub struct SetLedger {
 impl SetLedger {
     /// A ledger for `plant`'s stations, sending to `writes`.
     pub fn new(topics: Topics, plant: &Plant, writes: WriteRouter) -> SetLedger {
-        let mut stations: HashMap<String, HashMap<String, HashMap<String, String>>> =
-            HashMap::new();
+        let mut stations: HashMap<String, HashMap<String, HashMap<String, Code>>> = HashMap::new();
         for bus in &plant.buses {
             let drives = stations.entry(bus.name.clone()).or_default();
             for station in &bus.stations {
@@ -109,7 +115,16 @@ impl SetLedger {
                     .map(|p| p.register)
                     .chain(station.writes.iter().map(|w| w.register));
                 for register in registers {
-                    codes.insert(segment(register.code), register.code.to_string());
+                    let target = writes
+                        .directory()
+                        .target(&bus.name, &station.name, register.code);
+                    codes.insert(
+                        segment(register.code),
+                        Code {
+                            code: register.code.to_string(),
+                            target,
+                        },
+                    );
                 }
             }
         }
@@ -192,7 +207,12 @@ impl SetLedger {
             );
             return self.refuse(result, key, names, request, reason);
         }
-        let register = codes.get(code).cloned().unwrap_or_else(|| code.to_string());
+        // A segment that names none of the station's registers is looked up by the
+        // router, and refused by the worker with what it means.
+        let (register, target) = match codes.get(code) {
+            Some(known) => (known.code.clone(), known.target),
+            None => (code.to_string(), None),
+        };
         let value = match set_value(&publish.payload, MAX_VALUE_BYTES) {
             Ok(value) => value,
             Err(reason) => return self.refuse(result, key, names, request, reason),
@@ -201,20 +221,18 @@ impl SetLedger {
             let reason = format!("{MAX_IN_FLIGHT} writes are already waiting for their buses; this one was not queued: send it again later");
             return self.refuse(result, key, names, request, reason);
         }
-        let Some(queue) = self.writes.buses.get(bus) else {
-            let reason = format!("bus '{bus}' takes no writes (its worker is not running)");
-            return self.refuse(result, key, names, request, reason);
-        };
         let id = crate::service::serve::run_id::next();
-        let sent = queue.send(WriteRequest {
-            bus: bus.to_string(),
-            drive: drive.to_string(),
-            register,
-            value,
-            id,
-        });
-        if sent.is_err() {
-            let reason = format!("bus '{bus}''s worker has stopped; nothing was written");
+        let mut write = WriteRequest::new(bus, drive, register, value, id);
+        write.target = target;
+        if let Err(not_sent) = self.writes.send(write) {
+            let reason = match not_sent.why {
+                Unroutable::NoBus(_) => {
+                    format!("bus '{bus}' takes no writes (its worker is not running)")
+                }
+                Unroutable::Stopped => {
+                    format!("bus '{bus}''s worker has stopped; nothing was written")
+                }
+            };
             return self.refuse(result, key, names, request, reason);
         }
         self.in_flight.insert(
@@ -270,7 +288,7 @@ impl SetLedger {
             .get(bus)
             .and_then(|d| d.get(drive))
             .and_then(|c| c.get(code))
-            .map_or_else(|| echo_text(code), String::clone);
+            .map_or_else(|| echo_text(code), |known| known.code.clone());
         Decision::Refuse {
             topic,
             outcome: Box::new(WriteOutcome {
@@ -309,16 +327,12 @@ mod tests {
     use std::sync::mpsc;
 
     fn ledger() -> (SetLedger, mpsc::Receiver<WriteRequest>) {
-        let (tx, rx) = mpsc::channel();
-        let mut router = WriteRouter::default();
-        router.buses.insert("line1".into(), tx);
+        let plant = super::super::test_plant::plant();
+        let (router, mut queues) = WriteRouter::new(&plant);
         let topics = Topics {
             prefix: "vfd".into(),
         };
-        (
-            SetLedger::new(topics, &super::super::test_plant::plant(), router),
-            rx,
-        )
+        (SetLedger::new(topics, &plant, router), queues.remove(0))
     }
 
     fn set(topic: &str, payload: Vec<u8>, pkid: u16) -> Publish {

@@ -22,9 +22,8 @@ pub(super) fn options(broker: &Broker, name: &str) -> MqttOptions {
 }
 
 fn connect(broker: &Broker, name: &str) -> (Mqtt, mpsc::Receiver<WriteRequest>) {
-    let (tx, rx) = mpsc::channel();
-    let mut router = WriteRouter::default();
-    router.buses.insert("line1".into(), tx);
+    let (router, mut queues) = WriteRouter::new(&plant());
+    let rx = queues.remove(0);
     let mqtt = Mqtt::connect(&options(broker, name), &plant(), router)
         .unwrap_or_else(|f| panic!("{}", f.message));
     (mqtt, rx)
@@ -477,9 +476,8 @@ fn the_documented_acl_file_lets_everyone_read_and_only_the_operator_write_set_to
             acl.display()
         ),
     );
-    let (tx, rx) = mpsc::channel();
-    let mut router = WriteRouter::default();
-    router.buses.insert("line1".into(), tx);
+    let (router, mut queues) = WriteRouter::new(&plant());
+    let rx = queues.remove(0);
     let mut options = options(&broker, "acl");
     options.credentials = Some(Credentials {
         username: "vfd-serve".into(),
