@@ -253,3 +253,46 @@ fn running_as_root() -> bool {
 }
 
 pub use crate::virtual_port::VirtualPort;
+
+/// A fresh folder for one test's HAL session (`vfd-linuxcnc-<name>-<pid>` in the system's
+/// temporary folder), emptied first.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("vfd-linuxcnc-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// Waits up to `limit` for `ready` to hold of the virtual drive behind `drive`; fails with
+/// `what`, the raw values of the registers `shown` and halrun's log when it does not.
+pub fn wait_on_drive(
+    hal: &Hal,
+    drive: &VirtualPort,
+    shown: &[&str],
+    what: &str,
+    limit: Duration,
+    ready: impl Fn(&vfd_runtime::virtual_drive::VirtualDrive) -> bool,
+) {
+    let end = Instant::now() + limit;
+    loop {
+        if ready(&drive.simulator.lock()) {
+            return;
+        }
+        if Instant::now() >= end {
+            let sim = drive.simulator.lock();
+            let values: Vec<String> = shown
+                .iter()
+                .map(|code| match sim.raw(code) {
+                    Some(raw) => format!("{code} = {raw} ({raw:04X}h)"),
+                    None => format!("{code} = none"),
+                })
+                .collect();
+            panic!(
+                "the virtual drive never reached: {what} ({})\nhalrun's log:\n{}",
+                values.join(", "),
+                hal.log_text()
+            );
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}

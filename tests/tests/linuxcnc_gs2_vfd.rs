@@ -10,16 +10,9 @@ use std::time::Duration;
 use vfd_drives::gs2::registers::{OutputFrequency, RunCommand, SpeedReference};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::units::Hertz;
-use vfd_tests::linuxcnc::{Hal, VirtualPort};
+use vfd_tests::linuxcnc::{temp_dir, Hal, VirtualPort};
 
 const LIMIT: Duration = Duration::from_secs(20);
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("vfd-linuxcnc-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
 
 /// Waits until the virtual drive holds `raw` in `register`.
 fn wait_raw(sim: &vfd_runtime::virtual_drive::Simulator, register: &str, raw: u32) {

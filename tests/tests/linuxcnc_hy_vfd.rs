@@ -11,14 +11,7 @@
 use std::time::Duration;
 use vfd_drives::hy::{self, registers::*};
 use vfd_runtime::serial::{Parity, SerialSettings};
-use vfd_tests::linuxcnc::{Hal, VirtualPort};
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("vfd-linuxcnc-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
+use vfd_tests::linuxcnc::{temp_dir, Hal, VirtualPort};
 
 const LIMIT: Duration = Duration::from_secs(30);
 

@@ -9,45 +9,14 @@
 //! Needs Debian's `linuxcnc-uspace` (`.ci/run` installs it); without `halrun` the test is
 //! reported ignored with the reason, except under CI, where it fails.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 use vfd_drives::fr_e700;
 use vfd_runtime::prelude::*;
 use vfd_runtime::serial::{Parity, SerialSettings};
-use vfd_tests::linuxcnc::{Hal, VirtualPort};
+use vfd_tests::linuxcnc::{temp_dir, wait_on_drive, Hal, VirtualPort};
 
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("vfd-linuxcnc-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-/// Waits up to `limit` for `ready` to hold of the virtual drive; the registers the
-/// component uses and the HAL log when it does not.
-fn wait_on_drive(
-    hal: &Hal,
-    drive: &VirtualPort,
-    what: &str,
-    limit: Duration,
-    ready: impl Fn(&vfd_runtime::virtual_drive::VirtualDrive) -> bool,
-) {
-    let end = Instant::now() + limit;
-    loop {
-        if ready(&drive.simulator.lock()) {
-            return;
-        }
-        assert!(
-            Instant::now() < end,
-            "the virtual drive never reached: {what} (H6D = {:?}, H6F = {:?}, H7A = {:?}, H74 = {:?})\nhalrun's log:\n{}",
-            drive.simulator.lock().raw("H6D-HED"),
-            drive.simulator.lock().raw("H6F"),
-            drive.simulator.lock().raw("H7A"),
-            drive.simulator.lock().raw("H74"),
-            hal.log_text()
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
-}
+/// The registers a failed wait shows.
+const SHOWN: &[&str] = &["H6D-HED", "H6F", "H7A", "H74"];
 
 /// Spindle on forward at 30 Hz, reverse, off, a trip and an emergency stop, as LinuxCNC
 /// drives them: the virtual drive runs at the frequency `mitsub_vfd` writes with HED
@@ -96,6 +65,7 @@ fn mitsub_vfd_drives_the_fr_e700_virtual_drive() {
     wait_on_drive(
         &hal,
         &drive,
+        SHOWN,
         "running forward at 30.00 Hz",
         Duration::from_secs(20),
         |sim| sim.is_running() && sim.raw("H6F") == Some(3000) && sim.raw("H7A") == Some(0x0B),
@@ -127,6 +97,7 @@ fn mitsub_vfd_drives_the_fr_e700_virtual_drive() {
     wait_on_drive(
         &hal,
         &drive,
+        SHOWN,
         "running in reverse at 30.00 Hz",
         Duration::from_secs(20),
         |sim| sim.raw("H7A") == Some(0x0D) && sim.raw("H6F") == Some(3000),
@@ -139,9 +110,14 @@ fn mitsub_vfd_drives_the_fr_e700_virtual_drive() {
 
     // Off: HFA = 00, the drive ramps down and stops.
     hal.setp(&pin("run"), 0);
-    wait_on_drive(&hal, &drive, "stopped", Duration::from_secs(20), |sim| {
-        !sim.is_running() && sim.raw("H6F") == Some(0) && sim.raw("H7A") == Some(0)
-    });
+    wait_on_drive(
+        &hal,
+        &drive,
+        SHOWN,
+        "stopped",
+        Duration::from_secs(20),
+        |sim| !sim.is_running() && sim.raw("H6F") == Some(0) && sim.raw("H7A") == Some(0),
+    );
     hal.wait_for(&pin("motor-fb"), Duration::from_secs(10), |v| {
         v.parse::<f64>().is_ok_and(|hz| hz == 0.0)
     });

@@ -7,45 +7,14 @@
 //! Needs Debian's `linuxcnc-uspace` (`.ci/run` installs it); without `halrun` the test is
 //! reported ignored with the reason, except under CI, where it fails.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 use vfd_drives::pi500;
 use vfd_runtime::prelude::*;
 use vfd_runtime::serial::{Parity, SerialSettings};
-use vfd_tests::linuxcnc::{Hal, VirtualPort};
+use vfd_tests::linuxcnc::{temp_dir, wait_on_drive, Hal, VirtualPort};
 
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("vfd-linuxcnc-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-/// Waits up to `limit` for `ready` to hold of the virtual drive; the registers the
-/// component uses and the HAL log when it does not.
-fn wait_on_drive(
-    hal: &Hal,
-    drive: &VirtualPort,
-    what: &str,
-    limit: Duration,
-    ready: impl Fn(&vfd_runtime::virtual_drive::VirtualDrive) -> bool,
-) {
-    let end = Instant::now() + limit;
-    loop {
-        if ready(&drive.simulator.lock()) {
-            return;
-        }
-        assert!(
-            Instant::now() < end,
-            "the virtual drive never reached: {what} (F0.01 = {:?}, 1001H = {:?}, 3000H = {:?}, 8000H = {:?})\nhalrun's log:\n{}",
-            drive.simulator.lock().raw("F0.01"),
-            drive.simulator.lock().raw("1001H"),
-            drive.simulator.lock().raw("3000H"),
-            drive.simulator.lock().raw("8000H"),
-            hal.log_text()
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
-}
+/// The registers a failed wait shows.
+const SHOWN: &[&str] = &["F0.01", "1001H", "3000H", "8000H"];
 
 /// Spindle on at 30 Hz, reversed by our own master, off, a trip and its reset, as LinuxCNC
 /// drives them: the virtual drive runs at the frequency `pi500_vfd` writes to F0.01 (x100,
@@ -88,6 +57,7 @@ fn pi500_vfd_drives_the_pi500_virtual_drive() {
     wait_on_drive(
         &hal,
         &drive,
+        SHOWN,
         "running forward at 30.00 Hz",
         Duration::from_secs(20),
         |sim| sim.is_running() && sim.raw("1001H") == Some(3000) && sim.raw("3000H") == Some(1),
@@ -123,6 +93,7 @@ fn pi500_vfd_drives_the_pi500_virtual_drive() {
     wait_on_drive(
         &hal,
         &drive,
+        SHOWN,
         "running in reverse at 30.00 Hz",
         Duration::from_secs(20),
         |sim| sim.raw("3000H") == Some(2) && sim.raw("1001H") == Some(3000),
@@ -134,9 +105,14 @@ fn pi500_vfd_drives_the_pi500_virtual_drive() {
 
     // Off: 2000H = 6, the drive ramps down and stands by.
     hal.setp(&pin("run"), 0);
-    wait_on_drive(&hal, &drive, "stopped", Duration::from_secs(20), |sim| {
-        !sim.is_running() && sim.raw("1001H") == Some(0) && sim.raw("3000H") == Some(3)
-    });
+    wait_on_drive(
+        &hal,
+        &drive,
+        SHOWN,
+        "stopped",
+        Duration::from_secs(20),
+        |sim| !sim.is_running() && sim.raw("1001H") == Some(0) && sim.raw("3000H") == Some(3),
+    );
     hal.wait_for(&pin("is-ready"), Duration::from_secs(5), |v| v == "TRUE");
     assert!(!hal.bit(&pin("is-running")));
     assert!(!hal.bit(&pin("is-at-speed")));
@@ -150,9 +126,14 @@ fn pi500_vfd_drives_the_pi500_virtual_drive() {
     assert_eq!(drive.simulator.lock().raw("8000H"), Some(0x0E));
     assert!(!hal.bit(&pin("is-ready")) && !hal.bit(&pin("is-running")));
     hal.setp(&pin("enable"), 1);
-    wait_on_drive(&hal, &drive, "reset", Duration::from_secs(10), |sim| {
-        sim.trip().is_none() && sim.raw("8000H") == Some(0) && sim.raw("3000H") == Some(3)
-    });
+    wait_on_drive(
+        &hal,
+        &drive,
+        SHOWN,
+        "reset",
+        Duration::from_secs(10),
+        |sim| sim.trip().is_none() && sim.raw("8000H") == Some(0) && sim.raw("3000H") == Some(3),
+    );
     hal.wait_for(&pin("is-alarm"), Duration::from_secs(5), |v| v == "FALSE");
     hal.wait_for(&pin("is-ready"), Duration::from_secs(5), |v| v == "TRUE");
 

@@ -11,16 +11,9 @@ use std::time::Duration;
 use vfd_drives::vfd_b::registers::{Command, FrequencyCommand, OutputFrequency};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::units::Hertz;
-use vfd_tests::linuxcnc::{Hal, VirtualPort};
+use vfd_tests::linuxcnc::{temp_dir, Hal, VirtualPort};
 
 const LIMIT: Duration = Duration::from_secs(20);
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("vfd-linuxcnc-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
 
 /// Spindle on forward at 1200 rpm (40 Hz with a 60 Hz, 1800 rpm motor), reverse (a negative
 /// speed command), off, and a trip shown on the error-code pin.

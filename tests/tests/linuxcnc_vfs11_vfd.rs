@@ -6,45 +6,14 @@
 //! Needs Debian's `linuxcnc-uspace` (`.ci/run` installs it); without `halrun` the test is
 //! reported ignored with the reason, except under CI, where it fails.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
 use vfd_drives::vf_s11;
 use vfd_runtime::prelude::*;
 use vfd_runtime::serial::{Parity, SerialSettings};
-use vfd_tests::linuxcnc::{Hal, VirtualPort};
+use vfd_tests::linuxcnc::{temp_dir, wait_on_drive, Hal, VirtualPort};
 
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("vfd-linuxcnc-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
-/// Waits up to `limit` for `ready` to hold of the virtual drive; the last value of `what`
-/// and the HAL log when it does not.
-fn wait_on_drive(
-    hal: &Hal,
-    drive: &VirtualPort,
-    what: &str,
-    limit: Duration,
-    ready: impl Fn(&vfd_runtime::virtual_drive::VirtualDrive) -> bool,
-) {
-    let end = Instant::now() + limit;
-    loop {
-        if ready(&drive.simulator.lock()) {
-            return;
-        }
-        assert!(
-            Instant::now() < end,
-            "the virtual drive never reached: {what} (FA00 = {:04X}h, FA01 = {:?}, FD00 = {:?}, FD01 = {:04X}h)\nhalrun's log:\n{}",
-            drive.simulator.lock().raw("FA00").unwrap_or(0),
-            drive.simulator.lock().raw("FA01"),
-            drive.simulator.lock().raw("FD00"),
-            drive.simulator.lock().raw("FD01").unwrap_or(0),
-            hal.log_text()
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
-}
+/// The registers a failed wait shows.
+const SHOWN: &[&str] = &["FA00", "FA01", "FD00", "FD01"];
 
 fn near(pin: f64, hz: f64) -> bool {
     (pin - hz).abs() < 0.005
@@ -109,6 +78,7 @@ fn vfs11_vfd_drives_the_vf_s11_virtual_drive() {
     wait_on_drive(
         &hal,
         &drive,
+        SHOWN,
         "running forward at 42.55 Hz",
         Duration::from_secs(15),
         |sim| sim.is_running() && sim.raw("FD00") == Some(4255),
@@ -145,6 +115,7 @@ fn vfs11_vfd_drives_the_vf_s11_virtual_drive() {
     wait_on_drive(
         &hal,
         &drive,
+        SHOWN,
         "running in reverse at 42.55 Hz",
         Duration::from_secs(15),
         |sim| {
@@ -162,9 +133,14 @@ fn vfs11_vfd_drives_the_vf_s11_virtual_drive() {
 
     // Off: the drive ramps down and stops.
     hal.setp("spindle.spindle-on", 0);
-    wait_on_drive(&hal, &drive, "stopped", Duration::from_secs(15), |sim| {
-        !sim.is_running() && sim.raw("FD00") == Some(0)
-    });
+    wait_on_drive(
+        &hal,
+        &drive,
+        SHOWN,
+        "stopped",
+        Duration::from_secs(15),
+        |sim| !sim.is_running() && sim.raw("FD00") == Some(0),
+    );
     assert_eq!(drive.simulator.lock().raw("FA00").unwrap_or(0) & 0x0400, 0);
     assert_eq!(master.read::<OutputFrequency>().unwrap(), Hertz(0.0));
     hal.wait_for("spindle.is-stopped", Duration::from_secs(5), |v| {
@@ -179,9 +155,14 @@ fn vfs11_vfd_drives_the_vf_s11_virtual_drive() {
         v.parse::<i64>().is_ok_and(|s| s & 0x0002 != 0)
     });
     hal.setp("spindle.err-reset", 1);
-    wait_on_drive(&hal, &drive, "reset", Duration::from_secs(10), |sim| {
-        sim.raw("FC90") == Some(0) && sim.raw("FD01").is_some_and(|s| s & 0x0002 == 0)
-    });
+    wait_on_drive(
+        &hal,
+        &drive,
+        SHOWN,
+        "reset",
+        Duration::from_secs(10),
+        |sim| sim.raw("FC90") == Some(0) && sim.raw("FD01").is_some_and(|s| s & 0x0002 == 0),
+    );
     hal.wait_for("spindle.trip-code", Duration::from_secs(5), |v| v == "0");
     assert_eq!(drive.simulator.lock().raw("FE10"), Some(0x18));
 

@@ -11,17 +11,10 @@ use std::time::Duration;
 use vfd_drives::wj200::registers::{FrequencySource, OutputFrequency};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::units::Hertz;
-use vfd_tests::linuxcnc::{Hal, VirtualPort};
+use vfd_tests::linuxcnc::{temp_dir, Hal, VirtualPort};
 
 const LIMIT: Duration = Duration::from_secs(20);
 const ON: u32 = 0xFF00;
-
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("vfd-linuxcnc-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
 
 /// Run forward at 40 Hz, reverse, stop, and a trip shown on is-alarm and reset through the
 /// trip-reset coil when the component is enabled again.
