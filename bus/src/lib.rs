@@ -33,6 +33,40 @@
 //!   sending, the station offline. Each kind has a stable snake_case name for JSON.
 //! - **One back-off** ([`BackOff`]): the wait before trying again, doubling to a cap, for a
 //!   port to reopen, an offline station to try, a broker to reconnect to.
+//! - A **session** ([`Session`]) is one station's reads and writes by register: values
+//!   scaled as the drive's selector registers say, writes checked first, the manual's
+//!   forbidden combinations kept; it ends in a typed [`SessionError`].
+//! - A **plant** ([`Plant`], [`mod@plant`]) is the buses, stations, poll lists and write
+//!   allow-lists a service runs, read from a plant file with file:line:column diagnostics
+//!   and resolved once.
+//! - The **service** ([`ServiceCore`], [`mod@service`]) runs a plant: one worker thread per
+//!   bus polls its stations, takes stations offline and back, and carries out write
+//!   requests; what happens comes out as [`service::event::Event`]s. `vfd serve` is this
+//!   with JSON lines and MQTT around it.
+//!
+//! # Embedding the service
+//!
+//! ```no_run
+//! use std::sync::atomic::AtomicBool;
+//! use std::sync::Arc;
+//! use vfd_bus::service::event::Event;
+//! use vfd_bus::{Catalogue, ServiceCore};
+//!
+//! let catalogue = Catalogue::new();
+//! let plant = vfd_bus::plant::load("plant.yaml".as_ref(), &catalogue)
+//!     .map_err(|problems| problems.to_string())?;
+//! let (core, events) = ServiceCore::new(&plant);
+//! let stop = Arc::new(AtomicBool::new(false));
+//! let running = core.start(stop.clone())?;
+//! for event in events.iter().take(100) {
+//!     if let Event::Reading(reading) = event {
+//!         println!("{}/{} {}: {:?} {}", reading.bus, reading.drive, reading.code, reading.value, reading.unit);
+//!     }
+//! }
+//! stop.store(true, std::sync::atomic::Ordering::SeqCst);
+//! running.join();
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 //!
 //! Library code never prints: what it has to say goes through the `log` facade, or comes
 //! back as values (errors with a message and, where one helps, a hint on what to do).
@@ -43,14 +77,26 @@ pub mod catalogue;
 pub mod error;
 pub mod line;
 pub mod lookup;
+pub mod plant;
+pub mod record;
+pub mod service;
+pub mod session;
+pub mod session_error;
 pub mod setup_error;
+pub mod storage;
+pub mod trip_flag;
 pub mod values;
 pub mod write_check;
+pub mod write_value;
 
 pub use back_off::BackOff;
 pub use bus::{Bus, OnLine};
 pub use catalogue::Catalogue;
 pub use error::{Error, ErrorKind};
 pub use line::Line;
+pub use plant::Plant;
+pub use service::ServiceCore;
+pub use session::Session;
+pub use session_error::SessionError;
 pub use setup_error::SetupError;
 pub use write_check::{Reason, Refusal};

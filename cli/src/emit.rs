@@ -1,4 +1,4 @@
-//! `--format text|json|jsonl|csv`: writes the records of [`crate::record`] as one JSON
+//! `--format text|json|jsonl|csv`: writes the records of [`vfd_bus::record`] as one JSON
 //! document, one JSON object per line (flushed at once, for a pipe reader), or CSV with a
 //! header row and RFC 4180 quoting (the `csv` crate quotes and escapes). Text output stays
 //! with each command.

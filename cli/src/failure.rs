@@ -71,9 +71,9 @@ impl From<vfd_bus::Error> for Failure {
     }
 }
 
-impl From<crate::session_error::SessionError> for Failure {
-    fn from(error: crate::session_error::SessionError) -> Failure {
-        use crate::session_error::SessionError;
+impl From<vfd_bus::session_error::SessionError> for Failure {
+    fn from(error: vfd_bus::session_error::SessionError) -> Failure {
+        use vfd_bus::session_error::SessionError;
         match error {
             SessionError::Exchange(error) => error.into(),
             SessionError::Refused(refusal) => refusal.into(),

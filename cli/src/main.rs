@@ -11,23 +11,18 @@ mod emit;
 mod failure;
 mod frame_text;
 mod line_args;
+mod open_session;
 mod out;
 mod paged;
-mod record;
 mod service;
-mod session;
-mod session_error;
 mod sim;
 mod stop_flag;
-mod storage;
 mod trace;
 mod traced_line;
-mod trip_flag;
-mod write_value;
 
 use commands::{backup, block, decode, describe, encode, generate, ports, watch};
 pub use failure::Failure;
-use service::{plant, serve, serve_args};
+use service::{plant_check, serve, serve_args};
 #[cfg(all(unix, feature = "pty"))]
 use sim::{demo, demo_plant};
 
@@ -565,7 +560,7 @@ fn run(command: Command, catalogue: &Catalogue) -> Result<(), Failure> {
             deny_warnings,
             files,
         } => generate::check(catalogue, &files, deny_warnings).map_err(Failure::from),
-        Command::Serve(args) if args.check => plant::check::run(catalogue, &args.plant),
+        Command::Serve(args) if args.check => plant_check::run(catalogue, &args.plant),
         Command::Serve(args) => serve::run(catalogue, &args),
         Command::Completions { shell } => {
             let mut script = Vec::new();

@@ -6,13 +6,13 @@
 use crate::emit::{Emitter, Format};
 use crate::line_args::LineArgs;
 use crate::out::say;
-use crate::record::ValueRecord;
-use crate::session::{Session, Value};
-use crate::trip_flag::trip_flag;
 use crate::Failure;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use vfd_bus::record::ValueRecord;
+use vfd_bus::session::{Session, Value};
+use vfd_bus::trip_flag::trip_flag;
 use vfd_bus::values;
 use vfd_bus::{Catalogue, ErrorKind};
 use vfd_runtime::{Access, RegisterInfo, Space};
@@ -94,7 +94,7 @@ pub fn backup(
     to: &Path,
     format: Format,
 ) -> Result<(), Failure> {
-    let mut session = Session::open(line, catalogue)?;
+    let mut session = crate::open_session::open_session(line, catalogue)?;
     let registers: Vec<&'static RegisterInfo> = session
         .drive
         .registers
@@ -293,7 +293,7 @@ pub fn restore(
         ))
         .hint("correct or remove those entries, then restore again"));
     }
-    let mut session = Session::open(line, catalogue)?;
+    let mut session = crate::open_session::open_session(line, catalogue)?;
     let bar = progress(wanted.len(), "comparing");
     let mut plans = Vec::new();
     for (info, raw) in wanted {
@@ -416,7 +416,7 @@ pub fn restore(
         say!("{note}");
     }
     let persistable = writes.iter().any(|(info, _, _)| {
-        !info.persistent_write_to_ram && crate::storage::writes(session.protocol, info).persistent
+        !info.persistent_write_to_ram && vfd_bus::storage::writes(session.protocol, info).persistent
     });
     if !persist && written > 0 && persistable {
         say!("RAM only: the restored values are lost at power-off (restore with --persist to keep them in EEPROM)");
@@ -449,7 +449,7 @@ fn check_sendable(
     persist: bool,
 ) -> Result<(), Failure> {
     let sendable = |protocol: &vfd_runtime::Protocol, info: &RegisterInfo| {
-        let can = crate::storage::writes(protocol, info);
+        let can = vfd_bus::storage::writes(protocol, info);
         if persist {
             can.persistent
         } else {
@@ -465,7 +465,7 @@ fn check_sendable(
         return Ok(());
     }
     let other_storage = stuck.iter().all(|info| {
-        let can = crate::storage::writes(session.protocol, info);
+        let can = vfd_bus::storage::writes(session.protocol, info);
         if persist {
             can.ram
         } else {

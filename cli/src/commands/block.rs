@@ -6,9 +6,9 @@
 use crate::commands::watch::{print_value, show_trip};
 use crate::line_args::LineArgs;
 use crate::out::say;
-use crate::session::{Session, Value};
 use crate::Failure;
 use std::collections::BTreeMap;
+use vfd_bus::session::Value;
 use vfd_bus::values;
 use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::{DriveInfo, Protocol, Space};
@@ -85,7 +85,7 @@ pub fn block(catalogue: &Catalogue, args: &BlockArgs<'_>) -> Result<(), Failure>
     let sets = parse_sets(catalogue, drive, args.sets)?;
     let mut line = args.line.clone();
     line.protocol = Some(protocol.id.to_string());
-    let mut session = Session::open(&line, catalogue)?;
+    let mut session = crate::open_session::open_session(&line, catalogue)?;
     let mut current = sets.clone();
     if !args.defaults {
         for register in spec.selector_registers() {

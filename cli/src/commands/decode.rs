@@ -4,8 +4,8 @@
 use crate::emit::{Emitter, Format};
 use crate::out::say;
 use crate::paged::{page_switch, paged_text};
-use crate::record::ValueRecord;
 use crate::Failure;
+use vfd_bus::record::ValueRecord;
 use vfd_bus::values;
 use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::codec::FrameValues;

@@ -3,9 +3,9 @@
 
 use crate::emit::{Emitter, Format};
 use crate::out::say;
-use crate::record::{DriveRecord, RegisterRecord};
 use crate::Failure;
 use vfd_bus::catalogue::Found;
+use vfd_bus::record::{DriveRecord, RegisterRecord};
 use vfd_bus::values;
 use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::info::manual_number;
@@ -356,7 +356,7 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
         Access::ReadWrite => "read-write",
     };
     say!("  access      {access}");
-    say!("  storage     {}", crate::storage::storage_line(drive, r));
+    say!("  storage     {}", vfd_bus::storage::storage_line(drive, r));
     say!(
         "  while run   {}",
         if r.writable_while_running {

@@ -80,7 +80,7 @@ pub fn encode(catalogue: &Catalogue, args: &EncodeArgs) -> Result<(), Failure> {
             let persist = write == Action::WritePersistent;
             vfd_bus::write_check::writable(register, persist)?;
             let data = match percent_of {
-                Some(percent_of) => crate::write_value::percentage(percent_of, value)?,
+                Some(percent_of) => vfd_bus::write_value::percentage(percent_of, value)?,
                 None => values::parse(register, value).map_err(Failure::new)?,
             };
             let kind = if persist {

@@ -201,8 +201,8 @@ fn description_format_files(root: &Path) -> Result<Vec<(PathBuf, String)>, Strin
     })?;
     files.push((readme_path, readme));
     files.push((
-        root.join(crate::service::plant::schema::PATH),
-        crate::service::plant::schema::text(),
+        root.join(vfd_bus::plant::schema::PATH),
+        vfd_bus::plant::schema::text(),
     ));
     Ok(files)
 }

@@ -7,12 +7,12 @@
 use crate::emit::{Emitter, Format};
 use crate::line_args::LineArgs;
 use crate::out::{is_terminal, print_raw, say};
-use crate::record::ValueRecord;
-use crate::session::{Session, Value};
-use crate::trip_flag::trip_flag;
 use crate::Failure;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
+use vfd_bus::record::ValueRecord;
+use vfd_bus::session::{Session, Value};
+use vfd_bus::trip_flag::trip_flag;
 use vfd_bus::values;
 use vfd_bus::{BackOff, Catalogue, ErrorKind};
 use vfd_runtime::units::raw_to_scaled;
@@ -186,7 +186,7 @@ fn read_all(
 ) -> Vec<Result<Value, Failure>> {
     if *port_lost {
         if let Some((line, catalogue)) = poll.reopen {
-            match Session::open(line, catalogue) {
+            match crate::open_session::open_session(line, catalogue) {
                 Ok(mut fresh) => {
                     fresh.command = session.command;
                     *session = fresh;

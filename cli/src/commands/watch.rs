@@ -5,14 +5,14 @@ use crate::commands::poll::{self, Poll};
 use crate::emit::{Emitter, Format};
 use crate::line_args::LineArgs;
 use crate::out::say;
-use crate::record::ValueRecord;
-use crate::session::{Session, Value};
-use crate::trip_flag::trip_flag;
-use crate::write_value::checked_value;
 use crate::Failure;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
+use vfd_bus::record::ValueRecord;
+use vfd_bus::session::{Session, Value};
+use vfd_bus::trip_flag::trip_flag;
 use vfd_bus::values;
+use vfd_bus::write_value::checked_value;
 use vfd_bus::Catalogue;
 use vfd_runtime::RegisterInfo;
 
@@ -24,7 +24,7 @@ pub fn read(
     names: &[String],
     format: Format,
 ) -> Result<(), Failure> {
-    let mut session = Session::open(line, catalogue)?;
+    let mut session = crate::open_session::open_session(line, catalogue)?;
     session.command = command.map(command_code).transpose()?;
     let registers = resolve(catalogue, &session, names)?;
     let mut read = Vec::new();
@@ -148,12 +148,12 @@ pub fn write(
     };
     vfd_bus::write_check::writable(info, persist)?;
     let code = command.map(command_code).transpose()?;
-    let mut session = Session::open(line, catalogue)?;
+    let mut session = crate::open_session::open_session(line, catalogue)?;
     session.command = code;
     let percent_of = session.named_command().and_then(|c| c.percent_of.clone());
     let (info, raw) = checked_value(&mut session, info, text)?;
     let (echo, tripped) = session.write(info, raw, persist)?;
-    let target = crate::storage::target(info, persist);
+    let target = vfd_bus::storage::target(info, persist);
     let echo = match echo {
         Some(echo) if echo != raw => format!("; the drive reports {}", values::short(info, echo)),
         Some(_) => "; the drive confirms it".to_owned(),
@@ -222,9 +222,9 @@ pub fn broadcast_write(
         .parse()
         .map_err(|e: vfd_runtime::broadcast::GroupParseError| Failure::new(e.to_string()))?;
     let raw = vfd_bus::write_check::in_range(info, text, &catalogue.name_for(drive))?;
-    let mut session = Session::open(line, catalogue)?;
+    let mut session = crate::open_session::open_session(line, catalogue)?;
     let (echo, responder) = session.broadcast_write(info, raw, persist, to, reply_from)?;
-    let target = crate::storage::target(info, persist);
+    let target = vfd_bus::storage::target(info, persist);
     let answered = match (reply_from, echo) {
         (Some(station), Some(echo)) if echo != raw => {
             format!("; station {station} reports {}", values::short(info, echo))
@@ -260,7 +260,7 @@ pub fn watch(
     count: Option<u64>,
     format: Format,
 ) -> Result<(), Failure> {
-    let mut session = Session::open(line, catalogue)?;
+    let mut session = crate::open_session::open_session(line, catalogue)?;
     // Registers whose scale another register chooses are shown in the scale it chooses
     // when the watch starts (unscaled when that register cannot be read now).
     let registers = resolve(catalogue, &session, names)?

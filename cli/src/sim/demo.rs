@@ -8,12 +8,12 @@
 
 use crate::commands::{describe, watch};
 use crate::out::say;
-use crate::session::{Session, Value};
 use crate::traced_line::Traced;
 use crate::Failure;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+use vfd_bus::session::{Session, Value};
 use vfd_bus::values;
 use vfd_bus::Catalogue;
 use vfd_bus::Line;

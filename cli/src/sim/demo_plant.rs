@@ -5,7 +5,6 @@
 //! runs: `unplug BUS DRIVE` / `plug BUS DRIVE` pull a station's plug and put it back, and
 //! `write BUS DRIVE REGISTER VALUE` asks for a write as an MQTT `set` does.
 
-use crate::service::serve::event::{NotSent, Unroutable, WriteRequest, WriteRouter};
 use crate::service::serve::{self, ServiceCore};
 use crate::service::serve_args::ServeArgs;
 use crate::sim::plant::VirtualPlant;
@@ -15,6 +14,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
+use vfd_bus::service::event::{NotSent, Unroutable, WriteRequest, WriteRouter};
 
 /// Runs the plant demo until Ctrl-C, or for `seconds`.
 pub fn run(
@@ -24,10 +24,9 @@ pub fn run(
 ) -> Result<(), Failure> {
     let virtual_plant = crate::sim::plant::start(catalogue)?;
     let path = PathBuf::from("demo-plant.yaml");
-    let plant = crate::service::plant::load_str(&virtual_plant.plant_file, &path, catalogue)
-        .map_err(|problems| {
-            Failure::new(format!("the built-in plant file is refused:\n{problems}"))
-        })?;
+    let plant = vfd_bus::plant::load_str(&virtual_plant.plant_file, &path, catalogue).map_err(
+        |problems| Failure::new(format!("the built-in plant file is refused:\n{problems}")),
+    )?;
     let args = ServeArgs {
         plant: path,
         check: false,

@@ -4,12 +4,12 @@
 //! virtual drive per station, and the plant file with each bus's `port:` replaced by its
 //! pseudo-terminal.
 
-use crate::service::plant::Plant;
 use crate::Failure;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::JoinHandle;
+use vfd_bus::plant::Plant;
 use vfd_runtime::serial::SerialSettings;
 use vfd_runtime::transport::PseudoTerminal;
 use vfd_runtime::virtual_drive::{serve_bus, BusStation, Simulator};
@@ -96,9 +96,9 @@ impl Drop for VirtualPlant {
 
 /// The built-in plant file, read and checked (its ports still the virtual lines' names).
 fn template(catalogue: &vfd_bus::Catalogue) -> Result<Plant, Failure> {
-    crate::service::plant::load_str(PLANT_FILE, Path::new(PLANT_NAME), catalogue).map_err(
-        |problems| Failure::new(format!("the built-in plant file is refused:\n{problems}")),
-    )
+    vfd_bus::plant::load_str(PLANT_FILE, Path::new(PLANT_NAME), catalogue).map_err(|problems| {
+        Failure::new(format!("the built-in plant file is refused:\n{problems}"))
+    })
 }
 
 /// Starts the built-in virtual plant: one pseudo-terminal and one server thread per bus,
@@ -174,7 +174,6 @@ pub fn start(catalogue: &vfd_bus::Catalogue) -> Result<VirtualPlant, Failure> {
 mod tests {
     use super::*;
     use crate::line_args::LineArgs;
-    use crate::session::Session;
 
     fn line_args(drive: &str, protocol: &str, port: &str, address: u8) -> LineArgs {
         LineArgs {
@@ -204,8 +203,7 @@ mod tests {
         assert!(plant.stations.len() >= 3);
         // The plant file as served: every port is a pseudo-terminal now.
         let served =
-            crate::service::plant::load_str(&plant.plant_file, Path::new(PLANT_NAME), &catalogue)
-                .unwrap();
+            vfd_bus::plant::load_str(&plant.plant_file, Path::new(PLANT_NAME), &catalogue).unwrap();
         for bus in &served.buses {
             let device = &plant
                 .buses
@@ -216,7 +214,7 @@ mod tests {
             assert_eq!(&bus.port, device);
             for station in &bus.stations {
                 let address = station.address.unwrap();
-                let mut session = Session::open(
+                let mut session = crate::open_session::open_session(
                     &line_args(station.drive.id, &station.protocol.id, device, address),
                     &catalogue,
                 )
@@ -248,7 +246,7 @@ mod tests {
             .set_unplugged(true);
         let device = &plant.buses[0].device;
         let register = second.polls[0].register;
-        let mut two = Session::open(
+        let mut two = crate::open_session::open_session(
             &line_args(
                 second.drive.id,
                 &second.protocol.id,
@@ -259,7 +257,7 @@ mod tests {
         )
         .unwrap();
         assert!(two.read(register).is_err());
-        let mut one = Session::open(
+        let mut one = crate::open_session::open_session(
             &line_args(
                 first.drive.id,
                 &first.protocol.id,

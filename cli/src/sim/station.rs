@@ -3,8 +3,8 @@
 //! on the line, a line speed every drive can be set to), or the one station `-d/--drive`
 //! and `--address` give.
 
-use crate::service::plant::framing::Framing;
 use crate::Failure;
+use vfd_bus::plant::framing::Framing;
 use vfd_bus::{lookup, Catalogue};
 use vfd_runtime::serial::SerialSettings;
 use vfd_runtime::virtual_drive::{BusStation, Simulator};

@@ -1,11 +1,11 @@
 //! `--jsonl`: every event as one JSON object per line on standard output (the fields of
-//! [`super::event`]; docs/serve.md lists them), flushed line by line so a pipe reader sees
+//! [`vfd_bus::service::event`]; docs/serve.md lists them), flushed line by line so a pipe reader sees
 //! each as it happens. A closed standard output (the reader went away) ends the service
 //! quietly.
 
-use super::event::Event;
 use super::output::Output;
 use std::io::Write;
+use vfd_bus::service::event::Event;
 
 /// JSON lines on standard output.
 pub struct JsonLines;

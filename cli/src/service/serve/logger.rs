@@ -19,7 +19,7 @@ impl log::Log for ServiceLogger {
         if !self.enabled(record.metadata()) {
             return;
         }
-        let (time, _) = crate::record::now();
+        let (time, _) = vfd_bus::record::now();
         let level = match record.level() {
             log::Level::Error => "error",
             log::Level::Warn => "warning",

@@ -1,41 +1,28 @@
-//! `vfd serve PLANT`: the unattended service. One worker thread per bus polls its
-//! stations and carries out writes ([`worker`]); the events go through a bounded queue
-//! ([`report`]) to the outputs ([`output`]): JSON lines ([`jsonl`]) and an MQTT broker.
-//! SIGINT or SIGTERM stop it: every station is reported offline, the outputs finish. The
-//! service without its outputs and inputs, for a program to embed, is [`ServiceCore`].
+//! `vfd serve PLANT`: the unattended service. The library's service core
+//! ([`vfd_bus::service`]) runs one worker thread per bus; its events go to the outputs
+//! ([`output`]): JSON lines ([`jsonl`]) and an MQTT broker ([`mqtt`]), which also takes
+//! `set` requests, as standard input does with `--stdin-writes` ([`stdin`]). SIGINT or
+//! SIGTERM stop it: every station is reported offline, the outputs finish.
 
-mod directory;
-pub mod event;
-mod health;
 mod jsonl;
 pub mod logger;
 pub mod mqtt;
 mod mqtt_output;
 pub mod output;
-pub mod report;
-pub mod request_text;
-pub mod run_id;
-mod schedule;
-pub mod service_core;
-#[cfg(test)]
-mod service_core_tests;
-mod station;
 mod stdin;
-mod worker;
-mod write;
 
-use crate::service::plant::Plant;
 use crate::service::serve_args::ServeArgs;
 use crate::Failure;
-use event::Event;
 use output::Output;
-pub use service_core::ServiceCore;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::Receiver;
 use std::sync::Arc;
+use vfd_bus::plant::Plant;
+use vfd_bus::service::event::Event;
+pub use vfd_bus::service::ServiceCore;
 
 /// The `log` target of the service's own records.
-pub const LOG_TARGET: &str = "vfd::serve";
+pub use vfd_bus::service::LOG_TARGET;
 
 /// Runs the service `core` with `outputs` taking its `events` until SIGINT/SIGTERM (or
 /// `stop`).
@@ -100,7 +87,7 @@ pub fn outputs(
 
 /// `vfd serve`.
 pub fn run(catalogue: &vfd_bus::Catalogue, args: &ServeArgs) -> Result<(), Failure> {
-    let plant = crate::service::plant::check::load_for_service(catalogue, &args.plant)?;
+    let plant = crate::service::plant_check::load_for_service(catalogue, &args.plant)?;
     if !args.jsonl && args.mqtt.is_none() {
         return Err(Failure::new(
             "say where the readings go: --jsonl (JSON lines on standard output), --mqtt URL, or both",
@@ -117,8 +104,8 @@ pub fn run(catalogue: &vfd_bus::Catalogue, args: &ServeArgs) -> Result<(), Failu
         plant.buses.len(),
         plant.buses.iter().map(|b| b.stations.len()).sum::<usize>(),
         plant.path.display(),
-        run_id::run(),
-        run_id::run()
+        vfd_bus::service::run_id::run(),
+        vfd_bus::service::run_id::run()
     );
     let result = serve(core, events, outputs, args.stdin_writes, stop);
     log::info!(target: LOG_TARGET, "stopped");

@@ -1,9 +1,9 @@
 //! The MQTT client as one of the service's outputs: every event published (never waiting
 //! for the broker), and at the end every station and the service reported offline.
 
-use super::event::Event;
 use super::mqtt::Mqtt;
 use super::output::Output;
+use vfd_bus::service::event::Event;
 
 /// [`Mqtt`] as an [`Output`].
 pub struct MqttOutput(pub Mqtt);

@@ -2,12 +2,12 @@
 //! (`--jsonl`, MQTT) in the order the workers reported them, and at the end lets each
 //! output finish (the broker is told the service is offline).
 
-use super::event::Event;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::Duration;
+use vfd_bus::service::event::Event;
 
 /// Where events go.
 pub trait Output: Send {

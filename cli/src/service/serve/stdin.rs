@@ -4,11 +4,11 @@
 //! ends only the requests, not the service. A line longer than [`MAX_LINE_BYTES`] is
 //! refused without being kept (only its first bytes and its size are repeated).
 
-use super::event::{NotSent, Unroutable, WriteOutcome, WriteRequest, WriteRouter};
-use super::report::Reporter;
-use super::request_text::{echo_of, MAX_NAME_BYTES, MAX_VALUE_BYTES};
 use serde::Deserialize;
 use std::io::BufRead;
+use vfd_bus::service::event::{NotSent, Unroutable, WriteOutcome, WriteRequest, WriteRouter};
+use vfd_bus::service::report::Reporter;
+use vfd_bus::service::request_text::{echo_of, MAX_NAME_BYTES, MAX_VALUE_BYTES};
 
 /// The longest request line taken: a value, three names and the JSON around them.
 pub const MAX_LINE_BYTES: usize = MAX_VALUE_BYTES + 3 * MAX_NAME_BYTES + 256;
@@ -38,7 +38,7 @@ pub fn spawn(router: WriteRouter, reporter: Reporter) -> std::io::Result<()> {
                 }
                 let outcome = answer(&line, size, number, &router);
                 if let Some(outcome) = outcome {
-                    reporter.event(super::event::Event::Written(outcome));
+                    reporter.event(vfd_bus::service::event::Event::Written(outcome));
                 }
             }
         })
@@ -48,7 +48,7 @@ pub fn spawn(router: WriteRouter, reporter: Reporter) -> std::io::Result<()> {
 /// Hands the request on `line` (of `size` bytes, kept only up to the limit) to its bus, or
 /// says why not.
 fn answer(line: &[u8], size: usize, number: u64, router: &WriteRouter) -> Option<WriteOutcome> {
-    let id = super::run_id::next();
+    let id = vfd_bus::service::run_id::next();
     // What the result repeats of the line: its start and size when long.
     let refused = |error: String| {
         let empty = WriteRequest::new("", "", "", "", id);
@@ -82,7 +82,7 @@ fn answer(line: &[u8], size: usize, number: u64, router: &WriteRouter) -> Option
             }) => {
                 let error = format!(
                     "there is no bus `{}` in the plant file (it names {}); nothing was sent",
-                    super::request_text::echo_text(&request.bus),
+                    vfd_bus::service::request_text::echo_text(&request.bus),
                     known.join(", ")
                 );
                 Some(WriteOutcome::refused(&request, error))

@@ -10,9 +10,6 @@ use super::outbox::{Item, Kind, Outbox, READING_CAP};
 use super::payload;
 use super::set::{ack_of, Decision, SetLedger};
 use super::topic::Topics;
-use crate::service::plant::Plant;
-use crate::service::serve::event::{Event, WriteRouter};
-use crate::service::serve::request_text::echo_text;
 use crate::Failure;
 use rumqttc::{
     Client, ConnectReturnCode, ConnectionError, Event as MqttEvent, LastWill, Packet, QoS,
@@ -23,6 +20,9 @@ use std::sync::mpsc;
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
+use vfd_bus::plant::Plant;
+use vfd_bus::service::event::{Event, WriteRouter};
+use vfd_bus::service::request_text::echo_text;
 
 /// The longest wait for the broker's first answer.
 const CONNECT_WAIT: Duration = Duration::from_secs(10);

@@ -6,8 +6,8 @@
 //! `-` as `_`: stable as long as the plant file keeps its names.
 
 use super::topic::Topics;
-use crate::service::plant::Plant;
 use serde_json::{json, Value};
+use vfd_bus::plant::Plant;
 
 /// Home Assistant's discovery prefix (its default).
 pub const DISCOVERY_PREFIX: &str = "homeassistant";

@@ -1,7 +1,7 @@
 //! What goes on the wire: the JSON of a state and of a write outcome. (The value a `set`
 //! message carries is read by [`super::set_value`].)
 
-use crate::service::serve::event::{Reading, WriteOutcome};
+use vfd_bus::service::event::{Reading, WriteOutcome};
 
 /// A register's retained state: the reading's fields as JSON.
 pub fn state(reading: &Reading) -> Vec<u8> {

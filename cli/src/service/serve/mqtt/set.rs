@@ -16,17 +16,17 @@
 //! (its result topic would be longer than MQTT allows), is dropped with a log line; either
 //! way it is acknowledged. A message longer than any value is refused before it is read,
 //! and a result repeats at most the first characters of a request
-//! ([`crate::service::serve::request_text`]). What the ledger keeps of a message is its packet id,
+//! ([`vfd_bus::service::request_text`]). What the ledger keeps of a message is its packet id,
 //! its size and a hash of its topic and payload, never the message.
 
 use super::set_value::set_value;
 use super::topic::{segment, Topics};
-use crate::service::plant::Plant;
-use crate::service::serve::event::{Target, Unroutable, WriteOutcome, WriteRequest, WriteRouter};
-use crate::service::serve::request_text::{echo, echo_text, MAX_NAME_BYTES, MAX_VALUE_BYTES};
 use rumqttc::Publish;
 use std::collections::{HashMap, VecDeque};
 use std::hash::{Hash, Hasher};
+use vfd_bus::plant::Plant;
+use vfd_bus::service::event::{Target, Unroutable, WriteOutcome, WriteRequest, WriteRouter};
+use vfd_bus::service::request_text::{echo, echo_text, MAX_NAME_BYTES, MAX_VALUE_BYTES};
 
 /// Answered messages remembered to recognise their redelivery.
 const REMEMBERED: usize = 1024;
@@ -221,7 +221,7 @@ impl SetLedger {
             let reason = format!("{MAX_IN_FLIGHT} writes are already waiting for their buses; this one was not queued: send it again later");
             return self.refuse(result, key, names, request, reason);
         }
-        let id = crate::service::serve::run_id::next();
+        let id = vfd_bus::service::run_id::next();
         let mut write = WriteRequest::new(bus, drive, register, value, id);
         write.target = target;
         if let Err(not_sent) = self.writes.send(write) {
@@ -296,7 +296,7 @@ impl SetLedger {
                 drive: echo_text(drive),
                 code,
                 request,
-                id: crate::service::serve::run_id::next(),
+                id: vfd_bus::service::run_id::next(),
                 ok: false,
                 sent: false,
                 value: None,
@@ -305,7 +305,7 @@ impl SetLedger {
                 error: Some(reason),
                 error_code: None,
                 error_meaning: None,
-                time: crate::record::now().0,
+                time: vfd_bus::record::now().0,
             }),
         }
     }

@@ -1,9 +1,9 @@
 //! The one-bus plant the MQTT tests publish from (one station polling two registers of
 //! the first built-in drive), shared by the broker tests and the set ledger's unit tests.
 
-use crate::service::plant::model::Poll;
-use crate::service::plant::{Bus, Plant, Station};
 use std::time::Duration;
+use vfd_bus::plant::model::Poll;
+use vfd_bus::plant::{Bus, Plant, Station};
 
 /// One bus `line1` with one station `pump` polling the first two registers of the first
 /// built-in drive.

@@ -7,11 +7,11 @@ use super::broker::Broker;
 use super::options::{Credentials, MqttOptions};
 use super::test_plant::{plant, state_topic};
 use super::Mqtt;
-use crate::service::serve::event::{
-    Availability, Event, Reading, WriteOutcome, WriteRequest, WriteRouter,
-};
 use std::sync::mpsc;
 use std::time::Duration;
+use vfd_bus::service::event::{
+    Availability, Event, Reading, WriteOutcome, WriteRequest, WriteRouter,
+};
 
 pub(super) fn options(broker: &Broker, name: &str) -> MqttOptions {
     let mut options =
@@ -151,10 +151,7 @@ fn a_set_message_becomes_a_write_request_and_its_outcome_is_published() {
     assert_eq!(outcome["ok"], true);
     assert_eq!(outcome["value"], 50.0);
     // Named with this run's id, so that no result of another run has it.
-    assert_eq!(
-        outcome["id"],
-        crate::service::serve::run_id::name(request.id)
-    );
+    assert_eq!(outcome["id"], vfd_bus::service::run_id::name(request.id));
     // A JSON value is taken too.
     broker.publish(&topic, r#"{"value": 42}"#, false);
     assert_eq!(

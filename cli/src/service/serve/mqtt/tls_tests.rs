@@ -7,7 +7,7 @@ use super::broker::Broker;
 use super::test_plant::plant;
 use super::tests::options;
 use super::Mqtt;
-use crate::service::serve::event::WriteRouter;
+use vfd_bus::service::event::WriteRouter;
 
 #[test]
 #[cfg_attr(

@@ -4,8 +4,8 @@
 //! exchange, after a back-off that starts at `first` and doubles after each failed try up
 //! to `cap`, so a dead station costs its bus at most one reply timeout per back-off period.
 
+use crate::BackOff;
 use std::time::{Duration, Instant};
-use vfd_bus::BackOff;
 
 /// How failures turn into offline, and how often an offline station is tried.
 #[derive(Debug, Clone, Copy)]

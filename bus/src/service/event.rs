@@ -4,7 +4,7 @@
 //! requests an input (an MQTT `set` topic) hands to a bus worker.
 
 pub use super::directory::{Directory, Target};
-use crate::service::plant::Plant;
+use crate::plant::Plant;
 use serde::Serialize;
 use std::sync::mpsc::{Receiver, Sender};
 use std::sync::Arc;

@@ -1,6 +1,4 @@
-//! The service itself, embedded in-process: a plant in, events and write results out. (It
-//! lives in the `vfd` crate for now, with the one-drive session it runs stations on; other
-//! crates reach it once both move into the library.)
+//! The service itself, embedded in-process: a plant in, events and write results out.
 //! [`ServiceCore::new`] sets a plant up (its names resolved once, a write queue per bus)
 //! and gives the events' receiving end; [`ServiceCore::writes`] takes write requests,
 //! whose outcomes come back as [`Event::Written`] events with their ids;
@@ -12,7 +10,7 @@
 use super::event::{Event, WriteRequest, WriteRouter};
 use super::report::Reporter;
 use super::worker::Worker;
-use crate::service::plant::{Bus, Plant};
+use crate::plant::{Bus, Plant};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::Receiver;
 use std::sync::Arc;

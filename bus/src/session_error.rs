@@ -1,18 +1,18 @@
 //! How a read or a write of a one-drive session ([`crate::session::Session`]) ended when
-//! it did not succeed, typed: an exchange that failed (the library's [`vfd_bus::Error`],
+//! it did not succeed, typed: an exchange that failed (the library's [`crate::Error`],
 //! with the session's hint on what to check), a write refused before anything was sent
-//! ([`vfd_bus::Refusal`]), or something else said with a message and a hint. The service
+//! ([`crate::Refusal`]), or something else said with a message and a hint. The service
 //! core decides on these by their type and kind; the commands turn them into the tool's
 //! human error at their edge (`crate::failure`).
 
-use vfd_bus::{Refusal, SetupError};
+use crate::{Refusal, SetupError};
 
 /// How a session's read or write ended, when it did not succeed.
 #[derive(Debug, Clone)]
 pub enum SessionError {
     /// An exchange failed (timeout, damaged reply, error reply, I/O), or was not made
     /// because the station is offline: how, with a hint.
-    Exchange(vfd_bus::Error),
+    Exchange(crate::Error),
     /// The write check refused the write: nothing was sent.
     Refused(Refusal),
     /// Anything else, said with a message and a hint: a step sent before a write that
@@ -58,7 +58,7 @@ impl SessionError {
     }
 
     /// How the exchange failed, when one did.
-    pub fn exchange(&self) -> Option<&vfd_bus::Error> {
+    pub fn exchange(&self) -> Option<&crate::Error> {
         match self {
             SessionError::Exchange(error) => Some(error),
             _ => None,
@@ -66,8 +66,8 @@ impl SessionError {
     }
 }
 
-impl From<vfd_bus::Error> for SessionError {
-    fn from(error: vfd_bus::Error) -> SessionError {
+impl From<crate::Error> for SessionError {
+    fn from(error: crate::Error) -> SessionError {
         SessionError::Exchange(error)
     }
 }

@@ -3,13 +3,13 @@
 
 use super::event::{Event, NotSent, Unroutable, WriteRequest};
 use super::ServiceCore;
+use crate::Catalogue;
 use std::net::TcpListener;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::Receiver;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use vfd_bus::Catalogue;
 use vfd_runtime::transport::TcpTransport;
 use vfd_runtime::virtual_drive::{serve_bus, BusStation};
 
@@ -17,7 +17,7 @@ use vfd_runtime::virtual_drive::{serve_bus, BusStation};
 /// `stop`; the port's `tcp://` address.
 fn virtual_drive(catalogue: &Catalogue, stop: Arc<AtomicBool>) -> String {
     let drive = catalogue.drive("vf-as1").expect("vf-as1 is built in");
-    let protocol = vfd_bus::lookup::protocol(drive, Some("modbus")).expect("modbus");
+    let protocol = crate::lookup::protocol(drive, Some("modbus")).expect("modbus");
     let simulator = vfd_runtime::virtual_drive::Simulator::new(drive);
     simulator.lock().set_address(1);
     let station = BusStation {
@@ -56,7 +56,7 @@ fn a_plant_runs_in_process_and_answers_writes_with_their_outcomes() {
     let text = format!(
         "buses:\n  - name: line1\n    port: {port}\n    drives:\n      - name: pump1\n        drive: vf-as1\n        protocol: modbus\n        station: 1\n        poll:\n          - every: 200ms\n            registers: [FA01]\n        write: [FA01]\n"
     );
-    let plant = crate::service::plant::load_str(&text, Path::new("embedded.yaml"), &catalogue)
+    let plant = crate::plant::load_str(&text, Path::new("embedded.yaml"), &catalogue)
         .unwrap_or_else(|problems| panic!("{problems}"));
     let (core, events) = ServiceCore::new(&plant);
     let writes = core.writes();
@@ -140,7 +140,7 @@ fn a_plant_runs_in_process_and_answers_writes_with_their_outcomes() {
 fn an_allowed_register_is_routed_resolved_and_another_name_is_left_to_the_worker() {
     let catalogue = Catalogue::new();
     let text = "buses:\n  - name: line1\n    port: /dev/null\n    drives:\n      - name: pump1\n        drive: vf-as1\n        protocol: modbus\n        write: [FA01]\n";
-    let plant = crate::service::plant::load_str(text, Path::new("embedded.yaml"), &catalogue)
+    let plant = crate::plant::load_str(text, Path::new("embedded.yaml"), &catalogue)
         .unwrap_or_else(|problems| panic!("{problems}"));
     let (router, queues) = super::event::WriteRouter::new(&plant);
     router

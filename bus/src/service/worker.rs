@@ -7,16 +7,16 @@ use super::event::{Availability, Event, PortState, WriteOutcome, WriteRequest};
 use super::health::Health;
 use super::report::Reporter;
 use super::station::{Link, Round};
-use crate::service::plant::Bus;
+use crate::plant::Bus;
+use crate::BackOff;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
-use vfd_bus::BackOff;
 
 /// The stations of an open bus, on its line.
-type OnLine = vfd_bus::Bus<Link>;
+type OnLine = crate::Bus<Link>;
 
 /// The longest a worker sleeps before it looks at the stop flag again.
 const STOP_CHECK: Duration = Duration::from_millis(100);
@@ -77,7 +77,7 @@ impl Worker {
         let mut backoff = BackOff::reopening();
         let mut failing = false;
         while !self.stopped() {
-            let line = match vfd_bus::line::open(&self.bus.port, &self.bus.settings) {
+            let line = match crate::line::open(&self.bus.port, &self.bus.settings) {
                 Ok(line) => line,
                 Err(error) => {
                     let why = error.with_hint_text();

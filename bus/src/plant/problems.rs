@@ -1,8 +1,7 @@
 //! Where the checks put what they find: diagnostics at a YAML path of the plant file
 //! (`buses[0].drives[2].station`), with file:line:column from the positioned reader.
 
-use crate::Failure;
-use vfd_bus::Catalogue;
+use crate::{Catalogue, SetupError};
 use vfd_codegen::yaml::SourceFile;
 use vfd_codegen::{Diagnostic, Diagnostics};
 
@@ -30,10 +29,10 @@ impl Problems<'_> {
     }
 
     /// A failure of a lookup shared with the other commands, as an error at `path`.
-    pub fn failure(&mut self, path: &str, failure: impl Into<Failure>) {
-        let failure: Failure = failure.into();
-        let mut diagnostic = self.source.error(path, failure.message);
-        if let Some(hint) = failure.hint {
+    pub fn failure(&mut self, path: &str, failure: impl Into<SetupError>) {
+        let (message, hint) = failure.into().into_parts();
+        let mut diagnostic = self.source.error(path, message);
+        if let Some(hint) = hint {
             diagnostic = diagnostic.hint(hint);
         }
         self.found.push(diagnostic);

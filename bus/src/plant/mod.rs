@@ -3,7 +3,6 @@
 //! a [`Plant`]. `vfd serve --check PLANT` prints what [`load`] finds. The format is in
 //! docs/plant.md; its JSON Schema is `plants/plant.schema.json` ([`schema`]).
 
-pub mod check;
 pub mod file;
 pub mod framing;
 pub mod interval;
@@ -20,9 +19,9 @@ mod unique;
 
 pub use model::{Bus, Plant, Station};
 
+use crate::Catalogue;
 use problems::Problems;
 use std::path::{Path, PathBuf};
-use vfd_bus::Catalogue;
 use vfd_codegen::yaml::SourceFile;
 use vfd_codegen::Diagnostics;
 

@@ -4,8 +4,8 @@
 
 use super::file::DriveFile;
 use super::problems::Problems;
+use crate::{Catalogue, SetupError};
 use std::path::Path;
-use vfd_bus::{Catalogue, SetupError};
 use vfd_runtime::{DriveInfo, Port, Protocol, Role};
 
 /// A drive entry with everything but its registers resolved.
@@ -50,7 +50,7 @@ pub fn resolve(
             return None;
         }
     };
-    let protocol = match vfd_bus::lookup::protocol(drive, entry.protocol.as_deref()) {
+    let protocol = match crate::lookup::protocol(drive, entry.protocol.as_deref()) {
         Ok(protocol) => protocol,
         Err(failure) => {
             problems.failure(&format!("{path}.protocol"), failure);

@@ -4,18 +4,18 @@
 //! exit status is the check's whatever becomes of the output: a reader that stops early
 //! (`vfd serve --check PLANT | head -1`) changes nothing.
 
-use super::interval;
-use super::model::{Bus, Plant};
 use crate::Failure;
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
+use vfd_bus::plant::interval;
+use vfd_bus::plant::{Bus, Plant};
 use vfd_bus::Catalogue;
 
 /// Checks the plant file at `path` and prints the outcome.
 pub fn run(catalogue: &Catalogue, path: &Path) -> Result<(), Failure> {
     let mut text = String::new();
-    let outcome = match super::load(path, catalogue) {
+    let outcome = match vfd_bus::plant::load(path, catalogue) {
         Ok(plant) => {
             summary(&plant, &mut text);
             if !plant.warnings.is_empty() {
@@ -58,7 +58,7 @@ fn print(text: &str) {
 /// Loads the plant file for `vfd serve`: its warnings, or every problem, on standard error
 /// as `--check` prints them; a failure when it has errors (nothing is opened then).
 pub fn load_for_service(catalogue: &Catalogue, path: &Path) -> Result<Plant, Failure> {
-    match super::load(path, catalogue) {
+    match vfd_bus::plant::load(path, catalogue) {
         Ok(plant) => {
             if !plant.warnings.is_empty() {
                 let _ = writeln!(std::io::stderr(), "{}", plant.warnings);

@@ -2,14 +2,14 @@
 //! and for `vfd serve`'s `set` requests: a percentage of another register where the named
 //! command carries one, else the value in the register's unit (in the scale another
 //! register chooses now, where one does), within the register's range and the bounds other
-//! registers set at run time, by the library's one write check ([`vfd_bus::write_check`];
+//! registers set at run time, by the library's one write check ([`crate::write_check`];
 //! writability and the plant's allow-list are asked by the callers, the manual's forbidden
 //! combinations by [`Session::write`]).
 
 use crate::session::Session;
 use crate::session_error::SessionError;
-use vfd_bus::write_check;
-use vfd_bus::SetupError;
+use crate::write_check;
+use crate::SetupError;
 use vfd_runtime::RegisterInfo;
 
 /// The register (in the scale it is written in) and the raw word `text` writes to `info`

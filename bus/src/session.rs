@@ -1,14 +1,11 @@
 //! A connection to one drive on a line (the one-drive session of `vfd read`, `write`,
-//! `watch`, `backup` and `restore`, and each station of `vfd serve`): the line the options
-//! ([`crate::line_args`]) open, and raw reads and writes through the runtime's untyped
-//! request path, so any described drive works.
+//! `watch`, `backup` and `restore`, and each station of `vfd serve`): a master on a line,
+//! and raw reads and writes through the runtime's untyped request path, so any described
+//! drive works.
 
-use crate::line_args::{line_settings, LineArgs};
 use crate::session_error::SessionError;
-use crate::traced_line::Traced;
-use crate::Failure;
-use std::time::Duration;
-use vfd_bus::{lookup, write_check, Catalogue, Line};
+
+use crate::{write_check, Line};
 use vfd_runtime::serial::SerialSettings;
 use vfd_runtime::transaction::Master;
 use vfd_runtime::{
@@ -53,48 +50,13 @@ pub struct Session {
     pub drive_name: String,
 }
 
-impl vfd_bus::OnLine for Session {
+impl crate::OnLine for Session {
     fn master(&mut self) -> &mut Master<Line> {
         &mut self.master
     }
 }
 
 impl Session {
-    /// Opens the line the options name.
-    pub fn open(args: &LineArgs, catalogue: &Catalogue) -> Result<Session, Failure> {
-        let drive = catalogue.drive(&args.drive)?;
-        let protocol = lookup::protocol(drive, args.protocol.as_deref())?;
-        let protocol = lookup::variant(protocol, args.variant.as_deref())?;
-        let settings = line_settings(drive, &protocol.id, args.format())?;
-        let mut line = vfd_bus::line::open(&args.port, &settings)?;
-        if args.trace {
-            line = Traced::on_stderr(line, drive, protocol);
-        }
-        let mut timing = drive.serial.timing;
-        if let Some(ms) = args.timeout {
-            timing.processing_allowance = Duration::from_millis(ms);
-        }
-        let address = match args.address {
-            Some(address) => Some(address),
-            None => protocol.default_address(),
-        };
-        let port = lookup::port(drive, args.port_kind.as_deref())?;
-        let mut master = Master::for_protocol(line, protocol, settings, timing)
-            .with_address(address)
-            .with_port(port)
-            .with_retries(args.retries.unwrap_or(0));
-        if let Some(ms) = args.gap_ms {
-            master = master.with_min_gap(Duration::from_millis(ms));
-        }
-        if let Some(ms) = args.host_latency_ms {
-            master = master.with_host_latency(Duration::from_millis(ms));
-        }
-        let mut session = Session::with_master(drive, protocol, settings, master, address);
-        session.port = port;
-        session.drive_name = catalogue.name_for(drive);
-        Ok(session)
-    }
-
     /// `info` as this session reaches it: its copy on the session's port (itself when
     /// the register is not per port or no port was named).
     pub fn on_port(&self, info: &'static RegisterInfo) -> &'static RegisterInfo {
@@ -139,7 +101,7 @@ impl Session {
         match value.raw.and_then(|raw| scale_by.choice(raw)) {
             Some(chosen) => Ok(chosen),
             None => Err(SessionError::Said(
-                vfd_bus::SetupError::new(format!(
+                crate::SetupError::new(format!(
                     "{} = {} chooses no scale the description knows for {}",
                     selector.code,
                     value
@@ -153,7 +115,7 @@ impl Session {
     }
 
     /// A session over `master` (built by the caller: `vfd serve` builds one per station of
-    /// a bus, whose [`vfd_bus::Bus`] lends each its line in turn).
+    /// a bus, whose [`crate::Bus`] lends each its line in turn).
     pub fn with_master(
         drive: &'static DriveInfo,
         protocol: &'static Protocol,
@@ -319,7 +281,7 @@ impl Session {
         };
         let refused = matches!(error.kind, TransactionErrorKind::Rejected { .. });
         let cause = self.failure(error);
-        let said = vfd_bus::SetupError::new(format!(
+        let said = crate::SetupError::new(format!(
             "cannot write {} ({target}): the step before it {}: {why}; {}",
             info.label(),
             if refused { "was refused" } else { "failed" },
@@ -343,7 +305,7 @@ impl Session {
 
     /// Refuses a write of `raw` to `info` that would make a combination of values the
     /// manual forbids, reading the other registers of each combination first
-    /// ([`vfd_bus::write_check::combinations`]).
+    /// ([`crate::write_check::combinations`]).
     fn check_combinations(
         &mut self,
         info: &'static RegisterInfo,
@@ -612,7 +574,7 @@ impl Session {
             ),
             _ => None,
         };
-        SessionError::Exchange(vfd_bus::Error::from_transaction(&error).with_hint_or_none(hint))
+        SessionError::Exchange(crate::Error::from_transaction(&error).with_hint_or_none(hint))
     }
 
     fn address_text(&self) -> String {

@@ -1,6 +1,6 @@
 //! The plant file as written: the serde model the positioned YAML reader reads it into,
 //! and whose `///` comments are the JSON Schema's descriptions (`plants/plant.schema.json`).
-//! Nothing here is checked beyond the keys and their types: [`super::resolve`] does that.
+//! Nothing here is checked beyond the keys and their types: `resolve` does that.
 
 use schemars::JsonSchema;
 use serde::de::{self, MapAccess, Visitor};

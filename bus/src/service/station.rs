@@ -6,13 +6,13 @@ use super::event::{Availability, Event, Reading};
 use super::health::{Change, Health, Rules, Turn};
 use super::report::Reporter;
 use super::schedule::Schedule;
+use crate::plant::{Bus, Station};
 use crate::record::ValueRecord;
-use crate::service::plant::{Bus, Station};
 use crate::session::{Session, Value};
 use crate::session_error::SessionError;
 use crate::trip_flag::trip_flag;
+use crate::{Line, OnLine};
 use std::time::{Duration, Instant};
-use vfd_bus::{Line, OnLine};
 use vfd_runtime::transaction::Master;
 use vfd_runtime::RegisterInfo;
 
@@ -52,7 +52,7 @@ pub struct Link {
 
 impl Link {
     /// `station` on `bus`, its registers all due at `now`; it speaks when the bus lends it
-    /// the line ([`vfd_bus::Bus::speak`]).
+    /// the line ([`crate::Bus::speak`]).
     pub fn new(bus: &Bus, station: &Station, health: Health, now: Instant) -> Link {
         let drive = station.drive;
         let mut timing = drive.serial.timing;

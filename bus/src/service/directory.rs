@@ -4,7 +4,7 @@
 //! A write request is routed with these handles ([`Target`]); the bus worker never looks a
 //! station or a register up by name for a request the plant allows.
 
-use crate::service::plant::Plant;
+use crate::plant::Plant;
 use std::collections::HashMap;
 
 /// Where a write request goes, resolved from its names.
@@ -57,14 +57,14 @@ impl Directory {
                         .into_iter()
                         .chain(register.aliases.iter().copied());
                     for name in names {
-                        let means = vfd_bus::lookup::register_for(
+                        let means = crate::lookup::register_for(
                             station.drive,
                             name,
                             true,
                             &station.drive_name,
                         );
                         if means
-                            .is_ok_and(|found| vfd_bus::write_check::same_register(found, register))
+                            .is_ok_and(|found| crate::write_check::same_register(found, register))
                         {
                             allowed.entry(name.to_owned()).or_insert(a);
                         }

@@ -66,7 +66,7 @@ impl ValueRecord {
         };
         let text = match (&text, raw) {
             (Some(text), _) => Some(text.clone()),
-            (None, Some(raw)) => Some(vfd_bus::values::short(info, raw)),
+            (None, Some(raw)) => Some(crate::values::short(info, raw)),
             (None, None) => None,
         };
         ValueRecord {
@@ -99,7 +99,7 @@ impl ValueRecord {
     }
 
     /// Marked stale by `error`.
-    pub fn failed(mut self, error: &vfd_bus::Error) -> ValueRecord {
+    pub fn failed(mut self, error: &crate::Error) -> ValueRecord {
         self.stale = true;
         self.error_kind = Some(error.kind().name().to_owned());
         self.error_code = error.code();

@@ -8,10 +8,10 @@
 use super::event::{WriteOutcome, WriteRequest};
 use super::station::Link;
 use crate::session_error::SessionError;
+use crate::values;
 use crate::write_value::checked_value;
+use crate::ErrorKind;
 use std::time::Instant;
-use vfd_bus::values;
-use vfd_bus::ErrorKind;
 
 /// Carries out `request` on `link` and says how it went, and, when the line itself failed
 /// on the way (an unplugged adapter), why. A written register that is polled is made due,
@@ -61,12 +61,12 @@ fn attempt(
         // it is one of them after all (another spelling).
         None => {
             let info =
-                vfd_bus::lookup::register_for(drive, &request.register, true, &station.drive_name)
+                crate::lookup::register_for(drive, &request.register, true, &station.drive_name)
                     .map_err(|error| not_sent(error.into()))?;
             let allow: Vec<&'static vfd_runtime::RegisterInfo> =
                 station.writes.iter().map(|a| a.register).collect();
             let place = format!("{}/{}", link.bus, station.name);
-            let index = vfd_bus::write_check::allowed(&allow, info, &place)
+            let index = crate::write_check::allowed(&allow, info, &place)
                 .map_err(|refusal| not_sent(refusal.into()))?;
             (info, index)
         }
@@ -75,10 +75,10 @@ fn attempt(
     outcome.unit = info.unit_symbol().to_owned();
     let persistent = station.writes[index].persistent;
     let info = link.session.on_port(info);
-    vfd_bus::write_check::writable(info, persistent).map_err(|refusal| not_sent(refusal.into()))?;
+    crate::write_check::writable(info, persistent).map_err(|refusal| not_sent(refusal.into()))?;
     if link.health.is_offline() {
         return Err(not_sent(SessionError::Exchange(
-            vfd_bus::Error::new(
+            crate::Error::new(
                 ErrorKind::Offline,
                 format!(
                     "{}/{} is offline (it did not answer the last exchanges); nothing was sent",
@@ -109,7 +109,7 @@ fn attempt(
             if let Some(poll) = station
                 .polls
                 .iter()
-                .position(|p| vfd_bus::write_check::same_register(p.register, info))
+                .position(|p| crate::write_check::same_register(p.register, info))
             {
                 link.schedule.due_now(poll, Instant::now());
             }

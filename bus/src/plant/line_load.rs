@@ -190,13 +190,13 @@ fn exchange_time(frame: &Prepared, line: &Timing<'_>) -> Duration {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::service::plant::model::Poll;
+    use crate::plant::model::Poll;
 
     fn station(drive: &str, protocol: &str, codes: &[&str], every: Duration) -> Station {
-        let catalogue = vfd_bus::Catalogue::new();
+        let catalogue = crate::Catalogue::new();
         let drive = catalogue.drive(drive).unwrap_or_else(|f| panic!("{f}"));
         let protocol =
-            vfd_bus::lookup::protocol(drive, Some(protocol)).unwrap_or_else(|f| panic!("{f}"));
+            crate::lookup::protocol(drive, Some(protocol)).unwrap_or_else(|f| panic!("{f}"));
         Station {
             name: "d".into(),
             drive,
