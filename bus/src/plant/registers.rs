@@ -9,8 +9,9 @@ use super::interval;
 use super::model::{Allowed, Poll};
 use super::problems::Problems;
 use super::station::Head;
+use crate::write_check::{self, Reason};
 use vfd_runtime::transaction::{script, Exchange, Station};
-use vfd_runtime::{Access, CommandKind, DataType, DriveInfo, Protocol, RegisterInfo, Request};
+use vfd_runtime::{Access, CommandKind, DriveInfo, Protocol, RegisterInfo, Request};
 
 /// The poll list of the drive entry at `path`.
 pub fn polls(
@@ -105,7 +106,10 @@ pub fn writes(
                 continue;
             }
         };
-        if register.access == Access::ReadOnly || register.data_type == DataType::Text {
+        // The library's one write check, asked once here: the worker does not ask again
+        // for an allowed register (the session asks just before sending).
+        let writable = write_check::writable(register, entry.persistent).map_err(|r| r.reason());
+        if writable == Err(Reason::ReadOnly) {
             problems.error(
                 &format!("{at}.register"),
                 format!("{} is read-only: it cannot be written", register.label()),
@@ -126,7 +130,7 @@ pub fn writes(
             continue;
         }
         seen.push((register, format!("{at}.register")));
-        if entry.persistent && register.ram_only {
+        if writable == Err(Reason::RamOnly) {
             problems.error(
                 &format!("{at}.persistent"),
                 format!(

@@ -74,8 +74,9 @@ fn attempt(
     outcome.code = info.code.to_owned();
     outcome.unit = info.unit_symbol().to_owned();
     let persistent = station.writes[index].persistent;
+    // Writable in the storage the plant names: checked when the plant was set up, and
+    // by the session just before it sends.
     let info = link.session.on_port(info);
-    crate::write_check::writable(info, persistent).map_err(|refusal| not_sent(refusal.into()))?;
     if link.health.is_offline() {
         return Err(not_sent(SessionError::Exchange(
             crate::Error::new(
