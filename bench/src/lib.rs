@@ -1,15 +1,21 @@
 //! Shared pieces of the benchmarks: synthetic drive descriptions of any size, generated
 //! on the fly (never committed), small statistics helpers, the backup batching count
-//! ([`batching`]), a paced pseudo-terminal line (`paced`, Unix) and `vfd serve` as a measured
-//! child process (`service`, Linux).
+//! ([`batching`]), a paced pseudo-terminal line (`paced`, Unix), `vfd serve` as a measured
+//! child process (`service`, Linux) and as the library's service core in this process
+//! (`embedded`, Linux), and
+//! the virtual drives on paced lines they poll (`virtual_bus`, Unix).
 
 #![warn(missing_docs)]
 
 pub mod batching;
+#[cfg(target_os = "linux")]
+pub mod embedded;
 #[cfg(unix)]
 pub mod paced;
 #[cfg(target_os = "linux")]
 pub mod service;
+#[cfg(unix)]
+pub mod virtual_bus;
 
 use std::fmt::Write as _;
 use std::time::Duration;

@@ -31,6 +31,34 @@ impl Tally {
     }
 }
 
+/// A service the plant benchmarks measure: the `vfd serve` binary ([`Service`]) or the
+/// library's service core in this process ([`crate::embedded::InProcess`]).
+pub trait Measured {
+    /// What it reported so far.
+    fn tally(&self) -> &Mutex<Tally>;
+    /// Its CPU time so far (user + system).
+    fn cpu_time(&self) -> Option<Duration>;
+    /// Resident memory now and at its peak, in KiB.
+    fn memory_kib(&self) -> Option<(u64, u64)>;
+    /// Asks for a write of `value` to `register` of `drive` on `bus`.
+    fn write(&mut self, bus: &str, drive: &str, register: &str, value: &str) -> Result<(), String>;
+}
+
+impl Measured for Service {
+    fn tally(&self) -> &Mutex<Tally> {
+        &self.tally
+    }
+    fn cpu_time(&self) -> Option<Duration> {
+        Service::cpu_time(self)
+    }
+    fn memory_kib(&self) -> Option<(u64, u64)> {
+        Service::memory_kib(self)
+    }
+    fn write(&mut self, bus: &str, drive: &str, register: &str, value: &str) -> Result<(), String> {
+        Service::write(self, bus, drive, register, value)
+    }
+}
+
 /// A running `vfd serve`.
 pub struct Service {
     child: Child,
@@ -131,17 +159,7 @@ impl Service {
 
     /// Its resident memory now, and the most it had, in KiB.
     pub fn memory_kib(&self) -> Option<(u64, u64)> {
-        let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).ok()?;
-        let kib = |key: &str| {
-            status
-                .lines()
-                .find(|l| l.starts_with(key))?
-                .split_whitespace()
-                .nth(1)?
-                .parse::<u64>()
-                .ok()
-        };
-        Some((kib("VmRSS:")?, kib("VmHWM:")?))
+        memory_kib(self.child.id())
     }
 
     /// SIGTERM, then waits for it.
@@ -172,7 +190,23 @@ pub fn process_cpu_time(pid: u32) -> Option<Duration> {
     Some(Duration::from_secs_f64(ticks as f64 / per_second as f64))
 }
 
-fn clock_ticks() -> u64 {
+/// Resident memory of process `pid` now, and the most it had, in KiB (`/proc/PID/status`).
+pub fn memory_kib(pid: u32) -> Option<(u64, u64)> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let kib = |key: &str| {
+        status
+            .lines()
+            .find(|l| l.starts_with(key))?
+            .split_whitespace()
+            .nth(1)?
+            .parse::<u64>()
+            .ok()
+    };
+    Some((kib("VmRSS:")?, kib("VmHWM:")?))
+}
+
+/// Clock ticks per second (`/proc`'s unit of CPU time).
+pub fn clock_ticks() -> u64 {
     // SAFETY: sysconf has no preconditions.
     let ticks = unsafe { libc::sysconf(libc::_SC_CLK_TCK) };
     u64::try_from(ticks).ok().filter(|t| *t > 0).unwrap_or(100)

@@ -15,31 +15,22 @@
 //! 4. One process, 4 paced buses x 8 stations: each bus's share of its wire limit and the
 //!    service's CPU.
 //!
+//! The first bus's rate and the write times are also measured with the service embedded in
+//! this process (the library's `vfd_bus::ServiceCore`, as a Rust program runs it), its
+//! CPU that of its own threads.
+//!
 //! `cargo build --release -p vfd-cli && cargo run --release -p vfd-bench --bin plant [-- SECONDS]`
 //! (SECONDS per measurement, default 8).
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::{Child, ChildStdin, Command, Stdio};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
-use std::thread::JoinHandle;
+use std::process::{ChildStdin, Command, Stdio};
 use std::time::{Duration, Instant};
-use vfd_bench::paced::PacedLine;
-use vfd_bench::service::Service;
+use vfd_bench::embedded::InProcess;
+use vfd_bench::service::{Measured, Service};
+use vfd_bench::virtual_bus::{self, Exchange, Killed, VirtualBus, SETTINGS};
 use vfd_drives::dv1;
-use vfd_runtime::serial::{Parity, SerialSettings};
-use vfd_runtime::transaction::Master;
-use vfd_runtime::transport::{Direction, PtyTransport, Recording};
-use vfd_runtime::virtual_drive::{serve_bus, BusStation, Simulator};
 use vfd_runtime::Protocol;
-
-const SETTINGS: SerialSettings = SerialSettings {
-    baud: 9600,
-    parity: Parity::None,
-    data_bits: 8,
-    stop_bits: 1,
-};
 
 /// The first polled register (1001h, H7A status); H6D-HED (1002h, frequency command) and
 /// H6F (1003h, output frequency) follow it.
@@ -53,57 +44,6 @@ const WRITTEN: &str = "H6D-HED";
 
 fn protocol() -> &'static Protocol {
     dv1::protocols::MODBUS.protocol()
-}
-
-/// One paced bus of virtual stations 1..=n.
-struct VirtualBus {
-    path: PathBuf,
-    sims: Vec<Simulator>,
-    _keep_open: PtyTransport,
-    line: Option<PacedLine>,
-    stop: Arc<AtomicBool>,
-    server: Option<JoinHandle<std::io::Result<()>>>,
-}
-
-impl VirtualBus {
-    fn start(stations: u8) -> Result<VirtualBus, String> {
-        let (path, keep_open, mut drive_end, line) =
-            PacedLine::open_for_path(SETTINGS, false).map_err(|e| e.to_string())?;
-        let bus: Vec<BusStation> = (1..=stations)
-            .map(|address| {
-                let simulator = Simulator::new(&dv1::DRIVE);
-                simulator.lock().set_address(address);
-                BusStation {
-                    simulator,
-                    protocol: protocol(),
-                }
-            })
-            .collect();
-        let sims = bus.iter().map(|s| s.simulator.clone()).collect();
-        let stop = Arc::new(AtomicBool::new(false));
-        let flag = Arc::clone(&stop);
-        let server = std::thread::spawn(move || serve_bus(&bus, &mut drive_end, SETTINGS, &flag));
-        Ok(VirtualBus {
-            path,
-            sims,
-            _keep_open: keep_open,
-            line: Some(line),
-            stop,
-            server: Some(server),
-        })
-    }
-}
-
-impl Drop for VirtualBus {
-    fn drop(&mut self) {
-        self.stop.store(true, Ordering::SeqCst);
-        if let Some(line) = self.line.take() {
-            let _ = line.stop();
-        }
-        if let Some(server) = self.server.take() {
-            let _ = server.join();
-        }
-    }
 }
 
 /// The plant file for `buses` (name, device, stations), polling 1001h-1003h every 10 ms.
@@ -125,42 +65,14 @@ fn plant_file(dir: &Path, buses: &[(String, &VirtualBus)], backoff_ms: u64) -> P
     path
 }
 
-/// The shortest one station's poll can take on the wire: its frames as the description
-/// encodes them, a frame gap after each, the drive's reply delay.
-struct Model {
-    exchange: Duration,
-    request_len: usize,
-    reply_timeout: Duration,
+/// The exchange of one station's poll (1001h-1003h of a DV1).
+fn model() -> Result<Exchange, String> {
+    virtual_bus::exchange(&dv1::DRIVE, protocol(), FIRST, WORDS)
 }
 
-fn model() -> Result<Model, String> {
-    let sim = Simulator::new(&dv1::DRIVE);
-    sim.lock().set_address(1);
-    let mut master = Master::for_protocol(
-        Recording::new(sim.link(protocol())),
-        protocol(),
-        SETTINGS,
-        dv1::DRIVE.serial.timing,
-    )
-    .with_address(Some(1));
-    let mut words = [0u16; WORDS];
-    master
-        .read_words(FIRST, &mut words)
-        .map_err(|e| e.to_string())?;
-    let (mut sent, mut received, mut frames) = (0, 0, 0u32);
-    for (direction, bytes) in master.transport().log() {
-        frames += 1;
-        match direction {
-            Direction::Sent => sent += bytes.len(),
-            Direction::Received => received += bytes.len(),
-        }
-    }
-    let reply_delay = sim.lock().reply_delay(protocol()) + master.reply_wait();
-    Ok(Model {
-        exchange: SETTINGS.wire_time(sent + received) + master.frame_gap() * frames + reply_delay,
-        request_len: sent,
-        reply_timeout: master.reply_timeout(sent),
-    })
+/// `n` DV1 stations speaking Modbus RTU.
+fn dv1_bus(n: u8) -> Result<VirtualBus, String> {
+    VirtualBus::start(&vec![(&dv1::DRIVE, protocol()); usize::from(n)])
 }
 
 fn main() {
@@ -179,19 +91,19 @@ fn run(measure: Duration) -> Result<(), String> {
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
     let model = model()?;
     let stations = 8u8;
-    let limit = WORDS as f64 / model.exchange.as_secs_f64();
+    let limit = WORDS as f64 / model.time.as_secs_f64();
     println!(
         "## vfd serve on paced lines (9600 baud 8N1, DV1 Modbus RTU, 1001h-1003h per station)\n"
     );
     println!(
         "One station's poll on the wire: {:.2} ms (request {} bytes, reply, two frame gaps, reply delay); reply timeout {:.0} ms.\n",
-        model.exchange.as_secs_f64() * 1e3,
+        model.time.as_secs_f64() * 1e3,
         model.request_len,
         model.reply_timeout.as_secs_f64() * 1e3
     );
 
     // 1. One bus, 8 stations, flat out.
-    let bus = VirtualBus::start(stations)?;
+    let bus = dv1_bus(stations)?;
     let plant = plant_file(&dir, &[("line1".to_owned(), &bus)], 2000);
     let mut service = Service::start(&plant)?;
     std::thread::sleep(Duration::from_secs(2));
@@ -278,6 +190,29 @@ fn run(measure: Duration) -> Result<(), String> {
         Some(path) => Some(mqtt_latencies(&path, &dir, &plant, &bus, measure / 2)?),
         None => None,
     };
+    // 1b and 2c. The same bus, the service embedded in this process (the library's core).
+    let embedded = InProcess::start(&plant)?;
+    std::thread::sleep(Duration::from_secs(2));
+    let (rate_in, cpu_in) = flat_out(&embedded, "line1", measure);
+    let embedded_latency = write_latencies(
+        &bus,
+        |value| embedded.write("line1", "d5", WRITTEN, value),
+        measure / 2,
+    )?;
+    embedded.stop();
+    println!("\n### The same bus, the service embedded in this process (`vfd_bus::ServiceCore`)\n");
+    println!("| readings/s | wire limit | share of the limit | service threads' CPU | CPU per 100 readings/s |");
+    println!("|---|---|---|---|---|");
+    println!(
+        "| {rate_in:.1} | {limit:.1} | {:.1} % | {} | {} |",
+        100.0 * rate_in / limit,
+        cpu_in.map_or("n/a".into(), |c| format!("{:.1} %", 100.0 * c)),
+        cpu_in.map_or("n/a".into(), |c| format!(
+            "{:.2} % of a core",
+            100.0 * c / (rate_in / 100.0)
+        )),
+    );
+
     println!(
         "\n### From a write request to the drive having applied it (while the 8 stations are polled)\n"
     );
@@ -300,6 +235,10 @@ fn run(measure: Duration) -> Result<(), String> {
         );
     };
     row("a JSON line on --stdin-writes", stdin_latency);
+    row(
+        "a request handed to the embedded service core (`WriteRouter::send`)",
+        embedded_latency,
+    );
     match mqtt_latency {
         Some(l) => row(
             "a `set` message published to mosquitto (mosquitto_pub -l)",
@@ -313,7 +252,7 @@ fn run(measure: Duration) -> Result<(), String> {
 
     // 4. Four buses x 8 stations in one process.
     let buses: Vec<VirtualBus> = (0..4)
-        .map(|_| VirtualBus::start(stations))
+        .map(|_| dv1_bus(stations))
         .collect::<Result<_, _>>()?;
     let named: Vec<(String, &VirtualBus)> = buses
         .iter()
@@ -363,6 +302,24 @@ fn run(measure: Duration) -> Result<(), String> {
     drop(buses);
     let _ = std::fs::remove_dir_all(&dir);
     Ok(())
+}
+
+/// `bus`'s readings per second over `measure`, and the service's CPU over it (a share of
+/// one core).
+fn flat_out(service: &dyn Measured, bus: &str, measure: Duration) -> (f64, Option<f64>) {
+    let (first, cpu_0, t0) = (
+        service.tally().lock().unwrap().bus_readings(bus),
+        service.cpu_time(),
+        Instant::now(),
+    );
+    std::thread::sleep(measure);
+    let elapsed = t0.elapsed().as_secs_f64();
+    let readings = service.tally().lock().unwrap().bus_readings(bus) - first;
+    let cpu = service
+        .cpu_time()
+        .zip(cpu_0)
+        .map(|(b, a)| (b - a).as_secs_f64() / elapsed);
+    (readings as f64 / elapsed, cpu)
 }
 
 /// Asks for writes of station 5's frequency command (one value after another, `send` asks) spread over
@@ -488,14 +445,4 @@ fn mqtt_latencies(
     drop(service);
     broker.0.kill().ok();
     latencies
-}
-
-/// A child killed when dropped.
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = Command::new("kill").arg(self.0.id().to_string()).status();
-        let _ = self.0.wait();
-    }
 }
