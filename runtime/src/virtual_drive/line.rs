@@ -18,8 +18,9 @@ use std::time::Duration;
 impl VirtualDrive {
     /// Unplugs the drive from its line (`true`) or plugs it back (`false`). Unplugged, it
     /// neither answers nor acts on any frame (a dead station on a multi-drop bus), but
-    /// still counts the requests addressed to it ([`Tally::addressed`]), so a test can
-    /// tell that a master tried it. Its motor and clock go on.
+    /// still counts the requests addressed to it
+    /// ([`Tally::addressed`](super::Tally::addressed)), so a test can tell that a master
+    /// tried it. Its motor and clock go on.
     pub fn set_unplugged(&mut self, unplugged: bool) {
         self.unplugged = unplugged;
     }
