@@ -1,11 +1,12 @@
 //! Shared support for the workspace-level tests: expectation files for diagnostics, a
 //! scripted peer for exchanges, the faults and subjects the fault matrix and the soak share,
-//! and the module-graph check that keeps each crate free of import circles, and the outcomes
-//! of exchanges tests assert on. The generated
+//! a drive's typed protocols as one list, and the module-graph check that keeps each crate
+//! free of import circles, and the outcomes of exchanges tests assert on. The generated
 //! golden-frame tests call `vfd_runtime::testing` (the runtime's `testing` feature).
 
 #![warn(missing_docs)]
 
+pub mod drive_protocols;
 pub mod expectations;
 pub mod fault_cases;
 pub mod linuxcnc;

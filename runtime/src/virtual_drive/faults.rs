@@ -1,5 +1,6 @@
 //! Faults the virtual drive can be told to commit, for testing a master's error handling.
 
+use super::VirtualDrive;
 use crate::error::DecodeErrorKind;
 use crate::protocol::Protocol;
 
@@ -48,4 +49,31 @@ pub(crate) fn corrupt_checksum(protocol: &Protocol, reply: &mut [u8]) -> bool {
         reply[index] = original;
     }
     false
+}
+
+impl VirtualDrive {
+    /// Commits `fault` (see [`Fault`] for how long it lasts).
+    pub fn inject(&mut self, fault: Fault) {
+        match fault {
+            Fault::Noise => self.noise = true,
+            Fault::EchoRequest => self.echo = true,
+            fault => self.faults.push_back(fault),
+        }
+    }
+
+    /// Stops every fault.
+    pub fn clear_faults(&mut self) {
+        self.faults.clear();
+        self.noise = false;
+        self.echo = false;
+    }
+
+    /// Whether `fault` is pending (noise and echo: in force).
+    pub fn has_fault(&self, fault: &Fault) -> bool {
+        match fault {
+            Fault::Noise => self.noise,
+            Fault::EchoRequest => self.echo,
+            other => self.faults.contains(other),
+        }
+    }
 }

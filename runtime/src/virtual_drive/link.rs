@@ -3,7 +3,8 @@
 
 use super::faults::Fault;
 use super::{Simulator, Transmission};
-use crate::protocol::Protocol;
+use crate::protocol::{DriveProtocol, Protocol};
+use crate::transaction::Master;
 use crate::transport::Transport;
 use std::collections::VecDeque;
 use std::io;
@@ -113,5 +114,26 @@ impl Transport for SimLink {
         self.pending.clear();
         self.late.clear();
         Ok(())
+    }
+}
+
+impl Simulator {
+    /// An in-process transport to the drive, speaking `protocol`.
+    pub fn link(&self, protocol: &'static Protocol) -> SimLink {
+        SimLink::new(self.clone(), protocol)
+    }
+
+    /// A typed master connected to the drive over `protocol`, with the drive's default
+    /// serial settings and timing, addressing the drive's station.
+    pub fn master<D: 'static>(&self, protocol: &'static DriveProtocol<D>) -> Master<SimLink, D> {
+        let info = self.lock().drive;
+        let address = self.lock().address;
+        Master::new(
+            self.link(protocol.protocol()),
+            protocol,
+            info.serial.default,
+            info.serial.timing,
+        )
+        .with_address(Some(address))
     }
 }

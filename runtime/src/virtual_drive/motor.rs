@@ -89,6 +89,11 @@ impl VirtualDrive {
             || self.motor.output.abs() > 1e-9
     }
 
+    /// The output, signed (negative in reverse), in the frequency command's units.
+    pub fn output(&self) -> f64 {
+        self.motor.output
+    }
+
     /// Whether `bit` acts: in `word` (the command word), or in the register holding it
     /// when it has one of its own.
     fn acts(&self, bit: Bit, word: u32) -> bool {

@@ -542,6 +542,14 @@ impl VirtualDrive {
             .register(mode.register)
             .is_none_or(|mode_info| mode.values.contains(&self.storage.get(mode_info, 0)))
     }
+
+    /// Whether the last drive-to-drive frame said its sender (the master inverter) has
+    /// tripped (a lower-case code of a command whose lower case means so). The model records
+    /// it only: what a receiver then does (stop, alarm, trip) is set by parameters the
+    /// behaviour model does not describe yet.
+    pub fn sender_tripped(&self) -> bool {
+        self.sender_tripped
+    }
 }
 
 /// The number of coils a request asks for: the value its quantity part (a length counting
