@@ -85,13 +85,11 @@ fn the_library_does_not_depend_on_the_cli() {
 /// The longest a source file may be: a file holds one idea.
 const MAX_LINES: usize = 800;
 
-/// No source file of these crates is over [`MAX_LINES`] lines. (The generator's and the
-/// runtime's largest files are split as pure moves after the drive work in flight lands;
-/// until then `codegen`, `runtime` and `tests` are not listed here.)
+/// No source file of these crates is over [`MAX_LINES`] lines.
 #[test]
 fn no_file_is_over_800_lines() {
     let mut long = Vec::new();
-    for folder in ["bus", "cli", "drives", "codegen/macros", "bench"] {
+    for folder in ["bus", "cli", "drives", "codegen", "codegen/macros", "bench"] {
         for file in rust_files(&crate_src(folder)) {
             let lines = std::fs::read_to_string(&file).unwrap().lines().count();
             if lines > MAX_LINES {
