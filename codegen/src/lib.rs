@@ -10,12 +10,12 @@
 //!
 //! | # | Stage | Module | Input | Output |
 //! |---|---|---|---|---|
-//! | 1 | parse | `parse/` (`tree.rs`: the YAML read once into positioned nodes; `reader.rs`: nodes -> `model.rs` types, every problem collected) | file text | `SourceFile` + `parse::model::DriveFile` / `ProtocolFile` |
+//! | 1 | parse | `parse/` (`tree.rs`: the YAML read once into positioned nodes; `reader/`: nodes -> `model/` types, one file per section of the format, every problem collected) | file text | `SourceFile` + `parse::model::DriveFile` / `ProtocolFile` |
 //! | 2 | load | `load/` (`based_on.rs`: a protocol file merged with the file it is `based_on`) | a drive file path | `LoadedDrive`: the drive and the protocol files it names, parsed |
 //! | 3 | lower protocols | `protocols/` | `LoadedDrive` | `LoweredProtocol`s: each protocol file plus the drive's error table, address maps and pre-steps, as the runtime's own `vfd_runtime::Protocol` |
 //! | 4 | decode examples | `frames.rs` | the drive's examples + lowered protocols | every example frame decoded **once** into the runtime's `vfd_runtime::meaning::FrameMeaning` |
 //! | 5 | validate | `validate/` (one file per check) | `validate::Context` (stages 2-4) | problems, or nothing |
-//! | 6 | IR | [`ir`] (`ir/types.rs`, `ir/lower.rs`) | `validate::Context` | [`DriveIr`]: plain, ordered, typed, serialisable; dump it with `vfd generate --dump-ir DRIVE` |
+//! | 6 | IR | [`ir`] (`ir/types/`, `ir/lower/`) | `validate::Context` | [`DriveIr`]: plain, ordered, typed, serialisable; dump it with `vfd generate --dump-ir DRIVE` |
 //! | 7 | emit | `emit/` (`rust/`, `live/`, `markdown/`, `tests.rs`, `words.rs`) | [`DriveIr`] only | Rust tokens (quote, then prettyplease), the same drive as run-time values ([`drive_info`]), Markdown (minijinja), golden tests |
 //! | 8 | rehearse | `rehearse.rs` (`rehearse/prepare.rs`: the state an example's frames show; `rehearse/difference.rs`: what differs) | [`DriveIr`] and the drive file | each example's request played to the virtual drive built from the IR (stage 7's run-time values), in the state its frames show: its reply must be the example's, byte for byte (silence for `no_reply: true`); a warning names what differs, unless the example says why (`not_simulated:`) |
 //!
@@ -26,7 +26,7 @@
 //!
 //! [`Builder`] (`builder.rs`) runs stages 1-7 for many drives and writes files, and
 //! [`OutputNames`] says how the output names anything outside a description. [`schemas`]
-//! (`schema.rs`) derives the JSON Schema of drive and protocol files from `parse/model.rs`.
+//! (`schema.rs`) derives the JSON Schema of drive and protocol files from `parse/model/`.
 //!
 //! Where to go for common changes:
 //! - **A new check**: a file in `validate/` with its own tests, added to the list in
@@ -34,17 +34,17 @@
 //! - **A new warning**: a file in `validate/` whose function pushes diagnostics made with
 //!   `SourceFile::warning`, named once in the `warnings!` list in `validate/mod.rs`; a
 //!   fixture pair in `tests/fixtures/warnings/`.
-//! - **A new key in drive files**: `parse/model.rs` (an enum if its values are enumerated;
+//! - **A new key in drive files**: `parse/model/` (an enum if its values are enumerated;
 //!   a `///` comment, which becomes the key's schema description; a new type derives
-//!   `JsonSchema`), then `ir/types.rs` + `ir/lower.rs`, then the emitters that show it;
+//!   `JsonSchema`), then `ir/types/` + `ir/lower/`, then the emitters that show it;
 //!   `vfd generate` refreshes `drives/schema/` and the README's key tables.
 //! - **A new part kind or framing feature**: the runtime first (`vfd_runtime::layout` and
-//!   its codec), then `parse/model.rs` (protocol-file types), `protocols/` (lowering and its
+//!   its codec), then `parse/model/` (protocol-file types), `protocols/` (lowering and its
 //!   checks), `emit/rust/bake.rs` (how the value becomes Rust) and
 //!   `emit/markdown/layouts.rs` (how the page describes it).
 //! - **Generated Rust**: `emit/rust/` has one file per kind of item (registers, bit fields,
 //!   code tables, protocols); runtime values become tokens through `bake.rs` only.
-//! - **Reference pages**: `templates/*.md.j2`, fed by `emit/markdown/view.rs`; sentences
+//! - **Reference pages**: `templates/*.md.j2`, fed by `emit/markdown/view/`; sentences
 //!   shared with the Rust docs live in `emit/words.rs`.
 //!
 //! Use it from a build script like `prost-build`:

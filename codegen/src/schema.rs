@@ -1,5 +1,5 @@
 //! JSON Schema of drive and protocol files, derived from the serde model in
-//! `parse/model.rs`, and the key tables of `drives/README.md` rendered from it.
+//! `parse/model/`, and the key tables of `drives/README.md` rendered from it.
 //!
 //! The schema is what editors use to complete and check keys
 //! (`# yaml-language-server: $schema=...` on a file's first line). It is derived with

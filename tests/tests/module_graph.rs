@@ -86,9 +86,7 @@ fn the_library_does_not_depend_on_the_cli() {
 const MAX_LINES: usize = 800;
 
 /// No source file of these crates, nor of the workspace's integration tests
-/// (`tests/tests/`), is over [`MAX_LINES`] lines. (The generator's largest files are split
-/// as pure moves after the drive work in flight lands; until then `codegen` is not listed
-/// here.)
+/// (`tests/tests/`), is over [`MAX_LINES`] lines.
 #[test]
 fn no_file_is_over_800_lines() {
     let mut files = Vec::new();
@@ -96,6 +94,7 @@ fn no_file_is_over_800_lines() {
         "bus",
         "cli",
         "drives",
+        "codegen",
         "codegen/macros",
         "bench",
         "runtime",
