@@ -210,6 +210,10 @@ pub struct FrequencyBehaviour {
     /// The output frequency at and above which the drive reports the frequency detected
     /// ([`StatusBehaviour::frequency_detected`]), in the command's units.
     pub detection: Option<Amount>,
+    /// Where the command is a percentage: the frequency its 100 % stands for (a maximum
+    /// frequency). The output then runs at command x `percent_of` / 100, and `span`,
+    /// `detection` and the monitors are in `percent_of`'s units.
+    pub percent_of: Option<Amount>,
 }
 
 /// Output current as a simple function of the output: `at_zero + (at_span - at_zero) x
@@ -453,6 +457,7 @@ mod tests {
                 output: &[],
                 reference: &[],
                 detection: None,
+                percent_of: None,
             },
             current: None,
             status: StatusBehaviour {

@@ -80,6 +80,7 @@ pub(crate) fn lower(
             .and_then(|c| c.overload.as_ref())
             .map(amount),
         frequency_detection: model.frequency.detection.as_ref().map(amount),
+        frequency_percent_of: model.frequency.percent_of.as_ref().map(amount),
         status_registers: ids(&status.registers),
         status: StatusBitsIr {
             running: status_list(&status.running),

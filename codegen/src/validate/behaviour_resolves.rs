@@ -95,6 +95,7 @@ pub fn behaviour_resolves(drive: &Context, out: &mut Diagnostics) {
             "give `frequency.detection`: the output frequency (a number or a register) at and above which the drive reports it",
         ),
     ];
+    percent_command(&index, behaviour, &mut problem);
     for (key, empty, level, hint) in levels {
         if !empty && !level {
             problem(
@@ -453,6 +454,41 @@ fn elsewhere(model: &DriveFile, index: &RegisterIndex<'_>, name: &str) -> Elsewh
     }
 }
 
+/// `frequency.percent_of` reads the frequency command as a percentage: its register must
+/// be in `%`, and the frequency its 100 % stands for must not be one.
+fn percent_command(
+    index: &RegisterIndex,
+    behaviour: &BehaviourModel,
+    problem: &mut impl FnMut(String, String, &str),
+) {
+    let Some(full) = &behaviour.frequency.percent_of else {
+        return;
+    };
+    let unit = |name: &str| index.find(name).map(|r| r.unit.as_deref().unwrap_or(""));
+    if let Some(unit) = unit(&behaviour.frequency.command) {
+        if unit != "%" {
+            let shown = if unit.is_empty() { "no unit" } else { unit };
+            problem(
+                "behaviour.frequency.percent_of".to_owned(),
+                format!(
+                    "`percent_of` reads the frequency command `{}` as a percentage, but it is in {shown}",
+                    behaviour.frequency.command
+                ),
+                "leave `percent_of` out where the command register holds a frequency; give it where the register's unit is `%`",
+            );
+        }
+    }
+    if let BoundModel::Register(name) = full {
+        if unit(name) == Some("%") {
+            problem(
+                "behaviour.frequency.percent_of".to_owned(),
+                format!("`{name}` is a percentage itself, not the frequency 100 % stands for"),
+                "name the register holding the frequency the command's 100 % stands for (a maximum frequency)",
+            );
+        }
+    }
+}
+
 fn protocol_hint(model: &DriveFile) -> String {
     let ids: Vec<&str> = model.protocols.iter().map(|p| p.id.as_str()).collect();
     format!("the drive's protocols are: {}", ids.join(", "))
@@ -475,6 +511,7 @@ fn registers_named(b: &BehaviourModel) -> Vec<(String, &str)> {
         ("frequency.deceleration", Some(&b.frequency.deceleration)),
         ("frequency.span", Some(&b.frequency.span)),
         ("frequency.detection", b.frequency.detection.as_ref()),
+        ("frequency.percent_of", b.frequency.percent_of.as_ref()),
         (
             "current.overload",
             b.current.as_ref().and_then(|c| c.overload.as_ref()),
@@ -649,6 +686,39 @@ behaviour:
         let found = check_yaml(check, &given.replace("detection: UL", "detection: UX"));
         assert_eq!(only(&found).message, "register `UX` is not defined");
         assert_eq!(only(&found).path, "behaviour.frequency.detection");
+    }
+
+    #[test]
+    fn a_percentage_command_is_in_percent_of_a_frequency() {
+        // FH is in Hz: as the command it is no percentage.
+        let found = check_yaml(
+            check,
+            &with_behaviour(("span: FH }", "span: FH, percent_of: UL }")),
+        );
+        assert_eq!(
+            only(&found).message,
+            "`percent_of` reads the frequency command `FH` as a percentage, but it is in Hz"
+        );
+        assert_eq!(only(&found).path, "behaviour.frequency.percent_of");
+        // A command in % of FH checks; one in % of a percentage does not.
+        let percent = "  - { address: 0x0020, id: reference, code: REF, name: Reference, unit: \"%\", scale: 0.01, source: \"7\" }\n";
+        let yaml = format!(
+            "{}{}",
+            VALID.replace("\nvalue_examples:", &format!("{percent}\nvalue_examples:")),
+            BEHAVIOUR.replace(
+                "frequency: { command: FH,",
+                "frequency: { command: REF, percent_of: FH,"
+            )
+        );
+        let found = check_yaml(check, &yaml);
+        assert!(found.is_empty(), "{found:#?}");
+        let found = check_yaml(check, &yaml.replace("percent_of: FH", "percent_of: REF"));
+        assert_eq!(
+            only(&found).message,
+            "`REF` is a percentage itself, not the frequency 100 % stands for"
+        );
+        let found = check_yaml(check, &yaml.replace("percent_of: FH", "percent_of: FX"));
+        assert_eq!(only(&found).message, "register `FX` is not defined");
     }
 
     #[test]

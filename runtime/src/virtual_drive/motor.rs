@@ -196,7 +196,7 @@ impl VirtualDrive {
     }
 
     /// The frequency command in force: the command register's value when the command word
-    /// makes it effective, else 0.
+    /// makes it effective, else 0; a percentage command as the frequency it stands for.
     pub(crate) fn target(&self) -> f64 {
         let Some(behaviour) = self.behaviour() else {
             return 0.0;
@@ -206,7 +206,11 @@ impl VirtualDrive {
         if !self.all_act(frequency.require, word) {
             return 0.0;
         }
-        self.value_of(self.served(frequency.command)).unwrap_or(0.0)
+        let command = self.value_of(self.served(frequency.command)).unwrap_or(0.0);
+        match frequency.percent_of {
+            Some(full) => command * self.amount(full) / 100.0,
+            None => command,
+        }
     }
 
     /// Runs the motor model for `elapsed` of simulated time.

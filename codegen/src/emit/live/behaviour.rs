@@ -47,6 +47,7 @@ pub(super) fn behaviour(b: &BehaviourIr) -> Behaviour {
             output: texts(&b.output),
             reference: texts(&b.reference),
             detection: b.frequency_detection.as_ref().map(amount),
+            percent_of: b.frequency_percent_of.as_ref().map(amount),
         },
         current: b
             .current

@@ -141,6 +141,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
         None => quote!(None),
     };
     let detection = optional_amount(b.frequency_detection.as_ref());
+    let percent_of = optional_amount(b.frequency_percent_of.as_ref());
     let current = match &b.current {
         Some((registers, at_zero, at_span)) => {
             let registers = ids(registers);
@@ -240,6 +241,7 @@ fn behaviour_tokens(b: &BehaviourIr) -> TokenStream {
                     output: #output,
                     reference: #reference,
                     detection: #detection,
+                    percent_of: #percent_of,
                 },
                 current: #current,
                 status: StatusBehaviour {

@@ -81,6 +81,9 @@ pub struct BehaviourIr {
     /// The output frequency at and above which the drive reports the frequency detected.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub frequency_detection: Option<AmountIr>,
+    /// The frequency a percentage frequency command's 100 % stands for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frequency_percent_of: Option<AmountIr>,
     /// Status-word registers.
     pub status_registers: Vec<String>,
     /// Status bits: running, reverse, at reference, tripped, enabled, always.

@@ -180,6 +180,12 @@ pub struct FrequencyBehaviourModel {
     /// (`status.frequency_detected`; an output-frequency detection setting): a number in
     /// the command's units or a register.
     pub detection: Option<AmountModel>,
+    /// The frequency the command register's 100 % stands for, where the command is a
+    /// percentage (a unit of `%`) and the output a frequency (Huanyang GT 2000H: a
+    /// percentage of the maximum frequency P0.03): a number or a register. The model runs
+    /// at command x `percent_of` / 100; `span`, `detection` and the output and reference
+    /// monitors are then in `percent_of`'s units.
+    pub percent_of: Option<AmountModel>,
 }
 
 /// Output current: `at_zero + (at_span - at_zero) x |output| / span` while running, 0 when stopped.

@@ -88,7 +88,14 @@ pub(super) fn virtual_drive_view(drive: &DriveIr) -> VirtualDriveView<'_> {
             ),
             None => String::new(),
         },
-        code(&behaviour.frequency_command)
+        match &behaviour.frequency_percent_of {
+            Some(full) => format!(
+                "{}, a percentage of {}",
+                code(&behaviour.frequency_command),
+                amount(full, "Hz")
+            ),
+            None => code(&behaviour.frequency_command),
+        }
     )];
     if let Some(c) = &behaviour.command_codes {
         let named = [
