@@ -74,6 +74,7 @@
 pub mod back_off;
 pub mod bus;
 pub mod catalogue;
+pub mod control;
 pub mod error;
 pub mod line;
 pub mod lookup;

@@ -83,3 +83,11 @@ impl From<SetupError> for SessionError {
         SessionError::Said(said)
     }
 }
+
+impl std::fmt::Display for SessionError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.message())
+    }
+}
+
+impl std::error::Error for SessionError {}
