@@ -20,7 +20,7 @@ mod stop_flag;
 mod trace;
 mod traced_line;
 
-use commands::{backup, block, decode, describe, encode, generate, ports, watch};
+use commands::{backup, block, control, decode, describe, encode, generate, ports, watch};
 pub use failure::Failure;
 use service::{plant_check, serve, serve_args};
 #[cfg(all(unix, feature = "pty"))]
@@ -140,6 +140,48 @@ enum Command {
         /// Value in the register's unit.
         #[arg(allow_hyphen_values = true)]
         value: String,
+    },
+    /// Run the motor at a speed (any drive with control roles): the speed command, then
+    /// the run command, in the order the drive needs; refused while tripped.
+    #[command(
+        after_help = "The speed is in the drive's speed command unit (Hz, or % where the command is one), or in Hz where the command is a percentage of a frequency (then 50% gives the percentage).\n\nExamples:\n  vfd run --drive yd1000 --port /dev/ttyUSB0 30Hz\n  vfd run --drive dv1 --port /dev/ttyUSB0 --reverse 45"
+    )]
+    Run {
+        #[command(flatten)]
+        line: line_args::LineArgs,
+        /// Run in reverse.
+        #[arg(long)]
+        reverse: bool,
+        /// The speed (`30`, `30Hz`, `50%`).
+        speed: String,
+    },
+    /// Stop the motor (ramping down; always allowed).
+    Stop {
+        #[command(flatten)]
+        line: line_args::LineArgs,
+        /// Coast to a stop (the output off at once), where the drive can.
+        #[arg(long)]
+        coast: bool,
+    },
+    /// Reset a trip.
+    Reset {
+        #[command(flatten)]
+        line: line_args::LineArgs,
+    },
+    /// Show what the drive is doing: running, direction, output, set point, at speed,
+    /// tripped and its trip code, output current.
+    State {
+        #[command(flatten)]
+        line: line_args::LineArgs,
+        /// Output format: text, json or jsonl (docs/output.md names every field).
+        #[arg(long, value_enum, default_value_t = emit::Format::Text)]
+        format: emit::Format,
+        /// Show it again every this many seconds (Ctrl-C stops).
+        #[arg(long, value_name = "SECONDS")]
+        watch: Option<f64>,
+        /// With --watch: stop after this many states.
+        #[arg(long, value_name = "N", requires = "watch")]
+        count: Option<u64>,
     },
     /// Run one block transfer (write several words, read several, in one exchange) where
     /// the drive describes one; the words' registers are the drive's block selection.
@@ -411,6 +453,19 @@ fn run(command: Command, catalogue: &Catalogue) -> Result<(), Failure> {
                 format,
             ),
         },
+        Command::Run {
+            line,
+            reverse,
+            speed,
+        } => control::run(catalogue, &line, &speed, reverse),
+        Command::Stop { line, coast } => control::stop(catalogue, &line, coast),
+        Command::Reset { line } => control::reset(catalogue, &line),
+        Command::State {
+            line,
+            format,
+            watch,
+            count,
+        } => control::state(catalogue, &line, format, watch, count),
         Command::Read {
             line,
             command,

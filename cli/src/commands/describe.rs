@@ -168,6 +168,7 @@ pub fn info(
             drive.registers.len(),
             catalogue.name_for(drive)
         );
+        say!("{}", control_line(drive));
         if let Some(ports) = drive.ports {
             for port in ports.ports {
                 let settings: Vec<String> = port
@@ -469,5 +470,26 @@ fn details(drive: &DriveInfo, r: &'static RegisterInfo) {
     }
     if !r.text.is_empty() {
         say!("  manual      {}", r.text);
+    }
+}
+
+/// The drive's control roles on one line (`vfd run`, `stop`, `reset`, `state`), or the
+/// roles it lacks.
+pub fn control_line(drive: &'static vfd_runtime::DriveInfo) -> String {
+    match vfd_bus::control::Roles::of(drive) {
+        Ok(roles) => format!(
+            "control: {} (command {}, speed {} in {}; `vfd run`, `stop`, `reset`, `state`)",
+            roles.names().join(", "),
+            roles.command.code,
+            roles.speed.code,
+            match roles.percent_of {
+                Some(_) => "Hz, as a percentage",
+                None => roles.speed.unit_symbol(),
+            }
+        ),
+        Err(missing) => format!(
+            "control: none (no {} role in its behaviour model)",
+            missing.missing.join(", ")
+        ),
     }
 }

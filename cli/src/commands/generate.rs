@@ -216,6 +216,8 @@ pub fn check(catalogue: &Catalogue, files: &[String], deny_warnings: bool) -> Re
         let compiled = catalogue.compile(Path::new(file));
         let warnings = compiled.warnings.items.len();
         let valid = compiled.drive.is_ok();
+        // The run-time values the rehearsal built (not built again).
+        let live = compiled.drive_info().filter(|_| valid);
         match compiled.drive {
             Ok(drive) => say!(
                 "{file}: ok ({} registers, {} examples{})",
@@ -236,6 +238,9 @@ pub fn check(catalogue: &Catalogue, files: &[String], deny_warnings: bool) -> Re
                     );
                 }
             }
+        }
+        if let Some(drive) = live {
+            say!("{file}: {}", super::describe::control_line(drive));
         }
         if warnings > 0 {
             say!("{}", compiled.warnings);
