@@ -16,10 +16,11 @@ use vfd_runtime::transport::{Direction, PtyTransport, Recording};
 use vfd_runtime::virtual_drive::{serve_bus, BusStation, Simulator};
 use vfd_runtime::{DriveInfo, Protocol};
 
-/// The line every plant benchmark bus runs at: 9600 baud 8N1.
+/// The line every plant benchmark bus runs at: 9600 baud 8E1 (a format each polled model
+/// takes over Modbus RTU; the DV1 allows no 8N1 there).
 pub const SETTINGS: SerialSettings = SerialSettings {
     baud: 9600,
-    parity: Parity::None,
+    parity: Parity::Even,
     data_bits: 8,
     stop_bits: 1,
 };

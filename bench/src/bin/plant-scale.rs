@@ -1,5 +1,5 @@
 //! The service at scale: 8 paced buses x 16 stations (128 virtual drives of three models:
-//! DV1, VF-AS1 and GS2 in turn on every bus, all on Modbus RTU at 9600 baud 8N1), every
+//! DV1, VF-AS1 and GS2 in turn on every bus, all on Modbus RTU at 9600 baud 8E1), every
 //! station polled as fast as its line carries (`every: 10ms`), in one process. Run with the
 //! `vfd serve` binary (`--jsonl --stdin-writes`, a child process) and with the library's
 //! service core embedded in this process (`vfd_bus::ServiceCore`). Prints Markdown:
@@ -93,7 +93,7 @@ fn plant_file(dir: &Path, buses: &[VirtualBus], models: &[Resolved]) -> PathBuf 
     let mut text = String::from("buses:\n");
     for (b, bus) in buses.iter().enumerate() {
         text.push_str(&format!(
-            "  - name: line{}\n    port: {}\n    baud: 9600\n    parity: none\n    offline_after: 3\n    backoff: {{ first_ms: {ms}, cap_ms: {ms} }}\n    drives:\n",
+            "  - name: line{}\n    port: {}\n    baud: 9600\n    parity: even\n    offline_after: 3\n    backoff: {{ first_ms: {ms}, cap_ms: {ms} }}\n    drives:\n",
             b + 1,
             bus.path.display(),
             ms = BACK_OFF.as_millis()
@@ -158,7 +158,7 @@ fn run(minutes: u64, which: &str) -> Result<(), String> {
     let catalogue = Catalogue::new();
     let models = resolve(&catalogue)?;
     println!(
-        "## {BUSES} paced buses x {STATIONS} stations in one process (9600 baud 8N1, Modbus RTU)\n"
+        "## {BUSES} paced buses x {STATIONS} stations in one process (9600 baud 8E1, Modbus RTU)\n"
     );
     println!("| model | polled (one request) | one poll on the wire | reply timeout |");
     println!("|---|---|---|---|");

@@ -1,5 +1,5 @@
 //! The service on paced lines: `vfd serve` (the release binary, as a plant runs it) polling
-//! virtual DV1 drives (Modbus RTU, 9600 baud 8N1) on paced pseudo-terminal lines (bytes
+//! virtual DV1 drives (Modbus RTU, 9600 baud 8E1) on paced pseudo-terminal lines (bytes
 //! delivered at the wire's character rate, `vfd_bench::paced`), with the drives served by
 //! the runtime's multi-drop bus server in this process. Prints Markdown:
 //!
@@ -51,7 +51,7 @@ fn plant_file(dir: &Path, buses: &[(String, &VirtualBus)], backoff_ms: u64) -> P
     let mut text = String::from("buses:\n");
     for (name, bus) in buses {
         text.push_str(&format!(
-            "  - name: {name}\n    port: {}\n    baud: 9600\n    parity: none\n    offline_after: 3\n    backoff: {{ first_ms: {backoff_ms}, cap_ms: {backoff_ms} }}\n    drives:\n",
+            "  - name: {name}\n    port: {}\n    baud: 9600\n    parity: even\n    offline_after: 3\n    backoff: {{ first_ms: {backoff_ms}, cap_ms: {backoff_ms} }}\n    drives:\n",
             bus.path.display()
         ));
         for address in 1..=bus.sims.len() {
@@ -93,7 +93,7 @@ fn run(measure: Duration) -> Result<(), String> {
     let stations = 8u8;
     let limit = WORDS as f64 / model.time.as_secs_f64();
     println!(
-        "## vfd serve on paced lines (9600 baud 8N1, DV1 Modbus RTU, 1001h-1003h per station)\n"
+        "## vfd serve on paced lines (9600 baud 8E1, DV1 Modbus RTU, 1001h-1003h per station)\n"
     );
     println!(
         "One station's poll on the wire: {:.2} ms (request {} bytes, reply, two frame gaps, reply delay); reply timeout {:.0} ms.\n",
@@ -187,7 +187,10 @@ fn run(measure: Duration) -> Result<(), String> {
     // 2b. Through a broker, when there is one (by a service of its own on the same line).
     service.stop();
     let mqtt_latency = match mosquitto() {
-        Some(path) => Some(mqtt_latencies(&path, &dir, &plant, &bus, measure / 2)?),
+        Some(path) => Some((
+            mqtt_latencies(&path, &dir, &plant, &bus, measure / 2, false)?,
+            mqtt_latencies(&path, &dir, &plant, &bus, measure / 2, true)?,
+        )),
         None => None,
     };
     // 1b and 2c. The same bus, the service embedded in this process (the library's core).
@@ -240,10 +243,13 @@ fn run(measure: Duration) -> Result<(), String> {
         embedded_latency,
     );
     match mqtt_latency {
-        Some(l) => row(
-            "a `set` message published to mosquitto (mosquitto_pub -l)",
-            l,
-        ),
+        Some((default, nodelay)) => {
+            row(
+                "a `set` message published to mosquitto (mosquitto_pub -l), broker defaults",
+                default,
+            );
+            row("the same, the broker with `set_tcp_nodelay true`", nodelay);
+        }
         None => {
             println!("| a `set` message via mosquitto | SKIPPED: mosquitto not installed | | | | |")
         }
@@ -361,13 +367,15 @@ fn mosquitto() -> Option<PathBuf> {
 
 /// The same through a private mosquitto, with a `vfd serve --mqtt` of its own polling the
 /// same bus (the `--jsonl` one has stopped), and `set` messages published by one
-/// `mosquitto_pub -l` (a line on its standard input is one message).
+/// `mosquitto_pub -l` (a line on its standard input is one message); `nodelay`: the broker
+/// sends without Nagle's delay (`set_tcp_nodelay`, off by default).
 fn mqtt_latencies(
     mosquitto: &Path,
     dir: &Path,
     plant: &Path,
     bus: &VirtualBus,
     during: Duration,
+    nodelay: bool,
 ) -> Result<Vec<Duration>, String> {
     let port = std::net::TcpListener::bind("127.0.0.1:0")
         .and_then(|l| l.local_addr())
@@ -376,7 +384,9 @@ fn mqtt_latencies(
     let config = dir.join("mosquitto.conf");
     std::fs::write(
         &config,
-        format!("listener {port} 127.0.0.1\npersistence false\nallow_anonymous true\n"),
+        format!(
+            "listener {port} 127.0.0.1\npersistence false\nallow_anonymous true\nset_tcp_nodelay {nodelay}\n"
+        ),
     )
     .map_err(|e| e.to_string())?;
     let mut broker = Killed(

@@ -87,6 +87,11 @@ impl Mqtt {
             mqtt.set_transport(Transport::tls_with_config(TlsConfiguration::Rustls(config)));
         }
         let (client, mut connection) = Client::new(mqtt, 64);
+        // Small messages out at once (no Nagle delay behind an unacknowledged one): a
+        // result or a state waits for nothing.
+        let mut network = connection.eventloop.network_options();
+        network.set_tcp_nodelay(true);
+        connection.eventloop.set_network_options(network);
         let outbox = Arc::new(Outbox::new(READING_CAP));
         let ledger = Arc::new(Mutex::new(SetLedger::new(topics.clone(), plant, writes)));
         let stop = Arc::new(AtomicBool::new(false));
