@@ -25,7 +25,14 @@ use vfd_bench::virtual_bus::{self, Exchange, VirtualBus, SETTINGS};
 use vfd_bus::Catalogue;
 use vfd_runtime::{DriveInfo, Protocol};
 
-const BUSES: usize = 8;
+/// Buses, unless `PLANT_SCALE_BUSES` says another number (to tell the machine's limits from
+/// the line's).
+fn buses() -> usize {
+    std::env::var("PLANT_SCALE_BUSES")
+        .ok()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(8)
+}
 const STATIONS: usize = 16;
 const BACK_OFF: Duration = Duration::from_secs(2);
 
@@ -64,8 +71,15 @@ struct Resolved {
 }
 
 fn resolve(catalogue: &Catalogue) -> Result<Vec<Resolved>, String> {
+    // `PLANT_SCALE_MODELS=dv1`: only the models named (comma-separated), to tell mixed
+    // models on one line from the rest.
+    let only = std::env::var("PLANT_SCALE_MODELS").ok();
     MODELS
         .iter()
+        .filter(|model| {
+            only.as_deref()
+                .is_none_or(|list| list.split(',').any(|id| id == model.id))
+        })
         .map(|model| {
             let drive = catalogue.drive(model.id).map_err(|e| e.to_string())?;
             let protocol =
@@ -158,7 +172,8 @@ fn run(minutes: u64, which: &str) -> Result<(), String> {
     let catalogue = Catalogue::new();
     let models = resolve(&catalogue)?;
     println!(
-        "## {BUSES} paced buses x {STATIONS} stations in one process (9600 baud 8E1, Modbus RTU)\n"
+        "## {} paced buses x {STATIONS} stations in one process (9600 baud 8E1, Modbus RTU)\n",
+        buses()
     );
     println!("| model | polled (one request) | one poll on the wire | reply timeout |");
     println!("|---|---|---|---|");
@@ -186,7 +201,7 @@ fn run(minutes: u64, which: &str) -> Result<(), String> {
         if which != "both" && which != mode {
             continue;
         }
-        let buses: Vec<VirtualBus> = (0..BUSES)
+        let buses: Vec<VirtualBus> = (0..buses())
             .map(|_| {
                 let stations: Vec<(&'static DriveInfo, &'static Protocol)> = (1..=STATIONS)
                     .map(|a| {
