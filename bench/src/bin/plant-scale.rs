@@ -107,7 +107,7 @@ fn plant_file(dir: &Path, buses: &[VirtualBus], models: &[Resolved]) -> PathBuf 
     let mut text = String::from("buses:\n");
     for (b, bus) in buses.iter().enumerate() {
         text.push_str(&format!(
-            "  - name: line{}\n    port: {}\n    baud: 9600\n    parity: even\n    offline_after: 3\n    backoff: {{ first_ms: {ms}, cap_ms: {ms} }}\n    drives:\n",
+            "  - name: line{}\n    port: {}\n    baud: 9600\n    parity: even\n    stop_bits: 1\n    offline_after: 3\n    backoff: {{ first_ms: {ms}, cap_ms: {ms} }}\n    drives:\n",
             b + 1,
             bus.path.display(),
             ms = BACK_OFF.as_millis()

@@ -51,7 +51,7 @@ fn plant_file(dir: &Path, buses: &[(String, &VirtualBus)], backoff_ms: u64) -> P
     let mut text = String::from("buses:\n");
     for (name, bus) in buses {
         text.push_str(&format!(
-            "  - name: {name}\n    port: {}\n    baud: 9600\n    parity: even\n    offline_after: 3\n    backoff: {{ first_ms: {backoff_ms}, cap_ms: {backoff_ms} }}\n    drives:\n",
+            "  - name: {name}\n    port: {}\n    baud: 9600\n    parity: even\n    stop_bits: 1\n    offline_after: 3\n    backoff: {{ first_ms: {backoff_ms}, cap_ms: {backoff_ms} }}\n    drives:\n",
             bus.path.display()
         ));
         for address in 1..=bus.sims.len() {
