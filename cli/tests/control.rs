@@ -17,7 +17,7 @@ fn state(sim: &Sim, drive: &str, protocol: &str) -> serde_json::Value {
 }
 
 #[test]
-fn run_state_and_stop_on_three_families() {
+fn run_shows_running_at_its_set_point_and_stop_is_taken_on_three_families() {
     for (drive, protocol, speed, set_point) in [
         ("yd1000", "binary", "30Hz", 30.0),
         ("dv1", "modbus", "30", 30.0),
@@ -48,6 +48,29 @@ fn a_speed_out_of_range_is_refused_before_anything_is_sent() {
     assert_eq!(before.stdout, after.stdout, "nothing was written");
     let now = state(&sim, "yd1000", "binary");
     assert_eq!(now["running"], false, "{now}");
+}
+
+#[test]
+fn a_watch_interval_that_is_not_a_duration_is_refused() {
+    for bad in ["inf", "0", "-1", "NaN"] {
+        let output = Command::new(env!("CARGO_BIN_EXE_vfd"))
+            .args([
+                "state",
+                "--drive",
+                "yd1000",
+                "--port",
+                "/dev/null-does-not-exist",
+            ])
+            .arg(format!("--watch={bad}"))
+            .output()
+            .unwrap();
+        let said = String::from_utf8_lossy(&output.stderr).into_owned();
+        assert!(!output.status.success(), "--watch {bad}");
+        assert!(
+            said.contains("--watch") && !said.contains("panicked"),
+            "{bad}: {said}"
+        );
+    }
 }
 
 #[test]

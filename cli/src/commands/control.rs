@@ -87,7 +87,8 @@ pub fn reset(catalogue: &Catalogue, line: &LineArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// `vfd state [--watch SECONDS] [--count N]`.
+/// `vfd state [--watch SECONDS] [--count N]`: with `--watch`, a failed read is reported and
+/// tried again; the command fails only when no state was ever read.
 pub fn state(
     catalogue: &Catalogue,
     line: &LineArgs,
@@ -99,25 +100,50 @@ pub fn state(
         return Err(Failure::new("`vfd state` prints text, json or jsonl")
             .hint("a state has a nested trip: use --format jsonl for one object per line"));
     }
+    let interval = match watch {
+        Some(seconds) if !seconds.is_finite() || seconds <= 0.0 || seconds > 86_400.0 => {
+            return Err(Failure::new(format!(
+                "--watch {seconds}: the interval must be a number of seconds above 0 and at most 86400"
+            ))
+            .hint("e.g. --watch 1 (every second) or --watch 0.2"));
+        }
+        Some(seconds) => Some(Duration::from_secs_f64(seconds.max(0.05))),
+        None => None,
+    };
     let mut session = open(catalogue, line)?;
     let mut control = control(&mut session)?;
     let mut emitter = Emitter::new(format);
-    let mut shown = 0u64;
+    let (mut tries, mut shown) = (0u64, 0u64);
+    let mut last_error = None;
     loop {
-        let state = control.state()?;
-        if format.is_text() {
-            say!("{}", text(&state));
-        } else {
-            emitter.record(&state);
+        tries += 1;
+        match control.state() {
+            Ok(state) => {
+                shown += 1;
+                if format.is_text() {
+                    say!("{}", text(&state));
+                } else {
+                    emitter.record(&state);
+                }
+            }
+            // A watch outlives a failed read (a timeout, a damaged reply): it says so and
+            // tries again at the next interval.
+            Err(error) if interval.is_some() => {
+                eprintln!("vfd: {}", error.message());
+                last_error = Some(error);
+            }
+            Err(error) => return Err(error.into()),
         }
-        shown += 1;
-        let (Some(seconds), true) = (watch, count.is_none_or(|n| shown < n)) else {
+        let (Some(interval), true) = (interval, count.is_none_or(|n| tries < n)) else {
             break;
         };
-        std::thread::sleep(Duration::from_secs_f64(seconds.max(0.05)));
+        std::thread::sleep(interval);
     }
     emitter.finish();
-    Ok(())
+    match (shown, last_error) {
+        (0, Some(error)) => Err(error.into()),
+        _ => Ok(()),
+    }
 }
 
 /// A state on one line.
