@@ -10,7 +10,7 @@ use std::time::Duration;
 use vfd_drives::gs2::registers::{OutputFrequency, RunCommand, SpeedReference};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::units::Hertz;
-use vfd_tests::linuxcnc::{temp_dir, Hal, VirtualPort};
+use vfd_tests::linuxcnc::{temp_dir, wait_on_drive, Hal, VirtualPort};
 
 const LIMIT: Duration = Duration::from_secs(20);
 
@@ -102,12 +102,19 @@ fn gs2_vfd_runs_reverses_stops_and_resets_the_gs2_virtual_drive() {
     hal.wait_for("spindle.status-2", LIMIT, |v| {
         v.parse::<u32>().is_ok_and(|s| s & 0x1F == 0b11011)
     });
-    hal.wait_for("spindle.frequency-out", LIMIT, |v| v.parse() == Ok(40.0));
-    assert_eq!(sim.lock().raw("P9.28"), Some(1));
-    assert!(
-        (sim.lock().output() + 40.0).abs() < 1e-9,
-        "reverse at 40 Hz"
+    // The status says reverse as soon as the command does, while the output still ramps
+    // through zero; frequency-out is a magnitude and read 40 before the reversal too, so
+    // the drive itself is waited on.
+    wait_on_drive(
+        &hal,
+        &drive,
+        &["P9.28", "2103h"],
+        "reverse at 40 Hz",
+        LIMIT,
+        |d| (d.output() + 40.0).abs() < 1e-9,
     );
+    assert_eq!(sim.lock().raw("P9.28"), Some(1));
+    hal.wait_for("spindle.frequency-out", LIMIT, |v| v.parse() == Ok(40.0));
     assert!(
         hal.bit("spindle.spindle-rev"),
         "the component's own reverse pin"

@@ -108,11 +108,15 @@ fn hy_vfd_runs_reverses_stops_and_sees_a_trip_on_the_hy_virtual_drive() {
     hal.setp("spindle.spindle-forward", 0);
     hal.setp("spindle.spindle-reverse", 1);
     hal.wait_for("spindle.CNST-running-rf", LIMIT, |v| v == "TRUE");
+    // at-speed was already true going forward: the drive's own output is waited on first.
+    wait_raw(&port, &hal, "OutF", |raw| raw == 19_998);
+    hal.wait_for("spindle.OutF", LIMIT, |v| {
+        v.parse::<f64>().is_ok_and(|f| (f - 199.98).abs() < 1e-6)
+    });
     hal.wait_for("spindle.spindle-at-speed", LIMIT, |v| v == "TRUE");
     assert_eq!(port.simulator.lock().raw("CNTR"), Some(0x11));
     assert_eq!(port.simulator.lock().raw("FREQ"), Some(19_998));
     assert!(hal.bit("spindle.CNST-command-rf"));
-    assert!((hal.number("spindle.OutF") - 199.98).abs() < 1e-6);
 
     // Off: 08h (stop); the drive ramps down and the status byte shows it stopped.
     hal.setp("spindle.spindle-on", 0);

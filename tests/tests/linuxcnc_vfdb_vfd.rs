@@ -11,7 +11,7 @@ use std::time::Duration;
 use vfd_drives::vfd_b::registers::{Command, FrequencyCommand, OutputFrequency};
 use vfd_runtime::serial::{Parity, SerialSettings};
 use vfd_runtime::units::Hertz;
-use vfd_tests::linuxcnc::{temp_dir, Hal, VirtualPort};
+use vfd_tests::linuxcnc::{temp_dir, wait_on_drive, Hal, VirtualPort};
 
 const LIMIT: Duration = Duration::from_secs(20);
 
@@ -79,12 +79,19 @@ fn vfdb_vfd_runs_reverses_stops_and_sees_a_trip_of_the_vfd_b_virtual_drive() {
     hal.wait_for("spindle.status", LIMIT, |v| {
         v.parse::<u32>().is_ok_and(|s| s & 0x1F == 0b11011)
     });
-    hal.wait_for("spindle.frequency-out", LIMIT, |v| v.parse() == Ok(40.0));
-    assert_eq!(sim.lock().raw("2000H"), Some(0x0022), "run, reverse");
-    assert!(
-        (sim.lock().output() + 40.0).abs() < 1e-9,
-        "reverse at 40 Hz"
+    // The status bits say reverse as soon as the command does, while the output still ramps
+    // through zero; frequency-out is a magnitude and read 40 before the reversal too, so
+    // the drive itself is waited on.
+    wait_on_drive(
+        &hal,
+        &drive,
+        &["2000H", "2103H"],
+        "reverse at 40 Hz",
+        LIMIT,
+        |d| (d.output() + 40.0).abs() < 1e-9,
     );
+    assert_eq!(sim.lock().raw("2000H"), Some(0x0022), "run, reverse");
+    hal.wait_for("spindle.frequency-out", LIMIT, |v| v.parse() == Ok(40.0));
 
     // Off: stop (bits 1-0 = 01); the drive ramps down.
     hal.setp("spindle.spindle-on", 0);
