@@ -121,6 +121,9 @@ impl Hal {
 
     fn environment(command: &mut Command, home: &Path) {
         command.env("HOME", home);
+        // Components written in Python (mitsub_vfd) print to the log as they go, not when
+        // a block buffer fills: a test waits on what they say (`wait_for_log`).
+        command.env("PYTHONUNBUFFERED", "1");
         if running_as_root() {
             command.env("RTAPI_UID", UNPRIVILEGED_UID);
         }
@@ -212,6 +215,23 @@ impl Hal {
                 Instant::now() < end,
                 "{pin} is still {value} after {limit:?}\nhalrun's log:\n{}",
                 self.log_text()
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    /// Waits up to `limit` until the session's log contains `text` (a component's message
+    /// saying it acted); a panic showing the log otherwise.
+    pub fn wait_for_log(&self, text: &str, limit: Duration) {
+        let end = Instant::now() + limit;
+        loop {
+            let log = self.log_text();
+            if log.contains(text) {
+                return;
+            }
+            assert!(
+                Instant::now() < end,
+                "halrun's log does not say {text:?} after {limit:?}:\n{log}"
             );
             std::thread::sleep(Duration::from_millis(50));
         }

@@ -71,6 +71,16 @@ fn gs2_vfd_runs_reverses_stops_and_resets_the_gs2_virtual_drive() {
     hal.setp("spindle.speed-command", 1200);
     hal.setp("spindle.spindle-on", 1);
     hal.wait_for("spindle.frequency-out", LIMIT, |v| v.parse() == Ok(40.0));
+    // The pin shows 2103h in 0.1 Hz: it reads 40.0 from 39.95 Hz on, while the drive may
+    // still be a step short of 40 Hz; the drive itself is waited on.
+    wait_on_drive(
+        &hal,
+        &drive,
+        &["P9.27", "2103h"],
+        "forward at 40 Hz",
+        LIMIT,
+        |d| (d.output() - 40.0).abs() < 1e-9,
+    );
     {
         let d = sim.lock();
         assert!(d.is_running());
@@ -123,7 +133,10 @@ fn gs2_vfd_runs_reverses_stops_and_resets_the_gs2_virtual_drive() {
     // Off: P9.27 = 0; the drive ramps down and stops.
     hal.setp("spindle.spindle-on", 0);
     hal.wait_for("spindle.is-stopped", LIMIT, |v| v == "TRUE");
-    assert!(!sim.lock().is_running());
+    // is-stopped is 2103h reading 0, from under 0.05 Hz on; the drive is waited on to stop.
+    wait_on_drive(&hal, &drive, &["P9.27", "2103h"], "stopped", LIMIT, |d| {
+        !d.is_running()
+    });
     assert_eq!(sim.lock().raw("P9.27"), Some(0));
     assert!(!hal.bit("spindle.at-speed"));
 

@@ -92,7 +92,9 @@ fn mitsub_vfd_drives_the_fr_e700_virtual_drive() {
     });
     assert!(!hal.bit(&pin("alarm")));
 
-    // Reverse: HFA = 04.
+    // Reverse: HFA = 04. H7A reads 0Dh (running, reverse, up to frequency) as soon as the
+    // command says reverse, the output still at +30 Hz, and H6F is a magnitude: the output
+    // itself is waited on.
     hal.setp(&pin("fwd"), 0);
     wait_on_drive(
         &hal,
@@ -100,7 +102,11 @@ fn mitsub_vfd_drives_the_fr_e700_virtual_drive() {
         SHOWN,
         "running in reverse at 30.00 Hz",
         Duration::from_secs(20),
-        |sim| sim.raw("H7A") == Some(0x0D) && sim.raw("H6F") == Some(3000),
+        |sim| {
+            sim.raw("H7A") == Some(0x0D)
+                && (sim.output() + 30.0).abs() < 1e-6
+                && sim.raw("H6F") == Some(3000)
+        },
     );
     hal.wait_for(&pin("stat-bit-2"), Duration::from_secs(10), |v| v == "TRUE");
     hal.wait_for(&pin("up-to-speed"), Duration::from_secs(10), |v| {
@@ -133,18 +139,26 @@ fn mitsub_vfd_drives_the_fr_e700_virtual_drive() {
 
     // The emergency stop cycle: the estop pin's rise makes mitsub_vfd send its reset, HFD
     // without the data H9696: the drive refuses it (a read of no instruction, HB) and stays
-    // tripped; its fall sends HFA = 00.
+    // tripped; its fall sends HFA = 00. The component looks at the pin once a cycle (five
+    // monitor exchanges of at least 50 ms each): each edge is waited on in what it prints
+    // once it has sent its frame, not slept through.
     hal.setp(&pin("estop"), 1);
-    std::thread::sleep(Duration::from_millis(500));
+    hal.wait_for_log("Estop cleared", Duration::from_secs(10));
     hal.setp(&pin("estop"), 0);
-    std::thread::sleep(Duration::from_millis(500));
+    hal.wait_for_log("stopped due to Estop Signal", Duration::from_secs(10));
+    // A new speed goes out with HED after both frames, and the drive takes frames in order:
+    // once it holds the speed, it has taken the HFD.
+    hal.setp(&pin("motor-cmd"), 20);
+    wait_on_drive(
+        &hal,
+        &drive,
+        SHOWN,
+        "HED 20.00 Hz, sent after the emergency stop cycle",
+        Duration::from_secs(10),
+        |sim| sim.raw("H6D-HED") == Some(2000),
+    );
     assert!(drive.simulator.lock().trip().is_some());
     hal.wait_for(&pin("alarm"), Duration::from_secs(10), |v| v == "TRUE");
-    assert!(
-        hal.log_text().contains("Estop cleared"),
-        "{}",
-        hal.log_text()
-    );
 
     // No exchange raised an error in the component (it prints "error" and its names when
     // one does; it has no error counter).

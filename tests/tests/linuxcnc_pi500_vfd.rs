@@ -86,6 +86,8 @@ fn pi500_vfd_drives_the_pi500_virtual_drive() {
 
     // pi500_vfd has no direction pin (it writes 1 or 6 only); our master reverses the
     // drive (2000H = 2): 3000H reads 2, and the component still sees it running at speed.
+    // 3000H says reverse as soon as the command does and 1001H is a magnitude that read
+    // 30.00 Hz before the reversal too: the output itself is waited on.
     use pi500::registers::ControlCommand;
     master
         .write_ram::<ControlCommand>(pi500::codes::ControlCommand::ReverseRun)
@@ -96,7 +98,11 @@ fn pi500_vfd_drives_the_pi500_virtual_drive() {
         SHOWN,
         "running in reverse at 30.00 Hz",
         Duration::from_secs(20),
-        |sim| sim.raw("3000H") == Some(2) && sim.raw("1001H") == Some(3000),
+        |sim| {
+            sim.raw("3000H") == Some(2)
+                && (sim.output() + 30.0).abs() < 1e-6
+                && sim.raw("1001H") == Some(3000)
+        },
     );
     hal.wait_for(&pin("is-at-speed"), Duration::from_secs(10), |v| {
         v == "TRUE"

@@ -52,6 +52,16 @@ fn vfdb_vfd_runs_reverses_stops_and_sees_a_trip_of_the_vfd_b_virtual_drive() {
     hal.setp("spindle.speed-command", 1200);
     hal.setp("spindle.spindle-on", 1);
     hal.wait_for("spindle.frequency-out", LIMIT, |v| v.parse() == Ok(40.0));
+    // The pin shows 2103H in 0.01 Hz: it reads 40.00 from 39.995 Hz on, while the drive
+    // may still be a step short of 40 Hz; the drive itself is waited on.
+    wait_on_drive(
+        &hal,
+        &drive,
+        &["2000H", "2103H"],
+        "forward at 40 Hz",
+        LIMIT,
+        |d| (d.output() - 40.0).abs() < 1e-9,
+    );
     {
         let d = sim.lock();
         assert!(d.is_running());
@@ -96,7 +106,10 @@ fn vfdb_vfd_runs_reverses_stops_and_sees_a_trip_of_the_vfd_b_virtual_drive() {
     // Off: stop (bits 1-0 = 01); the drive ramps down.
     hal.setp("spindle.spindle-on", 0);
     hal.wait_for("spindle.is-stopped", LIMIT, |v| v == "TRUE");
-    assert!(!sim.lock().is_running());
+    // is-stopped is 2103H reading 0, from under 0.005 Hz on; the drive is waited on to stop.
+    wait_on_drive(&hal, &drive, &["2000H", "2103H"], "stopped", LIMIT, |d| {
+        !d.is_running()
+    });
     assert_eq!(sim.lock().raw("2000H"), Some(0x0021), "stop, reverse");
 
     // A trip shows as its code on error-code; vfdb_vfd has no reset (its source leaves it
