@@ -1,5 +1,7 @@
-//! A transport wrapper that counts the master's reads of the line after its first send, so
-//! a test can show that a command nobody answers is not waited for without timing anything.
+//! A transport wrapper that counts the master's reads of the line after its first send, and
+//! those that came back empty (a deadline passed), so a test can show that a command nobody
+//! answers is not waited for, or a reply is found before its timeout, without timing
+//! anything.
 
 use std::io;
 use std::time::{Duration, Instant};
@@ -11,6 +13,7 @@ pub struct Watched<T> {
     inner: T,
     sends: usize,
     receives_after_send: usize,
+    empty_after_send: usize,
 }
 
 impl<T: Transport> Watched<T> {
@@ -20,6 +23,7 @@ impl<T: Transport> Watched<T> {
             inner,
             sends: 0,
             receives_after_send: 0,
+            empty_after_send: 0,
         }
     }
 
@@ -32,6 +36,12 @@ impl<T: Transport> Watched<T> {
     pub fn receives_after_send(&self) -> usize {
         self.receives_after_send
     }
+
+    /// How many of those reads returned nothing: a read of the line returns empty only once
+    /// its deadline has passed, so none means the master never waited one out.
+    pub fn empty_receives_after_send(&self) -> usize {
+        self.empty_after_send
+    }
 }
 
 impl<T: Transport> Transport for Watched<T> {
@@ -41,10 +51,15 @@ impl<T: Transport> Transport for Watched<T> {
     }
 
     fn receive(&mut self, buf: &mut [u8], deadline: Instant) -> io::Result<usize> {
-        if self.sends > 0 {
+        let after_send = self.sends > 0;
+        if after_send {
             self.receives_after_send += 1;
         }
-        self.inner.receive(buf, deadline)
+        let got = self.inner.receive(buf, deadline)?;
+        if after_send && got == 0 {
+            self.empty_after_send += 1;
+        }
+        Ok(got)
     }
 
     fn clear_input(&mut self) -> io::Result<()> {
