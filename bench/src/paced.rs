@@ -117,6 +117,21 @@ impl RelayStats {
     }
 }
 
+/// How a relay hands on what it paces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Delivery {
+    /// Each byte when its character has crossed the line, as a UART delivers them.
+    Bytes,
+    /// What was written at once (a frame: a master writes a request in one write) in one
+    /// write, when its last character has crossed the line. For a far end whose drives
+    /// drop a frame with a gap of 1.5 characters inside (Modbus RTU): Linux hands a
+    /// pseudo-terminal's bytes on from a kernel worker thread, which no real-time priority
+    /// reaches, so on a busy machine a byte written on time may still arrive more than half
+    /// a character late and break a frame no UART would have broken. The frame's end (when
+    /// the drive acts) keeps its wire time.
+    Bursts,
+}
+
 /// Two pseudo-terminal pairs joined by paced relays (see the module documentation). Stop it
 /// with [`PacedLine::stop`], which returns what each direction saw.
 #[derive(Debug)]
@@ -140,22 +155,29 @@ impl PacedLine {
         // device (or a pseudo-terminal's path) does; the relay holds the pty master.
         let (master_relay, master_end) = PseudoTerminal::open()?.into_transports()?;
         let (drive_relay, drive_end) = PseudoTerminal::open()?.into_transports()?;
-        let line = PacedLine::relays(master_relay, drive_relay, settings, fine_timers)?;
+        let line = PacedLine::relays(
+            master_relay,
+            drive_relay,
+            settings,
+            fine_timers,
+            Delivery::Bytes,
+        )?;
         Ok((master_end, drive_end, line))
     }
 
     /// As [`PacedLine::open`], but the master's end is a device path for another process
     /// to open (`vfd serve`'s bus port), kept alive by the returned transport, which must
-    /// not be read.
+    /// not be read; `to_drive` says how the master's frames reach the drive's end.
     pub fn open_for_path(
         settings: SerialSettings,
         fine_timers: bool,
+        to_drive: Delivery,
     ) -> io::Result<(std::path::PathBuf, PtyTransport, PtyTransport, PacedLine)> {
         let master_pty = PseudoTerminal::open()?;
         let path = master_pty.slave_path().to_owned();
         let (master_relay, keep_open) = master_pty.into_transports()?;
         let (drive_relay, drive_end) = PseudoTerminal::open()?.into_transports()?;
-        let line = PacedLine::relays(master_relay, drive_relay, settings, fine_timers)?;
+        let line = PacedLine::relays(master_relay, drive_relay, settings, fine_timers, to_drive)?;
         Ok((path, keep_open, drive_end, line))
     }
 
@@ -164,6 +186,7 @@ impl PacedLine {
         drive_relay: PtyTransport,
         settings: SerialSettings,
         fine_timers: bool,
+        to_drive_delivery: Delivery,
     ) -> io::Result<PacedLine> {
         let stop = Arc::new(AtomicBool::new(false));
         let char_time = settings.char_time();
@@ -175,13 +198,22 @@ impl PacedLine {
             );
             thread::Builder::new()
                 .name("paced-to-drive".into())
-                .spawn(move || relay(from, to, char_time, fine_timers, &stop))?
+                .spawn(move || relay(from, to, char_time, fine_timers, to_drive_delivery, &stop))?
         };
         let to_master = {
             let stop = Arc::clone(&stop);
             thread::Builder::new()
                 .name("paced-to-master".into())
-                .spawn(move || relay(drive_relay, master_relay, char_time, fine_timers, &stop))?
+                .spawn(move || {
+                    relay(
+                        drive_relay,
+                        master_relay,
+                        char_time,
+                        fine_timers,
+                        Delivery::Bytes,
+                        &stop,
+                    )
+                })?
         };
         Ok(PacedLine {
             stop,
@@ -289,12 +321,14 @@ fn sleep_until(due: Instant) {
 }
 
 /// One direction of the line: reads bursts from `from` and writes them to `to` a byte at a
-/// time, each when its character has crossed the line.
+/// time, each when its character has crossed the line, or ([`Delivery::Bursts`]) a burst at
+/// once when its last character has.
 fn relay(
     mut from: PtyTransport,
     mut to: PtyTransport,
     char_time: Duration,
     fine_timers: bool,
+    delivery: Delivery,
     stop: &AtomicBool,
 ) -> io::Result<RelayStats> {
     if fine_timers {
@@ -315,6 +349,19 @@ fn relay(
             Err(error) => return Err(error),
         };
         let arrived = Instant::now();
+        if delivery == Delivery::Bursts {
+            let mut due = arrived;
+            for _ in 0..got {
+                due = pacer.schedule(arrived);
+            }
+            sleep_until(due);
+            to.send(&buf[..got])?;
+            let late = Instant::now().saturating_duration_since(due);
+            for _ in 0..got {
+                stats.record(late);
+            }
+            continue;
+        }
         for byte in &buf[..got] {
             let due = pacer.schedule(arrived);
             sleep_until(due);
@@ -408,6 +455,34 @@ mod tests {
         assert_eq!(back, b"back");
         let (to_drive, to_master) = line.stop().unwrap();
         assert_eq!((to_drive.bytes, to_master.bytes), (256, 4));
+    }
+
+    #[test]
+    fn a_burst_delivered_whole_comes_out_at_once_when_its_last_byte_is_due() {
+        let settings = SerialSettings {
+            baud: 9600,
+            data_bits: 8,
+            parity: Parity::Even,
+            stop_bits: 1,
+        };
+        let (path, _keep_open, mut drive, line) =
+            PacedLine::open_for_path(settings, false, Delivery::Bursts).unwrap();
+        let mut master = PtyTransport::open_path(&path).unwrap();
+        let frame = [0x01, 0x03, 0xFD, 0x00, 0x00, 0x01, 0xB5, 0xA6];
+        let sent = Instant::now();
+        master.send(&frame).unwrap();
+        let mut buf = [0u8; 64];
+        let got = drive
+            .receive(&mut buf, Instant::now() + Duration::from_secs(30))
+            .unwrap();
+        let arrived = Instant::now();
+        assert_eq!(&buf[..got], &frame, "one piece, unchanged");
+        assert!(
+            arrived - sent >= settings.char_time() * 8,
+            "not before its last character has crossed the line"
+        );
+        let (to_drive, _) = line.stop().unwrap();
+        assert_eq!(to_drive.bytes, 8);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! in this process, with the service's end a pseudo-terminal path a plant file names; and
 //! the shortest time one station's poll can take on that wire, from a recorded exchange.
 
-use crate::paced::PacedLine;
+use crate::paced::{set_realtime, Delivery, PacedLine, DRIVE_PRIORITY};
 use std::path::PathBuf;
 use std::process::{Child, Command};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -43,7 +43,8 @@ impl VirtualBus {
         stations: &[(&'static DriveInfo, &'static Protocol)],
     ) -> Result<VirtualBus, String> {
         let (path, keep_open, mut drive_end, line) =
-            PacedLine::open_for_path(SETTINGS, false).map_err(|e| e.to_string())?;
+            PacedLine::open_for_path(SETTINGS, true, Delivery::Bursts)
+                .map_err(|e| e.to_string())?;
         let bus: Vec<BusStation> = stations
             .iter()
             .zip(1u8..)
@@ -59,7 +60,10 @@ impl VirtualBus {
         let sims = bus.iter().map(|s| s.simulator.clone()).collect();
         let stop = Arc::new(AtomicBool::new(false));
         let flag = Arc::clone(&stop);
-        let server = std::thread::spawn(move || serve_bus(&bus, &mut drive_end, SETTINGS, &flag));
+        let server = std::thread::spawn(move || {
+            set_realtime(DRIVE_PRIORITY);
+            serve_bus(&bus, &mut drive_end, SETTINGS, &flag)
+        });
         Ok(VirtualBus {
             path,
             sims,
