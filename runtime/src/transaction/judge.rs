@@ -175,11 +175,13 @@ impl<'p> Judge<'p> {
     }
 
     /// How long to wait at `now`, before the first read, for a request sent at `sent_at`:
-    /// no answer can be complete before the request is on the line, the silence between
-    /// frames `gap` has passed and the shortest answer has followed (an echo comes while
-    /// the request goes out), so a line that cannot report silences takes a prompt reply in
-    /// one read. One character less, as in [`Judge::read_ahead`]; never past `deadline`;
-    /// `None` once bytes have come.
+    /// the command's own reply cannot be complete before the request is on the line, the
+    /// silence between frames `gap` has passed and its shortest form has followed (an echo
+    /// comes while the request goes out), so a line that cannot report silences takes a
+    /// prompt reply in one read. The error reply, which a
+    /// sound exchange does not get, may be shorter: it is read as late as the command's
+    /// own reply would be whole (within the deadline, and no decision changes). Never past
+    /// `deadline`; `None` once bytes have come.
     pub fn first_wait(
         &self,
         char_time: Duration,
@@ -191,7 +193,7 @@ impl<'p> Judge<'p> {
         if self.filled > 0 {
             return None;
         }
-        let chars = self.sent.len() + self.prepared.shortest_reply();
+        let chars = self.sent.len() + self.prepared.shortest_own_reply();
         first_wait(chars, char_time, gap, sent_at, now, deadline)
     }
 
@@ -393,8 +395,11 @@ fn read_ahead_wait(
 }
 
 /// How long to wait at `now` until `chars` characters of `char_time` each, with a silence
-/// of `gap` among them, can have crossed the line since `sent_at`, less one character;
-/// never past `deadline`. `None` when that time has come.
+/// of `gap` among them, can have crossed the line since `sent_at`; never past `deadline`.
+/// `None` when that time has come. The whole of them: the request's own bytes and the
+/// silence put the wait's start behind any byte of the answer, so a master woken on time
+/// finds a prompt answer whole and reads it once, without a further wake-up for its last
+/// byte.
 fn first_wait(
     chars: usize,
     char_time: Duration,
@@ -403,9 +408,7 @@ fn first_wait(
     now: Instant,
     deadline: Instant,
 ) -> Option<Duration> {
-    let until = sent_at
-        + gap
-        + char_time.saturating_mul(u32::try_from(chars.saturating_sub(1)).unwrap_or(u32::MAX));
+    let until = sent_at + gap + char_time.saturating_mul(u32::try_from(chars).unwrap_or(u32::MAX));
     let wait = until.min(deadline).saturating_duration_since(now);
     (!wait.is_zero()).then_some(wait)
 }
@@ -453,16 +456,16 @@ mod tests {
         let char_time = Duration::from_micros(1146);
         let gap = Duration::from_micros(4010);
         let far = sent + Duration::from_secs(1);
-        // 8 request bytes and a 5-byte answer: 12 characters and the gap.
+        // 8 request bytes and a 5-byte answer: 13 characters and the gap.
         assert_eq!(
             first_wait(13, char_time, gap, sent, sent, far),
-            Some(gap + char_time * 12)
+            Some(gap + char_time * 13)
         );
         // Later, what is left; never past the deadline; nothing once the time has come.
         let later = sent + Duration::from_millis(10);
         assert_eq!(
             first_wait(13, char_time, gap, sent, later, far),
-            Some(gap + char_time * 12 - Duration::from_millis(10))
+            Some(gap + char_time * 13 - Duration::from_millis(10))
         );
         let soon = sent + Duration::from_millis(2);
         assert_eq!(
