@@ -63,7 +63,7 @@ pub fn outputs(
 ) -> Result<Vec<Box<dyn Output>>, Failure> {
     let mut outputs: Vec<Box<dyn Output>> = Vec::new();
     if args.jsonl {
-        outputs.push(Box::new(jsonl::JsonLines));
+        outputs.push(Box::<jsonl::JsonLines>::default());
     }
     if let Some(url) = args.mqtt.as_deref() {
         let mut options = mqtt::MqttOptions::new(url, args.mqtt_password_file.as_deref())?
