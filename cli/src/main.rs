@@ -6,6 +6,11 @@
 //! Everything about a drive comes from its `DriveInfo` (generated from the YAML): no drive or
 //! protocol is named here. Errors are one line for people, a hint, and a non-zero exit.
 
+/// mimalloc, not the system's malloc: `vfd serve`'s memory stays flat where glibc's
+/// per-thread arenas fragment (cli/Cargo.toml says more).
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 mod commands;
 mod emit;
 mod failure;
